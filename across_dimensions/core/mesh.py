@@ -1,0 +1,370 @@
+"""Tetrahedral 4D meshes and the 3D triangle meshes projections produce.
+
+A :class:`TetMesh4` is the boundary of a 4D solid: a closed 3-manifold made of
+tetrahedra, the way a triangle mesh is the boundary of a 3D solid.
+
+Orientation
+-----------
+For a tet ``(a, b, c, d)`` let ``u, v, t = b - a, c - a, d - a`` and let
+``N = cross4(u, v, t)`` be the vector with ``det[u, v, t, N] = |N|**2 > 0``
+(the 4D analogue of ``(b - a) x (c - a)``). A tet is *positively oriented* when
+``N`` points out of the solid. The hyper-volume enclosed is then
+``sum(det[a, b, c, d]) / 24`` and is positive. Each tet's boundary is
+``[b, c, d] - [a, c, d] + [a, b, d] - [a, b, c]``; in a closed, consistently
+oriented mesh every triangle appears exactly twice, once with each orientation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+
+class MeshError(ValueError):
+    """A mesh that breaks one of the rules in its class docstring."""
+
+
+def cross4(u, v, t) -> np.ndarray:
+    """Generalized cross product of three 4-vectors.
+
+    Parameters
+    ----------
+    u, v, t : (..., 4) array_like
+
+    Returns
+    -------
+    (..., 4) float64
+        Orthogonal to all three, with ``det[u, v, t, N] = |N|**2`` and ``|N|``
+        the 3-volume of the parallelepiped they span.
+    """
+    u = np.asarray(u, dtype=np.float64)
+    v = np.asarray(v, dtype=np.float64)
+    t = np.asarray(t, dtype=np.float64)
+    # Cofactor expansion of det[u, v, t, e_i] along the last row.
+    m = np.stack([u, v, t], axis=-2)  # (..., 3, 4)
+    out = np.empty(m.shape[:-2] + (4,))
+    cols = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]]
+    for i in range(4):
+        out[..., i] = (-1) ** (i + 3) * np.linalg.det(m[..., cols[i]])
+    return out
+
+
+# Faces of tet (0, 1, 2, 3) with the orientation the tet induces on them.
+TET_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]], dtype=np.intp)
+
+
+@dataclass(eq=False)
+class TetMesh4:
+    """The closed boundary of a 4D solid as tetrahedra.
+
+    Parameters
+    ----------
+    vertices : (n, 4) float32
+    tets : (m, 4) uint32
+        Positively oriented (see the module docstring).
+    colors : (n, 4) float32, optional
+        Linear RGBA per vertex.
+    name : str
+    """
+
+    vertices: np.ndarray
+    tets: np.ndarray
+    colors: np.ndarray | None = None
+    name: str = ""
+    _cache: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def __post_init__(self):
+        self.vertices = np.ascontiguousarray(self.vertices, dtype=np.float32).reshape(-1, 4)
+        tets = np.asarray(self.tets)
+        if tets.size and (tets.min() < 0):
+            raise MeshError(f"{self.label}: negative vertex index {int(tets.min())} in tets")
+        self.tets = np.ascontiguousarray(tets, dtype=np.uint32).reshape(-1, 4)
+        if self.colors is not None:
+            c = np.asarray(self.colors, dtype=np.float32)
+            if c.ndim == 1:
+                c = np.broadcast_to(c, (len(self.vertices), c.shape[0]))
+            if c.shape[-1] == 3:
+                c = np.concatenate([c, np.ones(c.shape[:-1] + (1,), np.float32)], axis=-1)
+            if c.shape != (len(self.vertices), 4):
+                raise MeshError(f"{self.label}: colors must be (n, 3) or (n, 4) for n={len(self.vertices)}, got {c.shape}")
+            self.colors = np.ascontiguousarray(c)
+
+    @property
+    def label(self) -> str:
+        return self.name or "mesh"
+
+    def __len__(self) -> int:
+        return len(self.tets)
+
+    # ------------------------------------------------------------------ measures
+    def tet_normals(self) -> np.ndarray:
+        """Outward normals of each tet, ``(m, 4) float64``, length = tet 3-volume * 6."""
+        p = self.vertices.astype(np.float64)[self.tets]
+        return cross4(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])
+
+    def boundary_volume(self) -> float:
+        """Total 3-volume of the tets (the "surface area" of the 4D solid)."""
+        return float(np.linalg.norm(self.tet_normals(), axis=1).sum() / 6.0)
+
+    def hypervolume(self) -> float:
+        """Signed 4-volume enclosed, by the divergence theorem (positive when outward)."""
+        p = self.vertices.astype(np.float64)[self.tets]
+        return float(-np.linalg.det(p).sum() / 24.0)
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """Axis-aligned bounds ``((4,), (4,))`` float64."""
+        return self.vertices.min(axis=0).astype(np.float64), self.vertices.max(axis=0).astype(np.float64)
+
+    def bounding_sphere(self) -> tuple[np.ndarray, float]:
+        """A bounding hypersphere: centre ``(4,) float64`` (bounds centre) and radius."""
+        lo, hi = self.bounds()
+        c = 0.5 * (lo + hi)
+        r = float(np.sqrt(((self.vertices - c) ** 2).sum(axis=1)).max()) if len(self.vertices) else 0.0
+        return c, r
+
+    # ------------------------------------------------------------------- topology
+    def oriented_faces(self) -> np.ndarray:
+        """Every tet's four faces with induced orientation, ``(4m, 3) uint32``."""
+        return self.tets[:, TET_FACES].reshape(-1, 3)
+
+    def unique_faces(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each triangle once, with the tets on either side.
+
+        Returns
+        -------
+        faces : (f, 3) uint32
+            Orientation as induced by the first tet listing it.
+        owners : (f, 2) int64
+            Tet indices on either side; -1 where a face has only one tet.
+        """
+        if "unique_faces" not in self._cache:
+            of = self.oriented_faces()
+            key = np.sort(of, axis=1)
+            _, first, inverse, counts = np.unique(key, axis=0, return_index=True, return_inverse=True, return_counts=True)
+            inverse = inverse.reshape(-1)
+            owners = np.full((len(first), 2), -1, dtype=np.int64)
+            tet_of = np.arange(len(of)) // 4
+            order = np.argsort(inverse, kind="stable")
+            starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+            owners[:, 0] = tet_of[order[starts]]
+            two = counts >= 2
+            owners[two, 1] = tet_of[order[starts[two] + 1]]
+            self._cache["unique_faces"] = (of[first], owners)
+        return self._cache["unique_faces"]
+
+    def feature_faces(self, angle_tol: float = 1e-4) -> np.ndarray:
+        """Faces where the surface creases: edges of the solid's real 2-faces.
+
+        Triangles inside a flat cell (a tesseract's cube split into tets) are not
+        features. Frustum projection draws only these. Affine maps keep
+        coplanarity, so the answer holds under any transform.
+
+        Returns
+        -------
+        (f', 3) uint32
+        """
+        key = ("feature_faces", angle_tol)
+        if key not in self._cache:
+            faces, owners = self.unique_faces()
+            n = self.tet_normals()
+            n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+            a, b = owners[:, 0], owners[:, 1]
+            cos = np.where(b >= 0, np.einsum("ij,ij->i", n[a], n[np.maximum(b, 0)]), -1.0)
+            self._cache[key] = np.ascontiguousarray(faces[cos < np.cos(angle_tol)])
+        return self._cache[key]
+
+    # ----------------------------------------------------------------- validation
+    def problems(self, max_report: int = 5, check_closed: bool = True) -> list[str]:
+        """Everything wrong with the mesh, as one message per kind of problem."""
+        out: list[str] = []
+        n = len(self.vertices)
+        if self.tets.size == 0:
+            return [f"{self.label}: has no tets"]
+        if not np.isfinite(self.vertices).all():
+            bad = np.flatnonzero(~np.isfinite(self.vertices).all(axis=1))
+            out.append(f"{self.label}: vertices {bad[:max_report].tolist()} are not finite")
+        if self.tets.max() >= n:
+            bad = np.flatnonzero((self.tets >= n).any(axis=1))
+            out.append(
+                f"{self.label}: tets {bad[:max_report].tolist()} index vertices past the end "
+                f"(there are {n} vertices, found index {int(self.tets.max())})"
+            )
+            return out
+        repeated = (np.sort(self.tets, axis=1)[:, 1:] == np.sort(self.tets, axis=1)[:, :-1]).any(axis=1)
+        vol = np.linalg.norm(self.tet_normals(), axis=1) / 6.0
+        scale = max(float(np.ptp(self.vertices, axis=0).max()), 1e-12)
+        degenerate = repeated | (vol <= 1e-9 * scale**3)
+        if degenerate.any():
+            bad = np.flatnonzero(degenerate)
+            out.append(f"{self.label}: {len(bad)} degenerate tets (zero volume or repeated vertex), e.g. {bad[:max_report].tolist()}")
+        if check_closed:
+            of = self.oriented_faces()
+            key = np.sort(of, axis=1)
+            _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+            inverse = inverse.reshape(-1)
+            if (counts != 2).any():
+                bad_faces = np.flatnonzero(counts != 2)
+                tets_bad = np.unique(np.flatnonzero(np.isin(inverse, bad_faces)) // 4)
+                out.append(
+                    f"{self.label}: {len(bad_faces)} faces are not shared by exactly two tets "
+                    f"(open or non-manifold), in tets {tets_bad[:max_report].tolist()}"
+                )
+            else:
+                # Parity of the permutation sorting each face: opposite orientations
+                # of the same triangle have opposite parity.
+                parity = _permutation_parity(of)
+                sums = np.bincount(inverse, weights=parity, minlength=len(counts))
+                inconsistent = np.flatnonzero(sums != 0)
+                if len(inconsistent):
+                    tets_bad = np.unique(np.flatnonzero(np.isin(inverse, inconsistent)) // 4)
+                    out.append(
+                        f"{self.label}: {len(inconsistent)} faces are used with the same orientation by both "
+                        f"their tets (inverted tets), in tets {tets_bad[:max_report].tolist()}"
+                    )
+                elif self.hypervolume() <= 0:
+                    out.append(f"{self.label}: the mesh is inside out (enclosed hyper-volume {self.hypervolume():.3g} <= 0)")
+        return out
+
+    def validate(self, check_closed: bool = True) -> "TetMesh4":
+        """Raise :class:`MeshError` listing every problem, or return ``self``."""
+        problems = self.problems(check_closed=check_closed)
+        if problems:
+            raise MeshError("; ".join(problems))
+        return self
+
+    # ------------------------------------------------------------- transformation
+    def transformed(self, m) -> "TetMesh4":
+        """A copy with vertices mapped by the 5x5 transform ``m``.
+
+        A reflection (negative determinant) reverses tets to keep them outward.
+        """
+        m = np.asarray(m, dtype=np.float64)
+        v = self.vertices.astype(np.float64) @ m[:4, :4].T + m[:4, 4]
+        tets = self.tets if np.linalg.det(m[:4, :4]) > 0 else self.tets[:, [0, 2, 1, 3]]
+        return TetMesh4(v, tets, self.colors, self.name)
+
+    def with_color(self, rgba) -> "TetMesh4":
+        """A copy with every vertex coloured ``rgba`` (3 or 4 floats)."""
+        return TetMesh4(self.vertices, self.tets, np.asarray(rgba, np.float32), self.name, self._cache)
+
+    # ------------------------------------------------------------------------ I/O
+    def save(self, path) -> None:
+        """Write ``.npz`` with arrays ``vertices``, ``tets`` and optionally ``colors``.
+
+        Written to a temporary file then renamed, so a crash leaves no half file.
+        """
+        path = Path(path)
+        arrays = {"vertices": self.vertices, "tets": self.tets}
+        if self.colors is not None:
+            arrays["colors"] = self.colors
+        tmp = path.with_name(path.name + ".tmp")
+        with open(tmp, "wb") as f:
+            np.savez_compressed(f, **arrays)
+        tmp.replace(path)
+
+    @classmethod
+    def load(cls, path, validate: bool = True) -> "TetMesh4":
+        """Read a mesh written by :meth:`save`; problems raise :class:`MeshError`."""
+        path = Path(path)
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                missing = [k for k in ("vertices", "tets") if k not in data]
+                if missing:
+                    raise MeshError(f"{path}: missing array(s) {', '.join(missing)}; expected 'vertices' (n, 4) and 'tets' (m, 4)")
+                v, t = data["vertices"], data["tets"]
+                c = data["colors"] if "colors" in data else None
+        except MeshError:
+            raise
+        except FileNotFoundError:
+            raise MeshError(f"{path}: no such file") from None
+        except Exception as e:  # zip errors, bad headers
+            raise MeshError(f"{path}: not a readable .npz file ({e})") from None
+        if v.ndim != 2 or v.shape[1] != 4:
+            raise MeshError(f"{path}: 'vertices' must have shape (n, 4), got {v.shape}")
+        if t.ndim != 2 or t.shape[1] != 4 or not np.issubdtype(t.dtype, np.integer):
+            raise MeshError(f"{path}: 'tets' must be integers of shape (m, 4), got {t.dtype} {t.shape}")
+        mesh = cls(v, t, c, name=str(path))
+        return mesh.validate() if validate else mesh
+
+
+def _permutation_parity(faces: np.ndarray) -> np.ndarray:
+    """+1 for even, -1 for odd permutations sorting each row of ``(f, 3)``."""
+    a, b, c = faces[:, 0], faces[:, 1], faces[:, 2]
+    inversions = (a > b).astype(np.int8) + (a > c) + (b > c)
+    return np.where(inversions % 2 == 0, 1.0, -1.0)
+
+
+@dataclass(eq=False)
+class TriMesh3:
+    """A 3D triangle soup with per-vertex attributes, as projections produce.
+
+    Parameters
+    ----------
+    vertices : (k, 3) float32
+    faces : (f, 3) uint32
+        Counter-clockwise seen from outside (normals by the right-hand rule).
+    normals : (k, 3) float32
+    colors : (k, 4) float32
+    depth : (k,) float32, optional
+        Distance along the 4D camera's viewing axis (frustum projection only).
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    normals: np.ndarray
+    colors: np.ndarray
+    depth: np.ndarray | None = None
+
+    @classmethod
+    def empty(cls, with_depth: bool = False) -> "TriMesh3":
+        return cls(
+            np.zeros((0, 3), np.float32),
+            np.zeros((0, 3), np.uint32),
+            np.zeros((0, 3), np.float32),
+            np.zeros((0, 4), np.float32),
+            np.zeros((0,), np.float32) if with_depth else None,
+        )
+
+    def __len__(self) -> int:
+        return len(self.faces)
+
+    @property
+    def is_empty(self) -> bool:
+        return len(self.faces) == 0
+
+    def welded(self, tol: float = 1e-5) -> tuple[np.ndarray, np.ndarray]:
+        """Merge coincident vertices and drop collapsed triangles.
+
+        Returns
+        -------
+        vertices : (k', 3) float64
+        faces : (f', 3) int64
+        """
+        if self.is_empty:
+            return np.zeros((0, 3)), np.zeros((0, 3), np.int64)
+        q = np.round(self.vertices.astype(np.float64) / tol).astype(np.int64)
+        _, first, inverse = np.unique(q, axis=0, return_index=True, return_inverse=True)
+        faces = inverse.reshape(-1)[self.faces]
+        keep = (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
+        return self.vertices[first].astype(np.float64), faces[keep]
+
+    def area(self) -> float:
+        """Total triangle area."""
+        p = self.vertices.astype(np.float64)[self.faces]
+        return float(0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1).sum())
+
+    def volume(self) -> float:
+        """Signed enclosed volume (positive for a closed, outward-wound mesh)."""
+        p = self.vertices.astype(np.float64)[self.faces]
+        return float(np.einsum("ij,ij->i", p[:, 0], np.cross(p[:, 1], p[:, 2])).sum() / 6.0)
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.vertices.min(axis=0), self.vertices.max(axis=0)
+
+    def save(self, path) -> None:
+        """Write ``.obj``, ``.ply`` (ASCII, no dependencies) or ``.glb`` (needs trimesh)."""
+        from .meshio import save_trimesh3  # local: keeps file formats out of the hot path
+
+        save_trimesh3(self, path)

@@ -1,0 +1,325 @@
+"""Cross-section: slice a tetrahedral 4D mesh by a hyperplane into 3D triangles.
+
+The hyperplane is the ``w = 0`` hyperplane of a 4D camera given by its pose
+(camera-to-world 5x5 transform); the output lives in the camera's own xyz frame.
+
+Case table
+----------
+Each tet's four vertices are classified by the sign of their camera-space w
+(``d > 0`` is "above"; ``d == 0`` counts as below, a consistent tie-break that
+keeps sections closed). Bit ``i`` of the case index is set when vertex ``i`` is
+above, giving 16 cases:
+
+====================  ====================  ===============================
+cases                 vertices above        cut edges, in cycle order
+====================  ====================  ===============================
+0, 15                 none / all            nothing
+1, 2, 4, 8            one: ``a``            ``ab ac ad`` -> one triangle
+14, 13, 11, 7         three (one below b)   ``ba bc bd`` -> one triangle
+3, 5, 6, 9, 10, 12    two: ``a0 a1``        ``a0b0 a0b1 a1b1 a1b0`` -> a quad
+====================  ====================  ===============================
+
+The table fixes which edges form the polygon and their cyclic order; the
+winding is then fixed per tet by the tet's outward 4D normal projected into the
+hyperplane (the section's outward normal), so triangles come out
+counter-clockwise seen from outside whatever the tet's vertex order.
+
+Two implementations share these rules: :func:`cross_section` (numba, clustered,
+single-threaded) and :func:`cross_section_reference` (plain Python/numpy, the
+oracle the tests compare against).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._jit import njit
+from .mesh import TetMesh4, TriMesh3, cross4
+from .transform import inverse
+
+
+def _build_case_table() -> tuple[np.ndarray, np.ndarray]:
+    edges = np.zeros((16, 4, 2), dtype=np.int64)
+    count = np.zeros(16, dtype=np.int64)
+    for mask in range(16):
+        above = [i for i in range(4) if mask >> i & 1]
+        below = [i for i in range(4) if not mask >> i & 1]
+        if len(above) == 1:
+            cyc = [(above[0], b) for b in below]
+        elif len(below) == 1:
+            cyc = [(below[0], a) for a in above]
+        elif len(above) == 2:
+            a0, a1 = above
+            b0, b1 = below
+            cyc = [(a0, b0), (a0, b1), (a1, b1), (a1, b0)]
+        else:
+            cyc = []
+        count[mask] = len(cyc)
+        for k, e in enumerate(cyc):
+            edges[mask, k] = e
+    return edges, count
+
+
+CASE_EDGES, CASE_COUNT = _build_case_table()
+
+
+def _model_view(mesh_model, camera_pose) -> np.ndarray:
+    """Object-to-camera 5x5 transform."""
+    view = np.eye(5) if camera_pose is None else inverse(camera_pose)
+    model = np.eye(5) if mesh_model is None else np.asarray(mesh_model, dtype=np.float64)
+    return view @ model
+
+
+def cross_section(mesh: TetMesh4, camera_pose=None, model=None) -> TriMesh3:
+    """Slice ``mesh`` by the camera's ``w = 0`` hyperplane.
+
+    Parameters
+    ----------
+    mesh : TetMesh4
+    camera_pose : (5, 5) array_like, optional
+        Camera-to-world transform; identity slices at world ``w = 0`` and keeps
+        world xyz.
+    model : (5, 5) array_like, optional
+        Object-to-world transform of the mesh.
+
+    Returns
+    -------
+    TriMesh3
+        Unwelded triangles (three vertices each) with flat outward normals and
+        interpolated colours, in the camera's xyz frame. Empty when nothing is cut.
+    """
+    mv = _model_view(model, camera_pose)
+    tets, lo, hi, centers, radii = mesh_clusters(mesh)
+    colors = mesh.colors if mesh.colors is not None else _white(len(mesh.vertices))
+    # Bound on how far a unit object-space step moves camera-space w.
+    w_gain = float(np.linalg.norm(mv[3, :4]))
+    flip = 1.0 if np.linalg.det(mv[:4, :4]) > 0 else -1.0
+    cut, ntri = _find_cut(mesh.vertices, tets, mv, lo, hi, centers, radii, w_gain, CASE_COUNT)
+    if ntri == 0:
+        return TriMesh3.empty()
+    v, n, c = _emit(mesh.vertices, tets, colors, mv, flip, cut, ntri, CASE_EDGES, CASE_COUNT)
+    faces = np.arange(3 * ntri, dtype=np.uint32).reshape(-1, 3)
+    return TriMesh3(v, faces, n, c)
+
+
+def _white(n: int) -> np.ndarray:
+    return np.ones((n, 4), np.float32)
+
+
+CLUSTER_SIZE = 128
+
+
+def mesh_clusters(mesh: TetMesh4, size: int = CLUSTER_SIZE):
+    """Tets reordered into spatially coherent clusters with bounding spheres.
+
+    Cached on the mesh. Sorting by a 4D Morton code of tet centroids makes each
+    run of ``size`` tets compact, so a hyperplane far from a cluster's sphere
+    skips all of its tets without touching them.
+
+    Returns
+    -------
+    tets : (m, 4) uint32
+        Reordered tets.
+    lo, hi : (c,) int64
+        Tet range of each cluster.
+    centers : (c, 4) float64
+    radii : (c,) float64
+    """
+    key = ("clusters", size)
+    if key not in mesh._cache:
+        v = mesh.vertices.astype(np.float64)
+        p = v[mesh.tets]
+        cent = p.mean(axis=1)
+        lo_b, hi_b = cent.min(axis=0), cent.max(axis=0)
+        q = ((cent - lo_b) / np.maximum(hi_b - lo_b, 1e-12) * 255).astype(np.uint64)
+        code = np.zeros(len(cent), np.uint64)
+        for bit in range(8):
+            for axis in range(4):
+                code |= ((q[:, axis] >> np.uint64(bit)) & np.uint64(1)) << np.uint64(4 * bit + axis)
+        order = np.argsort(code, kind="stable")
+        tets = np.ascontiguousarray(mesh.tets[order])
+        starts = np.arange(0, len(tets), size, dtype=np.int64)
+        ends = np.minimum(starts + size, len(tets))
+        centers, radii = _cluster_spheres(v, tets, starts, ends)
+        mesh._cache[key] = (tets, starts, ends, centers, radii)
+    return mesh._cache[key]
+
+
+@njit(cache=True)
+def _cluster_spheres(v, tets, starts, ends):
+    nc = len(starts)
+    centers = np.zeros((nc, 4))
+    radii = np.zeros(nc)
+    for c in range(nc):
+        lo = np.full(4, np.inf)
+        hi = np.full(4, -np.inf)
+        for t in range(starts[c], ends[c]):
+            for k in range(4):
+                for a in range(4):
+                    x = v[tets[t, k], a]
+                    lo[a] = min(lo[a], x)
+                    hi[a] = max(hi[a], x)
+        ctr = 0.5 * (lo + hi)
+        r2 = 0.0
+        for t in range(starts[c], ends[c]):
+            for k in range(4):
+                s = 0.0
+                for a in range(4):
+                    d = v[tets[t, k], a] - ctr[a]
+                    s += d * d
+                r2 = max(r2, s)
+        centers[c] = ctr
+        radii[c] = np.sqrt(r2)
+    return centers, radii
+
+
+@njit(cache=True)
+def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, case_count):
+    """Indices of tets the hyperplane cuts, and the number of triangles they make."""
+    m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
+    n = v.shape[0]
+    d = np.empty(n)
+    for i in range(n):
+        d[i] = m0 * v[i, 0] + m1 * v[i, 1] + m2 * v[i, 2] + m3 * v[i, 3] + m4
+    cut = np.empty(tets.shape[0], np.int64)
+    ncut = 0
+    ntri = 0
+    for c in range(lo.shape[0]):
+        dc = m0 * centers[c, 0] + m1 * centers[c, 1] + m2 * centers[c, 2] + m3 * centers[c, 3] + m4
+        if abs(dc) > radii[c] * w_gain:
+            continue
+        for t in range(lo[c], hi[c]):
+            mask = 0
+            if d[tets[t, 0]] > 0.0:
+                mask |= 1
+            if d[tets[t, 1]] > 0.0:
+                mask |= 2
+            if d[tets[t, 2]] > 0.0:
+                mask |= 4
+            if d[tets[t, 3]] > 0.0:
+                mask |= 8
+            k = case_count[mask]
+            if k:
+                cut[ncut] = t
+                ncut += 1
+                ntri += k - 2
+    return cut[:ncut], ntri
+
+
+@njit(cache=True)
+def _emit(v, tets, colors, mv, flip, cut, ntri, case_edges, case_count):
+    out_v = np.empty((3 * ntri, 3), np.float32)
+    out_n = np.empty((3 * ntri, 3), np.float32)
+    out_c = np.empty((3 * ntri, 4), np.float32)
+    p = np.empty((4, 4))  # camera-space tet vertices
+    q = np.empty((4, 3))  # polygon points
+    qc = np.empty((4, 4))
+    o = 0
+    for idx in range(cut.shape[0]):
+        t = cut[idx]
+        mask = 0
+        for k in range(4):
+            vi = tets[t, k]
+            for r in range(4):
+                p[k, r] = (mv[r, 0] * v[vi, 0] + mv[r, 1] * v[vi, 1] + mv[r, 2] * v[vi, 2]
+                           + mv[r, 3] * v[vi, 3] + mv[r, 4])
+            if p[k, 3] > 0.0:
+                mask |= 1 << k
+        # Outward normal: xyz part of cross4(p1 - p0, p2 - p0, p3 - p0).
+        ux, uy, uz, uw = p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2], p[1, 3] - p[0, 3]
+        vx, vy, vz, vw = p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2], p[2, 3] - p[0, 3]
+        tx, ty, tz, tw = p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2], p[3, 3] - p[0, 3]
+        nx = -(uy * (vz * tw - vw * tz) - uz * (vy * tw - vw * ty) + uw * (vy * tz - vz * ty))
+        ny = ux * (vz * tw - vw * tz) - uz * (vx * tw - vw * tx) + uw * (vx * tz - vz * tx)
+        nz = -(ux * (vy * tw - vw * ty) - uy * (vx * tw - vw * tx) + uw * (vx * ty - vy * tx))
+        nx *= flip
+        ny *= flip
+        nz *= flip
+        ln = np.sqrt(nx * nx + ny * ny + nz * nz)
+        if ln > 0.0:
+            nx /= ln
+            ny /= ln
+            nz /= ln
+        k = case_count[mask]
+        for e in range(k):
+            a = case_edges[mask, e, 0]
+            b = case_edges[mask, e, 1]
+            s = p[a, 3] / (p[a, 3] - p[b, 3])
+            for r in range(3):
+                q[e, r] = p[a, r] + s * (p[b, r] - p[a, r])
+            ca = tets[t, a]
+            cb = tets[t, b]
+            for r in range(4):
+                qc[e, r] = colors[ca, r] + s * (colors[cb, r] - colors[ca, r])
+        # Winding: compare the polygon's own normal with the outward normal.
+        ax, ay, az = q[1, 0] - q[0, 0], q[1, 1] - q[0, 1], q[1, 2] - q[0, 2]
+        bx, by, bz = q[2, 0] - q[0, 0], q[2, 1] - q[0, 1], q[2, 2] - q[0, 2]
+        if k == 4:  # use the quad's diagonals: robust when one triangle is a sliver
+            ax, ay, az = q[2, 0] - q[0, 0], q[2, 1] - q[0, 1], q[2, 2] - q[0, 2]
+            bx, by, bz = q[3, 0] - q[1, 0], q[3, 1] - q[1, 1], q[3, 2] - q[1, 2]
+        cxp = ay * bz - az * by
+        cyp = az * bx - ax * bz
+        czp = ax * by - ay * bx
+        reverse = cxp * nx + cyp * ny + czp * nz < 0.0
+        for tri in range(k - 2):
+            for j in range(3):
+                src = 0 if j == 0 else tri + j
+                if reverse and j > 0:
+                    src = tri + 3 - j
+                for r in range(3):
+                    out_v[o, r] = q[src, r]
+                out_n[o, 0] = nx
+                out_n[o, 1] = ny
+                out_n[o, 2] = nz
+                for r in range(4):
+                    out_c[o, r] = qc[src, r]
+                o += 1
+    return out_v, out_n, out_c
+
+
+def cross_section_reference(mesh: TetMesh4, camera_pose=None, model=None) -> TriMesh3:
+    """Plain-Python cross-section: the oracle for :func:`cross_section`.
+
+    Same contract, written for clarity: one tet at a time, no clusters, numpy
+    vector maths. Slow; use it in tests on small meshes.
+    """
+    mv = _model_view(model, camera_pose)
+    flip = 1.0 if np.linalg.det(mv[:4, :4]) > 0 else -1.0
+    cam = mesh.vertices.astype(np.float64) @ mv[:4, :4].T + mv[:4, 4]
+    colors = mesh.colors if mesh.colors is not None else _white(len(mesh.vertices))
+    verts, norms, cols = [], [], []
+    for tet in mesh.tets:
+        p = cam[tet]
+        above = [i for i in range(4) if p[i, 3] > 0]
+        below = [i for i in range(4) if p[i, 3] <= 0]
+        if not above or not below:
+            continue
+        if len(above) == 2:
+            cycle = [(above[0], below[0]), (above[0], below[1]), (above[1], below[1]), (above[1], below[0])]
+        elif len(above) == 1:
+            cycle = [(above[0], b) for b in below]
+        else:
+            cycle = [(below[0], a) for a in above]
+        pts, cs = [], []
+        for a, b in cycle:
+            s = p[a, 3] / (p[a, 3] - p[b, 3])
+            pts.append(p[a, :3] + s * (p[b, :3] - p[a, :3]))
+            cs.append(colors[tet[a]] + s * (colors[tet[b]] - colors[tet[a]]))
+        normal = flip * cross4(p[1] - p[0], p[2] - p[0], p[3] - p[0])[:3]
+        normal = normal / (np.linalg.norm(normal) or 1.0)
+        if len(pts) == 4:
+            poly_n = np.cross(pts[2] - pts[0], pts[3] - pts[1])
+        else:
+            poly_n = np.cross(pts[1] - pts[0], pts[2] - pts[0])
+        if poly_n @ normal < 0:
+            pts = [pts[0]] + pts[1:][::-1]
+            cs = [cs[0]] + cs[1:][::-1]
+        for i in range(1, len(pts) - 1):
+            for j in (0, i, i + 1):
+                verts.append(pts[j])
+                cols.append(cs[j])
+                norms.append(normal)
+    if not verts:
+        return TriMesh3.empty()
+    v = np.array(verts, np.float32)
+    return TriMesh3(v, np.arange(len(v), dtype=np.uint32).reshape(-1, 3), np.array(norms, np.float32), np.array(cols, np.float32))
