@@ -1,0 +1,599 @@
+"""Player settings: key bindings, mouse look, display options, and their file.
+
+Settings live in one TOML file, ``settings.toml`` in the per-user config folder
+(see :func:`settings_path`)::
+
+    preset = "qwerty"            # or "azerty": the base key layout
+    mouse_sensitivity = 0.0025   # radians per pixel
+    invert_x = false
+    invert_y = false
+    fov_deg = 75.0
+    fullscreen = false
+    vsync = true
+    show_fps = false
+    width = 1280
+    height = 720
+
+    [bindings]                   # only the actions that differ from the preset
+    jump = ["SPACE", "MOUSE_RIGHT"]
+
+Key names are plain strings, pyglet's key symbol names (``"W"``, ``"SPACE"``,
+``"LSHIFT"``, ``"F3"``, ``"_1"`` for the digit 1, ...) plus ``"MOUSE_LEFT"``,
+``"MOUSE_MIDDLE"`` and ``"MOUSE_RIGHT"``. This module deliberately does not
+import pyglet: the window maps names to pyglet codes, so settings can be loaded,
+checked and tested without a display.
+
+Loading never raises: the game must start even with a hand-edited, broken file.
+Each problem becomes a warning naming the file, the entry and what was
+expected, and only that entry falls back to its default.
+
+>>> s = default_settings("azerty")
+>>> s.action_for_key("Z"), s.keys_for("strafe_left")
+('move_forward', ('Q', 'LEFT'))
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import os
+import string
+import sys
+import tempfile
+from dataclasses import dataclass, fields, replace
+from pathlib import Path
+from typing import Any, Callable
+
+import platformdirs
+import tomli_w
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - the project still supports 3.10
+    import tomli as tomllib
+
+__all__ = [
+    "ACTIONS",
+    "ACTION_DESCRIPTIONS",
+    "CONFIG_DIR_ENV",
+    "KEY_NAMES",
+    "MOUSE_BUTTONS",
+    "PRESETS",
+    "Settings",
+    "default_settings",
+    "load_settings",
+    "look_delta",
+    "save_settings",
+    "settings_path",
+]
+
+# --------------------------------------------------------------------------
+# Actions and key names
+# --------------------------------------------------------------------------
+
+#: Every bindable action, in menu order, with a one-line description. Adding an
+#: action is one line here (plus, optionally, a default key in the presets; an
+#: action missing from a preset simply starts unbound).
+ACTION_DESCRIPTIONS: dict[str, str] = {
+    "move_forward": "Walk forward",
+    "move_back": "Walk backward",
+    "strafe_left": "Step left",
+    "strafe_right": "Step right",
+    "jump": "Jump",
+    "w_ana": "Move along the fourth axis towards +w (ana)",
+    "w_kata": "Move along the fourth axis towards -w (kata)",
+    "fire": "Fire the current weapon",
+    "alt_fire": "Alternate fire of the current weapon",
+    "next_weapon": "Switch to the next weapon",
+    "switch_camera": "Switch between the 3D and 4D cameras",
+    "manipulate": "Grab, rotate or release the object in front of you",
+    "record": "Start or stop recording a replay",
+    "screenshot": "Save a screenshot",
+    "toggle_fps": "Show or hide the frame-rate counter",
+    "toggle_fullscreen": "Switch between windowed and fullscreen",
+    "pause": "Pause the game and open the menu",
+}
+
+#: The bindable action names, in menu order.
+ACTIONS: tuple[str, ...] = tuple(ACTION_DESCRIPTIONS)
+
+#: Mouse buttons, named like keys so one binding can mix both.
+MOUSE_BUTTONS: tuple[str, ...] = ("MOUSE_LEFT", "MOUSE_MIDDLE", "MOUSE_RIGHT")
+
+#: Every accepted key name: a subset of pyglet's ``pyglet.window.key`` symbol
+#: names (a test checks that) plus :data:`MOUSE_BUTTONS`. A closed list lets a
+#: typo in the file be reported instead of silently binding nothing.
+KEY_NAMES: frozenset[str] = frozenset(
+    [*string.ascii_uppercase]
+    + [f"_{d}" for d in range(10)]  # pyglet's names for the digit row
+    + [f"F{n}" for n in range(1, 13)]
+    + [f"NUM_{d}" for d in range(10)]
+    + ["NUM_ADD", "NUM_SUBTRACT", "NUM_MULTIPLY", "NUM_DIVIDE", "NUM_DECIMAL", "NUM_ENTER"]
+    + ["SPACE", "TAB", "ESCAPE", "RETURN", "BACKSPACE", "DELETE", "INSERT",
+       "HOME", "END", "PAGEUP", "PAGEDOWN", "UP", "DOWN", "LEFT", "RIGHT",
+       "LSHIFT", "RSHIFT", "LCTRL", "RCTRL", "LALT", "RALT", "CAPSLOCK"]
+    + ["MINUS", "EQUAL", "BRACKETLEFT", "BRACKETRIGHT", "BACKSLASH", "SEMICOLON",
+       "APOSTROPHE", "GRAVE", "COMMA", "PERIOD", "SLASH"]
+    + list(MOUSE_BUTTONS)
+)
+
+_COMMON = {
+    "jump": ("SPACE",),
+    "fire": ("MOUSE_LEFT",),
+    "alt_fire": ("MOUSE_RIGHT",),
+    "next_weapon": ("R",),
+    "switch_camera": ("TAB",),
+    "manipulate": ("F",),
+    "record": ("F9",),
+    "screenshot": ("F12",),
+    "toggle_fps": ("F3",),
+    "toggle_fullscreen": ("F11",),
+    "pause": ("ESCAPE",),
+}
+
+#: Base key layouts. pyglet reports key *symbols*, which follow the keyboard
+#: layout, so an AZERTY keyboard needs ZQSD/A to get WASD/Q's physical keys.
+PRESETS: dict[str, dict[str, tuple[str, ...]]] = {
+    "qwerty": {
+        "move_forward": ("W", "UP"),
+        "move_back": ("S", "DOWN"),
+        "strafe_left": ("A", "LEFT"),
+        "strafe_right": ("D", "RIGHT"),
+        "w_ana": ("E",),
+        "w_kata": ("Q",),
+        **_COMMON,
+    },
+    "azerty": {
+        "move_forward": ("Z", "UP"),
+        "move_back": ("S", "DOWN"),
+        "strafe_left": ("Q", "LEFT"),
+        "strafe_right": ("D", "RIGHT"),
+        "w_ana": ("E",),
+        "w_kata": ("A",),
+        **_COMMON,
+    },
+}
+del _COMMON
+
+#: Environment variable that replaces the config folder (tests, portable installs).
+CONFIG_DIR_ENV = "ACROSS_DIMENSIONS_CONFIG_DIR"
+
+_APP_NAME = "across-dimensions"
+_FILE_NAME = "settings.toml"
+
+_KEYS_EXPECTED = ("a list of key names such as [\"SPACE\"] (pyglet symbol names: "
+                  "'A'..'Z', '_0'..'_9', 'F1'..'F12', 'SPACE', 'LSHIFT', 'UP', ..., "
+                  "or 'MOUSE_LEFT', 'MOUSE_MIDDLE', 'MOUSE_RIGHT')")
+
+# --------------------------------------------------------------------------
+# Validation rules for the scalar settings
+# --------------------------------------------------------------------------
+
+
+class _Rule:
+    """How one scalar setting is checked: ``convert`` returns the normalised
+    value or raises ``TypeError``/``ValueError``; ``expected`` says in words
+    what is accepted, for messages."""
+
+    def __init__(self, expected: str, convert: Callable[[Any], Any]):
+        self.expected = expected
+        self.convert = convert
+
+
+def _boolean(value: Any) -> bool:
+    # TOML has real booleans; 0/1 or "yes" are rejected rather than guessed.
+    if not isinstance(value, bool):
+        raise TypeError("not a boolean")
+    return value
+
+
+def _number(lo: float, hi: float, *, open_lo: bool = False, open_hi: bool = False) -> Callable[[Any], float]:
+    def convert(value: Any) -> float:
+        # bool is an int subclass in Python; ``fov_deg = true`` must not mean 1.
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise TypeError("not a number")
+        x = float(value)
+        above = x > lo if open_lo else x >= lo
+        below = x < hi if open_hi else x <= hi
+        if not (math.isfinite(x) and above and below):  # NaN fails both comparisons
+            raise ValueError("out of range")
+        return x
+    return convert
+
+
+def _integer(lo: int, hi: int) -> Callable[[Any], int]:
+    def convert(value: Any) -> int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise TypeError("not an integer")
+        if not lo <= value <= hi:
+            raise ValueError("out of range")
+        return value
+    return convert
+
+
+def _preset(value: Any) -> str:
+    if not isinstance(value, str):
+        raise TypeError("not a string")
+    name = value.strip().lower()
+    if name not in PRESETS:
+        raise ValueError("unknown preset")
+    return name
+
+
+# Window sizes: at least 320x240 so the HUD fits; the upper bound only stops
+# absurd values (a typo like 12800000) from reaching the GL driver.
+_MAX_SIZE = 16384
+
+_RULES: dict[str, _Rule] = {
+    "preset": _Rule(" or ".join(repr(p) for p in PRESETS), _preset),
+    "mouse_sensitivity": _Rule("a number of radians per pixel, > 0 and < 0.1",
+                               _number(0.0, 0.1, open_lo=True, open_hi=True)),
+    "invert_x": _Rule("true or false", _boolean),
+    "invert_y": _Rule("true or false", _boolean),
+    "fov_deg": _Rule("a number of degrees from 50 to 120", _number(50.0, 120.0)),
+    "fullscreen": _Rule("true or false", _boolean),
+    "vsync": _Rule("true or false", _boolean),
+    "show_fps": _Rule("true or false", _boolean),
+    "width": _Rule(f"a whole number of pixels from 320 to {_MAX_SIZE}", _integer(320, _MAX_SIZE)),
+    "height": _Rule(f"a whole number of pixels from 240 to {_MAX_SIZE}", _integer(240, _MAX_SIZE)),
+}
+
+
+def _normalise_key(name: str) -> str:
+    """Canonical spelling of a key name: upper case, and a bare digit ``"1"``
+    becomes pyglet's ``"_1"`` (an easy slip when editing the file by hand)."""
+    name = name.strip().upper()
+    if len(name) == 1 and name.isdigit():
+        name = "_" + name
+    return name
+
+
+def _parse_keys(value: Any) -> tuple[str, ...]:
+    """Turn a binding value into a tuple of canonical key names.
+
+    Accepts a list of strings (or a single string, the obvious meaning).
+    Duplicates are dropped, keeping the first. Raises ``TypeError`` for a wrong
+    type and ``ValueError`` naming the unknown keys.
+    """
+    if isinstance(value, str):
+        value = [value]
+    if not isinstance(value, (list, tuple)):
+        raise TypeError("not a list of key names")
+    keys: list[str] = []
+    unknown: list[str] = []
+    for item in value:
+        if not isinstance(item, str):
+            raise TypeError(f"{item!r} is not a key name (a string)")
+        key = _normalise_key(item)
+        if key not in KEY_NAMES:
+            unknown.append(item)
+        elif key not in keys:
+            keys.append(key)
+    if unknown:
+        parts = []
+        for item in unknown:
+            close = difflib.get_close_matches(_normalise_key(item), KEY_NAMES, n=1)
+            parts.append(f"{item!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
+        raise ValueError("unknown key name " + ", ".join(parts))
+    return tuple(keys)
+
+
+# --------------------------------------------------------------------------
+# Settings
+# --------------------------------------------------------------------------
+
+
+@dataclass
+class Settings:
+    """Everything the player can configure.
+
+    Parameters
+    ----------
+    bindings : dict of str to tuple of str, optional
+        Action name -> key names. Actions left out take the preset's keys, so
+        ``Settings(preset="azerty", bindings={"jump": ("X",)})`` is AZERTY with
+        jump moved; an empty tuple unbinds. After construction it holds every
+        action of :data:`ACTIONS`, in that order.
+    preset : str
+        Base layout, a key of :data:`PRESETS`.
+    mouse_sensitivity : float
+        Radians of turn per pixel of mouse motion, in (0, 0.1).
+    invert_x, invert_y : bool
+        Reverse horizontal / vertical mouse look.
+    fov_deg : float
+        Vertical field of view, degrees, in [50, 120].
+    fullscreen, vsync, show_fps : bool
+        Display options.
+    width, height : int
+        Window size in pixels, at least 320 x 240.
+
+    Raises
+    ------
+    ValueError
+        If a value is of the wrong type or out of range, or a binding names an
+        unknown action or key. (Files never raise: see :func:`load_settings`.)
+    """
+
+    bindings: dict[str, tuple[str, ...]] | None = None
+    preset: str = "qwerty"
+    mouse_sensitivity: float = 0.0025
+    invert_x: bool = False
+    invert_y: bool = False
+    fov_deg: float = 75.0
+    fullscreen: bool = False
+    vsync: bool = True
+    show_fps: bool = False
+    width: int = 1280
+    height: int = 720
+
+    def __post_init__(self) -> None:
+        for name, rule in _RULES.items():
+            value = getattr(self, name)
+            try:
+                setattr(self, name, rule.convert(value))
+            except (TypeError, ValueError):
+                raise ValueError(f"Settings.{name}: got {value!r}, expected {rule.expected}") from None
+
+        overrides = dict(self.bindings or {})
+        for action in overrides:
+            if action not in ACTION_DESCRIPTIONS:
+                raise ValueError(f"Settings.bindings: unknown action {action!r}, expected one of {ACTIONS}")
+        base = PRESETS[self.preset]
+        merged = {}
+        for action in ACTIONS:  # a fresh dict: never alias the caller's or the preset's
+            raw = overrides.get(action, base.get(action, ()))
+            try:
+                merged[action] = _parse_keys(raw)
+            except (TypeError, ValueError) as exc:
+                raise ValueError(f"Settings.bindings[{action!r}]: {exc}; expected {_KEYS_EXPECTED}") from None
+        self.bindings = merged
+
+    def keys_for(self, action: str) -> tuple[str, ...]:
+        """Key names bound to ``action`` (empty if unbound).
+
+        Raises
+        ------
+        KeyError
+            If ``action`` is not in :data:`ACTIONS` (a typo in code should fail
+            loudly, not leave a control dead).
+        """
+        if action not in ACTION_DESCRIPTIONS:
+            raise KeyError(f"unknown action {action!r}; known actions: {', '.join(ACTIONS)}")
+        return self.bindings.get(action, ())
+
+    def conflicts(self) -> dict[str, tuple[str, ...]]:
+        """Keys bound to more than one action: key -> actions in :data:`ACTIONS` order."""
+        owners: dict[str, list[str]] = {}
+        for action in ACTIONS:
+            for key in self.bindings.get(action, ()):
+                owners.setdefault(key, []).append(action)
+        return {key: tuple(acts) for key, acts in owners.items() if len(acts) > 1}
+
+    def key_map(self) -> dict[str, str]:
+        """Reverse map key name -> action, for the window to build once.
+
+        A key bound to several actions maps to the first of them in
+        :data:`ACTIONS` order; :meth:`problems` reports such keys.
+        """
+        result: dict[str, str] = {}
+        for action in ACTIONS:
+            for key in self.bindings.get(action, ()):
+                result.setdefault(key, action)
+        return result
+
+    def action_for_key(self, key: str) -> str | None:
+        """The action ``key`` triggers, or ``None`` if it is unbound.
+
+        ``key`` is matched case-insensitively. A key bound to several actions
+        triggers only the first in :data:`ACTIONS` order (deterministic, and
+        reported by :meth:`problems`).
+        """
+        return self.key_map().get(_normalise_key(key))
+
+    def problems(self) -> list[str]:
+        """Human-readable descriptions of keys bound to more than one action."""
+        return [
+            f"key {key!r} is bound to {' and '.join(repr(a) for a in acts)}; "
+            f"it will only trigger {acts[0]!r}"
+            for key, acts in self.conflicts().items()
+        ]
+
+
+def default_settings(preset: str = "qwerty") -> Settings:
+    """Default settings on the given key layout (``"qwerty"`` or ``"azerty"``).
+
+    Raises
+    ------
+    ValueError
+        For an unknown preset.
+    """
+    return Settings(preset=preset)
+
+
+def look_delta(settings: Settings, dx_pixels: float, dy_pixels: float) -> tuple[float, float]:
+    """Turn mouse motion into a look change.
+
+    Parameters
+    ----------
+    settings : Settings
+    dx_pixels, dy_pixels : float
+        Mouse motion as pyglet reports it: ``dx > 0`` is rightwards, ``dy > 0``
+        upwards.
+
+    Returns
+    -------
+    dyaw, dpitch : float
+        Radians. Positive yaw turns right and positive pitch looks up (the
+        convention of :class:`across_dimensions.game.actions.Actions`), each
+        reversed by ``invert_x`` / ``invert_y``. Pitch is not clamped here.
+    """
+    s = settings.mouse_sensitivity
+    dyaw = float(dx_pixels) * s * (-1.0 if settings.invert_x else 1.0)
+    dpitch = float(dy_pixels) * s * (-1.0 if settings.invert_y else 1.0)
+    return dyaw, dpitch
+
+
+# --------------------------------------------------------------------------
+# File
+# --------------------------------------------------------------------------
+
+
+def settings_path() -> Path:
+    """Where the settings file lives.
+
+    ``$ACROSS_DIMENSIONS_CONFIG_DIR/settings.toml`` when that variable is set
+    and non-empty (tests use it to stay out of the real config folder),
+    otherwise ``settings.toml`` in platformdirs' per-user config folder for
+    ``"across-dimensions"``.
+    """
+    override = os.environ.get(CONFIG_DIR_ENV, "").strip()
+    folder = Path(override).expanduser() if override else Path(platformdirs.user_config_dir(_APP_NAME))
+    return folder / _FILE_NAME
+
+
+def _defaults() -> dict[str, Any]:
+    return {f.name: f.default for f in fields(Settings) if f.name != "bindings"}
+
+
+def load_settings(path: str | os.PathLike | None = None) -> tuple[Settings, list[str]]:
+    """Read settings from a TOML file, never raising.
+
+    Parameters
+    ----------
+    path : path-like, optional
+        Defaults to :func:`settings_path`.
+
+    Returns
+    -------
+    settings : Settings
+    warnings : list of str
+        One message per problem, each naming the file, the entry and what was
+        expected. A missing file gives the defaults and no warning; a file that
+        cannot be read or is not valid TOML gives one warning and all defaults;
+        a bad entry (wrong type, out of range, unknown preset, action or key
+        name) gives a warning and that entry's default while the valid entries
+        are kept. Keys bound to more than one action are reported too.
+    """
+    path = Path(path) if path is not None else settings_path()
+    defaults = _defaults()
+    try:
+        # utf-8-sig: tolerate the byte-order mark some Windows editors add.
+        data = tomllib.loads(path.read_bytes().decode("utf-8-sig"))
+    except FileNotFoundError:
+        return default_settings(), []
+    except (OSError, UnicodeDecodeError) as exc:
+        return default_settings(), [f"{path}: cannot read the settings file ({exc}); using the default settings"]
+    except tomllib.TOMLDecodeError as exc:
+        return default_settings(), [f"{path}: not valid TOML ({exc}); using the default settings"]
+
+    warnings: list[str] = []
+
+    def bad(entry: str, value: Any, expected: str, default: Any, why: str = "") -> None:
+        shown = list(default) if isinstance(default, tuple) else default
+        detail = f" ({why})" if why else ""
+        warnings.append(f"{path}: {entry} = {value!r}{detail}: expected {expected}; "
+                        f"using the default {shown!r}")
+
+    values: dict[str, Any] = {}
+    for name, rule in _RULES.items():
+        if name in data:
+            try:
+                values[name] = rule.convert(data[name])
+            except (TypeError, ValueError):
+                bad(name, data[name], rule.expected, defaults[name])
+
+    for name in data:
+        if name not in _RULES and name != "bindings":
+            # Ignored rather than fatal: it may come from a newer version.
+            warnings.append(f"{path}: unknown setting {name!r}, ignored; "
+                            f"expected one of {', '.join(list(_RULES) + ['[bindings]'])}")
+
+    preset = PRESETS[values.get("preset", defaults["preset"])]
+    overrides: dict[str, tuple[str, ...]] = {}
+    raw_bindings = data.get("bindings", {})
+    if not isinstance(raw_bindings, dict):
+        warnings.append(f"{path}: bindings = {raw_bindings!r}: expected a [bindings] table of "
+                        f"action = [\"KEY\", ...]; using the preset's bindings")
+        raw_bindings = {}
+    for action, raw in raw_bindings.items():
+        if action not in ACTION_DESCRIPTIONS:
+            close = difflib.get_close_matches(action, ACTIONS, n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            warnings.append(f"{path}: [bindings] unknown action {action!r}{hint}, ignored; "
+                            f"expected one of {', '.join(ACTIONS)}")
+            continue
+        try:
+            overrides[action] = _parse_keys(raw)
+        except (TypeError, ValueError) as exc:
+            bad(f"[bindings] {action}", raw, _KEYS_EXPECTED, preset.get(action, ()), str(exc))
+
+    # Every value was checked above, so construction cannot fail.
+    settings = Settings(bindings=overrides, **values)
+    warnings.extend(f"{path}: [bindings] {problem}" for problem in settings.problems())
+    return settings, warnings
+
+
+def _to_toml(settings: Settings) -> dict[str, Any]:
+    doc: dict[str, Any] = {name: getattr(settings, name) for name in _RULES}
+    # Only the differences from the preset, so the file stays short and a
+    # changed ``preset`` line still moves every action the player left alone.
+    base = PRESETS[settings.preset]
+    doc["bindings"] = {action: list(keys) for action, keys in settings.bindings.items()
+                       if keys != base.get(action, ())}
+    return doc
+
+
+_HEADER = b"""\
+# Across Dimensions settings, rewritten by the game: edit while it is closed.
+# [bindings] lists only actions whose keys differ from the preset, e.g.
+#   jump = ["SPACE", "MOUSE_RIGHT"]     (an empty list [] unbinds an action)
+
+"""
+
+
+def save_settings(settings: Settings, path: str | os.PathLike | None = None) -> Path:
+    """Write settings as TOML, atomically.
+
+    The text goes to a temporary file in the same folder, is flushed to disk,
+    then renamed over the target, so a crash or a full disk leaves either the
+    old file or the new one, never a truncated mix.
+
+    Parameters
+    ----------
+    settings : Settings
+    path : path-like, optional
+        Defaults to :func:`settings_path`; missing folders are created.
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Raises
+    ------
+    ValueError
+        If ``settings`` was modified into an invalid state after construction
+        (checked before anything is written).
+    OSError
+        If the file cannot be written; the old file, if any, is untouched and
+        no temporary file is left behind.
+    """
+    path = Path(path) if path is not None else settings_path()
+    checked = replace(settings)  # re-runs __post_init__ validation on fields set since construction
+    payload = _HEADER + tomli_w.dumps(_to_toml(checked)).encode("utf-8")
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as tmp:
+            tmp.write(payload)
+            tmp.flush()
+            os.fsync(tmp.fileno())
+        os.replace(tmp_name, path)
+    except BaseException:
+        try:
+            os.unlink(tmp_name)
+        except OSError:
+            pass
+        raise
+    return path
