@@ -368,3 +368,28 @@ class TriMesh3:
         from .meshio import save_trimesh3  # local: keeps file formats out of the hot path
 
         save_trimesh3(self, path)
+
+
+def concatenate(meshes, name: str = "") -> TetMesh4:
+    """One mesh holding several (a union of disjoint solids).
+
+    Parameters
+    ----------
+    meshes : sequence of TetMesh4
+        Colours are kept where given and white elsewhere.
+
+    Returns
+    -------
+    TetMesh4
+    """
+    meshes = list(meshes)
+    if not meshes:
+        raise MeshError("concatenate needs at least one mesh")
+    offsets = np.cumsum([0] + [len(m.vertices) for m in meshes[:-1]])
+    verts = np.concatenate([m.vertices for m in meshes])
+    tets = np.concatenate([m.tets.astype(np.int64) + o for m, o in zip(meshes, offsets)])
+    colors = None
+    if any(m.colors is not None for m in meshes):
+        colors = np.concatenate([m.colors if m.colors is not None else np.ones((len(m.vertices), 4), np.float32)
+                                 for m in meshes])
+    return TetMesh4(verts, tets, colors, name or "+".join(m.name for m in meshes if m.name))

@@ -1,0 +1,138 @@
+"""What one rendered frame shows, as plain data.
+
+The simulation fills a :class:`Frame`; ``render`` draws it. Nothing here knows
+about OpenGL or windows, so the same frame can be drawn on screen, offscreen
+for a test, or not at all in a headless replay.
+
+Coordinates are 3D world coordinates (x right, y up, z forward), the space the
+cross-section hyperplane is mapped to by the synced camera.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.mesh import TriMesh3
+
+
+@dataclass
+class Camera3:
+    """A 3D perspective camera.
+
+    Parameters
+    ----------
+    position : (3,) float64
+    yaw : float
+        Radians; 0 looks along +z, positive turns towards +x.
+    pitch : float
+        Radians; positive looks up.
+    fov_y_deg : float
+        Vertical field of view.
+    near, far : float
+    """
+
+    position: np.ndarray
+    yaw: float = 0.0
+    pitch: float = 0.0
+    fov_y_deg: float = 75.0
+    near: float = 0.05
+    far: float = 500.0
+
+    def forward(self) -> np.ndarray:
+        """Unit view direction ``(3,) float64``."""
+        cp = np.cos(self.pitch)
+        return np.array([np.sin(self.yaw) * cp, np.sin(self.pitch), np.cos(self.yaw) * cp])
+
+    def view_matrix(self) -> np.ndarray:
+        """World-to-eye ``(4, 4) float64`` in OpenGL's convention (eye looks down -z)."""
+        f = self.forward()
+        up = np.array([0.0, 1.0, 0.0])
+        # The world (x right, y up, z forward) is left-handed; OpenGL's eye space
+        # is right-handed, so this matrix includes a reflection (det -1).
+        r = np.cross(up, f)
+        nr = np.linalg.norm(r)
+        r = r / nr if nr > 1e-9 else np.array([np.cos(self.yaw), 0.0, -np.sin(self.yaw)])
+        u = np.cross(f, r)
+        m = np.eye(4)
+        m[0, :3] = r
+        m[1, :3] = u
+        m[2, :3] = -f
+        m[:3, 3] = -m[:3, :3] @ np.asarray(self.position, dtype=np.float64)
+        return m
+
+    def projection_matrix(self, aspect: float) -> np.ndarray:
+        """OpenGL perspective ``(4, 4) float64`` for ``aspect = width / height``."""
+        t = 1.0 / np.tan(np.radians(self.fov_y_deg) / 2.0)
+        n, f = self.near, self.far
+        m = np.zeros((4, 4))
+        m[0, 0] = t / aspect
+        m[1, 1] = t
+        m[2, 2] = (f + n) / (n - f)
+        m[2, 3] = 2 * f * n / (n - f)
+        m[3, 2] = -1.0
+        return m
+
+
+@dataclass
+class Drawable:
+    """One mesh to draw.
+
+    Parameters
+    ----------
+    key : str
+        Stable identity; the renderer keeps one GPU buffer per key.
+    revision : int
+        Bumped whenever ``mesh`` changes; the renderer re-uploads only then.
+    mesh : TriMesh3
+        In world coordinates (cross-sections) or in the 3D space of a frustum
+        projection placed by ``model``.
+    model : (4, 4) float64
+        Mesh-to-world transform.
+    style : str
+        ``"solid"`` lit opaque, ``"ghost"`` translucent (previews, frustum
+        views), ``"wire"`` edges only.
+    """
+
+    key: str
+    revision: int
+    mesh: TriMesh3
+    model: np.ndarray = field(default_factory=lambda: np.eye(4))
+    style: str = "solid"
+
+
+@dataclass
+class Hud:
+    """Heads-up display state.
+
+    Parameters
+    ----------
+    w, w_min, w_max : float
+        The player's w and the level's allowed range (the w indicator).
+    fps : float or None
+        Shown when not None.
+    paused : bool
+    message : str
+        A centred line (level complete, paused, no energy ...).
+    crosshair : bool
+    """
+
+    w: float = 0.0
+    w_min: float = -1.0
+    w_max: float = 1.0
+    fps: float | None = None
+    paused: bool = False
+    message: str = ""
+    crosshair: bool = True
+
+
+@dataclass
+class Frame:
+    """Everything one image shows."""
+
+    camera: Camera3
+    drawables: list[Drawable] = field(default_factory=list)
+    hud: Hud = field(default_factory=Hud)
+    sky_color: tuple[float, float, float] = (0.05, 0.06, 0.10)
+    light_dir: tuple[float, float, float] = (0.4, 1.0, 0.25)

@@ -1,0 +1,176 @@
+"""The first-person walking controller.
+
+The player is an axis-aligned box (``2 * HALF_WIDTH`` wide, ``HEIGHT`` tall,
+feet at ``position[1]``) living in the 3D slice at ``w = position[3]``. It
+collides with axis-aligned boxes: the 3D world's boxes and, for 4D geometry, the
+bounds of its cross-section at the player's w (see ``world.scene``).
+
+Why not pymunk: pymunk solves 2D rigid bodies; a walker needs 3D (jumping onto
+ledges, ceilings), and against boxes an axis-by-axis sweep is exact, cheap and
+trivially deterministic, which replays rely on.
+
+Motion is resolved one axis at a time (x, z, then y): a move that would enter
+a box stops flush against it. A per-tick step is below the smallest wall
+thickness the levels use at walking speed, so nothing tunnels. Moving along w
+changes which 4D walls exist; a w step that would put the player inside one is
+refused (you cannot phase into a wall).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .actions import Actions
+
+HALF_WIDTH = 0.3
+HEIGHT = 1.75
+EYE_HEIGHT = 1.6
+WALK_SPEED = 4.5  # m/s
+GROUND_ACCEL = 40.0  # m/s^2 towards the wanted velocity on the ground
+AIR_ACCEL = 8.0
+JUMP_SPEED = 5.2  # m/s: a 1.4 m jump under 9.81 m/s^2
+W_SPEED = 1.2  # w units/s
+W_ACCEL = 8.0
+MAX_PITCH = np.radians(89.0)
+SKIN = 1e-4  # gap kept to surfaces so resting contact is not overlap
+
+
+@dataclass
+class Player:
+    """Player state; all arrays float64.
+
+    Parameters
+    ----------
+    position : (4,) float64
+        Feet position x, y, z, w.
+    velocity : (4,) float64
+    yaw, pitch : float
+        Radians.
+    on_ground : bool
+    """
+
+    position: np.ndarray
+    velocity: np.ndarray = field(default_factory=lambda: np.zeros(4))
+    yaw: float = 0.0
+    pitch: float = 0.0
+    on_ground: bool = False
+
+    def eye(self) -> np.ndarray:
+        """Eye position ``(3,) float64``."""
+        p = self.position
+        return np.array([p[0], p[1] + EYE_HEIGHT, p[2]])
+
+    def center(self) -> np.ndarray:
+        """Centre of the player's box ``(3,) float64``."""
+        p = self.position
+        return np.array([p[0], p[1] + HEIGHT / 2, p[2]])
+
+    def state_array(self) -> np.ndarray:
+        return np.concatenate([self.position, self.velocity, [self.yaw, self.pitch, float(self.on_ground)]])
+
+
+def player_box(position) -> tuple[np.ndarray, np.ndarray]:
+    """The player's bounds ``(lo (3,), hi (3,))`` at a feet position."""
+    x, y, z = position[0], position[1], position[2]
+    return np.array([x - HALF_WIDTH, y, z - HALF_WIDTH]), np.array([x + HALF_WIDTH, y + HEIGHT, z + HALF_WIDTH])
+
+
+def overlapping(lo, hi, boxes: np.ndarray) -> np.ndarray:
+    """Which of ``boxes (k, 2, 3)`` overlap the box ``[lo, hi]`` (open intervals)."""
+    if len(boxes) == 0:
+        return np.zeros(0, bool)
+    return np.all((lo < boxes[:, 1]) & (hi > boxes[:, 0]), axis=1)
+
+
+def _move_axis(pos: np.ndarray, axis: int, delta: float, boxes: np.ndarray) -> tuple[np.ndarray, bool]:
+    """Move along one axis, stopping flush at the first box entered."""
+    if delta == 0.0:
+        return pos, False
+    before = overlapping(*player_box(pos), boxes)
+    new = pos.copy()
+    new[axis] += delta
+    hit = overlapping(*player_box(new), boxes) & ~before
+    if not hit.any():
+        return new, False
+    lo_off = 0.0 if axis == 1 else -HALF_WIDTH
+    hi_off = HEIGHT if axis == 1 else HALF_WIDTH
+    if delta > 0:
+        new[axis] = boxes[hit, 0, axis].min() - hi_off - SKIN
+    else:
+        new[axis] = boxes[hit, 1, axis].max() - lo_off + SKIN
+    # Never move backwards because of a box we were already touching.
+    new[axis] = min(new[axis], pos[axis] + delta) if delta > 0 else max(new[axis], pos[axis] + delta)
+    if (delta > 0 and new[axis] < pos[axis]) or (delta < 0 and new[axis] > pos[axis]):
+        new[axis] = pos[axis]
+    return new, True
+
+
+def step_player(player: Player, actions: Actions, dt: float, gravity_y: float, w_range: tuple[float, float],
+                colliders_at) -> None:
+    """Advance the player one tick.
+
+    Parameters
+    ----------
+    player : Player
+        Updated in place.
+    actions : Actions
+    dt : float
+        Tick length, seconds.
+    gravity_y : float
+        Vertical gravity (negative is down).
+    w_range : (float, float)
+        Allowed w interval.
+    colliders_at : callable
+        ``colliders_at(w) -> (k, 2, 3) float64`` boxes solid in the slice at w.
+    """
+    player.yaw = float((player.yaw + actions.yaw + np.pi) % (2 * np.pi) - np.pi)
+    player.pitch = float(np.clip(player.pitch + actions.pitch, -MAX_PITCH, MAX_PITCH))
+
+    # Walking: steer horizontal velocity towards the wanted one.
+    fwd = np.array([np.sin(player.yaw), np.cos(player.yaw)])
+    right = np.array([np.cos(player.yaw), -np.sin(player.yaw)])
+    wish = actions.forward * fwd + actions.right * right
+    n = np.linalg.norm(wish)
+    if n > 1.0:
+        wish /= n
+    want = wish * WALK_SPEED
+    v = player.velocity
+    accel = GROUND_ACCEL if player.on_ground else AIR_ACCEL
+    dv = want - v[[0, 2]]
+    dv_len = np.linalg.norm(dv)
+    if dv_len > accel * dt:
+        dv *= accel * dt / dv_len
+    v[0] += dv[0]
+    v[2] += dv[1]
+    if actions.jump and player.on_ground:
+        v[1] = JUMP_SPEED
+    v[1] += gravity_y * dt
+
+    # Along w: smooth acceleration to the wanted speed, inside the level's range.
+    dw = np.clip(actions.w * W_SPEED - v[3], -W_ACCEL * dt, W_ACCEL * dt)
+    v[3] += dw
+    pos = player.position
+    w_target = pos[3] + v[3] * dt
+    w_new = float(np.clip(w_target, *w_range))
+    if w_new != pos[3]:
+        lo, hi = player_box(pos)
+        if (overlapping(lo, hi, colliders_at(w_new)) & ~overlapping(lo, hi, colliders_at(pos[3]))).any():
+            w_new = float(pos[3])
+    if w_new != w_target:  # stopped by the range's end or by a wall appearing
+        v[3] = 0.0
+    pos[3] = w_new
+
+    boxes = colliders_at(pos[3])
+    pos_new, _ = _move_axis(pos, 0, v[0] * dt, boxes)
+    pos_new, _ = _move_axis(pos_new, 2, v[2] * dt, boxes)
+    pos_new, hit_y = _move_axis(pos_new, 1, v[1] * dt, boxes)
+    # Velocity along an axis we were stopped on is gone.
+    for axis in (0, 2):
+        if abs(pos_new[axis] - (pos[axis] + v[axis] * dt)) > 1e-9:
+            v[axis] = 0.0
+    player.on_ground = bool(hit_y and v[1] <= 0)
+    if hit_y:
+        v[1] = 0.0
+    player.position = pos_new

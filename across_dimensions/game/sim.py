@@ -1,0 +1,137 @@
+"""The game simulation: one fixed tick at a time, no window, no clock.
+
+``Game.step(actions)`` advances everything by ``1 / TICK_RATE`` seconds;
+``Game.frame(alpha)`` describes what to draw, interpolated ``alpha`` of the way
+from the previous tick to this one. The simulation never reads the wall clock
+and draws randomness only from its own seeded generator, so the same level,
+seed and actions always give the same states (replays rely on it).
+"""
+
+from __future__ import annotations
+
+import hashlib
+
+import numpy as np
+
+from ..world.level import Level
+from ..world.scene import Scene, SectionCache, build_scene
+from .actions import Actions
+from .frame import Camera3, Drawable, Frame, Hud
+from .player import HEIGHT, Player, overlapping, player_box, step_player
+
+TICK_RATE = 60
+DT = 1.0 / TICK_RATE
+FALL_LIMIT = -30.0  # below this y the player has fallen out of the level
+
+
+class Game:
+    """A level being played.
+
+    Parameters
+    ----------
+    level : Level
+    seed : int
+        Seeds the world's random generator (``self.rng``).
+    scene : Scene, optional
+        Pre-built geometry (building lifts assets, which can take a while).
+    """
+
+    def __init__(self, level: Level, seed: int = 0, scene: Scene | None = None):
+        self.level = level
+        self.seed = seed
+        self.rng = np.random.default_rng(seed)
+        self.scene = scene if scene is not None else build_scene(level)
+        self.sections = SectionCache()
+        self.tick = 0
+        self.outcome: str | None = None  # "complete" once the goal is reached
+        self.completed_tick: int | None = None
+        self.player = Player(level.spawn.astype(np.float64).copy(), yaw=float(np.radians(level.spawn_yaw_deg)))
+        self.respawns = 0
+        self._prev_eye = self.player.eye()
+        self._prev_view = (self.player.yaw, self.player.pitch)
+
+    # ---------------------------------------------------------------- stepping
+    @property
+    def time(self) -> float:
+        """Simulated seconds since the start."""
+        return self.tick * DT
+
+    def object_model(self, index: int, t: float | None = None) -> np.ndarray:
+        """Object-to-world ``(5, 5)`` of object ``index`` at time ``t``."""
+        return self.scene.objects[index].model_at(self.time if t is None else t)
+
+    def colliders_at(self, w: float) -> np.ndarray:
+        """Boxes ``(k, 2, 3)`` solid in the slice at ``w``: the 3D world, the
+        extended worlds present there and the bounds of solid 4D objects' sections."""
+        parts = [self.scene.static_boxes, self.scene.world_boxes_at(w)]
+        for i, obj in enumerate(self.scene.objects):
+            if not obj.solid:
+                continue
+            key = f"object:{i}"
+            self.sections.section(key, obj.mesh, self.object_model(i), w)
+            b = self.sections.bounds(key)
+            if b is not None:
+                parts.append(b[None])
+        return np.concatenate(parts)
+
+    def step(self, actions: Actions) -> None:
+        """Advance one tick."""
+        p = self.player
+        self._prev_eye = p.eye()
+        self._prev_view = (p.yaw, p.pitch)
+        step_player(p, actions, DT, float(self.level.gravity[1]), self.level.w_range, self.colliders_at)
+        if p.position[1] < FALL_LIMIT:
+            self.respawn()
+        self.tick += 1
+        if self.outcome is None and self.in_goal():
+            self.outcome = "complete"
+            self.completed_tick = self.tick
+
+    def respawn(self) -> None:
+        self.player = Player(self.level.spawn.astype(np.float64).copy(), yaw=float(np.radians(self.level.spawn_yaw_deg)))
+        self.respawns += 1
+
+    def in_goal(self) -> bool:
+        g = self.level.goal
+        c = self.player.center()
+        if np.any(np.abs(c - g.center) > g.size / 2):
+            return False
+        return g.w_range is None or g.w_range[0] <= self.player.position[3] <= g.w_range[1]
+
+    def state_array(self) -> np.ndarray:
+        """Everything that evolves, as one ``float64`` array (for hashing)."""
+        return np.concatenate([[self.tick], self.player.state_array(), [self.respawns]])
+
+    def state_hash(self) -> str:
+        """A short hash of the simulation state; equal states give equal hashes."""
+        return hashlib.sha256(self.state_array().astype(np.float64).tobytes()).hexdigest()[:16]
+
+    # ------------------------------------------------------------------ frame
+    def frame(self, alpha: float = 1.0, fov_y_deg: float = 75.0) -> Frame:
+        """What to draw, the camera ``alpha`` of the way from the last tick."""
+        p = self.player
+        eye = self._prev_eye + alpha * (p.eye() - self._prev_eye)
+        dyaw = (p.yaw - self._prev_view[0] + np.pi) % (2 * np.pi) - np.pi
+        yaw = self._prev_view[0] + alpha * dyaw
+        pitch = self._prev_view[1] + alpha * (p.pitch - self._prev_view[1])
+        camera = Camera3(eye, yaw, pitch, fov_y_deg=fov_y_deg)
+        w = float(p.position[3])
+        drawables = [Drawable("static", 0, self.scene.static_mesh)]
+        for i, world in enumerate(self.scene.worlds):
+            tri, rev = self.sections.section(f"world:{i}", world.mesh, np.eye(5), w)
+            drawables.append(Drawable(f"world:{i}", rev, tri))
+        for i, obj in enumerate(self.scene.objects):
+            tri, rev = self.sections.section(f"object:{i}", obj.mesh, self.object_model(i), w)
+            drawables.append(Drawable(f"object:{i}", rev, tri))
+        lo, hi = self.level.w_range
+        message = "Level complete" if self.outcome == "complete" else ""
+        return Frame(camera, drawables, Hud(w=w, w_min=lo, w_max=hi, message=message))
+
+
+def blocked_by(game: Game, w: float) -> bool:
+    """Whether the player would overlap something solid in the slice at ``w``."""
+    lo, hi = player_box(game.player.position)
+    return bool(overlapping(lo, hi, game.colliders_at(w)).any())
+
+
+__all__ = ["Game", "TICK_RATE", "DT", "HEIGHT", "blocked_by"]

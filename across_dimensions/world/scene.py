@@ -1,0 +1,188 @@
+"""A level turned into geometry: what exists at every w, the extended worlds,
+the 4D objects, and the boxes that are solid in the slice at a given w.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core import lift, shapes
+from ..core.mesh import TetMesh4, TriMesh3, concatenate
+from ..core.section import cross_section
+from ..core.transform import pose, translation
+from .geometry import box_trimesh, merge_trimeshes, placement_matrix, surface_trimesh
+from .level import Level, MeshSpec
+
+WORLD_LAYERS = 9  # w-layers of an extended world; more makes the shrinking smoother
+
+
+@dataclass
+class ExtendedWorld:
+    """A 3D world extended along w.
+
+    ``centers``/``halves`` ``(b, 3) float64`` are its solid parts' bounds at
+    full size; at a w the parts are scaled about their centres by the profile,
+    exactly as in its 4D mesh (both use the same layer table).
+    """
+
+    name: str
+    mesh: TetMesh4
+    centers: np.ndarray
+    halves: np.ndarray
+    layers_w: np.ndarray
+    layer_scales: np.ndarray
+
+    def scale_at(self, w: float) -> float:
+        """Size of the world's parts in the slice at ``w`` (0 where absent)."""
+        if w <= self.layers_w[0] or w >= self.layers_w[-1]:
+            return 0.0
+        return float(np.interp(w, self.layers_w, self.layer_scales))
+
+    def boxes_at(self, w: float) -> np.ndarray:
+        s = self.scale_at(w)
+        if s <= 0.0:
+            return np.zeros((0, 2, 3))
+        h = self.halves * s
+        return np.stack([self.centers - h, self.centers + h], axis=1)
+
+
+@dataclass
+class Object4:
+    """A 4D object of the level: its mesh and the pose it starts in."""
+
+    name: str
+    mesh: TetMesh4
+    position: np.ndarray
+    rotation_deg: dict
+    scale: np.ndarray
+    spin_deg: dict
+    solid: bool
+    body: str
+    mass: float
+
+    def model_at(self, t: float, position=None, extra_rotation=None) -> np.ndarray:
+        """Object-to-world ``(5, 5)`` at time ``t`` seconds (spin included)."""
+        angles = {p: np.radians(self.rotation_deg.get(p, 0.0) + self.spin_deg.get(p, 0.0) * t)
+                  for p in set(self.rotation_deg) | set(self.spin_deg)}
+        m = pose(self.position if position is None else position, angles, self.scale)
+        if extra_rotation is not None:
+            m[:4, :4] = extra_rotation @ m[:4, :4]
+        return m
+
+    @property
+    def animated(self) -> bool:
+        return any(v != 0.0 for v in self.spin_deg.values())
+
+
+@dataclass
+class Scene:
+    """Geometry built from a :class:`Level`."""
+
+    level: Level
+    static_mesh: TriMesh3
+    static_boxes: np.ndarray
+    worlds: list[ExtendedWorld] = field(default_factory=list)
+    objects: list[Object4] = field(default_factory=list)
+
+    def world_boxes_at(self, w: float) -> np.ndarray:
+        """Boxes ``(k, 2, 3)`` of the extended worlds present in the slice at ``w``."""
+        parts = [wd.boxes_at(w) for wd in self.worlds]
+        return np.concatenate(parts) if parts else np.zeros((0, 2, 3))
+
+
+def _mesh_surface(spec: MeshSpec):
+    from .bake import load_surface  # trimesh is imported only when a level uses assets
+
+    v, f = load_surface(spec.asset)
+    return v, f, placement_matrix(spec.position, spec.scale, spec.yaw_deg)
+
+
+def _aabb_of(v) -> tuple[np.ndarray, np.ndarray]:
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    return 0.5 * (lo + hi), 0.5 * (hi - lo)
+
+
+def build_scene(level: Level) -> Scene:
+    """Build all geometry of ``level`` (lifted assets come from the bake cache)."""
+    tris: list[TriMesh3] = []
+    boxes = []
+    for b in level.boxes:
+        tris.append(box_trimesh(b.center, b.size, b.color))
+        boxes.append([b.center - b.size / 2, b.center + b.size / 2])
+    for m in level.meshes:
+        v, f, model = _mesh_surface(m)
+        t = surface_trimesh(v, f, m.color, model)
+        tris.append(t)
+        boxes.append([t.vertices.min(axis=0), t.vertices.max(axis=0)])
+    static_boxes = np.asarray(boxes, dtype=np.float64).reshape(-1, 2, 3)
+
+    worlds = [_build_world(w) for w in level.worlds]
+    objects = [_build_object(o) for o in level.objects]
+    return Scene(level, merge_trimeshes(tris), static_boxes, worlds, objects)
+
+
+def _build_world(spec) -> ExtendedWorld:
+    layers_w = np.linspace(spec.w - spec.depth / 2, spec.w + spec.depth / 2, WORLD_LAYERS)
+    scales = lift.profile_scales(layers_w, spec.w, spec.depth / 2, spec.profile)
+    parts, centers, halves = [], [], []
+    for b in spec.boxes:
+        v3, t3 = lift.box_solid(b.center, b.size)
+        parts.append(lift.extrude(v3, t3, layers_w, scales, center=b.center, colors=b.color))
+        centers.append(b.center)
+        halves.append(b.size / 2)
+    for m in spec.meshes:
+        from .bake import tetrahedralize_cached
+
+        v, f, model = _mesh_surface(m)
+        v3, t3 = tetrahedralize_cached(m.asset, v @ model[:3, :3].T + model[:3, 3], f)
+        c, h = _aabb_of(v3)
+        parts.append(lift.extrude(v3, t3, layers_w, scales, center=c, colors=m.color))
+        centers.append(c)
+        halves.append(h)
+    return ExtendedWorld(spec.name, concatenate(parts, name=spec.name), np.asarray(centers), np.asarray(halves),
+                         layers_w, np.asarray(scales, dtype=np.float64))
+
+
+def _build_object(spec) -> Object4:
+    if spec.shape is not None:
+        mesh = shapes.make_shape(spec.shape, **spec.params)
+    else:
+        from .bake import lift_asset
+
+        mesh = lift_asset(spec.asset, spec.depth)
+    mesh = mesh.with_color(spec.color)
+    return Object4(spec.name, mesh, spec.position.copy(), dict(spec.rotation_deg), spec.scale.copy(),
+                   dict(spec.spin_deg), spec.solid, spec.body, spec.mass)
+
+
+class SectionCache:
+    """Cross-sections recomputed only when the object or the hyperplane moved.
+
+    Each key keeps its last inputs, result and a revision that bumps whenever the
+    result is recomputed, which is what the renderer uploads by.
+    """
+
+    def __init__(self):
+        self._entries: dict[str, tuple] = {}
+        self.computed = 0
+
+    def section(self, key: str, mesh: TetMesh4, model: np.ndarray, w: float) -> tuple[TriMesh3, int]:
+        """Section of ``mesh`` placed by ``model`` at the slice ``w``; world xyz frame."""
+        entry = self._entries.get(key)
+        if entry is not None and entry[0] == w and np.array_equal(entry[1], model):
+            return entry[2], entry[3]
+        tri = cross_section(mesh, translation((0.0, 0.0, 0.0, w)), model)
+        rev = 0 if entry is None else entry[3] + 1
+        self._entries[key] = (w, np.array(model, copy=True), tri, rev)
+        self.computed += 1
+        return tri, rev
+
+    def bounds(self, key: str) -> np.ndarray | None:
+        """Bounds ``(2, 3)`` of the last section for ``key``, or None if empty."""
+        entry = self._entries.get(key)
+        if entry is None or entry[2].is_empty:
+            return None
+        v = entry[2].vertices
+        return np.stack([v.min(axis=0), v.max(axis=0)]).astype(np.float64)
