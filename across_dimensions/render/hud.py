@@ -1,0 +1,315 @@
+"""The heads-up display, drawn over the 3D scene in pixel coordinates.
+
+Everything on the HUD is an axis-aligned textured quad: text samples glyphs
+from the built-in 5x7 font atlas (:mod:`.font`), and solid rectangles sample a
+fully lit atlas cell. So the whole HUD is one instanced draw call with one
+shader, and the layout (:func:`hud_quads`) is plain numpy that can be tested
+without OpenGL.
+
+Layout (pixels, origin top-left, ``W x H`` the viewport):
+
+* crosshair: a plus with a dark outline at ``(W // 2, H // 2)``; hidden while
+  paused;
+* w indicator: a vertical track on the right, ``w_max`` at the top, with a tick
+  at ``w = 0``, a fill from 0 to ``w``, a marker at ``w`` (red when ``w`` is
+  outside the range), the label ``w`` above and the value below;
+* FPS (when not None): top-left;
+* message: centred horizontally, a third of the way down, on a dark band
+  (wrapped to fit);
+* paused: the whole view dimmed, then ``PAUSED`` in large text in the middle.
+
+Colours are display-space RGBA (no gamma applied).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from ..game.frame import Hud
+from .font import CELL_H, CELL_W, GLYPH_H, GLYPH_W, SOLID_CELL, build_atlas, cell_origin, glyph_index
+
+CROSSHAIR_COLOR = (0.95, 0.95, 0.95, 1.0)
+OUTLINE_COLOR = (0.0, 0.0, 0.0, 0.55)
+TRACK_COLOR = (1.0, 1.0, 1.0, 0.16)
+TICK_COLOR = (1.0, 1.0, 1.0, 0.75)
+MARKER_COLOR = (1.0, 0.75, 0.15, 1.0)
+MARKER_OUT_OF_RANGE_COLOR = (1.0, 0.25, 0.2, 1.0)
+FILL_POS_COLOR = (1.0, 0.55, 0.25, 0.45)
+FILL_NEG_COLOR = (0.3, 0.6, 1.0, 0.45)
+TEXT_COLOR = (0.92, 0.94, 1.0, 1.0)
+FPS_COLOR = (0.7, 1.0, 0.7, 0.9)
+PAUSE_DIM_COLOR = (0.0, 0.0, 0.0, 0.55)
+BAND_COLOR = (0.0, 0.0, 0.0, 0.45)
+
+#: Floats per HUD quad: rect x, y, w, h (px) | atlas u0, v0, u1, v1 (texels) | r, g, b, a.
+QUAD_FLOATS = 12
+
+
+@dataclass(frozen=True)
+class HudMetrics:
+    """Sizes that scale with the viewport, so the HUD reads at 160x90 and at 4K."""
+
+    width: int
+    height: int
+
+    @property
+    def text_scale(self) -> int:
+        return max(1, self.height // 300)
+
+    @property
+    def margin(self) -> int:
+        return max(4, self.width // 64)
+
+    @property
+    def arm(self) -> int:
+        return max(3, self.height // 60)
+
+    @property
+    def thickness(self) -> int:
+        return max(1, self.height // 360)
+
+    def w_track(self) -> tuple[int, int, int, int]:
+        """The w indicator's track as ``(x, y, w, h)`` pixels, origin top-left."""
+        bar_w = max(4, self.width // 128)
+        y0 = int(round(self.height * 0.22))
+        y1 = int(round(self.height * 0.78))
+        x0 = self.width - self.margin - bar_w
+        return x0, y0, bar_w, max(1, y1 - y0)
+
+    def w_marker_y(self, hud: Hud) -> tuple[int, bool]:
+        """Pixel row (top-left origin) of the w marker's centre, and whether w is in range."""
+        x0, y0, bw, th = self.w_track()
+        span = hud.w_max - hud.w_min
+        t = (hud.w - hud.w_min) / span if span > 0 else 0.5
+        in_range = 0.0 <= t <= 1.0
+        t = min(max(t, 0.0), 1.0)
+        return int(round(y0 + (1.0 - t) * th)), in_range
+
+
+class _QuadList:
+    """Collects HUD quads as rows of :data:`QUAD_FLOATS` floats."""
+
+    def __init__(self):
+        self.rows: list[tuple[float, ...]] = []
+        su, sv = cell_origin(SOLID_CELL)
+        # Sample the middle of the solid cell: every texel there is 255.
+        self._solid_uv = (su + CELL_W / 2, sv + CELL_H / 2) * 2
+
+    def rect(self, x, y, w, h, color) -> None:
+        if w > 0 and h > 0 and color[3] > 0:
+            self.rows.append((x, y, w, h, *self._solid_uv, *color))
+
+    def text(self, s: str, x, y, scale: int, color, shadow: bool = True) -> None:
+        """Text with its top-left at ``(x, y)``; a 1-scale-pixel drop shadow for contrast."""
+        if shadow:
+            self._glyphs(s, x + scale, y + scale, scale, (0.0, 0.0, 0.0, 0.6 * color[3]))
+        self._glyphs(s, x, y, scale, color)
+
+    def _glyphs(self, s, x, y, scale, color) -> None:
+        for i, ch in enumerate(s):
+            if ch == " ":
+                continue
+            u, v = cell_origin(glyph_index(ch))
+            self.rows.append((x + i * CELL_W * scale, y, GLYPH_W * scale, GLYPH_H * scale, u, v, u + GLYPH_W, v + GLYPH_H, *color))
+
+    def array(self) -> np.ndarray:
+        if not self.rows:
+            return np.zeros((0, QUAD_FLOATS), np.float32)
+        return np.asarray(self.rows, np.float32)
+
+
+def text_width(s: str, scale: int) -> int:
+    """Pixel width of a line of text at ``scale`` (no trailing gap)."""
+    return max(0, len(s) * CELL_W * scale - scale)
+
+
+def _wrap(message: str, max_chars: int) -> list[str]:
+    lines: list[str] = []
+    for para in message.split("\n"):
+        words, line = para.split(" "), ""
+        for word in words:
+            while len(word) > max_chars:  # a word longer than a line: hard break
+                if line:
+                    lines.append(line)
+                    line = ""
+                lines.append(word[:max_chars])
+                word = word[max_chars:]
+            cand = f"{line} {word}" if line else word
+            if len(cand) <= max_chars:
+                line = cand
+            else:
+                lines.append(line)
+                line = word
+        lines.append(line)
+    return lines
+
+
+def hud_quads(hud: Hud, width: int, height: int) -> np.ndarray:
+    """Lay out the HUD for a ``width x height`` viewport.
+
+    Returns
+    -------
+    (n, 12) float32
+        One row per quad in draw order (later rows on top): rect ``x, y, w, h``
+        in pixels (origin top-left, y down), atlas rect ``u0, v0, u1, v1`` in
+        texels, colour ``r, g, b, a``.
+    """
+    m = HudMetrics(int(width), int(height))
+    q = _QuadList()
+    s = m.text_scale
+    W, H = m.width, m.height
+
+    # --- w indicator (right edge)
+    x0, y0, bw, th = m.w_track()
+    q.rect(x0 - 1, y0 - 1, bw + 2, th + 2, OUTLINE_COLOR)
+    q.rect(x0, y0, bw, th, TRACK_COLOR)
+    my, in_range = m.w_marker_y(hud)
+    span = hud.w_max - hud.w_min
+    if span > 0 and hud.w_min <= 0.0 <= hud.w_max:
+        zy = int(round(y0 + (hud.w_max / span) * th))
+        top, bot = sorted((zy, my))
+        q.rect(x0, top, bw, bot - top, FILL_POS_COLOR if hud.w >= 0 else FILL_NEG_COLOR)
+        ext = max(2, bw // 2)
+        q.rect(x0 - ext, zy - m.thickness // 2, bw + 2 * ext, m.thickness, TICK_COLOR)
+    mh = max(2, H // 120)
+    mext = max(2, bw // 2 + 1)
+    q.rect(x0 - mext - 1, my - mh // 2 - 1, bw + 2 * mext + 2, mh + 2, OUTLINE_COLOR)
+    q.rect(x0 - mext, my - mh // 2, bw + 2 * mext, mh, MARKER_COLOR if in_range else MARKER_OUT_OF_RANGE_COLOR)
+    label_y = y0 - GLYPH_H * s - 3 * s - 1
+    q.text("w", x0 + bw // 2 - (GLYPH_W * s) // 2, label_y, s, TEXT_COLOR)
+    val = f"{hud.w:+.2f}"
+    vx = min(x0 + bw // 2 - text_width(val, s) // 2, W - text_width(val, s) - 2 * s)
+    q.text(val, vx, y0 + th + 3 * s + 1, s, TEXT_COLOR)
+
+    # --- FPS (top-left)
+    if hud.fps is not None:
+        q.text(f"{hud.fps:.0f} FPS", m.margin // 2, m.margin // 2, s, FPS_COLOR)
+
+    # --- crosshair (centre)
+    if hud.crosshair and not hud.paused:
+        cx, cy, a, t = W // 2, H // 2, m.arm, m.thickness
+        left, top = cx - t // 2, cy - t // 2
+        for grow, color in ((1, OUTLINE_COLOR), (0, CROSSHAIR_COLOR)):
+            q.rect(left - a - grow, top - grow, 2 * a + t + 2 * grow, t + 2 * grow, color)
+            q.rect(left - grow, top - a - grow, t + 2 * grow, 2 * a + t + 2 * grow, color)
+
+    # --- pause overlay
+    big = 2 * s if H >= 60 else s
+    if hud.paused:
+        q.rect(0, 0, W, H, PAUSE_DIM_COLOR)
+        label = "PAUSED"
+        q.text(label, (W - text_width(label, big)) // 2, H // 2 - (GLYPH_H * big) // 2, big, TEXT_COLOR)
+
+    # --- message (centred, a third of the way down; below PAUSED when paused)
+    if hud.message:
+        scale = big
+        max_chars = max(1, (W - 2 * m.margin) // (CELL_W * scale))
+        lines = _wrap(hud.message, max_chars)
+        if scale > s and len(lines) > 2:  # too long for large text: drop to the small size
+            scale = s
+            max_chars = max(1, (W - 2 * m.margin) // (CELL_W * scale))
+            lines = _wrap(hud.message, max_chars)
+        line_h = (GLYPH_H + 3) * scale
+        block_h = len(lines) * line_h
+        ytop = H // 2 + GLYPH_H * big + 2 * big if hud.paused else H // 3 - block_h // 2
+        band_w = max(text_width(ln, scale) for ln in lines) + 8 * scale
+        pad = 2 * scale
+        q.rect((W - band_w) // 2, ytop - pad, band_w, block_h + pad, BAND_COLOR)
+        for i, ln in enumerate(lines):
+            q.text(ln, (W - text_width(ln, scale)) // 2, ytop + i * line_h, scale, TEXT_COLOR)
+    return q.array()
+
+
+_HUD_VS = """
+#version 330
+uniform vec2 u_screen;
+in vec2 in_corner;
+in vec4 in_rect;
+in vec4 in_uv;
+in vec4 in_color;
+out vec2 v_uv;
+out vec4 v_color;
+void main() {
+    vec2 p = in_rect.xy + in_corner * in_rect.zw;
+    v_uv = mix(in_uv.xy, in_uv.zw, in_corner);
+    v_color = in_color;
+    // Pixels (origin top-left) to clip space (origin centre, y up).
+    gl_Position = vec4(p.x / u_screen.x * 2.0 - 1.0, 1.0 - p.y / u_screen.y * 2.0, 0.0, 1.0);
+}
+"""
+
+_HUD_FS = """
+#version 330
+uniform sampler2D u_atlas;
+uniform vec2 u_atlas_size;
+in vec2 v_uv;
+in vec4 v_color;
+out vec4 f_color;
+void main() {
+    float a = texture(u_atlas, v_uv / u_atlas_size).r;
+    f_color = vec4(v_color.rgb, v_color.a * a);
+}
+"""
+
+
+class HudRenderer:
+    """Draws a :class:`Hud` with one instanced draw call.
+
+    Parameters
+    ----------
+    ctx : moderngl.Context
+    """
+
+    def __init__(self, ctx: moderngl.Context):
+        self.ctx = ctx
+        self.program = ctx.program(vertex_shader=_HUD_VS, fragment_shader=_HUD_FS)
+        atlas = build_atlas()
+        # Row 0 of the array is uploaded first, so texel row r is array row r:
+        # atlas v coordinates count down from the top like the layout's y.
+        self.atlas = ctx.texture((atlas.shape[1], atlas.shape[0]), 1, atlas.tobytes(), alignment=1)
+        self.atlas.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        self.atlas.repeat_x = self.atlas.repeat_y = False
+        self.program["u_atlas"].value = 0
+        self.program["u_atlas_size"].value = (float(atlas.shape[1]), float(atlas.shape[0]))
+        corners = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], np.float32)
+        self._corner_vbo = ctx.buffer(corners.tobytes())
+        self._instances = ctx.buffer(reserve=256 * QUAD_FLOATS * 4, dynamic=True)
+        self._vao = self._make_vao()
+        self.last_quads = np.zeros((0, QUAD_FLOATS), np.float32)
+
+    def _make_vao(self) -> moderngl.VertexArray:
+        return self.ctx.vertex_array(
+            self.program,
+            [
+                (self._corner_vbo, "2f", "in_corner"),
+                (self._instances, "4f 4f 4f/i", "in_rect", "in_uv", "in_color"),
+            ],
+        )
+
+    def draw(self, hud: Hud, viewport: tuple[int, int, int, int]) -> None:
+        """Draw over whatever is in ``viewport`` (``(x, y, w, h)``, GL convention) of the bound framebuffer."""
+        _, _, w, h = (int(v) for v in viewport)
+        quads = hud_quads(hud, w, h)
+        self.last_quads = quads
+        if len(quads) == 0:
+            return
+        data = quads.tobytes()
+        if len(data) > self._instances.size:
+            self._instances.orphan(len(data) * 2)
+        self._instances.write(data)
+        ctx = self.ctx
+        ctx.viewport = viewport
+        ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
+        ctx.enable(moderngl.BLEND)
+        ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
+        self.program["u_screen"].value = (float(w), float(h))
+        self.atlas.use(0)
+        self._vao.render(moderngl.TRIANGLE_STRIP, vertices=4, instances=len(quads))
+        ctx.disable(moderngl.BLEND)
+
+    def release(self) -> None:
+        for obj in (self._vao, self._instances, self._corner_vbo, self.atlas, self.program):
+            obj.release()

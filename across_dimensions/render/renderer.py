@@ -1,0 +1,473 @@
+"""Draws a :class:`~across_dimensions.game.frame.Frame` with moderngl.
+
+The renderer only reads the frame: it never changes game state. It keeps one
+set of GPU buffers per ``Drawable.key`` and re-uploads a mesh only when the
+drawable's ``revision`` changes, so a static world costs no bus traffic and a
+cross-section that changes every frame re-uses its buffers (they grow, never
+shrink, while the key lives).
+
+Styles
+------
+``"solid"``
+    Opaque, lit: Lambert + hemisphere ambient + small Blinn specular + rim,
+    two-sided (the normal is flipped toward the eye).
+``"floor"``
+    Like solid, plus a procedural anti-aliased grid (1 m minor, 10 m major
+    lines) on the world plane the surface faces. Added by the render package;
+    the frame module documents only the other three.
+``"ghost"``
+    Translucent (alpha ~0.35 times the vertex alpha), lit like solid, drawn after
+    all opaque geometry with depth writes off, drawables sorted back to front.
+``"wire"``
+    Unlit lines along the mesh's feature edges (edges between coplanar
+    triangles, e.g. quad diagonals, are dropped), derived on upload.
+
+There is no back-face culling: the world is left-handed, so the view matrix
+contains a reflection and "front" winding flips; two-sided lighting makes
+culling unnecessary for correctness.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import moderngl
+import numpy as np
+
+from ..core.mesh import TriMesh3
+from ..game.frame import Drawable, Frame
+from .context import RenderError
+from .hud import HudRenderer
+from .shaders import program_source
+
+STYLES = ("solid", "floor", "wire", "ghost")
+#: Bytes per vertex in the interleaved buffer: position 3f, normal 3f, colour 4f.
+_STRIDE = 40
+_ATTRS = (("in_pos", "3f", 12), ("in_normal", "3f", 12), ("in_color", "4f", 16))
+
+
+@dataclass
+class RenderStats:
+    """Counters a test or a debug overlay can read.
+
+    ``uploads`` and ``releases`` accumulate over the renderer's life; the others
+    describe the last :meth:`Renderer.draw`.
+    """
+
+    uploads: int = 0  #: mesh uploads (first sight of a key, or a new revision)
+    releases: int = 0  #: cached meshes freed because their key disappeared
+    edge_builds: int = 0  #: wire edge lists derived (per upload, only for wire drawables)
+    frames: int = 0
+    draw_calls: int = 0
+    culled: int = 0  #: drawables skipped last frame because their bounding sphere was outside the view
+    triangles: int = 0
+    lines: int = 0
+    cached: int = 0  #: keys with GPU buffers after the last frame
+    upload_bytes: int = 0  #: bytes sent by the last frame's uploads
+    by_key: dict = field(default_factory=dict)  #: uploads per key (lifetime)
+
+
+def feature_edges(vertices: np.ndarray, faces: np.ndarray, angle_tol: float = 1e-3, weld_tol: float = 1e-5) -> np.ndarray:
+    """The edges to draw for a wireframe.
+
+    Triangle soups (each triangle with its own vertices, as cross-sections are)
+    are welded by position so shared edges are found, and edges whose two
+    triangles are coplanar (a quad's diagonal) are dropped.
+
+    Parameters
+    ----------
+    vertices : (k, 3) float32
+    faces : (f, 3) uint32
+    angle_tol : float
+        Radians; neighbours within this angle count as coplanar.
+    weld_tol : float
+        Positions closer than this (per axis, after rounding) are one vertex.
+
+    Returns
+    -------
+    (e, 2) uint32
+        Indices into ``vertices``.
+    """
+    if len(faces) == 0:
+        return np.zeros((0, 2), np.uint32)
+    v = vertices.astype(np.float64)
+    q = np.round(v / weld_tol).astype(np.int64)
+    _, inverse = np.unique(q, axis=0, return_inverse=True)
+    welded = inverse.reshape(-1)[faces.astype(np.int64)]  # (f, 3)
+    # All three edges of every triangle, in original and welded indices.
+    orig = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    wedge = np.sort(welded[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    keep_nondegenerate = wedge[:, 0] != wedge[:, 1]
+    p = v[faces.astype(np.int64)]
+    n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    face_of = np.repeat(np.arange(len(faces)), 3)
+    key = wedge[:, 0] * (int(wedge.max()) + 1) + wedge[:, 1]
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    starts = np.flatnonzero(np.r_[True, ks[1:] != ks[:-1]])
+    counts = np.diff(np.r_[starts, len(ks)])
+    first = order[starts]
+    keep = np.ones(len(starts), bool)
+    # An edge shared by exactly two triangles is a crease only if their planes differ
+    # (abs: triangle soups need not be consistently wound).
+    two = counts == 2
+    a = face_of[order[starts[two]]]
+    b = face_of[order[starts[two] + 1]]
+    coplanar = np.abs(np.einsum("ij,ij->i", n[a], n[b])) > np.cos(angle_tol)
+    keep[np.flatnonzero(two)[coplanar]] = False
+    keep &= keep_nondegenerate[first]
+    return np.ascontiguousarray(orig[first[keep]], dtype=np.uint32)
+
+
+class _GpuMesh:
+    """GPU buffers for one drawable key."""
+
+    def __init__(self, key: str):
+        self.key = key
+        self.revision = None
+        self.vbo: moderngl.Buffer | None = None
+        self.ibo: moderngl.Buffer | None = None
+        self.ebo: moderngl.Buffer | None = None  # wire edges
+        self.vaos: dict[str, moderngl.VertexArray] = {}
+        self.n_vertices = 0
+        self.n_indices = 0
+        self.n_edge_indices = -1  # -1: edges not derived for this revision
+        self.center = np.zeros(3)  # bounding sphere in mesh space, for culling and ghost sorting
+        self.radius = 0.0
+        self.vertices: np.ndarray | None = None  # kept only until edges are derived
+        self.faces: np.ndarray | None = None
+
+    def release(self) -> None:
+        for vao in self.vaos.values():
+            vao.release()
+        self.vaos.clear()
+        for name in ("vbo", "ibo", "ebo"):
+            buf = getattr(self, name)
+            if buf is not None:
+                buf.release()
+                setattr(self, name, None)
+
+
+def _write(ctx: moderngl.Context, buf: moderngl.Buffer | None, data: bytes) -> tuple[moderngl.Buffer, bool]:
+    """Write ``data`` into ``buf``, growing it if needed; returns ``(buffer, created)``.
+
+    Growing uses ``orphan`` on the same buffer object so vertex arrays that refer
+    to it stay valid; capacity grows by 1.5x to avoid reallocating every frame
+    for a cross-section that gains a few triangles at a time.
+    """
+    if buf is None:
+        return ctx.buffer(data, dynamic=True), True
+    if len(data) > buf.size:
+        buf.orphan(int(len(data) * 1.5))
+    buf.write(data)
+    return buf, False
+
+
+def _check_mesh(key: str, mesh: TriMesh3) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Validate and convert a mesh to ``(vertices, faces, normals, colors)`` float32/uint32 arrays."""
+    v = np.asarray(mesh.vertices, np.float32).reshape(-1, 3)
+    k = len(v)
+    f = np.asarray(mesh.faces)
+    if f.size and f.min() < 0:
+        raise RenderError(f"drawable {key!r}: negative vertex index {int(f.min())} in faces")
+    f = np.ascontiguousarray(f, np.uint32).reshape(-1, 3)
+    if f.size and int(f.max()) >= k:
+        # An out-of-range index makes the GPU read past the buffer: refuse it.
+        raise RenderError(f"drawable {key!r}: face index {int(f.max())} out of range for {k} vertices")
+    n = mesh.normals
+    if n is None:
+        n = np.zeros((k, 3), np.float32)  # shader falls back to facing the eye
+    n = np.asarray(n, np.float32)
+    if n.shape != (k, 3):
+        raise RenderError(f"drawable {key!r}: normals must be ({k}, 3), got {n.shape}")
+    c = mesh.colors
+    if c is None:
+        c = np.full((k, 4), 0.7, np.float32)
+    c = np.asarray(c, np.float32)
+    if c.ndim == 2 and c.shape[1] == 3:
+        c = np.concatenate([c, np.ones((len(c), 1), np.float32)], axis=1)
+    if c.shape != (k, 4):
+        raise RenderError(f"drawable {key!r}: colors must be ({k}, 4) or ({k}, 3), got {c.shape}")
+    return v, f, n, c
+
+
+def _frustum_planes(view_proj: np.ndarray) -> np.ndarray:
+    """The six clip planes of ``view_proj`` as ``(6, 4) float64`` rows ``(n, d)``, |n| = 1.
+
+    A point ``p`` is inside when ``n . p + d >= 0`` for all six (Gribb & Hartmann).
+    """
+    m = np.asarray(view_proj, np.float64)
+    planes = np.array([m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[3] + m[2], m[3] - m[2]])
+    return planes / np.maximum(np.linalg.norm(planes[:, :3], axis=1, keepdims=True), 1e-300)
+
+
+def _mat4_bytes(m: np.ndarray) -> bytes:
+    # GLSL matrices are column-major; numpy's are row-major.
+    return np.ascontiguousarray(np.asarray(m, np.float64).T, np.float32).tobytes()
+
+
+class Renderer:
+    """Draws frames into whatever framebuffer is bound.
+
+    Parameters
+    ----------
+    ctx : moderngl.Context
+        From :func:`~across_dimensions.render.context.create_offscreen_context`
+        or :func:`~across_dimensions.render.context.wrap_current_context`.
+    fog_density : float
+        Exponential-squared fog, per world unit: at distance ``d`` the fog
+        fraction is ``1 - exp(-(d * fog_density)**2)`` (0.018: ~7% at 15 m,
+        ~55% at 50 m, ~96% at 100 m).
+    ghost_alpha : float
+        Opacity of ``"ghost"`` drawables (times the vertex alpha).
+
+    Attributes
+    ----------
+    stats : RenderStats
+    hud : HudRenderer
+    """
+
+    def __init__(self, ctx: moderngl.Context, fog_density: float = 0.018, ghost_alpha: float = 0.35):
+        self.ctx = ctx
+        self.fog_density = float(fog_density)
+        self.ghost_alpha = float(ghost_alpha)
+        self.stats = RenderStats()
+        self._meshes: dict[str, _GpuMesh] = {}
+        self._programs: dict[str, moderngl.Program] = {}
+        for style in STYLES:
+            vs, fs = program_source(style)
+            try:
+                self._programs[style] = ctx.program(vertex_shader=vs, fragment_shader=fs)
+            except Exception as e:  # compile/link errors carry the driver's log
+                raise RenderError(f"shader for style {style!r} failed to build: {e}") from e
+        self.hud = HudRenderer(ctx)
+
+    # ----------------------------------------------------------------- caching
+    def cached_keys(self) -> list[str]:
+        """Keys that currently hold GPU buffers."""
+        return sorted(self._meshes)
+
+    def _sync(self, d: Drawable) -> _GpuMesh:
+        gm = self._meshes.get(d.key)
+        if gm is None:
+            gm = self._meshes[d.key] = _GpuMesh(d.key)
+        if gm.revision == d.revision and gm.revision is not None:
+            return gm
+        v, f, n, c = _check_mesh(d.key, d.mesh)
+        gm.revision = d.revision
+        gm.n_vertices, gm.n_indices = len(v), f.size
+        gm.n_edge_indices = -1
+        self.stats.uploads += 1
+        self.stats.by_key[d.key] = self.stats.by_key.get(d.key, 0) + 1
+        if f.size == 0:
+            # Nothing to draw; keep any old buffers for when the mesh comes back.
+            gm.vertices = gm.faces = None
+            return gm
+        inter = np.empty((len(v), 10), np.float32)
+        inter[:, 0:3] = v
+        inter[:, 3:6] = n
+        inter[:, 6:10] = c
+        data, idx = inter.tobytes(), f.tobytes()
+        gm.vbo, new_v = _write(self.ctx, gm.vbo, data)
+        gm.ibo, new_i = _write(self.ctx, gm.ibo, idx)
+        self.stats.upload_bytes += len(data) + len(idx)
+        if new_v or new_i:
+            for vao in gm.vaos.values():
+                vao.release()
+            gm.vaos.clear()
+        lo, hi = v.min(axis=0), v.max(axis=0)
+        gm.center = 0.5 * (lo.astype(np.float64) + hi)
+        gm.radius = float(np.sqrt(((v - gm.center) ** 2).sum(axis=1).max()))
+        # Edges are derived lazily (only wire drawables need them); keep the
+        # arrays until then.
+        gm.vertices, gm.faces = v, f
+        return gm
+
+    def _edges(self, gm: _GpuMesh) -> int:
+        if gm.n_edge_indices < 0:
+            e = feature_edges(gm.vertices, gm.faces) if gm.faces is not None else np.zeros((0, 2), np.uint32)
+            self.stats.edge_builds += 1
+            gm.n_edge_indices = e.size
+            gm.vertices = gm.faces = None  # only needed to derive the edges
+            if e.size:
+                gm.ebo, created = _write(self.ctx, gm.ebo, e.tobytes())
+                if created and "wire" in gm.vaos:
+                    gm.vaos.pop("wire").release()
+        return gm.n_edge_indices
+
+    def _vao(self, gm: _GpuMesh, style: str) -> moderngl.VertexArray:
+        vao = gm.vaos.get(style)
+        if vao is None:
+            prog = self._programs[style]
+            # Attributes a program doesn't use are optimised away by the GLSL
+            # compiler; skip their bytes instead of binding them.
+            fmt, names = [], []
+            for name, f, size in _ATTRS:
+                if name in prog:
+                    fmt.append(f)
+                    names.append(name)
+                else:
+                    fmt.append(f"{size}x")
+            ibo = gm.ebo if style == "wire" else gm.ibo
+            vao = self.ctx.vertex_array(prog, [(gm.vbo, " ".join(fmt), *names)], index_buffer=ibo, index_element_size=4)
+            gm.vaos[style] = vao
+        return vao
+
+    def release(self) -> None:
+        """Free every GPU object this renderer made."""
+        for gm in self._meshes.values():
+            gm.release()
+        self._meshes.clear()
+        for p in self._programs.values():
+            p.release()
+        self._programs.clear()
+        self.hud.release()
+
+    # ----------------------------------------------------------------- drawing
+    def draw(self, frame: Frame, viewport: tuple[int, int, int, int] | None = None, hud: bool = True) -> None:
+        """Draw ``frame`` into the currently bound framebuffer.
+
+        Parameters
+        ----------
+        frame : Frame
+            Read only.
+        viewport : (x, y, w, h) ints, optional
+            Pixels, OpenGL convention (origin bottom-left). Defaults to the
+            whole bound framebuffer. Only this rectangle is cleared and drawn.
+        hud : bool
+            Also draw ``frame.hud`` on top.
+
+        Raises
+        ------
+        RenderError
+            No framebuffer is bound, a drawable has an unknown style, a
+            duplicate key, or a malformed mesh.
+        """
+        ctx = self.ctx
+        fbo = ctx.fbo
+        if fbo is None:
+            raise RenderError("no framebuffer bound: call Offscreen.use() (or ctx.screen.use()) before Renderer.draw")
+        if viewport is None:
+            viewport = (0, 0, *fbo.size)
+        viewport = tuple(int(x) for x in viewport)
+        _, _, w, h = viewport
+        if w <= 0 or h <= 0:
+            return
+        st = self.stats
+        st.frames += 1
+        st.draw_calls = st.triangles = st.lines = st.upload_bytes = st.culled = 0
+
+        ctx.viewport = viewport
+        fbo.depth_mask = True  # glClear honours the depth mask
+        sky = tuple(float(x) for x in frame.sky_color)
+        ctx.clear(sky[0], sky[1], sky[2], 1.0, depth=1.0, viewport=viewport)
+
+        cam = frame.camera
+        view = cam.view_matrix()
+        view_proj = cam.projection_matrix(w / h) @ view
+        eye = np.asarray(cam.position, np.float64)
+        light = np.asarray(frame.light_dir, np.float64)
+        light = light / max(np.linalg.norm(light), 1e-12)
+        planes = _frustum_planes(view_proj)
+
+        # Upload what changed, and bucket drawables by pass.
+        seen: set[str] = set()
+        opaque, wires, ghosts = [], [], []
+        for d in frame.drawables:
+            if d.style not in STYLES:
+                raise RenderError(f"drawable {d.key!r}: unknown style {d.style!r}; expected one of {', '.join(STYLES)}")
+            if d.key in seen:
+                raise RenderError(f"two drawables share the key {d.key!r}; keys must be unique within a frame")
+            seen.add(d.key)
+            gm = self._sync(d)
+            if gm.n_indices == 0:
+                continue
+            model = np.asarray(d.model, np.float64)
+            lin = model[:3, :3]
+            center = lin @ gm.center + model[:3, 3]
+            # Bounding sphere culling: llvmpipe pays for every triangle it sets
+            # up, even off-screen ones. The radius scales by the largest axis stretch.
+            radius = gm.radius * float(np.linalg.norm(lin, axis=0).max())
+            if (planes[:, :3] @ center + planes[:, 3] < -radius).any():
+                st.culled += 1
+                continue
+            dist2 = float(np.sum((center - eye) ** 2))
+            if d.style == "ghost":
+                ghosts.append((dist2, d, gm, model))
+            elif d.style == "wire":
+                wires.append((dist2, d, gm, model))
+            else:
+                opaque.append((dist2, d, gm, model))
+
+        # Release meshes whose key left the world.
+        for key in [k for k in self._meshes if k not in seen]:
+            self._meshes.pop(key).release()
+            st.releases += 1
+        st.cached = len(self._meshes)
+
+        vp_bytes = _mat4_bytes(view_proj)
+        for style, prog in self._programs.items():
+            self._set(prog, "u_view_proj", vp_bytes)
+            self._set(prog, "u_eye", tuple(eye))
+            self._set(prog, "u_light_dir", tuple(light))
+            self._set(prog, "u_sky", sky)
+            self._set(prog, "u_fog_density", self.fog_density)
+            self._set(prog, "u_alpha", self.ghost_alpha)
+
+        ctx.enable(moderngl.DEPTH_TEST)
+        ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
+        ctx.depth_func = "<"
+        # Opaque front to back, so early depth rejection skips shading hidden
+        # fragments (the fragment shader is the main cost on a CPU rasterizer).
+        opaque.sort(key=lambda o: o[0])
+        for _, d, gm, model in opaque:
+            self._draw_mesh(d.style, gm, model, moderngl.TRIANGLES, gm.n_indices)
+        for _, d, gm, model in wires:
+            n = self._edges(gm)
+            if n:
+                self._draw_mesh("wire", gm, model, moderngl.LINES, n)
+
+        if ghosts:
+            # Back to front per drawable; depth test on (solids hide ghosts) but
+            # no depth writes (ghosts don't hide each other or what follows).
+            ghosts.sort(key=lambda g: -g[0])
+            ctx.enable(moderngl.BLEND)
+            # Keep destination alpha at 1 so screenshots stay opaque.
+            ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
+            fbo.depth_mask = False
+            for _, d, gm, model in ghosts:
+                self._draw_mesh("ghost", gm, model, moderngl.TRIANGLES, gm.n_indices)
+            fbo.depth_mask = True
+            ctx.disable(moderngl.BLEND)
+
+        if hud:
+            self.hud.draw(frame.hud, viewport)
+
+    def _draw_mesh(self, style: str, gm: _GpuMesh, model: np.ndarray, mode: int, count: int) -> None:
+        prog = self._programs[style]
+        self._set(prog, "u_model", _mat4_bytes(model))
+        lin = model[:3, :3]
+        try:
+            nm = np.linalg.inv(lin).T
+        except np.linalg.LinAlgError:
+            nm = lin  # degenerate model (flattened): any normal will do
+        # mat3 uniform: 9 floats, column-major.
+        self._set(prog, "u_normal_mat", np.ascontiguousarray(nm.T, np.float32).tobytes())
+        self._vao(gm, style).render(mode, vertices=count)
+        self.stats.draw_calls += 1
+        if mode == moderngl.LINES:
+            self.stats.lines += count // 2
+        else:
+            self.stats.triangles += count // 3
+
+    @staticmethod
+    def _set(prog: moderngl.Program, name: str, value) -> None:
+        # The compiler drops unused uniforms (e.g. u_light_dir in the wire
+        # program); setting them must not fail.
+        if name in prog:
+            u = prog[name]
+            if isinstance(value, bytes):
+                u.write(value)
+            else:
+                u.value = value
