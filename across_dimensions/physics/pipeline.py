@@ -1,0 +1,549 @@
+"""One fixed physics substep as a single compiled kernel.
+
+Order of work (all in body-index and pair-key order, so the result depends only
+on the inputs, never on timing or hashing):
+
+1. bounding boxes, sort-and-sweep broadphase along x (bodies) plus a direct
+   test against the few static world colliders;
+2. wake sleeping islands touched by moving bodies;
+3. narrowphase contacts for the pairs, sorted by pair key (needed for warm
+   starting by binary search);
+4. external forces (gravity, optional inverse-cube attraction);
+5. solver (see :mod:`.solver`), position integration, relax, restitution;
+6. islands and sleeping.
+
+The kernel checks buffer capacity before it changes any body, so the caller can
+grow the buffers and call it again when it reports an overflow.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from across_dimensions.core._jit import njit
+
+from .bivector import compound, rotate_by, world_inverse_inertia
+from .collide import (
+    BOX,
+    MAX_POINTS,
+    SPHERE,
+    box_box,
+    box_halfspace,
+    box_sphere,
+    sphere_halfspace,
+    sphere_sphere,
+)
+from .solver import prepare, restitution, solve, store, warm_start
+
+STATIC = 0
+KINEMATIC = 1
+DYNAMIC = 2
+
+#: Pair-key offset for static world colliders (body indices stay below it).
+STATIC_KEY = 1 << 30
+
+# Indices into the float64 parameter vector.
+P_H = 0
+P_G = 1  # 1..4 gravity
+P_INVCUBE = 5
+P_SOFTEN = 6
+P_MARGIN = 7
+P_SLOP = 8
+P_BETA = 9
+P_MAXBIAS = 10
+P_RESTTHR = 11
+P_SLEEPLIN = 12
+P_SLEEPANG = 13
+P_SLEEPTIME = 14
+P_ALLOWSLEEP = 15
+P_ITERS = 16
+P_RELAX = 17
+P_WORLDMU = 18
+P_WORLDE = 19
+P_LINDAMP = 20
+P_ANGDAMP = 21
+N_PARAMS = 22
+
+
+@njit(cache=True)
+def _moving(i, kind, awake, vel, omg):
+    """Whether body ``i`` can disturb others: awake dynamic or moving kinematic."""
+    if kind[i] == DYNAMIC:
+        return awake[i]
+    if kind[i] == KINEMATIC:
+        for m in range(4):
+            if vel[i, m] != 0.0:
+                return True
+        for k in range(6):
+            if omg[i, k] != 0.0:
+                return True
+    return False
+
+
+@njit(cache=True)
+def _support(i, shape, half, rot, d):
+    """Half-width of body ``i`` along unit direction ``d``."""
+    if shape[i] == SPHERE:
+        return half[i, 0]
+    s = 0.0
+    for k in range(4):
+        t = 0.0
+        for m in range(4):
+            t += rot[i, m, k] * d[m]
+        s += half[i, k] * abs(t)
+    return s
+
+
+@njit(cache=True)
+def _wake_island(j, nb, alive, kind, awake, timer, island):
+    isl = island[j]
+    for i in range(nb):
+        if alive[i] and kind[i] == DYNAMIC and not awake[i] and island[i] == isl:
+            awake[i] = True
+            timer[i] = 0.0
+
+
+@njit(cache=True)
+def find_pairs(nb, alive, kind, shape, half, pos, rot, vel, omg, awake, timer, island,
+               hs, wb, h, base_margin, pairs, marg):
+    """Broadphase: candidate pairs that need a narrowphase test.
+
+    Parameters
+    ----------
+    pairs : (P, 2) int64
+        Output: body a and body b (``b >= 0``) or ``-1 - s`` for static world
+        collider ``s`` (half-spaces first, then world boxes).
+    marg : (N,) float64
+        Output: per-body speculative margin ``base + h * (speed)``.
+
+    Returns
+    -------
+    int
+        Number of pairs, or ``-(needed)`` if ``pairs`` is too small.
+    """
+    lo = np.empty((nb, 4))
+    hi = np.empty((nb, 4))
+    key = np.empty(nb)
+    act = np.zeros(nb, dtype=np.bool_)
+    for i in range(nb):
+        key[i] = np.inf
+        if not alive[i]:
+            continue
+        sp = 0.0
+        for m in range(4):
+            sp += vel[i, m] * vel[i, m]
+        w2 = 0.0
+        for k in range(6):
+            w2 += omg[i, k] * omg[i, k]
+        ext = np.empty(4)
+        if shape[i] == SPHERE:
+            for m in range(4):
+                ext[m] = half[i, 0]
+            rad = half[i, 0]
+        else:
+            rad = 0.0
+            for m in range(4):
+                e = 0.0
+                for k in range(4):
+                    e += abs(rot[i, m, k]) * half[i, k]
+                ext[m] = e
+                rad += half[i, m] * half[i, m]
+            rad = np.sqrt(rad)
+        marg[i] = base_margin + h * (np.sqrt(sp) + np.sqrt(w2) * rad)
+        for m in range(4):
+            lo[i, m] = pos[i, m] - ext[m] - marg[i]
+            hi[i, m] = pos[i, m] + ext[m] + marg[i]
+        key[i] = lo[i, 0]
+    order = np.argsort(key, kind="mergesort")
+    cap = pairs.shape[0]
+    n = 0
+    # Collect overlapping pairs with at least one dynamic body, then wake
+    # sleeping islands touched by moving bodies until nothing changes.
+    cand = np.empty((max(16, 8 * nb), 2), dtype=np.int64)
+    nc = 0
+    for oi in range(nb):
+        i = order[oi]
+        if not alive[i]:
+            break
+        for oj in range(oi + 1, nb):
+            j = order[oj]
+            if not alive[j] or lo[j, 0] > hi[i, 0]:
+                break
+            if kind[i] != DYNAMIC and kind[j] != DYNAMIC:
+                continue
+            if lo[j, 1] > hi[i, 1] or lo[i, 1] > hi[j, 1]:
+                continue
+            if lo[j, 2] > hi[i, 2] or lo[i, 2] > hi[j, 2]:
+                continue
+            if lo[j, 3] > hi[i, 3] or lo[i, 3] > hi[j, 3]:
+                continue
+            if nc == cand.shape[0]:
+                grown = np.empty((2 * nc, 2), dtype=np.int64)
+                grown[:nc] = cand[:nc]
+                cand = grown
+            cand[nc, 0] = min(i, j)
+            cand[nc, 1] = max(i, j)
+            nc += 1
+    changed = True
+    while changed:
+        changed = False
+        for p in range(nc):
+            i = cand[p, 0]
+            j = cand[p, 1]
+            if kind[j] == DYNAMIC and not awake[j] and _moving(i, kind, awake, vel, omg):
+                _wake_island(j, nb, alive, kind, awake, timer, island)
+                changed = True
+            elif kind[i] == DYNAMIC and not awake[i] and _moving(j, kind, awake, vel, omg):
+                _wake_island(i, nb, alive, kind, awake, timer, island)
+                changed = True
+    for i in range(nb):
+        act[i] = alive[i] and kind[i] == DYNAMIC and awake[i]
+    for p in range(nc):
+        i = cand[p, 0]
+        j = cand[p, 1]
+        if act[i] or act[j]:
+            if n < cap:
+                pairs[n, 0] = i
+                pairs[n, 1] = j
+            n += 1
+    nh = hs.shape[0]
+    d = np.empty(4)
+    for i in range(nb):
+        if not act[i]:
+            continue
+        for s in range(nh):
+            for m in range(4):
+                d[m] = hs[s, m]
+            dist = -hs[s, 4]
+            for m in range(4):
+                dist += d[m] * pos[i, m]
+            if dist - _support(i, shape, half, rot, d) <= marg[i]:
+                if n < cap:
+                    pairs[n, 0] = i
+                    pairs[n, 1] = -1 - s
+                n += 1
+        for s in range(wb.shape[0]):
+            ok = True
+            for m in range(3):
+                if lo[i, m] > wb[s, m] + wb[s, 3 + m] or hi[i, m] < wb[s, m] - wb[s, 3 + m]:
+                    ok = False
+                    break
+            if ok:
+                if n < cap:
+                    pairs[n, 0] = i
+                    pairs[n, 1] = -1 - nh - s
+                n += 1
+    if n > cap:
+        return -n
+    return n
+
+
+@njit(cache=True)
+def narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p, scratch_d,
+                ci, cp, cn, cd):
+    """Contacts of all candidate pairs in pair-key order.
+
+    Returns
+    -------
+    int
+        Number of contacts, or ``-(needed)`` when ``ci`` cannot hold the worst case.
+    """
+    if npairs * MAX_POINTS > ci.shape[0]:
+        return -npairs * MAX_POINTS
+    keys = np.empty(npairs, dtype=np.int64)
+    for p in range(npairs):
+        a = pairs[p, 0]
+        b = pairs[p, 1]
+        keys[p] = (a << 32) | (b if b >= 0 else STATIC_KEY + (-1 - b))
+    order = np.argsort(keys, kind="mergesort")
+    nh = hs.shape[0]
+    k = 0
+    vx = np.empty(4)
+    vr = np.eye(4)
+    vh = np.empty(4)
+    pn = np.empty(4)
+    for op in range(npairs):
+        p = order[op]
+        a = pairs[p, 0]
+        b = pairs[p, 1]
+        got = 0
+        if b >= 0:
+            m = marg[a] + marg[b]
+            if shape[a] == SPHERE and shape[b] == SPHERE:
+                got = sphere_sphere(pos[a], half[a, 0], pos[b], half[b, 0], m, cp, cn, cd, k)
+            elif shape[a] == BOX and shape[b] == SPHERE:
+                got = box_sphere(pos[a], rot[a], half[a], pos[b], half[b, 0], m, cp, cn, cd, k)
+            elif shape[a] == SPHERE and shape[b] == BOX:
+                got = box_sphere(pos[b], rot[b], half[b], pos[a], half[a, 0], m, cp, cn, cd, k)
+                for q in range(got):
+                    for t in range(4):
+                        cn[k + q, t] = -cn[k + q, t]
+            else:
+                got = box_box(pos[a], rot[a], half[a], pos[b], rot[b], half[b], m,
+                              scratch_p, scratch_d, cp, cn, cd, k)
+        else:
+            s = -1 - b
+            m = marg[a]
+            if s < nh:
+                for t in range(4):
+                    pn[t] = hs[s, t]
+                if shape[a] == SPHERE:
+                    got = sphere_halfspace(pos[a], half[a, 0], pn, hs[s, 4], m, cp, cn, cd, k)
+                else:
+                    got = box_halfspace(pos[a], rot[a], half[a], pn, hs[s, 4], m,
+                                        scratch_p, scratch_d, cp, cn, cd, k)
+            else:
+                # A world box spans all of w: make it a 4D box wide enough in w
+                # that its w faces can never be the separating axis.
+                s -= nh
+                rad = 0.0
+                for t in range(4):
+                    rad += half[a, t] * half[a, t]
+                for t in range(3):
+                    vx[t] = wb[s, t]
+                    vh[t] = wb[s, 3 + t]
+                vx[3] = pos[a, 3]
+                vh[3] = 4.0 * np.sqrt(rad) + 1.0
+                if shape[a] == SPHERE:
+                    got = box_sphere(vx, vr, vh, pos[a], half[a, 0], m, cp, cn, cd, k)
+                    for q in range(got):
+                        for t in range(4):
+                            cn[k + q, t] = -cn[k + q, t]
+                else:
+                    got = box_box(pos[a], rot[a], half[a], vx, vr, vh, m,
+                                  scratch_p, scratch_d, cp, cn, cd, k)
+        for q in range(got):
+            ci[k + q, 0] = a
+            ci[k + q, 1] = b
+            ci[k + q, 2] = keys[p]
+        k += got
+    return k
+
+
+@njit(cache=True)
+def apply_forces(nb, alive, kind, awake, pos, vel, omg, mass, params):
+    """Gravity, optional inverse-cube attraction and damping for awake dynamic bodies."""
+    h = params[P_H]
+    G = params[P_INVCUBE]
+    eps2 = params[P_SOFTEN] * params[P_SOFTEN]
+    lin = 1.0 / (1.0 + h * params[P_LINDAMP])
+    ang = 1.0 / (1.0 + h * params[P_ANGDAMP])
+    acc = np.zeros((nb, 4))
+    if G != 0.0:
+        # Gauss's law in 4D: |F| = G m1 m2 / r^3, so a_i = G m_j d / r^4.
+        for i in range(nb):
+            if not (alive[i] and kind[i] == DYNAMIC and awake[i]):
+                continue
+            for j in range(nb):
+                if j == i or not alive[j] or mass[j] <= 0.0:
+                    continue
+                r2 = eps2
+                for m in range(4):
+                    t = pos[j, m] - pos[i, m]
+                    r2 += t * t
+                f = G * mass[j] / (r2 * r2)
+                for m in range(4):
+                    acc[i, m] += f * (pos[j, m] - pos[i, m])
+    for i in range(nb):
+        if not (alive[i] and kind[i] == DYNAMIC and awake[i]):
+            continue
+        for m in range(4):
+            vel[i, m] = (vel[i, m] + h * (params[P_G + m] + acc[i, m])) * lin
+        if ang != 1.0:
+            for k in range(6):
+                omg[i, k] *= ang
+
+
+@njit(cache=True)
+def integrate_positions(nb, alive, kind, awake, pos, rot, vel, omg, inv_inertia, h):
+    """Move awake dynamic and kinematic bodies by one substep.
+
+    Bodies with an isotropic inertia (hyperspheres, hypercubes) keep their
+    angular velocity while free. Other boxes precess: their world angular
+    momentum ``L = I_world(R) omega`` is what is conserved, so the rotation uses
+    the midpoint rate recomputed from ``L`` and ``omega`` is re-derived from
+    ``L`` afterwards (second order, and ``L`` is kept exactly).
+    """
+    M = np.empty((6, 6))
+    lw = np.empty(6)
+    lb = np.empty(6)
+    rh = np.empty((4, 4))
+    wh = np.empty(6)
+    for i in range(nb):
+        if not alive[i] or kind[i] == STATIC:
+            continue
+        if kind[i] == DYNAMIC and not awake[i]:
+            continue
+        for m in range(4):
+            pos[i, m] += h * vel[i, m]
+        iso = True
+        for k in range(1, 6):
+            if inv_inertia[i, k] != inv_inertia[i, 0]:
+                iso = False
+        if iso or kind[i] == KINEMATIC:
+            rotate_by(omg[i], h, rot[i])
+            continue
+        compound(rot[i], M)
+        for k in range(6):
+            s = 0.0
+            for l in range(6):
+                s += M[l, k] * omg[i, l]
+            lb[k] = s / inv_inertia[i, k]
+        for k in range(6):
+            s = 0.0
+            for l in range(6):
+                s += M[k, l] * lb[l]
+            lw[k] = s
+        for a in range(4):
+            for b in range(4):
+                rh[a, b] = rot[i, a, b]
+        rotate_by(omg[i], 0.5 * h, rh)
+        _omega_from_l(rh, inv_inertia[i], lw, M, wh)
+        rotate_by(wh, h, rot[i])
+        _omega_from_l(rot[i], inv_inertia[i], lw, M, omg[i])
+
+
+@njit(cache=True)
+def _omega_from_l(r, inv_i, lw, M, out):
+    compound(r, M)
+    tmp = np.empty(6)
+    for k in range(6):
+        s = 0.0
+        for l in range(6):
+            s += M[l, k] * lw[l]
+        tmp[k] = s * inv_i[k]
+    for k in range(6):
+        s = 0.0
+        for l in range(6):
+            s += M[k, l] * tmp[l]
+        out[k] = s
+
+
+@njit(cache=True)
+def _find(parent, i):
+    while parent[i] != i:
+        parent[i] = parent[parent[i]]
+        i = parent[i]
+    return i
+
+
+@njit(cache=True)
+def update_sleep(nb, alive, kind, awake, vel, omg, timer, island, nc, ci, params):
+    """Islands by union-find over dynamic-dynamic contacts; whole islands sleep.
+
+    A body is calm when its speed and spin stay under the thresholds; an island
+    sleeps once all its bodies have been calm for ``sleep_time``. Sleeping
+    bodies keep the island id so a touch wakes all of them together.
+    """
+    h = params[P_H]
+    parent = np.arange(nb)
+    stir = np.zeros(nb, dtype=np.bool_)
+    for c in range(nc):
+        a = ci[c, 0]
+        b = ci[c, 1]
+        if b < 0:
+            continue
+        if kind[a] == DYNAMIC and kind[b] == DYNAMIC:
+            ra = _find(parent, a)
+            rb = _find(parent, b)
+            if ra != rb:
+                # Smaller index as root keeps island ids independent of order.
+                if ra < rb:
+                    parent[rb] = ra
+                else:
+                    parent[ra] = rb
+        elif kind[a] == KINEMATIC and _moving(a, kind, awake, vel, omg):
+            stir[b] = True
+        elif kind[b] == KINEMATIC and _moving(b, kind, awake, vel, omg):
+            stir[a] = True
+    lin2 = params[P_SLEEPLIN] ** 2
+    ang2 = params[P_SLEEPANG] ** 2
+    mint = np.full(nb, np.inf)
+    for i in range(nb):
+        if not (alive[i] and kind[i] == DYNAMIC and awake[i]):
+            continue
+        v2 = 0.0
+        for m in range(4):
+            v2 += vel[i, m] * vel[i, m]
+        w2 = 0.0
+        for k in range(6):
+            w2 += omg[i, k] * omg[i, k]
+        if v2 < lin2 and w2 < ang2 and not stir[i]:
+            timer[i] += h
+        else:
+            timer[i] = 0.0
+        r = _find(parent, i)
+        if timer[i] < mint[r]:
+            mint[r] = timer[i]
+    if params[P_ALLOWSLEEP] == 0.0:
+        return
+    for i in range(nb):
+        if not (alive[i] and kind[i] == DYNAMIC and awake[i]):
+            continue
+        r = _find(parent, i)
+        if mint[r] >= params[P_SLEEPTIME]:
+            awake[i] = False
+            island[i] = r
+            for m in range(4):
+                vel[i, m] = 0.0
+            for k in range(6):
+                omg[i, k] = 0.0
+
+
+@njit(cache=True)
+def substep(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass,
+            inv_inertia, mu, rest, awake, timer, island, hs, wb, params,
+            pairs, marg, scratch_p, scratch_d, ci, cp, cn, cd, clam, cft,
+            ok, oloc, olam, oft, ocnt_arr):
+    """Advance the world by one fixed substep ``params[P_H]``.
+
+    Returns
+    -------
+    int
+        Number of contacts solved; ``-1`` if ``pairs`` overflowed and ``-2`` if
+        the contact arrays did (``ocnt_arr[1]`` then holds the size needed). No
+        body has moved in those cases; only sleeping islands may have woken.
+    """
+    h = params[P_H]
+    npairs = find_pairs(nb, alive, kind, shape, half, pos, rot, vel, omg, awake, timer,
+                        island, hs, wb, h, params[P_MARGIN], pairs, marg)
+    if npairs < 0:
+        ocnt_arr[1] = -npairs
+        return -1
+    nc = narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p,
+                     scratch_d, ci, cp, cn, cd)
+    if nc < 0:
+        ocnt_arr[1] = -nc
+        return -2
+    apply_forces(nb, alive, kind, awake, pos, vel, omg, mass, params)
+    iinv = np.zeros((nb, 6, 6))
+    for i in range(nb):
+        if alive[i] and kind[i] == DYNAMIC and awake[i]:
+            world_inverse_inertia(rot[i], inv_inertia[i], iinv[i])
+    rows = np.empty((nc, 4, 4))
+    ja = np.empty((nc, 4, 6))
+    jb = np.empty((nc, 4, 6))
+    ija = np.empty((nc, 4, 6))
+    ijb = np.empty((nc, 4, 6))
+    rmass = np.empty((nc, 4))
+    vn0 = np.empty(nc)
+    maxlam = np.empty(nc)
+    cloc = np.empty((nc, 4))
+    cmu = np.empty(nc)
+    ce = np.empty(nc)
+    # Body-frame inverse inertia zero for non-dynamic bodies; inv_mass likewise.
+    prepare(nc, ci, cp, cn, cd, clam, cft, cmu, ce, pos, rot, vel, omg, inv_mass, iinv,
+            bound, mu, rest, params[P_WORLDMU], params[P_WORLDE], ok, oloc, olam, oft,
+            ocnt_arr[0], rows, ja, jb, ija, ijb, rmass, vn0, maxlam, cloc)
+    warm_start(nc, ci, clam, rows, ija, ijb, vel, omg, inv_mass)
+    inv_h = 1.0 / h
+    solve(nc, ci, cd, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg, inv_mass,
+          inv_h, True, params[P_BETA], params[P_SLOP], params[P_MAXBIAS], int(params[P_ITERS]))
+    integrate_positions(nb, alive, kind, awake, pos, rot, vel, omg, inv_inertia, h)
+    solve(nc, ci, cd, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg, inv_mass,
+          inv_h, False, params[P_BETA], params[P_SLOP], params[P_MAXBIAS], int(params[P_RELAX]))
+    restitution(nc, ci, clam, ce, rows, ja, jb, ija, ijb, rmass, vn0, maxlam, vel, omg,
+                inv_mass, params[P_RESTTHR])
+    ocnt_arr[0] = store(nc, ci, clam, rows, cloc, ok, oloc, olam, oft)
+    update_sleep(nb, alive, kind, awake, vel, omg, timer, island, nc, ci, params)
+    return nc
