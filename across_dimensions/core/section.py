@@ -70,7 +70,7 @@ def _model_view(mesh_model, camera_pose) -> np.ndarray:
     return view @ model
 
 
-def cross_section(mesh: TetMesh4, camera_pose=None, model=None) -> TriMesh3:
+def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = True) -> TriMesh3:
     """Slice ``mesh`` by the camera's ``w = 0`` hyperplane.
 
     Parameters
@@ -81,6 +81,9 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None) -> TriMesh3:
         world xyz.
     model : (5, 5) array_like, optional
         Object-to-world transform of the mesh.
+    cull : bool
+        Skip clusters of tets whose bounding sphere the hyperplane misses
+        (False scans every tet, for benchmarks).
 
     Returns
     -------
@@ -94,6 +97,9 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None) -> TriMesh3:
     # Bound on how far a unit object-space step moves camera-space w.
     w_gain = float(np.linalg.norm(mv[3, :4]))
     flip = 1.0 if np.linalg.det(mv[:4, :4]) > 0 else -1.0
+    if not cull:
+        lo, hi = lo[:1], hi[-1:]
+        centers, radii = centers[:1], np.array([np.inf])
     cut, ntri = _find_cut(mesh.vertices, tets, mv, lo, hi, centers, radii, w_gain, CASE_COUNT)
     if ntri == 0:
         return TriMesh3.empty()

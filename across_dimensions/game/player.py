@@ -34,6 +34,7 @@ JUMP_SPEED = 5.2  # m/s: a 1.4 m jump under 9.81 m/s^2
 W_SPEED = 1.2  # w units/s
 W_ACCEL = 8.0
 MAX_PITCH = np.radians(89.0)
+STEP_HEIGHT = 0.35  # ledges up to this high are climbed without jumping
 SKIN = 1e-4  # gap kept to surfaces so resting contact is not overlap
 
 
@@ -78,7 +79,8 @@ def player_box(position) -> tuple[np.ndarray, np.ndarray]:
 
 
 def overlapping(lo, hi, boxes: np.ndarray) -> np.ndarray:
-    """Which of ``boxes (k, 2, 3)`` overlap the box ``[lo, hi]`` (open intervals)."""
+    """Which of ``boxes (k, 2, 3)`` overlap the box ``[lo, hi]`` (open intervals;
+    a NaN box, absent from this slice, overlaps nothing)."""
     if len(boxes) == 0:
         return np.zeros(0, bool)
     return np.all((lo < boxes[:, 1]) & (hi > boxes[:, 0]), axis=1)
@@ -105,6 +107,20 @@ def _move_axis(pos: np.ndarray, axis: int, delta: float, boxes: np.ndarray) -> t
     if (delta > 0 and new[axis] < pos[axis]) or (delta < 0 and new[axis] > pos[axis]):
         new[axis] = pos[axis]
     return new, True
+
+
+def _move_horizontal(pos, dx: float, dz: float, boxes, on_ground: bool) -> np.ndarray:
+    """Walk in x then z; when blocked on the ground, also try stepping up a ledge."""
+    flat, hit_x = _move_axis(pos, 0, dx, boxes)
+    flat, hit_z = _move_axis(flat, 2, dz, boxes)
+    if not (on_ground and (hit_x or hit_z)):
+        return flat
+    up, _ = _move_axis(pos, 1, STEP_HEIGHT, boxes)
+    stepped, _ = _move_axis(up, 0, dx, boxes)
+    stepped, _ = _move_axis(stepped, 2, dz, boxes)
+    stepped, _ = _move_axis(stepped, 1, pos[1] - up[1], boxes)  # back down onto the ledge
+    moved = lambda p: (p[0] - pos[0]) ** 2 + (p[2] - pos[2]) ** 2  # noqa: E731
+    return stepped if moved(stepped) > moved(flat) + 1e-12 else flat
 
 
 def step_player(player: Player, actions: Actions, dt: float, gravity_y: float, w_range: tuple[float, float],
@@ -163,8 +179,7 @@ def step_player(player: Player, actions: Actions, dt: float, gravity_y: float, w
     pos[3] = w_new
 
     boxes = colliders_at(pos[3])
-    pos_new, _ = _move_axis(pos, 0, v[0] * dt, boxes)
-    pos_new, _ = _move_axis(pos_new, 2, v[2] * dt, boxes)
+    pos_new = _move_horizontal(pos, v[0] * dt, v[2] * dt, boxes, player.on_ground)
     pos_new, hit_y = _move_axis(pos_new, 1, v[1] * dt, boxes)
     # Velocity along an axis we were stopped on is gone.
     for axis in (0, 2):

@@ -62,16 +62,15 @@ class Game:
 
     def colliders_at(self, w: float) -> np.ndarray:
         """Boxes ``(k, 2, 3)`` solid in the slice at ``w``: the 3D world, the
-        extended worlds present there and the bounds of solid 4D objects' sections."""
+        extended worlds and the bounds of solid 4D objects' sections. The rows
+        are the same things at every w; a thing absent at ``w`` is NaN."""
         parts = [self.scene.static_boxes, self.scene.world_boxes_at(w)]
         for i, obj in enumerate(self.scene.objects):
             if not obj.solid:
                 continue
             key = f"object:{i}"
             self.sections.section(key, obj.mesh, self.object_model(i), w)
-            b = self.sections.bounds(key)
-            if b is not None:
-                parts.append(b[None])
+            parts.append(self.sections.bounds(key)[None])
         return np.concatenate(parts)
 
     def step(self, actions: Actions) -> None:

@@ -41,10 +41,10 @@ class ExtendedWorld:
         return float(np.interp(w, self.layers_w, self.layer_scales))
 
     def boxes_at(self, w: float) -> np.ndarray:
+        """Bounds ``(b, 2, 3)`` of each part at ``w``; NaN where absent, so every
+        w gives the same rows and comparisons with an absent part are false."""
         s = self.scale_at(w)
-        if s <= 0.0:
-            return np.zeros((0, 2, 3))
-        h = self.halves * s
+        h = self.halves * (s if s > 0.0 else np.nan)
         return np.stack([self.centers - h, self.centers + h], axis=1)
 
 
@@ -87,7 +87,7 @@ class Scene:
     objects: list[Object4] = field(default_factory=list)
 
     def world_boxes_at(self, w: float) -> np.ndarray:
-        """Boxes ``(k, 2, 3)`` of the extended worlds present in the slice at ``w``."""
+        """Boxes ``(k, 2, 3)`` of the extended worlds in the slice at ``w`` (NaN where absent)."""
         parts = [wd.boxes_at(w) for wd in self.worlds]
         return np.concatenate(parts) if parts else np.zeros((0, 2, 3))
 
@@ -124,7 +124,7 @@ def build_scene(level: Level) -> Scene:
 
 
 def _build_world(spec) -> ExtendedWorld:
-    layers_w = np.linspace(spec.w - spec.depth / 2, spec.w + spec.depth / 2, WORLD_LAYERS)
+    layers_w = lift.profile_layers(spec.w, spec.depth, spec.profile, WORLD_LAYERS)
     scales = lift.profile_scales(layers_w, spec.w, spec.depth / 2, spec.profile)
     parts, centers, halves = [], [], []
     for b in spec.boxes:
@@ -180,9 +180,9 @@ class SectionCache:
         return tri, rev
 
     def bounds(self, key: str) -> np.ndarray | None:
-        """Bounds ``(2, 3)`` of the last section for ``key``, or None if empty."""
+        """Bounds ``(2, 3)`` of the last section for ``key``; NaN if it is empty."""
         entry = self._entries.get(key)
         if entry is None or entry[2].is_empty:
-            return None
+            return np.full((2, 3), np.nan)
         v = entry[2].vertices
         return np.stack([v.min(axis=0), v.max(axis=0)]).astype(np.float64)

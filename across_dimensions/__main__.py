@@ -1,0 +1,7 @@
+"""``python -m across_dimensions`` is the ``across-dimensions`` command."""
+
+import sys
+
+from .app.cli import main
+
+sys.exit(main())

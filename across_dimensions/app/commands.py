@@ -1,0 +1,188 @@
+"""The command-line subcommands that need no window."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from .cli import PROG, UserError, _size
+
+
+def _out(msg: str = "") -> None:
+    print(msg, flush=True)
+
+
+# ------------------------------------------------------------------ levels
+def check_level(args) -> int:
+    from ..world.level import LevelError, load_level
+
+    bad = 0
+    for f in args.files:
+        try:
+            level = load_level(f)
+        except LevelError as e:
+            bad += 1
+            print(f"{f}: {len(e.problems)} problem(s)", file=sys.stderr)
+            for p in e.problems:
+                print(f"  {p}", file=sys.stderr)
+        else:
+            _out(f"{f}: ok - '{level.name}', {len(level.boxes)} boxes, {len(level.worlds)} worlds, "
+                 f"{len(level.objects)} 4D objects, w in {list(level.w_range)}")
+    return 2 if bad else 0
+
+
+# ----------------------------------------------------------------- replays
+def _load_game(level_arg: str, seed: int):
+    from ..game.sim import Game
+    from ..world.level import load_level
+    from ..world.resources import resolve_level
+
+    try:
+        path = resolve_level(level_arg)
+    except FileNotFoundError as e:
+        raise UserError(str(e)) from None
+    return Game(load_level(path), seed=seed)
+
+
+def replay(args) -> int:
+    from ..game.replay import Replay, play
+
+    rep = Replay.load(args.replay)
+    game = _load_game(args.level, rep.seed)
+    shooter = _screenshotter(args, game) if args.screenshots else None
+    result = play(rep, game, on_tick=shooter, check=not args.no_check)
+    if shooter is not None:
+        shooter.close()
+        _out(f"screenshots: {shooter.count} PNG files in {args.screenshots}")
+    outcome = result.outcome or "not finished"
+    _out(f"level '{game.level.name}': {outcome} after {result.ticks} ticks ({result.ticks / 60:.2f} s)")
+    _out(f"final state hash: {result.final_hash}")
+    if result.divergence:
+        print(f"{PROG}: {result.divergence}", file=sys.stderr)
+        return 3
+    return 0
+
+
+def demo(args) -> int:
+    from ..world.resources import levels_dir
+
+    args.level = "01_first_steps"
+    args.replay = str(levels_dir() / "replays" / "01_first_steps.json")
+    args.no_check = False
+    _out("Across Dimensions headless demo: a recorded play-through of the first level.")
+    return replay(args)
+
+
+def _screenshotter(args, game):
+    from .headless import Screenshotter
+
+    if args.every < 1:
+        raise UserError(f"--every: expected a positive number of ticks, got {args.every}")
+    return Screenshotter(game, Path(args.screenshots), _size(args.size), args.every)
+
+
+# ------------------------------------------------------------------- core
+def _parse_params(items) -> dict:
+    params = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key:
+            raise UserError(f"--param {item!r}: expected NAME=VALUE")
+        for conv in (int, float):
+            try:
+                params[key] = conv(value)
+                break
+            except ValueError:
+                continue
+        else:
+            params[key] = value
+    return params
+
+
+def _make_shape(name: str, params: dict):
+    from ..core.shapes import make_shape
+
+    try:
+        return make_shape(name, **params)
+    except TypeError as e:
+        raise UserError(f"shape {name!r}: bad parameter ({e})") from None
+
+
+def shape(args) -> int:
+    from ..core.shapes import SHAPES
+
+    if args.list or not args.name:
+        for n in SHAPES:
+            _out(n)
+        return 0
+    if not args.output:
+        raise UserError("shape: -o OUT.npz is required")
+    if not args.output.endswith(".npz"):
+        raise UserError(f"shape: output must be a .npz file, got {args.output!r}")
+    mesh = _make_shape(args.name, _parse_params(args.param))
+    mesh.save(args.output)
+    _out(f"{args.output}: {mesh.name}, {len(mesh.vertices)} vertices, {len(mesh.tets)} tets, "
+         f"hyper-volume {mesh.hypervolume():.4g}")
+    return 0
+
+
+def slice(args) -> int:  # noqa: A001 - the subcommand's name
+    from ..core import cross_section, frustum_project
+    from ..core.mesh import TetMesh4
+    from ..core.transform import angles_to_rotation, parse_axis_assignments, translation
+
+    src = Path(args.source)
+    mesh = TetMesh4.load(src) if src.suffix == ".npz" else _make_shape(args.source, {})
+    rot = parse_axis_assignments(args.rotate, "plane")
+    move = parse_axis_assignments(args.translate, "axis")
+    model = translation([move.get(a, 0.0) for a in "xyzw"])
+    model[:4, :4] = angles_to_rotation({k: np.radians(v) for k, v in rot.items()})
+    if args.mode == "section":
+        tri = cross_section(mesh, model=model)
+    else:
+        if args.distance <= 0:
+            raise UserError(f"--distance: expected a positive number, got {args.distance}")
+        tri = frustum_project(mesh, translation((0, 0, 0, -args.distance)), fov_deg=args.fov, model=model)
+    suffix = Path(args.output).suffix.lower()
+    if suffix not in (".obj", ".ply", ".glb"):
+        raise UserError(f"slice: output must end in .obj, .ply or .glb, got {args.output!r}")
+    tri.save(args.output)
+    if tri.is_empty:
+        _out(f"{args.output}: empty - the hyperplane misses {mesh.name or src}")
+    else:
+        _out(f"{args.output}: {len(tri)} triangles ({args.mode})")
+    return 0
+
+
+def lift(args) -> int:
+    from ..world.bake import lift_to_file
+
+    if args.depth <= 0:
+        raise UserError(f"lift: --depth must be positive, got {args.depth}")
+    if not args.output.endswith(".npz"):
+        raise UserError(f"lift: output must be a .npz file, got {args.output!r}")
+    mesh = lift_to_file(args.mesh, args.depth, args.output, profile=args.profile)
+    _out(f"{args.output}: {len(mesh.vertices)} vertices, {len(mesh.tets)} tets")
+    return 0
+
+
+def bench(args) -> int:
+    from ..core import bench as core_bench
+
+    _out("Cross-section and frustum projection, one thread (median of runs):")
+    sizes = (100_000, 300_000) if args.quick else (100_000, 1_000_000, 4_000_000)
+    core_bench.run(sizes=sizes, repeat=3 if args.quick else 7, out=_out)
+    if not args.no_physics:
+        try:
+            from ..physics.bench import bench_physics
+        except ImportError:
+            _out("physics benchmark: not available")
+        else:
+            _out("")
+            _out("Physics, 200 mixed dynamic bodies in contact:")
+            res = bench_physics()
+            for k, v in res.items():
+                _out(f"  {k}: {v:.3f}" if isinstance(v, float) else f"  {k}: {v}")
+    return 0

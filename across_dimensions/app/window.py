@@ -1,0 +1,290 @@
+"""The game window: pyglet for the window and input, the renderer for pixels.
+
+The main loop is a fixed-tick accumulator: wall-clock time (measured here, in
+the app, never in the simulation) fills an accumulator that is drained in
+steps of ``1 / TICK_RATE``, at most ``MAX_CATCH_UP`` per frame so a long stall
+does not spiral; the frame is drawn interpolated by the remainder.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import pyglet
+
+from ..game.actions import Actions
+from ..game.replay import Recorder
+from ..game.sim import DT, Game
+from ..render.context import Offscreen, RenderError, wrap_current_context
+from ..render.renderer import Renderer
+from ..world.level import load_level
+from ..world.resources import level_files, resolve_level
+from .settings import Settings, load_settings, look_delta
+
+MAX_CATCH_UP = 5
+HINT_SECONDS = 7.0
+NEXT_LEVEL_DELAY = 3.0
+
+
+def _key_code(name: str):
+    """pyglet code for a settings key name: ('key', code) or ('mouse', button)."""
+    if name.startswith("MOUSE_"):
+        return "mouse", getattr(pyglet.window.mouse, name[6:])
+    return "key", getattr(pyglet.window.key, name)
+
+
+class GameWindow(pyglet.window.Window):
+    """One window playing levels in order, starting from ``level_path``."""
+
+    def __init__(self, settings: Settings, level_path: Path, seed: int = 0, record: str | None = None,
+                 warnings=(), screenshot_after: float | None = None, quit_after: float | None = None):
+        config = pyglet.gl.Config(major_version=3, minor_version=3, forward_compatible=True, depth_size=24,
+                                  double_buffer=True)
+        super().__init__(settings.width, settings.height, caption="Across Dimensions", resizable=True,
+                         vsync=settings.vsync, config=config, fullscreen=settings.fullscreen)
+        self.settings = settings
+        self.ctx = wrap_current_context()
+        self.renderer = Renderer(self.ctx)
+        self.keys = pyglet.window.key.KeyStateHandler()
+        self.push_handlers(self.keys)
+        self.mouse_buttons: set = set()
+        self.bindings = {a: [_key_code(k) for k in settings.keys_for(a)] for a in settings.bindings}
+        self.seed = seed
+        self.record_path = record
+        self.recorder: Recorder | None = None
+        self.show_fps = settings.show_fps
+        self.fps = 0.0
+        self.notice = ("; ".join(warnings), 8.0) if warnings else ("", 0.0)
+        self.look = [0.0, 0.0]
+        self.accumulator = 0.0
+        self.paused = False
+        self.screenshot_after = screenshot_after
+        self.quit_after = quit_after
+        self.wall_time = 0.0
+        self.finished_for = 0.0
+        self.load(level_path)
+        if record:
+            self.start_recording()
+        self.set_exclusive_mouse(True)
+        pyglet.clock.schedule(self.update)
+
+    # ----------------------------------------------------------------- levels
+    def load(self, path: Path) -> None:
+        self.level_path = Path(path)
+        self.game = Game(load_level(path), seed=self.seed)
+        self.level_time = 0.0
+        self.finished_for = 0.0
+        self.set_caption(f"Across Dimensions - {self.game.level.name}")
+
+    def next_level(self) -> None:
+        files = level_files()
+        try:
+            i = [f.resolve() for f in files].index(self.level_path.resolve())
+        except ValueError:
+            i = len(files)
+        if i + 1 < len(files):
+            self.load(files[i + 1])
+        else:
+            self.say("All levels complete - thanks for playing!", 1e9)
+
+    def say(self, text: str, seconds: float = 4.0) -> None:
+        self.notice = (text, seconds)
+
+    # -------------------------------------------------------------- recording
+    def start_recording(self) -> None:
+        """Recording restarts the level: a replay always starts at the spawn."""
+        self.load(self.level_path)
+        self.recorder = Recorder(self.game, self.level_path.stem)
+        self.say("Recording (level restarted)")
+
+    def stop_recording(self) -> None:
+        if self.recorder is None:
+            return
+        replay = self.recorder.finish()
+        self.recorder = None
+        path = Path(self.record_path) if self.record_path else _replay_folder() / f"{self.level_path.stem}_{time.strftime('%Y%m%d-%H%M%S')}.json"
+        self.record_path = None
+        replay.save(path)
+        self.say(f"Replay saved: {path}")
+        print(f"replay saved: {path}", flush=True)
+
+    # ------------------------------------------------------------------ input
+    def held(self, action: str) -> bool:
+        for kind, code in self.bindings.get(action, ()):
+            if (kind == "key" and self.keys[code]) or (kind == "mouse" and code in self.mouse_buttons):
+                return True
+        return False
+
+    def pressed_action(self, kind: str, code) -> str | None:
+        for action, codes in self.bindings.items():
+            if (kind, code) in codes:
+                return action
+        return None
+
+    def read_actions(self) -> Actions:
+        """This tick's actions; the mouse motion since the last tick goes to it."""
+        dyaw, dpitch = self.look
+        self.look = [0.0, 0.0]
+        axis = lambda pos, neg: float(self.held(pos)) - float(self.held(neg))  # noqa: E731
+        return Actions(forward=axis("move_forward", "move_back"), right=axis("strafe_right", "strafe_left"),
+                       yaw=dyaw, pitch=dpitch, w=axis("w_ana", "w_kata"), jump=self.held("jump"),
+                       fire=self.held("fire"), alt_fire=self.held("alt_fire"),
+                       switch_camera=self.held("switch_camera"), manipulate=self.held("manipulate"),
+                       next_weapon=self.held("next_weapon"))
+
+    def on_mouse_motion(self, x, y, dx, dy):
+        if not self.paused:
+            dyaw, dpitch = look_delta(self.settings, dx, dy)
+            self.look[0] += dyaw
+            self.look[1] += dpitch
+
+    def on_mouse_drag(self, x, y, dx, dy, buttons, modifiers):
+        self.on_mouse_motion(x, y, dx, dy)
+
+    def on_mouse_press(self, x, y, button, modifiers):
+        if self.paused:
+            self.set_paused(False)
+            return
+        self.mouse_buttons.add(button)
+
+    def on_mouse_release(self, x, y, button, modifiers):
+        self.mouse_buttons.discard(button)
+
+    def on_key_press(self, symbol, modifiers):
+        action = self.pressed_action("key", symbol)
+        if action == "pause":
+            self.set_paused(not self.paused)
+        elif action == "toggle_fullscreen":
+            self.set_fullscreen(not self.fullscreen)
+        elif action == "toggle_fps":
+            self.show_fps = not self.show_fps
+        elif action == "screenshot":
+            self.screenshot()
+        elif action == "record":
+            self.stop_recording() if self.recorder else self.start_recording()
+        return pyglet.event.EVENT_HANDLED  # keep Esc from closing the window
+
+    def on_activate(self):
+        self.was_active = True
+
+    def on_deactivate(self):
+        # Losing focus pauses, as in any game; but a window that never had focus
+        # (no window manager, e.g. under Xvfb) keeps running.
+        if getattr(self, "was_active", False):
+            self.set_paused(True)
+
+    def set_paused(self, paused: bool) -> None:
+        self.paused = paused
+        self.set_exclusive_mouse(not paused)
+        self.mouse_buttons.clear()
+        self.look = [0.0, 0.0]
+
+    def on_close(self):
+        self.stop_recording()
+        super().on_close()
+
+    # ------------------------------------------------------------------- loop
+    def update(self, dt: float) -> None:
+        self.wall_time += dt
+        self.fps = 0.9 * self.fps + 0.1 / max(dt, 1e-6) if self.fps else 1.0 / max(dt, 1e-6)
+        text, left = self.notice
+        self.notice = (text, left - dt)
+        if self.screenshot_after is not None and self.wall_time >= self.screenshot_after:
+            self.screenshot_after = None
+            self._pending_shot = True
+        if self.quit_after is not None and self.wall_time >= self.quit_after:
+            pyglet.app.exit()
+            return
+        if self.paused:
+            return
+        self.accumulator += dt
+        steps = 0
+        while self.accumulator >= DT and steps < MAX_CATCH_UP:
+            actions = self.read_actions()
+            self.game.step(actions)
+            if self.recorder:
+                self.recorder.record(actions)
+            self.accumulator -= DT
+            steps += 1
+        if steps == MAX_CATCH_UP:
+            self.accumulator = 0.0  # too far behind: drop time rather than spiral
+        self.level_time += steps * DT
+        if self.game.outcome == "complete":
+            if self.recorder:
+                self.stop_recording()
+            self.finished_for += steps * DT
+            if self.finished_for >= NEXT_LEVEL_DELAY:
+                self.next_level()
+
+    def current_frame(self):
+        """The game's frame with the app's HUD additions (fps, pause, notices)."""
+        frame = self.game.frame(alpha=self.accumulator / DT, fov_y_deg=self.settings.fov_deg)
+        hud = frame.hud
+        hud.fps = self.fps if self.show_fps else None
+        hud.paused = self.paused
+        text, left = self.notice
+        if left > 0 and text:
+            hud.message = text
+        elif not hud.message and self.level_time < HINT_SECONDS and self.game.level.hints:
+            hud.message = self.game.level.hints[0]
+        if self.recorder and not hud.message:
+            hud.message = "REC"
+        return frame
+
+    def on_draw(self):
+        frame = self.current_frame()
+        fw, fh = self.get_framebuffer_size()
+        self.ctx.screen.use()
+        self.renderer.draw(frame, (0, 0, fw, fh))
+        if getattr(self, "_pending_shot", False):
+            self._pending_shot = False
+            self.screenshot()
+
+    def screenshot(self) -> Path:
+        """Save what the window shows as a PNG in ./screenshots/.
+
+        The frame is drawn again into an offscreen framebuffer of the window's
+        size (reading the window's own back buffer is not portable in a core
+        profile).
+        """
+        fw, fh = self.get_framebuffer_size()
+        folder = Path("screenshots")
+        folder.mkdir(exist_ok=True)
+        path = folder / f"shot_{len(list(folder.glob('shot_*.png'))):04d}.png"
+        with Offscreen(self.ctx, fw, fh) as target:
+            target.use()
+            self.renderer.draw(self.current_frame(), target.viewport)
+            target.save_png(path)
+        self.ctx.screen.use()
+        print(f"screenshot saved: {path}", flush=True)
+        self.say(f"Screenshot saved: {path}", 2.0)
+        return path
+
+
+def _replay_folder() -> Path:
+    import platformdirs
+
+    return Path(platformdirs.user_data_dir("across-dimensions")) / "replays"
+
+
+def run_window(args) -> int:
+    """Open the window and play until it closes. Returns the exit status."""
+    settings, warnings = load_settings(args.settings)
+    for w in warnings:
+        print(f"warning: {w}", file=sys.stderr)
+    if args.fullscreen:
+        settings.fullscreen = True
+    path = resolve_level(args.level) if args.level else level_files()[0]
+    try:
+        window = GameWindow(settings, path, seed=args.seed, record=args.record, warnings=warnings,
+                   screenshot_after=args.screenshot_after, quit_after=args.quit_after)
+    except (pyglet.window.NoSuchConfigException, pyglet.gl.ContextException, RenderError) as e:
+        print(f"across-dimensions: cannot open an OpenGL 3.3 window here ({e}); "
+              f"try the headless demo: across-dimensions demo --screenshots out/", file=sys.stderr)
+        return 1
+    pyglet.app.run()
+    window.stop_recording()
+    window.close()
+    return 0
