@@ -50,8 +50,9 @@ def create_offscreen_context(require: int = REQUIRED_GL) -> moderngl.Context:
         ctx = moderngl.create_standalone_context(backend="egl", require=require)
     except Exception as e:  # moderngl raises plain Exception / ValueError / ImportError here
         raise RenderError(
-            f"cannot create an offscreen OpenGL {require // 100}.{require // 10 % 10} context through EGL: {e}. "
-            "Install Mesa's EGL (Debian: libegl1 libgl1-mesa-dri) for software rendering with llvmpipe."
+            f"cannot create an offscreen OpenGL {require // 100}.{require // 10 % 10} core context through EGL: {e}. "
+            "Either EGL/a GL driver is missing (Debian: apt-get install libegl1 libgl1-mesa-dri gives software "
+            "rendering with llvmpipe) or the driver offers an older OpenGL."
         ) from e
     return ctx
 

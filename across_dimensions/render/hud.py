@@ -208,7 +208,7 @@ def hud_quads(hud: Hud, width: int, height: int) -> np.ndarray:
         scale = big
         max_chars = max(1, (W - 2 * m.margin) // (CELL_W * scale))
         lines = _wrap(hud.message, max_chars)
-        if scale > s and len(lines) > 2:  # too long for large text: drop to the small size
+        if scale > s and len(lines) > 1:  # large text only for one-liners; longer ones use the small size
             scale = s
             max_chars = max(1, (W - 2 * m.margin) // (CELL_W * scale))
             lines = _wrap(hud.message, max_chars)
