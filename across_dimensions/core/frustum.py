@@ -22,7 +22,7 @@ import numpy as np
 
 from ._jit import njit
 from .mesh import TetMesh4, TriMesh3
-from .section import _model_view, _white
+from .section import _model_view
 
 
 def focal_length(fov_deg: float) -> float:
@@ -61,7 +61,7 @@ def frustum_project(mesh: TetMesh4, camera_pose=None, fov_deg: float = 90.0, nea
     f = focal_length(fov_deg)
     mv = _model_view(model, camera_pose)
     faces = mesh.unique_faces()[0] if all_faces else mesh.feature_faces()
-    colors = mesh.colors if mesh.colors is not None else _white(len(mesh.vertices))
+    colors = mesh.vertex_colors()
     v, n, c, d, count = _project(mesh.vertices, faces, colors, mv, f, float(near))
     if count == 0:
         return TriMesh3.empty(with_depth=True)
@@ -149,7 +149,7 @@ def frustum_project_reference(mesh: TetMesh4, camera_pose=None, fov_deg: float =
     mv = _model_view(model, camera_pose)
     cam = mesh.vertices.astype(np.float64) @ mv[:4, :4].T + mv[:4, 4]
     faces = mesh.unique_faces()[0] if all_faces else mesh.feature_faces()
-    colors = mesh.colors if mesh.colors is not None else _white(len(mesh.vertices))
+    colors = mesh.vertex_colors()
     out_v, out_c, out_d = [], [], []
     for face in faces:
         pts, cs = [], []

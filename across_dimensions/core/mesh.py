@@ -16,6 +16,8 @@ oriented mesh every triangle appears exactly twice, once with each orientation.
 
 from __future__ import annotations
 
+import os
+import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -49,6 +51,19 @@ def cross4(u, v, t) -> np.ndarray:
     for i in range(4):
         out[..., i] = (-1) ** (i + 3) * np.linalg.det(m[..., cols[i]])
     return out
+
+
+def _face_keys(faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """One integer per triangle, equal for the same three vertices in any order.
+
+    Sorting ``(f,)`` integers is several times faster than ``np.unique(axis=0)``
+    on rows; meshes too large to pack into 63 bits fall back to byte rows.
+    """
+    key = np.sort(faces, axis=1).astype(np.int64)
+    n = max(int(n_vertices), 1)
+    if n**3 < 2**62:
+        return (key[:, 0] * n + key[:, 1]) * n + key[:, 2]
+    return np.ascontiguousarray(key).view(np.dtype((np.void, 24))).ravel()
 
 
 # Faces of tet (0, 1, 2, 3) with the orientation the tet induces on them.
@@ -141,8 +156,8 @@ class TetMesh4:
         """
         if "unique_faces" not in self._cache:
             of = self.oriented_faces()
-            key = np.sort(of, axis=1)
-            _, first, inverse, counts = np.unique(key, axis=0, return_index=True, return_inverse=True, return_counts=True)
+            key = _face_keys(of, len(self.vertices))
+            _, first, inverse, counts = np.unique(key, return_index=True, return_inverse=True, return_counts=True)
             inverse = inverse.reshape(-1)
             owners = np.full((len(first), 2), -1, dtype=np.int64)
             tet_of = np.arange(len(of)) // 4
@@ -194,15 +209,19 @@ class TetMesh4:
             return out
         repeated = (np.sort(self.tets, axis=1)[:, 1:] == np.sort(self.tets, axis=1)[:, :-1]).any(axis=1)
         vol = np.linalg.norm(self.tet_normals(), axis=1) / 6.0
-        scale = max(float(np.ptp(self.vertices, axis=0).max()), 1e-12)
-        degenerate = repeated | (vol <= 1e-9 * scale**3)
+        # Relative to each tet's own size, so small tets in a large world pass:
+        # a regular tet has vol / edge**3 = 0.118; a sliver far below 1e-9 is flat.
+        p = self.vertices.astype(np.float64)[self.tets]
+        edges = p[:, [1, 2, 3, 2, 3, 3]] - p[:, [0, 0, 0, 1, 1, 2]]
+        longest = np.sqrt((edges**2).sum(axis=2).max(axis=1))
+        degenerate = repeated | (vol <= 1e-9 * longest**3) | (longest == 0)
         if degenerate.any():
             bad = np.flatnonzero(degenerate)
             out.append(f"{self.label}: {len(bad)} degenerate tets (zero volume or repeated vertex), e.g. {bad[:max_report].tolist()}")
         if check_closed:
             of = self.oriented_faces()
-            key = np.sort(of, axis=1)
-            _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+            key = _face_keys(of, len(self.vertices))
+            _, inverse, counts = np.unique(key, return_inverse=True, return_counts=True)
             inverse = inverse.reshape(-1)
             if (counts != 2).any():
                 bad_faces = np.flatnonzero(counts != 2)
@@ -247,7 +266,17 @@ class TetMesh4:
 
     def with_color(self, rgba) -> "TetMesh4":
         """A copy with every vertex coloured ``rgba`` (3 or 4 floats)."""
-        return TetMesh4(self.vertices, self.tets, np.asarray(rgba, np.float32), self.name, self._cache)
+        # Geometry caches stay valid for the copy; copy the dict so they are not shared.
+        cache = {k: v for k, v in self._cache.items() if k != "white"}
+        return TetMesh4(self.vertices, self.tets, np.asarray(rgba, np.float32), self.name, cache)
+
+    def vertex_colors(self) -> np.ndarray:
+        """``(n, 4) float32`` colours, white where the mesh has none (cached)."""
+        if self.colors is not None:
+            return self.colors
+        if "white" not in self._cache:
+            self._cache["white"] = np.ones((len(self.vertices), 4), np.float32)
+        return self._cache["white"]
 
     # ------------------------------------------------------------------------ I/O
     def save(self, path) -> None:
@@ -259,10 +288,14 @@ class TetMesh4:
         arrays = {"vertices": self.vertices, "tets": self.tets}
         if self.colors is not None:
             arrays["colors"] = self.colors
-        tmp = path.with_name(path.name + ".tmp")
-        with open(tmp, "wb") as f:
-            np.savez_compressed(f, **arrays)
-        tmp.replace(path)
+        fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent or ".")
+        try:
+            with os.fdopen(fd, "wb") as f:
+                np.savez_compressed(f, **arrays)
+            os.replace(tmp, path)
+        except BaseException:
+            os.unlink(tmp)
+            raise
 
     @classmethod
     def load(cls, path, validate: bool = True) -> "TetMesh4":
@@ -334,8 +367,11 @@ class TriMesh3:
     def is_empty(self) -> bool:
         return len(self.faces) == 0
 
-    def welded(self, tol: float = 1e-5) -> tuple[np.ndarray, np.ndarray]:
+    def welded(self, tol: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """Merge coincident vertices and drop collapsed triangles.
+
+        With ``tol = 0`` only bit-identical positions merge: the slicer computes
+        a shared edge's point identically in every tet, so this is exact.
 
         Returns
         -------
@@ -344,7 +380,10 @@ class TriMesh3:
         """
         if self.is_empty:
             return np.zeros((0, 3)), np.zeros((0, 3), np.int64)
-        q = np.round(self.vertices.astype(np.float64) / tol).astype(np.int64)
+        if tol > 0:
+            q = np.round(self.vertices.astype(np.float64) / tol).astype(np.int64)
+        else:
+            q = np.ascontiguousarray(self.vertices + np.float32(0.0))  # folds -0.0 into 0.0
         _, first, inverse = np.unique(q, axis=0, return_index=True, return_inverse=True)
         faces = inverse.reshape(-1)[self.faces]
         keep = (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])

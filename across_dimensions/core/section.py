@@ -93,7 +93,7 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
     """
     mv = _model_view(model, camera_pose)
     tets, lo, hi, centers, radii = mesh_clusters(mesh)
-    colors = mesh.colors if mesh.colors is not None else _white(len(mesh.vertices))
+    colors = mesh.vertex_colors()
     # Bound on how far a unit object-space step moves camera-space w.
     w_gain = float(np.linalg.norm(mv[3, :4]))
     flip = 1.0 if np.linalg.det(mv[:4, :4]) > 0 else -1.0
@@ -106,10 +106,6 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
     v, n, c = _emit(mesh.vertices, tets, colors, mv, flip, cut, ntri, CASE_EDGES, CASE_COUNT)
     faces = np.arange(3 * ntri, dtype=np.uint32).reshape(-1, 3)
     return TriMesh3(v, faces, n, c)
-
-
-def _white(n: int) -> np.ndarray:
-    return np.ones((n, 4), np.float32)
 
 
 CLUSTER_SIZE = 128
@@ -250,6 +246,10 @@ def _emit(v, tets, colors, mv, flip, cut, ntri, case_edges, case_count):
         for e in range(k):
             a = case_edges[mask, e, 0]
             b = case_edges[mask, e, 1]
+            if tets[t, a] > tets[t, b]:
+                # Interpolate from the lower vertex index, so the tets sharing this
+                # edge compute bit-identical points.
+                a, b = b, a
             s = p[a, 3] / (p[a, 3] - p[b, 3])
             for r in range(3):
                 q[e, r] = p[a, r] + s * (p[b, r] - p[a, r])
@@ -292,7 +292,7 @@ def cross_section_reference(mesh: TetMesh4, camera_pose=None, model=None) -> Tri
     mv = _model_view(model, camera_pose)
     flip = 1.0 if np.linalg.det(mv[:4, :4]) > 0 else -1.0
     cam = mesh.vertices.astype(np.float64) @ mv[:4, :4].T + mv[:4, 4]
-    colors = mesh.colors if mesh.colors is not None else _white(len(mesh.vertices))
+    colors = mesh.vertex_colors()
     verts, norms, cols = [], [], []
     for tet in mesh.tets:
         p = cam[tet]
@@ -308,6 +308,8 @@ def cross_section_reference(mesh: TetMesh4, camera_pose=None, model=None) -> Tri
             cycle = [(below[0], a) for a in above]
         pts, cs = [], []
         for a, b in cycle:
+            if tet[a] > tet[b]:
+                a, b = b, a
             s = p[a, 3] / (p[a, 3] - p[b, 3])
             pts.append(p[a, :3] + s * (p[b, :3] - p[a, :3]))
             cs.append(colors[tet[a]] + s * (colors[tet[b]] - colors[tet[a]]))
