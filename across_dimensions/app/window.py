@@ -227,11 +227,18 @@ class GameWindow(pyglet.window.Window):
         text, left = self.notice
         if left > 0 and text:
             hud.message = text
-        elif not hud.message and self.level_time < HINT_SECONDS and self.game.level.hints:
-            hud.message = self.game.level.hints[0]
+        elif not hud.message and self.level_time < HINT_SECONDS * len(self.game.level.hints):
+            hud.message = self.hint(int(self.level_time // HINT_SECONDS))
         if self.recorder and not hud.message:
             hud.message = "REC"
         return frame
+
+    def hint(self, i: int) -> str:
+        """Level hint ``i`` with ``{action}`` replaced by the keys bound to it."""
+        keys = {a: "/".join(k.replace("MOUSE_", "mouse ").lower() if k.startswith("MOUSE_") else k.lstrip("_")
+                            for k in self.settings.keys_for(a)) or "(unbound)"
+                for a in self.settings.bindings}
+        return self.game.level.hints[i].format_map(_Missing(keys))
 
     def on_draw(self):
         frame = self.current_frame()
@@ -261,6 +268,13 @@ class GameWindow(pyglet.window.Window):
         print(f"screenshot saved: {path}", flush=True)
         self.say(f"Screenshot saved: {path}", 2.0)
         return path
+
+
+class _Missing(dict):
+    """format_map helper: unknown ``{names}`` stay as written."""
+
+    def __missing__(self, key):
+        return "{" + key + "}"
 
 
 def _replay_folder() -> Path:
