@@ -9,7 +9,6 @@ Golden images live in ``tests/golden/``; regenerate with ``REGENERATE_GOLDEN=1``
 
 from __future__ import annotations
 
-import os
 import struct
 import subprocess
 import sys
@@ -28,24 +27,12 @@ from across_dimensions.render.hud import MARKER_COLOR, HudMetrics, hud_quads
 from across_dimensions.render.png import PngError, decode_png, encode_png, read_png, write_png
 from across_dimensions.render.renderer import Renderer, feature_edges
 
-GOLDEN_DIR = Path(__file__).parent / "golden"
 W, H = 160, 90
 SKY = (0.05, 0.06, 0.10)
 SKY_U8 = np.round(np.array(SKY) * 255).astype(int)
 
 
 # --------------------------------------------------------------------- fixtures
-@pytest.fixture(scope="module")
-def gl_ctx():
-    """One standalone EGL context for this module (skips when EGL is unavailable)."""
-    try:
-        ctx = create_offscreen_context()
-    except RenderError as e:
-        pytest.skip(f"no OpenGL context through EGL: {e}")
-    yield ctx
-    ctx.release()
-
-
 @pytest.fixture
 def target(gl_ctx):
     """A bound 160x90 offscreen framebuffer."""
@@ -485,32 +472,11 @@ def golden_frame() -> Frame:
     return Frame(cam, drawables, Hud(w=0.4, fps=60.0, message="GOLDEN"), sky_color=SKY)
 
 
-def compare_golden(name: str, img: np.ndarray, tmp_path: Path) -> None:
-    """Compare with ``tests/golden/<name>.png`` (writes it when missing or REGENERATE_GOLDEN=1)."""
-    path = GOLDEN_DIR / f"{name}.png"
-    if os.environ.get("REGENERATE_GOLDEN") == "1" or not path.exists():
-        GOLDEN_DIR.mkdir(parents=True, exist_ok=True)
-        write_png(path, img)
-        pytest.skip(f"wrote golden image {path}; check it by eye and commit it")
-    want = read_png(path)
-    assert want.shape == img.shape, f"golden {path} is {want.shape}, rendered {img.shape}"
-    diff = np.abs(want.astype(int) - img.astype(int))
-    mean = diff.mean()
-    bad = (diff.max(axis=2) > 32).mean()
-    if mean >= 2.0 or bad >= 0.01:
-        write_png(tmp_path / f"{name}_actual.png", img)
-        write_png(tmp_path / f"{name}_diff.png", np.clip(diff * 4, 0, 255).astype(np.uint8))
-        pytest.fail(
-            f"{name}: mean abs diff {mean:.2f}/255 (limit 2), {bad:.2%} pixels off by > 32 (limit 1%); "
-            f"actual and diff images in {tmp_path}; if the change is intended rerun with REGENERATE_GOLDEN=1"
-        )
-
-
 @pytest.mark.gl
-def test_golden_scene(gl_ctx, renderer, tmp_path):
+def test_golden_scene(gl_ctx, renderer, compare_golden):
     with Offscreen(gl_ctx, 192, 108) as t:
         t.use()
         renderer.draw(golden_frame())
         img = t.read_rgb()
     assert_no_gl_error(gl_ctx)
-    compare_golden("scene_basic", img, tmp_path)
+    compare_golden("scene_basic", img)
