@@ -53,8 +53,11 @@ def frustum_project(mesh: TetMesh4, camera_pose=None, fov_deg: float = 90.0, nea
     Returns
     -------
     TriMesh3
-        With ``depth`` ``(k,) float32``; normals are per-triangle and not
-        oriented (draw both sides).
+        Indexed: row ``i < n`` is mesh vertex ``i`` projected (unused if behind
+        the near hyperplane), later rows are clip points. ``depth (k,) float32``
+        is the distance along the camera's w. Faces are not consistently
+        oriented and ``normals`` are zero: shade flat (the renderer derives face
+        normals from screen-space derivatives) and draw both sides.
     """
     if near <= 0:
         raise ValueError(f"near distance must be positive, got {near}")
@@ -62,84 +65,81 @@ def frustum_project(mesh: TetMesh4, camera_pose=None, fov_deg: float = 90.0, nea
     mv = _model_view(model, camera_pose)
     faces = mesh.unique_faces()[0] if all_faces else mesh.feature_faces()
     colors = mesh.vertex_colors()
-    v, n, c, d, count = _project(mesh.vertices, faces, colors, mv, f, float(near))
-    if count == 0:
+    v, c, d, faces_out, nv, nf = _project(mesh.vertices, faces, colors, mv, f, float(near))
+    if nf == 0:
         return TriMesh3.empty(with_depth=True)
-    k = 3 * count
-    return TriMesh3(v[:k], np.arange(k, dtype=np.uint32).reshape(-1, 3), n[:k], c[:k], d[:k])
+    return TriMesh3(v[:nv], faces_out[:nf], np.zeros((nv, 3), np.float32), c[:nv], d[:nv])
 
 
 @njit(cache=True)
 def _project(v, faces, colors, mv, f, near):
+    """Indexed output: every vertex in front of the near hyperplane is projected
+    once (rows ``0..n-1``); clipping appends the points where edges cross it."""
     nv = v.shape[0]
+    nf = faces.shape[0]
     cam = np.empty((nv, 4))
+    # A clipped triangle adds at most 2 points; reserve for the worst case.
+    cap_v = nv + 2 * nf
+    out_v = np.zeros((cap_v, 3), np.float32)
+    out_c = np.empty((cap_v, 4), np.float32)
+    out_d = np.zeros(cap_v, np.float32)
+    inside = np.empty(nv, np.bool_)
     for i in range(nv):
         for r in range(4):
             cam[i, r] = (mv[r, 0] * v[i, 0] + mv[r, 1] * v[i, 1] + mv[r, 2] * v[i, 2]
                          + mv[r, 3] * v[i, 3] + mv[r, 4])
-    nf = faces.shape[0]
-    cap = 2 * nf
-    out_v = np.empty((3 * cap, 3), np.float32)
-    out_n = np.empty((3 * cap, 3), np.float32)
-    out_c = np.empty((3 * cap, 4), np.float32)
-    out_d = np.empty(3 * cap, np.float32)
-    poly = np.empty((4, 4))  # clipped polygon, camera space
-    pc = np.empty((4, 4))
-    o = 0
+        w = cam[i, 3]
+        inside[i] = w >= near
+        if inside[i]:
+            sc = f / w
+            out_v[i, 0] = cam[i, 0] * sc
+            out_v[i, 1] = cam[i, 1] * sc
+            out_v[i, 2] = cam[i, 2] * sc
+            out_d[i] = w
+        for r in range(4):
+            out_c[i, r] = colors[i, r]
+    out_f = np.empty((2 * nf, 3), np.uint32)
+    poly = np.empty(4, np.int64)
+    k_v = nv
+    k_f = 0
     for fi in range(nf):
-        ninside = 0
-        for j in range(3):
-            if cam[faces[fi, j], 3] >= near:
-                ninside += 1
+        a0 = faces[fi, 0]
+        a1 = faces[fi, 1]
+        a2 = faces[fi, 2]
+        ninside = np.int64(inside[a0]) + np.int64(inside[a1]) + np.int64(inside[a2])
+        if ninside == 3:
+            out_f[k_f, 0] = a0
+            out_f[k_f, 1] = a1
+            out_f[k_f, 2] = a2
+            k_f += 1
+            continue
         if ninside == 0:
             continue
-        # Sutherland-Hodgman against w >= near, on a triangle: at most 4 points.
+        # Sutherland-Hodgman against w >= near on one triangle: 3 or 4 points.
         k = 0
         for j in range(3):
             a = faces[fi, j]
             b = faces[fi, (j + 1) % 3]
-            wa = cam[a, 3]
-            wb = cam[b, 3]
-            if wa >= near:
-                for r in range(4):
-                    poly[k, r] = cam[a, r]
-                    pc[k, r] = colors[a, r]
+            if inside[a]:
+                poly[k] = a
                 k += 1
-            if (wa >= near) != (wb >= near):
-                s = (near - wa) / (wb - wa)
-                for r in range(4):
-                    poly[k, r] = cam[a, r] + s * (cam[b, r] - cam[a, r])
-                    pc[k, r] = colors[a, r] + s * (colors[b, r] - colors[a, r])
-                poly[k, 3] = near
-                k += 1
-        # Perspective divide.
-        for j in range(k):
-            sc = f / poly[j, 3]
-            for r in range(3):
-                poly[j, r] *= sc
-        ax, ay, az = poly[1, 0] - poly[0, 0], poly[1, 1] - poly[0, 1], poly[1, 2] - poly[0, 2]
-        bx, by, bz = poly[2, 0] - poly[0, 0], poly[2, 1] - poly[0, 1], poly[2, 2] - poly[0, 2]
-        nx = ay * bz - az * by
-        ny = az * bx - ax * bz
-        nz = ax * by - ay * bx
-        ln = np.sqrt(nx * nx + ny * ny + nz * nz)
-        if ln > 0.0:
-            nx /= ln
-            ny /= ln
-            nz /= ln
-        for tri in range(k - 2):
-            for j in range(3):
-                src = 0 if j == 0 else tri + j
+            if inside[a] != inside[b]:
+                s = (near - cam[a, 3]) / (cam[b, 3] - cam[a, 3])
+                sc = f / near
                 for r in range(3):
-                    out_v[o, r] = poly[src, r]
-                out_n[o, 0] = nx
-                out_n[o, 1] = ny
-                out_n[o, 2] = nz
+                    out_v[k_v, r] = (cam[a, r] + s * (cam[b, r] - cam[a, r])) * sc
                 for r in range(4):
-                    out_c[o, r] = pc[src, r]
-                out_d[o] = poly[src, 3]
-                o += 1
-    return out_v, out_n, out_c, out_d, o // 3
+                    out_c[k_v, r] = colors[a, r] + s * (colors[b, r] - colors[a, r])
+                out_d[k_v] = near
+                poly[k] = k_v
+                k_v += 1
+                k += 1
+        for tri in range(k - 2):
+            out_f[k_f, 0] = poly[0]
+            out_f[k_f, 1] = poly[tri + 1]
+            out_f[k_f, 2] = poly[tri + 2]
+            k_f += 1
+    return out_v, out_c, out_d, out_f, k_v, k_f
 
 
 def frustum_project_reference(mesh: TetMesh4, camera_pose=None, fov_deg: float = 90.0, near: float = 0.05,
@@ -172,9 +172,5 @@ def frustum_project_reference(mesh: TetMesh4, camera_pose=None, fov_deg: float =
     if not out_v:
         return TriMesh3.empty(with_depth=True)
     v = np.array(out_v, np.float32)
-    p = v.reshape(-1, 3, 3).astype(np.float64)
-    n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-    normals = np.repeat(n, 3, axis=0).astype(np.float32)
-    return TriMesh3(v, np.arange(len(v), dtype=np.uint32).reshape(-1, 3), normals, np.array(out_c, np.float32),
+    return TriMesh3(v, np.arange(len(v), dtype=np.uint32).reshape(-1, 3), np.zeros_like(v), np.array(out_c, np.float32),
                     np.array(out_d, np.float32))

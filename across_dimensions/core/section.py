@@ -180,9 +180,11 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, case_count):
     """Indices of tets the hyperplane cuts, and the number of triangles they make."""
     m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
     n = v.shape[0]
-    d = np.empty(n)
+    # One byte per vertex (is it above?) keeps the per-tet gathers in cache and
+    # the case index branch-free.
+    above = np.empty(n, np.uint8)
     for i in range(n):
-        d[i] = m0 * v[i, 0] + m1 * v[i, 1] + m2 * v[i, 2] + m3 * v[i, 3] + m4
+        above[i] = (m0 * v[i, 0] + m1 * v[i, 1] + m2 * v[i, 2] + m3 * v[i, 3] + m4) > 0.0
     cut = np.empty(tets.shape[0], np.int64)
     ncut = 0
     ntri = 0
@@ -191,20 +193,11 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, case_count):
         if abs(dc) > radii[c] * w_gain:
             continue
         for t in range(lo[c], hi[c]):
-            mask = 0
-            if d[tets[t, 0]] > 0.0:
-                mask |= 1
-            if d[tets[t, 1]] > 0.0:
-                mask |= 2
-            if d[tets[t, 2]] > 0.0:
-                mask |= 4
-            if d[tets[t, 3]] > 0.0:
-                mask |= 8
-            k = case_count[mask]
-            if k:
+            mask = above[tets[t, 0]] | (above[tets[t, 1]] << 1) | (above[tets[t, 2]] << 2) | (above[tets[t, 3]] << 3)
+            if mask != 0 and mask != 15:
                 cut[ncut] = t
                 ncut += 1
-                ntri += k - 2
+                ntri += case_count[mask] - 2
     return cut[:ncut], ntri
 
 

@@ -83,7 +83,9 @@ void main() {
     vec3 lit = albedo;
 #else
     float nlen = length(v_normal);
-    vec3 N = nlen > 1e-8 ? v_normal / nlen : V;
+    // Meshes without normals (frustum projections) are shaded flat, with the
+    // face normal taken from screen-space derivatives of the position.
+    vec3 N = nlen > 1e-8 ? v_normal / nlen : normalize(cross(dFdx(v_world), dFdy(v_world)));
     // Two-sided lighting: no culling and a mirrored view matrix mean we may see
     // either side of a triangle, so light the side facing the eye.
     float ndv = dot(N, V);
@@ -106,7 +108,9 @@ void main() {
     vec3 H = normalize(L + V);
     float spec = diffuse > 0.0 ? pow(max(dot(N, H), 0.0), 40.0) * 0.18 : 0.0;
     float rim = pow(1.0 - ndv, 3.0) * 0.12;
-    vec3 lit = albedo * (ambient + diffuse * vec3(1.0, 0.96, 0.90)) + vec3(spec) + rim * vec3(0.55, 0.65, 0.9);
+    // A weak light from the eye keeps faces turned away from the sun readable.
+    float fill = 0.22 * ndv;
+    vec3 lit = albedo * (ambient + fill + diffuse * vec3(1.0, 0.96, 0.90)) + vec3(spec) + rim * vec3(0.55, 0.65, 0.9);
 #endif
 
     vec3 color = to_display(lit);
