@@ -133,10 +133,11 @@ def _build_world(spec) -> ExtendedWorld:
         centers.append(b.center)
         halves.append(b.size / 2)
     for m in spec.meshes:
-        from .bake import tetrahedralize_cached
+        from .bake import bake_solid  # pytetwild runs only on a cache miss
 
-        v, f, model = _mesh_surface(m)
-        v3, t3 = tetrahedralize_cached(m.asset, v @ model[:3, :3].T + model[:3, 3], f)
+        v3, t3 = bake_solid(m.asset)
+        model = placement_matrix(m.position, m.scale, m.yaw_deg)
+        v3 = v3 @ model[:3, :3].T + model[:3, 3]
         c, h = _aabb_of(v3)
         parts.append(lift.extrude(v3, t3, layers_w, scales, center=c, colors=m.color))
         centers.append(c)
