@@ -128,7 +128,7 @@ def mat6_vec(m, v, out):
 
 
 @njit(cache=True)
-def expm_skew(w, h, out):
+def expm_skew(w, h, out, wk):
     """Rotation ``expm(h * skew(w))`` by scaling and squaring a Taylor series.
 
     Parameters
@@ -137,8 +137,16 @@ def expm_skew(w, h, out):
     h : float
     out : (4, 4) float64
         Overwritten with a rotation (orthogonal to rounding).
+    wk : (3, 4, 4) float64
+        Scratch (this runs for every moving body every substep, so it does
+        not allocate).
     """
-    a = np.zeros((4, 4))
+    a = wk[0]
+    term = wk[1]
+    tmp = wk[2]
+    for i in range(4):
+        for j in range(4):
+            a[i, j] = 0.0
     for k in range(6):
         i = PLANE_I[k]
         j = PLANE_J[k]
@@ -159,9 +167,8 @@ def expm_skew(w, h, out):
     for i in range(4):
         for j in range(4):
             a[i, j] *= scale
-    term = np.eye(4)
-    res = np.eye(4)
-    tmp = np.empty((4, 4))
+            term[i, j] = 1.0 if i == j else 0.0
+            out[i, j] = term[i, j]
     for n in range(1, 11):
         for i in range(4):
             for j in range(4):
@@ -172,24 +179,21 @@ def expm_skew(w, h, out):
         for i in range(4):
             for j in range(4):
                 term[i, j] = tmp[i, j]
-                res[i, j] += tmp[i, j]
+                out[i, j] += tmp[i, j]
     for _ in range(squarings):
         for i in range(4):
             for j in range(4):
                 s = 0.0
                 for k in range(4):
-                    s += res[i, k] * res[k, j]
+                    s += out[i, k] * out[k, j]
                 tmp[i, j] = s
         for i in range(4):
             for j in range(4):
-                res[i, j] = tmp[i, j]
-    for i in range(4):
-        for j in range(4):
-            out[i, j] = res[i, j]
+                out[i, j] = tmp[i, j]
 
 
 @njit(cache=True)
-def rotate_by(w, h, rot):
+def rotate_by(w, h, rot, wk):
     """Advance ``rot`` in place to ``expm(h * skew(w)) @ rot``, re-orthonormalised.
 
     The update is in the world frame because ``w`` is a world-frame angular
@@ -202,10 +206,12 @@ def rotate_by(w, h, rot):
     h : float
     rot : (4, 4) float64
         Updated in place.
+    wk : (5, 4, 4) float64
+        Scratch.
     """
-    e = np.empty((4, 4))
-    expm_skew(w, h, e)
-    tmp = np.empty((4, 4))
+    e = wk[3]
+    tmp = wk[4]
+    expm_skew(w, h, e, wk)
     for i in range(4):
         for j in range(4):
             s = 0.0
@@ -251,7 +257,13 @@ def tangent_basis(n, out):
     out : (3, 4) float64
         Overwritten.
     """
-    order = np.argsort(np.abs(n), kind="mergesort")
+    # The three axes with the smallest |n_k| (ties to the lower index), without
+    # allocating: this runs for every contact every tick.
+    big = 0
+    for k in range(1, 4):
+        if abs(n[k]) > abs(n[big]):
+            big = k
+    order = (0, 1, 2) if big == 3 else ((0, 1, 3) if big == 2 else ((0, 2, 3) if big == 1 else (1, 2, 3)))
     for t in range(3):
         ax = order[t]
         for i in range(4):

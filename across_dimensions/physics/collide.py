@@ -33,13 +33,15 @@ from .bivector import PLANE_I, PLANE_J
 MAX_POINTS = 8
 #: Scratch rows needed by :func:`box_box` for its candidate points.
 SCRATCH_POINTS = 160
+#: Rows of the ``(SCRATCH_ROWS, 4)`` work array the routines here use.
+SCRATCH_ROWS = 32
 
 SPHERE = 0
 BOX = 1
 
 
 @njit(cache=True)
-def reduce_points(cp, cd, cnt, n, out_p, out_n, out_d, k):
+def reduce_points(cp, cd, cm, cnt, n, out_p, out_n, out_d, k):
     """Keep the deepest candidate and then the ones farthest from those kept.
 
     Distances are measured in the contact hyperplane (orthogonal to ``n``).
@@ -50,6 +52,8 @@ def reduce_points(cp, cd, cnt, n, out_p, out_n, out_d, k):
         Candidate points; rows ``[:cnt]`` are used.
     cd : (M,) float64
         Candidate depths.
+    cm : (M,) float64
+        Scratch.
     cnt : int
     n : (4,) float64
         Shared contact normal, copied to every output row.
@@ -67,16 +71,10 @@ def reduce_points(cp, cd, cnt, n, out_p, out_n, out_d, k):
         return 0
     best = 0
     for i in range(1, cnt):
+        cm[i] = np.inf
         if cd[i] > cd[best]:
             best = i
-    mind = np.full(cnt, np.inf)
-    q = np.empty((cnt, 4))
-    for i in range(cnt):
-        s = 0.0
-        for a in range(4):
-            s += cp[i, a] * n[a]
-        for a in range(4):
-            q[i, a] = cp[i, a] - s * n[a]
+    cm[0] = np.inf
     written = 0
     pick = best
     while written < MAX_POINTS:
@@ -89,13 +87,16 @@ def reduce_points(cp, cd, cnt, n, out_p, out_n, out_d, k):
         nxt = -1
         for i in range(cnt):
             s = 0.0
+            sn = 0.0
             for a in range(4):
-                t = q[i, a] - q[pick, a]
+                t = cp[i, a] - cp[pick, a]
                 s += t * t
-            if s < mind[i]:
-                mind[i] = s
-            if mind[i] > far:
-                far = mind[i]
+                sn += t * n[a]
+            s -= sn * sn
+            if s < cm[i]:
+                cm[i] = s
+            if cm[i] > far:
+                far = cm[i]
                 nxt = i
         # Remaining candidates all duplicate kept points (to 0.1 mm).
         if far < 1e-8:
@@ -105,9 +106,12 @@ def reduce_points(cp, cd, cnt, n, out_p, out_n, out_d, k):
 
 
 @njit(cache=True)
-def sphere_sphere(xa, ra, xb, rb, margin, out_p, out_n, out_d, k):
-    """One contact between two hyperspheres (normal from a to b); returns 0 or 1."""
-    d = np.empty(4)
+def sphere_sphere(xa, ra, xb, rb, margin, wk, out_p, out_n, out_d, k):
+    """One contact between two hyperspheres (normal from a to b); returns 0 or 1.
+
+    ``wk`` is a ``(W, 4) float64`` scratch array, as for all routines here.
+    """
+    d = wk[0]
     dist2 = 0.0
     for a in range(4):
         d[a] = xb[a] - xa[a]
@@ -133,7 +137,7 @@ def sphere_sphere(xa, ra, xb, rb, margin, out_p, out_n, out_d, k):
 
 
 @njit(cache=True)
-def box_sphere(xb, rot, h, c, r, margin, out_p, out_n, out_d, k):
+def box_sphere(xb, rot, h, c, r, margin, wk, out_p, out_n, out_d, k):
     """One contact between a box and a hypersphere (normal from box to sphere).
 
     Parameters
@@ -154,13 +158,13 @@ def box_sphere(xb, rot, h, c, r, margin, out_p, out_n, out_d, k):
     int
         0 or 1.
     """
-    q = np.empty(4)
+    q = wk[0]
     for a in range(4):
         s = 0.0
         for m in range(4):
             s += rot[m, a] * (c[m] - xb[m])
         q[a] = s
-    cl = np.empty(4)
+    cl = wk[1]
     inside = True
     for a in range(4):
         v = q[a]
@@ -171,7 +175,9 @@ def box_sphere(xb, rot, h, c, r, margin, out_p, out_n, out_d, k):
             v = -h[a]
             inside = False
         cl[a] = v
-    nl = np.zeros(4)
+    nl = wk[2]
+    for a in range(4):
+        nl[a] = 0.0
     if not inside:
         dist2 = 0.0
         for a in range(4):
@@ -209,7 +215,15 @@ def box_sphere(xb, rot, h, c, r, margin, out_p, out_n, out_d, k):
 
 
 @njit(cache=True)
-def _clip_into(tx, trot, th, loc_c, loc_axes, oh, margin, m, sup, cp, cd, cnt):
+def _inside(v, th, margin):
+    for a in range(4):
+        if abs(v[a]) > th[a] + margin:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _clip_into(tx, trot, th, loc_c, loc_axes, oh, margin, m, sup, cp, cd, cnt, v, pl):
     """Add the points of box O that lie inside box T (expanded by ``margin``).
 
     Points are O's vertices inside T and the points where O's edges cross T's
@@ -230,19 +244,21 @@ def _clip_into(tx, trot, th, loc_c, loc_axes, oh, margin, m, sup, cp, cd, cnt):
     m : (4,) float64
         Unit normal (world).
     sup : float
-    cp, cd : scratch (M, 4), (M,) float64
+    cp, cd : (M, 4), (M,) float64
+        Candidate output.
     cnt : int
         Rows already used.
+    v : (16, 4) float64
+        Scratch for O's vertices.
+    pl : (4,) float64
+        Scratch.
 
     Returns
     -------
     int
         New row count.
     """
-    v = np.empty((16, 4))
-    inside = np.empty(16, dtype=np.bool_)
     for j in range(16):
-        ok = True
         for a in range(4):
             s = loc_c[a]
             for kk in range(4):
@@ -251,19 +267,15 @@ def _clip_into(tx, trot, th, loc_c, loc_axes, oh, margin, m, sup, cp, cd, cnt):
                 else:
                     s -= oh[kk] * loc_axes[a, kk]
             v[j, a] = s
-            if abs(s) > th[a] + margin:
-                ok = False
-        inside[j] = ok
-    pl = np.empty(4)
-    for j in range(16):
-        if inside[j]:
+        if _inside(v[j], th, margin):
             cnt = _emit(tx, trot, v[j], m, sup, margin, cp, cd, cnt)
     for j in range(16):
+        in_j = _inside(v[j], th, margin)
         for kk in range(4):
             if (j >> kk) & 1:
                 continue
             j2 = j | (1 << kk)
-            if inside[j] and inside[j2]:
+            if in_j and _inside(v[j2], th, margin):
                 continue
             t0 = 0.0
             t1 = 1.0
@@ -306,25 +318,24 @@ def _emit(tx, trot, pl, m, sup, margin, cp, cd, cnt):
     """Store a candidate given in T's frame if it is within ``margin`` of touching."""
     if cnt >= cp.shape[0]:
         return cnt
-    pw = np.empty(4)
     dot = 0.0
     for a in range(4):
         s = tx[a]
         for b in range(4):
             s += trot[a, b] * pl[b]
-        pw[a] = s
+        cp[cnt, a] = s
         dot += m[a] * s
     depth = sup - dot
     if depth < -margin:
         return cnt
     for a in range(4):
-        cp[cnt, a] = pw[a] + 0.5 * depth * m[a]
+        cp[cnt, a] += 0.5 * depth * m[a]
     cd[cnt] = depth
     return cnt + 1
 
 
 @njit(cache=True)
-def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, out_p, out_n, out_d, k):
+def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, cm, wk, out_p, out_n, out_d, k):
     """Contact manifold of two 4D boxes (normal from a to b).
 
     Parameters
@@ -337,7 +348,9 @@ def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, out_p, out_n, out_d, k):
         Half extents.
     margin : float
         Speculative distance: pairs closer than this still get contacts.
-    cp, cd : (SCRATCH_POINTS, 4), (SCRATCH_POINTS,) float64
+    cp, cd, cm : (SCRATCH_POINTS, 4), (SCRATCH_POINTS,), (SCRATCH_POINTS,) float64
+        Scratch for candidate points.
+    wk : (SCRATCH_ROWS, 4) float64
         Scratch.
     out_p, out_n : (C, 4) float64
     out_d : (C,) float64
@@ -349,15 +362,15 @@ def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, out_p, out_n, out_d, k):
     int
         Number of contacts written (0 when separated by more than ``margin``).
     """
-    c = np.empty((4, 4))
+    c = wk[0:4]
     for i in range(4):
         for j in range(4):
             s = 0.0
             for m in range(4):
                 s += ra[m, i] * rb[m, j]
             c[i, j] = s
-    da = np.empty(4)
-    db = np.empty(4)
+    da = wk[4]
+    db = wk[5]
     for i in range(4):
         s = 0.0
         t = 0.0
@@ -367,7 +380,7 @@ def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, out_p, out_n, out_d, k):
             t += rb[m, i] * dm
         da[i] = s
         db[i] = t
-    n = np.zeros(4)
+    n = wk[6]
     best_face = np.inf
     for i in range(4):
         rr = 0.0
@@ -394,7 +407,7 @@ def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, out_p, out_n, out_d, k):
             for m in range(4):
                 n[m] = sg * rb[m, kk]
     best_cross = np.inf
-    ncross = np.zeros(4)
+    ncross = wk[7]
     # 2-faces of A (spanning the axes other than p, q) against edges of B: the
     # axis orthogonal to both lies in the (p, q) plane of A.
     for pq in range(6):
@@ -465,19 +478,21 @@ def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, out_p, out_n, out_d, k):
         sup_b += hb[i] * abs(sb)
     cnt = 0
     # B's points inside A, depth along n.
-    loc_axes = np.empty((4, 4))
-    negn = np.empty(4)
+    loc_axes = wk[8:12]
+    negn = wk[12]
     for m in range(4):
         negn[m] = -n[m]
-    cnt = _clip_into(xa, ra, ha, da, c, hb, margin, n, sup_a, cp, cd, cnt)
+    v = wk[16:32]
+    pl = wk[13]
+    cnt = _clip_into(xa, ra, ha, da, c, hb, margin, n, sup_a, cp, cd, cnt, v, pl)
     # A's points inside B, depth along -n.
     for i in range(4):
         for j in range(4):
             loc_axes[i, j] = c[j, i]
     for m in range(4):
         db[m] = -db[m]
-    cnt = _clip_into(xb, rb, hb, db, loc_axes, ha, margin, negn, sup_b, cp, cd, cnt)
-    return reduce_points(cp, cd, cnt, n, out_p, out_n, out_d, k)
+    cnt = _clip_into(xb, rb, hb, db, loc_axes, ha, margin, negn, sup_b, cp, cd, cnt, v, pl)
+    return reduce_points(cp, cd, cm, cnt, n, out_p, out_n, out_d, k)
 
 
 @njit(cache=True)
@@ -498,12 +513,13 @@ def sphere_halfspace(c, r, pn, off, margin, out_p, out_n, out_d, k):
 
 
 @njit(cache=True)
-def box_halfspace(x, rot, h, pn, off, margin, cp, cd, out_p, out_n, out_d, k):
+def box_halfspace(x, rot, h, pn, off, margin, cp, cd, cm, wk, out_p, out_n, out_d, k):
     """Box against the solid ``{x : pn . x <= off}``: its vertices near or below the plane."""
     cnt = 0
+    v = wk[0]
+    negn = wk[1]
     for j in range(16):
         dist = -off
-        v = np.empty(4)
         for a in range(4):
             s = x[a]
             for kk in range(4):
@@ -520,7 +536,6 @@ def box_halfspace(x, rot, h, pn, off, margin, cp, cd, out_p, out_n, out_d, k):
             cp[cnt, a] = v[a] + 0.5 * depth * pn[a]
         cd[cnt] = depth
         cnt += 1
-    negn = np.empty(4)
     for a in range(4):
         negn[a] = -pn[a]
-    return reduce_points(cp, cd, cnt, negn, out_p, out_n, out_d, k)
+    return reduce_points(cp, cd, cm, cnt, negn, out_p, out_n, out_d, k)

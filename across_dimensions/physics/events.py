@@ -1,9 +1,9 @@
 """Contact events: one record per touching pair per tick.
 
-Each substep's contacts are grouped into manifolds (same pair key) and merged
-into the tick's list in key order: impulses add up over the substeps, the point
-and normal come from the latest substep that saw the pair. Whether a touch is
-new (``began``) is decided against the previous tick's keys by the world.
+A tick's contacts are grouped into manifolds (same pair key, in key order); the
+impulse is the total normal impulse of the manifold over the tick's substeps.
+Whether a touch is new (``began``) is decided against the previous tick's keys
+by the world.
 """
 
 from __future__ import annotations
@@ -43,8 +43,8 @@ class ContactEvent(NamedTuple):
 
 
 @njit(cache=True)
-def manifold_events(nc, ci, cp, cn, cd, clam, touch_tol):
-    """Summarise this substep's contacts per pair; pairs not yet touching are dropped.
+def manifold_events(nc, ci, cp, cn, cd, imp_pt, touch_tol):
+    """Summarise the tick's contacts per pair; pairs not yet touching are dropped.
 
     Returns
     -------
@@ -68,12 +68,12 @@ def manifold_events(nc, ci, cp, cn, cd, clam, touch_tol):
             pts[ne, m] = 0.0
         while e < nc and ci[e, 2] == ci[c, 2]:
             deepest = max(deepest, cd[e])
-            tot += clam[e, 0]
+            tot += imp_pt[e]
             e += 1
         if deepest >= -touch_tol or tot > 0.0:
             for q in range(c, e):
                 # Weight by impulse; a resting-free touch falls back to the mean.
-                wgt = clam[q, 0] / tot if tot > 0.0 else 1.0 / (e - c)
+                wgt = imp_pt[q] / tot if tot > 0.0 else 1.0 / (e - c)
                 for m in range(4):
                     pts[ne, m] += wgt * cp[q, m]
             keys[ne] = ci[c, 2]
@@ -88,39 +88,24 @@ def manifold_events(nc, ci, cp, cn, cd, clam, touch_tol):
 
 
 @njit(cache=True)
-def merge_events(k1, ab1, p1, n1, i1, k2, ab2, p2, n2, i2):
-    """Merge two key-sorted event lists; on equal keys add impulses, keep the later pose."""
-    n = k1.shape[0] + k2.shape[0]
-    k = np.empty(n, dtype=np.int64)
-    ab = np.empty((n, 2), dtype=np.int64)
-    p = np.empty((n, 4))
-    nr = np.empty((n, 4))
-    im = np.empty(n)
-    i = 0
-    j = 0
-    o = 0
-    while i < k1.shape[0] or j < k2.shape[0]:
-        if j >= k2.shape[0] or (i < k1.shape[0] and k1[i] < k2[j]):
-            k[o] = k1[i]
-            ab[o] = ab1[i]
-            p[o] = p1[i]
-            nr[o] = n1[i]
-            im[o] = i1[i]
-            i += 1
-        elif i >= k1.shape[0] or k2[j] < k1[i]:
-            k[o] = k2[j]
-            ab[o] = ab2[j]
-            p[o] = p2[j]
-            nr[o] = n2[j]
-            im[o] = i2[j]
-            j += 1
-        else:
-            k[o] = k2[j]
-            ab[o] = ab2[j]
-            p[o] = p2[j]
-            nr[o] = n2[j]
-            im[o] = i1[i] + i2[j]
-            i += 1
-            j += 1
-        o += 1
-    return k[:o].copy(), ab[:o].copy(), p[:o].copy(), nr[:o].copy(), im[:o].copy()
+def touching_keys(nc, ci, cd, imp_pt, touch_tol, out):
+    """Write the keys of the pairs that touch this tick into ``out``; return the count.
+
+    This is all the bookkeeping a tick needs for ``began`` flags; the full
+    events are only built (by :func:`manifold_events`) when someone reads them.
+    """
+    n = 0
+    c = 0
+    while c < nc:
+        e = c
+        deepest = -np.inf
+        tot = 0.0
+        while e < nc and ci[e, 2] == ci[c, 2]:
+            deepest = max(deepest, cd[e])
+            tot += imp_pt[e]
+            e += 1
+        if deepest >= -touch_tol or tot > 0.0:
+            out[n] = ci[c, 2]
+            n += 1
+        c = e
+    return n

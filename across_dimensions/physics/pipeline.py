@@ -1,4 +1,4 @@
-"""One fixed physics substep as a single compiled kernel.
+"""One fixed physics tick (several substeps) as a single compiled kernel.
 
 Order of work (all in body-index and pair-key order, so the result depends only
 on the inputs, never on timing or hashing):
@@ -9,7 +9,8 @@ on the inputs, never on timing or hashing):
 3. narrowphase contacts for the pairs, sorted by pair key (needed for warm
    starting by binary search);
 4. external forces (gravity, optional inverse-cube attraction);
-5. solver (see :mod:`.solver`), position integration, relax, restitution;
+5. substeps of the soft-step solver (see :mod:`.solver`): forces, warm start,
+   solve, move, relax; then restitution;
 6. islands and sleeping.
 
 The kernel checks buffer capacity before it changes any body, so the caller can
@@ -26,6 +27,7 @@ from .bivector import compound, rotate_by, world_inverse_inertia
 from .collide import (
     BOX,
     MAX_POINTS,
+    SCRATCH_ROWS,
     SPHERE,
     box_box,
     box_halfspace,
@@ -33,7 +35,15 @@ from .collide import (
     sphere_halfspace,
     sphere_sphere,
 )
-from .solver import prepare, restitution, solve, store, warm_start
+from .solver import (
+    current_separation,
+    prepare,
+    restitution,
+    soft_params,
+    solve,
+    store,
+    warm_start,
+)
 
 STATIC = 0
 KINEMATIC = 1
@@ -43,26 +53,27 @@ DYNAMIC = 2
 STATIC_KEY = 1 << 30
 
 # Indices into the float64 parameter vector.
-P_H = 0
+P_DT = 0  # tick length (contacts are found once per tick)
 P_G = 1  # 1..4 gravity
 P_INVCUBE = 5
 P_SOFTEN = 6
 P_MARGIN = 7
-P_SLOP = 8
-P_BETA = 9
-P_MAXBIAS = 10
-P_RESTTHR = 11
-P_SLEEPLIN = 12
-P_SLEEPANG = 13
-P_SLEEPTIME = 14
-P_ALLOWSLEEP = 15
-P_ITERS = 16
-P_RELAX = 17
-P_WORLDMU = 18
-P_WORLDE = 19
-P_LINDAMP = 20
-P_ANGDAMP = 21
-N_PARAMS = 22
+P_SUBSTEPS = 8
+P_HERTZ = 9
+P_ZETA = 10
+P_MAXPUSH = 11
+P_RESTTHR = 12
+P_SLEEPLIN = 13
+P_SLEEPANG = 14
+P_SLEEPTIME = 15
+P_ALLOWSLEEP = 16
+P_ITERS = 17
+P_RELAX = 18
+P_WORLDMU = 19
+P_WORLDE = 20
+P_LINDAMP = 21
+P_ANGDAMP = 22
+N_PARAMS = 23
 
 
 @njit(cache=True)
@@ -125,6 +136,7 @@ def find_pairs(nb, alive, kind, shape, half, pos, rot, vel, omg, awake, timer, i
     hi = np.empty((nb, 4))
     key = np.empty(nb)
     act = np.zeros(nb, dtype=np.bool_)
+    ext = np.empty(4)
     for i in range(nb):
         key[i] = np.inf
         if not alive[i]:
@@ -135,7 +147,6 @@ def find_pairs(nb, alive, kind, shape, half, pos, rot, vel, omg, awake, timer, i
         w2 = 0.0
         for k in range(6):
             w2 += omg[i, k] * omg[i, k]
-        ext = np.empty(4)
         if shape[i] == SPHERE:
             for m in range(4):
                 ext[m] = half[i, 0]
@@ -262,6 +273,9 @@ def narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p, s
     vr = np.eye(4)
     vh = np.empty(4)
     pn = np.empty(4)
+    sd = scratch_d[0]
+    sm = scratch_d[1]
+    wk = np.empty((SCRATCH_ROWS, 4))
     for op in range(npairs):
         p = order[op]
         a = pairs[p, 0]
@@ -270,17 +284,17 @@ def narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p, s
         if b >= 0:
             m = marg[a] + marg[b]
             if shape[a] == SPHERE and shape[b] == SPHERE:
-                got = sphere_sphere(pos[a], half[a, 0], pos[b], half[b, 0], m, cp, cn, cd, k)
+                got = sphere_sphere(pos[a], half[a, 0], pos[b], half[b, 0], m, wk, cp, cn, cd, k)
             elif shape[a] == BOX and shape[b] == SPHERE:
-                got = box_sphere(pos[a], rot[a], half[a], pos[b], half[b, 0], m, cp, cn, cd, k)
+                got = box_sphere(pos[a], rot[a], half[a], pos[b], half[b, 0], m, wk, cp, cn, cd, k)
             elif shape[a] == SPHERE and shape[b] == BOX:
-                got = box_sphere(pos[b], rot[b], half[b], pos[a], half[a, 0], m, cp, cn, cd, k)
+                got = box_sphere(pos[b], rot[b], half[b], pos[a], half[a, 0], m, wk, cp, cn, cd, k)
                 for q in range(got):
                     for t in range(4):
                         cn[k + q, t] = -cn[k + q, t]
             else:
                 got = box_box(pos[a], rot[a], half[a], pos[b], rot[b], half[b], m,
-                              scratch_p, scratch_d, cp, cn, cd, k)
+                              scratch_p, sd, sm, wk, cp, cn, cd, k)
         else:
             s = -1 - b
             m = marg[a]
@@ -291,7 +305,7 @@ def narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p, s
                     got = sphere_halfspace(pos[a], half[a, 0], pn, hs[s, 4], m, cp, cn, cd, k)
                 else:
                     got = box_halfspace(pos[a], rot[a], half[a], pn, hs[s, 4], m,
-                                        scratch_p, scratch_d, cp, cn, cd, k)
+                                        scratch_p, sd, sm, wk, cp, cn, cd, k)
             else:
                 # A world box spans all of w: make it a 4D box wide enough in w
                 # that its w faces can never be the separating axis.
@@ -305,13 +319,13 @@ def narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p, s
                 vx[3] = pos[a, 3]
                 vh[3] = 4.0 * np.sqrt(rad) + 1.0
                 if shape[a] == SPHERE:
-                    got = box_sphere(vx, vr, vh, pos[a], half[a, 0], m, cp, cn, cd, k)
+                    got = box_sphere(vx, vr, vh, pos[a], half[a, 0], m, wk, cp, cn, cd, k)
                     for q in range(got):
                         for t in range(4):
                             cn[k + q, t] = -cn[k + q, t]
                 else:
                     got = box_box(pos[a], rot[a], half[a], vx, vr, vh, m,
-                                  scratch_p, scratch_d, cp, cn, cd, k)
+                                  scratch_p, sd, sm, wk, cp, cn, cd, k)
         for q in range(got):
             ci[k + q, 0] = a
             ci[k + q, 1] = b
@@ -321,9 +335,9 @@ def narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p, s
 
 
 @njit(cache=True)
-def apply_forces(nb, alive, kind, awake, pos, vel, omg, mass, params):
-    """Gravity, optional inverse-cube attraction and damping for awake dynamic bodies."""
-    h = params[P_H]
+def apply_forces(nb, alive, kind, awake, pos, vel, omg, mass, params, h):
+    """Gravity, optional inverse-cube attraction and damping for awake dynamic bodies
+    over a substep of ``h`` seconds."""
     G = params[P_INVCUBE]
     eps2 = params[P_SOFTEN] * params[P_SOFTEN]
     lin = 1.0 / (1.0 + h * params[P_LINDAMP])
@@ -364,6 +378,7 @@ def integrate_positions(nb, alive, kind, awake, pos, rot, vel, omg, inv_inertia,
     the midpoint rate recomputed from ``L`` and ``omega`` is re-derived from
     ``L`` afterwards (second order, and ``L`` is kept exactly).
     """
+    wk = np.empty((5, 4, 4))
     M = np.empty((6, 6))
     lw = np.empty(6)
     lb = np.empty(6)
@@ -381,7 +396,7 @@ def integrate_positions(nb, alive, kind, awake, pos, rot, vel, omg, inv_inertia,
             if inv_inertia[i, k] != inv_inertia[i, 0]:
                 iso = False
         if iso or kind[i] == KINEMATIC:
-            rotate_by(omg[i], h, rot[i])
+            rotate_by(omg[i], h, rot[i], wk)
             continue
         compound(rot[i], M)
         for k in range(6):
@@ -397,9 +412,9 @@ def integrate_positions(nb, alive, kind, awake, pos, rot, vel, omg, inv_inertia,
         for a in range(4):
             for b in range(4):
                 rh[a, b] = rot[i, a, b]
-        rotate_by(omg[i], 0.5 * h, rh)
+        rotate_by(omg[i], 0.5 * h, rh, wk)
         _omega_from_l(rh, inv_inertia[i], lw, M, wh)
-        rotate_by(wh, h, rot[i])
+        rotate_by(wh, h, rot[i], wk)
         _omega_from_l(rot[i], inv_inertia[i], lw, M, omg[i])
 
 
@@ -435,7 +450,7 @@ def update_sleep(nb, alive, kind, awake, vel, omg, timer, island, nc, ci, params
     sleeps once all its bodies have been calm for ``sleep_time``. Sleeping
     bodies keep the island id so a touch wakes all of them together.
     """
-    h = params[P_H]
+    h = params[P_DT]
     parent = np.arange(nb)
     stir = np.zeros(nb, dtype=np.bool_)
     for c in range(nc):
@@ -490,12 +505,53 @@ def update_sleep(nb, alive, kind, awake, vel, omg, timer, island, nc, ci, params
                 omg[i, k] = 0.0
 
 
+def solver_work(cap):
+    """Per-contact solver scratch for :func:`tick`, for ``cap`` contacts.
+
+    Returns
+    -------
+    tuple of float64 arrays
+        rows ``(cap, 4, 4)``; anchors ``ra``, ``rb`` ``(cap, 4)``; Jacobians
+        ``ja``, ``jb``, ``ija``, ``ijb`` ``(cap, 4, 6)``; effective masses
+        ``(cap, 4)``; local points ``(cap, 4)``; then ``vn0``, ``maxlam``, ``mu``,
+        ``e`` and ``sep``, each ``(cap,)``.
+    """
+    f = np.float64
+    return (np.zeros((cap, 4, 4), f), np.zeros((cap, 4), f), np.zeros((cap, 4), f),
+            np.zeros((cap, 4, 6), f), np.zeros((cap, 4, 6), f), np.zeros((cap, 4, 6), f),
+            np.zeros((cap, 4, 6), f), np.zeros((cap, 4), f), np.zeros((cap, 4), f),
+            np.zeros(cap, f), np.zeros(cap, f), np.zeros(cap, f), np.zeros(cap, f),
+            np.zeros(cap, f))
+
+
 @njit(cache=True)
-def substep(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass,
-            inv_inertia, mu, rest, awake, timer, island, hs, wb, params,
-            pairs, marg, scratch_p, scratch_d, ci, cp, cn, cd, clam, cft,
-            ok, oloc, olam, oft, ocnt_arr):
-    """Advance the world by one fixed substep ``params[P_H]``.
+def tick(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass,
+         inv_inertia, mu, rest, awake, timer, island, hs, wb, params,
+         pairs, marg, scratch_p, scratch_d, ci, cp, cn, cd, clam, ctot,
+         ok, oloc, olam, oft, ocnt_arr, work):
+    """Advance the world by one tick ``params[P_DT]`` of ``params[P_SUBSTEPS]`` substeps.
+
+    Parameters
+    ----------
+    nb : int
+        Number of body slots in use.
+    alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass,
+    inv_inertia, mu, rest, awake, timer, island : body arrays (see
+        :class:`~across_dimensions.physics.world.PhysicsWorld`); the state ones
+        are updated in place.
+    hs : (K, 5) float64
+        Static half-spaces ``n . x <= offset`` as rows ``(n, offset)``.
+    wb : (M, 6) float64
+        Static 3D world boxes ``(center, half)`` spanning all of w.
+    params : (N_PARAMS,) float64
+    pairs, marg, scratch_p, scratch_d : scratch arrays
+    ci, cp, cn, cd, clam : contact arrays, filled with this tick's contacts
+    ctot : (C,) float64
+        Output: each contact's normal impulse summed over the substeps.
+    ok, oloc, olam, oft, ocnt_arr : warm-start cache, replaced by this tick's
+    work : tuple
+        Solver scratch sized like the contact arrays (see :func:`solver_work`);
+        kept between ticks so that no large array is allocated per tick.
 
     Returns
     -------
@@ -504,9 +560,11 @@ def substep(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_m
         the contact arrays did (``ocnt_arr[1]`` then holds the size needed). No
         body has moved in those cases; only sleeping islands may have woken.
     """
-    h = params[P_H]
+    dt = params[P_DT]
+    ns = int(params[P_SUBSTEPS])
+    h = dt / ns
     npairs = find_pairs(nb, alive, kind, shape, half, pos, rot, vel, omg, awake, timer,
-                        island, hs, wb, h, params[P_MARGIN], pairs, marg)
+                        island, hs, wb, dt, params[P_MARGIN], pairs, marg)
     if npairs < 0:
         ocnt_arr[1] = -npairs
         return -1
@@ -515,35 +573,66 @@ def substep(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_m
     if nc < 0:
         ocnt_arr[1] = -nc
         return -2
-    apply_forces(nb, alive, kind, awake, pos, vel, omg, mass, params)
     iinv = np.zeros((nb, 6, 6))
+    # Isotropic inverse inertia per body (balls, hypercubes, non-dynamic
+    # bodies at 0), or -1 where the full 6x6 operator is needed.
+    iso = np.zeros(nb)
     for i in range(nb):
         if alive[i] and kind[i] == DYNAMIC and awake[i]:
             world_inverse_inertia(rot[i], inv_inertia[i], iinv[i])
-    rows = np.empty((nc, 4, 4))
-    ja = np.empty((nc, 4, 6))
-    jb = np.empty((nc, 4, 6))
-    ija = np.empty((nc, 4, 6))
-    ijb = np.empty((nc, 4, 6))
-    rmass = np.empty((nc, 4))
-    vn0 = np.empty(nc)
-    maxlam = np.empty(nc)
-    cloc = np.empty((nc, 4))
-    cmu = np.empty(nc)
-    ce = np.empty(nc)
-    # Body-frame inverse inertia zero for non-dynamic bodies; inv_mass likewise.
-    prepare(nc, ci, cp, cn, cd, clam, cft, cmu, ce, pos, rot, vel, omg, inv_mass, iinv,
-            bound, mu, rest, params[P_WORLDMU], params[P_WORLDE], ok, oloc, olam, oft,
-            ocnt_arr[0], rows, ja, jb, ija, ijb, rmass, vn0, maxlam, cloc)
-    warm_start(nc, ci, clam, rows, ija, ijb, vel, omg, inv_mass)
+            iso[i] = inv_inertia[i, 0]
+            for k in range(1, 6):
+                if inv_inertia[i, k] != inv_inertia[i, 0]:
+                    iso[i] = -1.0
+    rows, ra, rb, ja, jb, ija, ijb, rmass, cloc, vn0, maxlam, cmu, ce, sep = work
+    prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, rest,
+            params[P_WORLDMU], params[P_WORLDE], ok, oloc, olam, oft, ocnt_arr[0], rows, ra,
+            rb, ja, jb, ija, ijb, rmass, clam, cmu, ce, vn0, maxlam, cloc)
+    x0 = pos[:nb].copy()
+    r0 = rot[:nb].copy()
+    dpos = np.zeros((nb, 4))
+    drot = np.zeros((nb, 4, 4))
+    for i in range(nb):
+        for m in range(4):
+            drot[i, m, m] = 1.0
+    # Stiffness no faster than a quarter of the substep rate stays stable.
+    hz = min(params[P_HERTZ], 0.25 / h)
+    bias_rate, mass_scale, impulse_scale = soft_params(hz, params[P_ZETA], h)
     inv_h = 1.0 / h
-    solve(nc, ci, cd, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg, inv_mass,
-          inv_h, True, params[P_BETA], params[P_SLOP], params[P_MAXBIAS], int(params[P_ITERS]))
-    integrate_positions(nb, alive, kind, awake, pos, rot, vel, omg, inv_inertia, h)
-    solve(nc, ci, cd, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg, inv_mass,
-          inv_h, False, params[P_BETA], params[P_SLOP], params[P_MAXBIAS], int(params[P_RELAX]))
+    iters = int(params[P_ITERS])
+    relax = int(params[P_RELAX])
+    for c in range(nc):
+        ctot[c] = 0.0
+    for _ in range(ns):
+        apply_forces(nb, alive, kind, awake, pos, vel, omg, mass, params, h)
+        warm_start(nc, ci, clam, rows, ija, ijb, vel, omg, inv_mass)
+        current_separation(nc, ci, cd, rows, ra, rb, dpos, drot, sep)
+        solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg,
+              inv_mass, inv_h, True, bias_rate, mass_scale, impulse_scale,
+              params[P_MAXPUSH], iters)
+        integrate_positions(nb, alive, kind, awake, pos, rot, vel, omg, inv_inertia, h)
+        for i in range(nb):
+            if not alive[i] or kind[i] == STATIC:
+                continue
+            for m in range(4):
+                dpos[i, m] = pos[i, m] - x0[i, m]
+                for q in range(4):
+                    s = 0.0
+                    for k in range(4):
+                        s += rot[i, m, k] * r0[i, q, k]
+                    drot[i, m, q] = s
+        current_separation(nc, ci, cd, rows, ra, rb, dpos, drot, sep)
+        solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg,
+              inv_mass, inv_h, False, bias_rate, mass_scale, impulse_scale,
+              params[P_MAXPUSH], relax)
+        for c in range(nc):
+            ctot[c] += clam[c, 0]
+    for c in range(nc):
+        ctot[c] -= clam[c, 0]
     restitution(nc, ci, clam, ce, rows, ja, jb, ija, ijb, rmass, vn0, maxlam, vel, omg,
                 inv_mass, params[P_RESTTHR])
+    for c in range(nc):
+        ctot[c] += clam[c, 0]
     ocnt_arr[0] = store(nc, ci, clam, rows, cloc, ok, oloc, olam, oft)
     update_sleep(nb, alive, kind, awake, vel, omg, timer, island, nc, ci, params)
     return nc

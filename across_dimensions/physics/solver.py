@@ -11,10 +11,13 @@ Friction is isotropic: the three tangent impulses form one vector clamped to
 the ball of radius ``mu * normal impulse`` (a Coulomb cone in 4D), which is what
 turns a sliding hypersphere's slip into spin in whatever plane the slip is.
 
-Per substep (Box2D v3's "soft step" without the springs): warm start, solve
-with a Baumgarte bias that pushes overlapping bodies apart, move the bodies,
-then relax without the bias so that the push-out speed is not kept as momentum,
-and finally apply restitution from the approach speed measured before solving.
+The time stepping is Box2D v3's "soft step": contacts are found and prepared
+once per tick, then several substeps each warm start, solve with a soft
+(spring-damper) push-out, move the bodies, and relax without the push-out so
+the separation speed is not kept as momentum. The overlap seen by each solve is
+updated from how far the bodies moved since the contacts were found, so the
+substeps work without a new narrowphase. Restitution runs once at the end from
+the approach speed measured when the contact was prepared.
 
 Arrays use ``b = -1 - s`` for a contact against static world collider ``s``:
 those rows have no second body.
@@ -30,113 +33,147 @@ from .bivector import mat6_vec, tangent_basis, wedge
 
 
 @njit(cache=True)
-def prepare(nc, ci, cp, cn, cd, clam, cft, cmu, ce, pos, rot, vel, omg, inv_mass, iinv,
-            bound, mu, rest, world_mu, world_e, ok, oloc, olam, oft, ocnt,
-            rows, ja, jb, ija, ijb, rmass, vn0, maxlam, cloc):
-    """Build the solver rows of every contact and warm start them from last substep.
+def soft_params(hertz, zeta, h):
+    """Bias rate, mass scale and impulse scale of a soft contact (Box2D's b2MakeSoft).
+
+    The push-out behaves as a damped spring of frequency ``hertz`` and damping
+    ratio ``zeta`` integrated implicitly with step ``h``, so it cannot overshoot.
+    """
+    if hertz == 0.0:
+        return 0.0, 1.0, 0.0
+    omega = 2.0 * np.pi * hertz
+    a1 = 2.0 * zeta + h * omega
+    a2 = h * omega * a1
+    a3 = 1.0 / (1.0 + a2)
+    return omega / a1, a2 * a3, a3
+
+
+@njit(cache=True)
+def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, rest,
+            world_mu, world_e, ok, oloc, olam, oft, ocnt, rows, ra_, rb_, ja, jb, ija, ijb,
+            rmass, clam, cmu, ce, vn0, maxlam, cloc):
+    """Build the solver rows of every contact and warm start them from the last tick.
 
     Parameters
     ----------
     nc : int
         Number of contacts.
     ci : (C, 3) int64
-        Body a, body b (or ``-1 - static``), pair key.
+        Body a, body b (or ``-1 - static``), pair key; sorted by key.
     cp, cn : (C, 4) float64
-        Contact points and normals (a to b).
-    cd : (C,) float64
-        Depths.
-    clam : (C, 4) float64
-        Output: accumulated impulses (normal, three tangents), warm-started.
-    cft : (C, 4) float64
-        Unused on input; scratch for the friction impulse vector.
-    cmu, ce : (C,) float64
-        Output: mixed friction and restitution.
-    pos, rot, vel, omg : body arrays
+        Contact points and unit normals (a to b).
+    pos, rot, vel, omg : body arrays ``(N, 4)``, ``(N, 4, 4)``, ``(N, 4)``, ``(N, 6)``
     inv_mass : (N,) float64
     iinv : (N, 6, 6) float64
         World-frame inverse inertias (zero for non-dynamic bodies).
+    iso : (N,) float64
+        The scalar inverse inertia where ``iinv`` is a multiple of the
+        identity, else -1.
     bound : (N,) float64
-        Bounding radii, used to scale the warm-start matching distance.
+        Bounding radii; scale the distance within which an old contact counts
+        as the same contact.
     mu, rest : (N,) float64
+        Friction and restitution per body.
     world_mu, world_e : float
-    ok : (C,) int64
-        Keys of last substep's contacts (sorted).
-    oloc : (C, 4) float64
-        Their points in body a's frame.
-    olam : (C,) float64
-    oft : (C, 4) float64
-        Their normal impulses and friction impulse vectors.
+        Material of static world colliders.
+    ok, oloc, olam, oft : (C,) int64, (C, 4), (C,), (C, 4) float64
+        Last tick's contacts: keys (sorted), points in body a's frame, normal
+        impulses, friction impulse vectors.
     ocnt : int
     rows : (C, 4, 4) float64
-        Output: row directions (normal, tangents).
+        Output: row directions (normal, three tangents).
+    ra_, rb_ : (C, 4) float64
+        Output: anchors relative to the body centres.
     ja, jb, ija, ijb : (C, 4, 6) float64
         Output: angular Jacobians ``r ^ d`` and their images under ``I^-1``.
     rmass : (C, 4) float64
         Output: effective masses.
+    clam : (C, 4) float64
+        Output: accumulated impulses, warm-started.
+    cmu, ce : (C,) float64
+        Output: friction and restitution of the pair (geometric mean, max).
     vn0 : (C,) float64
-        Output: normal relative velocity before solving (for restitution).
+        Output: normal relative velocity now (for restitution).
     maxlam : (C,) float64
-        Output: zeroed; largest normal impulse seen while solving.
+        Output: zeroed; largest normal impulse while solving.
     cloc : (C, 4) float64
-        Output: contact points in body a's frame (for next substep's matching).
+        Output: contact points in body a's frame (for next tick's matching).
     """
     ra = np.empty(4)
     rb = np.empty(4)
-    tb = np.empty((3, 4))
-    wtmp = np.empty(6)
+    tb = np.empty((4, 4))
+    wa = np.empty(6)
+    wb = np.empty(6)
+    ia = np.empty(6)
+    ib = np.empty(6)
     for c in range(nc):
         a = ci[c, 0]
         b = ci[c, 1]
         for m in range(4):
             ra[m] = cp[c, m] - pos[a, m]
-            rows[c, 0, m] = cn[c, m]
+            ra_[c, m] = ra[m]
+            tb[0, m] = cn[c, m]
         if b >= 0:
             for m in range(4):
                 rb[m] = cp[c, m] - pos[b, m]
+                rb_[c, m] = rb[m]
             cmu[c] = np.sqrt(mu[a] * mu[b])
             ce[c] = max(rest[a], rest[b])
             imb = inv_mass[b]
         else:
+            for m in range(4):
+                rb[m] = 0.0
+                rb_[c, m] = 0.0
             cmu[c] = np.sqrt(mu[a] * world_mu)
             ce[c] = max(rest[a], world_e)
             imb = 0.0
-        tangent_basis(cn[c], tb)
-        for r in range(3):
-            for m in range(4):
-                rows[c, r + 1, m] = tb[r, m]
+        tangent_basis(tb[0], tb[1:])
+        vn = 0.0
         for r in range(4):
-            wedge(ra, rows[c, r], wtmp)
-            for k in range(6):
-                ja[c, r, k] = wtmp[k]
-            mat6_vec(iinv[a], ja[c, r], wtmp)
+            d = tb[r]
+            wedge(ra, d, wa)
+            _inv_inertia_times(iinv[a], iso[a], wa, ia)
             kk = inv_mass[a] + imb
             for k in range(6):
-                ija[c, r, k] = wtmp[k]
-                kk += ja[c, r, k] * wtmp[k]
+                kk += wa[k] * ia[k]
             if b >= 0:
-                wedge(rb, rows[c, r], wtmp)
+                wedge(rb, d, wb)
+                _inv_inertia_times(iinv[b], iso[b], wb, ib)
                 for k in range(6):
-                    jb[c, r, k] = wtmp[k]
-                mat6_vec(iinv[b], jb[c, r], wtmp)
-                for k in range(6):
-                    ijb[c, r, k] = wtmp[k]
-                    kk += jb[c, r, k] * wtmp[k]
+                    kk += wb[k] * ib[k]
             else:
                 for k in range(6):
-                    jb[c, r, k] = 0.0
-                    ijb[c, r, k] = 0.0
+                    wb[k] = 0.0
+                    ib[k] = 0.0
+            for m in range(4):
+                rows[c, r, m] = d[m]
+            for k in range(6):
+                ja[c, r, k] = wa[k]
+                jb[c, r, k] = wb[k]
+                ija[c, r, k] = ia[k]
+                ijb[c, r, k] = ib[k]
             rmass[c, r] = 1.0 / kk if kk > 0.0 else 0.0
-        vn0[c] = _rel_vel(c, 0, a, b, rows, ja, jb, vel, omg)
+            if r == 0:
+                for m in range(4):
+                    vn -= d[m] * vel[a, m]
+                for k in range(6):
+                    vn -= wa[k] * omg[a, k]
+                if b >= 0:
+                    for m in range(4):
+                        vn += d[m] * vel[b, m]
+                    for k in range(6):
+                        vn += wb[k] * omg[b, k]
+        vn0[c] = vn
         maxlam[c] = 0.0
-        # Contact point in a's frame: the same material point next substep.
+        # The contact point in a's frame: the same material point next tick.
         for m in range(4):
             s = 0.0
             for q in range(4):
                 s += rot[a, q, m] * ra[q]
             cloc[c, m] = s
-        # Warm start from the nearest old contact of the same pair.
         for r in range(4):
             clam[c, r] = 0.0
+        # Warm start from the nearest old contact of the same pair.
         lo = 0
         hi = ocnt
         key = ci[c, 2]
@@ -164,8 +201,19 @@ def prepare(nc, ci, cp, cn, cd, clam, cft, cmu, ce, pos, rot, vel, omg, inv_mass
             for r in range(3):
                 s = 0.0
                 for m in range(4):
-                    s += oft[pick, m] * tb[r, m]
+                    s += oft[pick, m] * tb[r + 1, m]
                 clam[c, r + 1] = s
+
+
+@njit(cache=True)
+def _inv_inertia_times(m, iso, v, out):
+    """``out = m @ v`` for a ``(6, 6)`` inverse inertia; ``iso >= 0`` says that
+    ``m == iso * I`` (balls, hypercubes, non-dynamic bodies), the common case."""
+    if iso >= 0.0:
+        for k in range(6):
+            out[k] = iso * v[k]
+    else:
+        mat6_vec(m, v, out)
 
 
 @njit(cache=True)
@@ -202,68 +250,184 @@ def _apply(c, r, a, b, lam, rows, ija, ijb, vel, omg, inv_mass):
 
 @njit(cache=True)
 def warm_start(nc, ci, clam, rows, ija, ijb, vel, omg, inv_mass):
-    """Apply last substep's impulses so the iterations start near the answer."""
+    """Apply the accumulated impulses so the iterations start near the answer."""
+    p = np.empty(4)
     for c in range(nc):
-        for r in range(4):
-            if clam[c, r] != 0.0:
-                _apply(c, r, ci[c, 0], ci[c, 1], clam[c, r], rows, ija, ijb, vel, omg, inv_mass)
+        a = ci[c, 0]
+        b = ci[c, 1]
+        for m in range(4):
+            s = 0.0
+            for r in range(4):
+                s += clam[c, r] * rows[c, r, m]
+            p[m] = s
+        for m in range(4):
+            vel[a, m] -= inv_mass[a] * p[m]
+        for k in range(6):
+            s = 0.0
+            for r in range(4):
+                s += clam[c, r] * ija[c, r, k]
+            omg[a, k] -= s
+        if b >= 0:
+            for m in range(4):
+                vel[b, m] += inv_mass[b] * p[m]
+            for k in range(6):
+                s = 0.0
+                for r in range(4):
+                    s += clam[c, r] * ijb[c, r, k]
+                omg[b, k] += s
 
 
 @njit(cache=True)
-def solve(nc, ci, cd, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg,
-          inv_mass, inv_h, use_bias, beta, slop, max_bias, iterations):
-    """Gauss-Seidel sweeps over all contacts: friction first, then the normal.
+def current_separation(nc, ci, cd, rows, ra_, rb_, dpos, drot, sep):
+    """Separation of each contact after the bodies moved by ``dpos``, ``drot``.
+
+    ``s = -depth + n . ((dB + dRB rB - rB) - (dA + dRA rA - rA))``: the anchors
+    ride along with their bodies; the normal stays fixed within a tick.
 
     Parameters
     ----------
+    dpos : (N, 4) float64
+        Displacement of each body since the contacts were found.
+    drot : (N, 4, 4) float64
+        Rotation of each body since then (``R_now @ R_then.T``).
+    sep : (C,) float64
+        Output.
+    """
+    for c in range(nc):
+        a = ci[c, 0]
+        b = ci[c, 1]
+        s = -cd[c]
+        for m in range(4):
+            move = -dpos[a, m] + ra_[c, m]
+            for q in range(4):
+                move -= drot[a, m, q] * ra_[c, q]
+            if b >= 0:
+                move += dpos[b, m] - rb_[c, m]
+                for q in range(4):
+                    move += drot[b, m, q] * rb_[c, q]
+            s += rows[c, 0, m] * move
+        sep[c] = s
+
+
+@njit(cache=True)
+def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg,
+          inv_mass, inv_h, use_bias, bias_rate, mass_scale, impulse_scale, max_push,
+          iterations):
+    """Gauss-Seidel sweeps over all contacts: normal, then friction.
+
+    Parameters
+    ----------
+    sep : (C,) float64
+        Current separations (negative when overlapping).
     use_bias : bool
-        True for the solve pass (push overlapping bodies apart at
-        ``beta * overlap / h``, at most ``max_bias``), False for the relax pass.
+        True for the solve pass (soft push-out of overlap at most ``max_push``
+        m/s), False for the relax pass.
+    bias_rate, mass_scale, impulse_scale : float
+        From :func:`soft_params`.
     iterations : int
     """
+    # The two bodies' velocities live in small local arrays while a contact is
+    # solved: writing straight into vel/omg would make the compiler reload
+    # every Jacobian after each store (it cannot rule out aliasing), which
+    # made this loop three times slower.
+    va = np.empty(4)
+    vb = np.empty(4)
+    wa = np.empty(6)
+    wb = np.empty(6)
     dl = np.empty(3)
     for _ in range(iterations):
         for c in range(nc):
             a = ci[c, 0]
             b = ci[c, 1]
+            for m in range(4):
+                va[m] = vel[a, m]
+            for k in range(6):
+                wa[k] = omg[a, k]
+            if b >= 0:
+                for m in range(4):
+                    vb[m] = vel[b, m]
+                for k in range(6):
+                    wb[k] = omg[b, k]
+                imb = inv_mass[b]
+            else:
+                for m in range(4):
+                    vb[m] = 0.0
+                for k in range(6):
+                    wb[k] = 0.0
+                imb = 0.0
+            ima = inv_mass[a]
+            R = rows[c]
+            JA = ja[c]
+            JB = jb[c]
+            IA = ija[c]
+            IB = ijb[c]
+            # Normal: a speculative contact (s > 0) may close its gap this
+            # substep; an overlapping one is pushed out softly (solve pass only).
+            vn = 0.0
+            for m in range(4):
+                vn += R[0, m] * (vb[m] - va[m])
+            for k in range(6):
+                vn += JB[0, k] * wb[k] - JA[0, k] * wa[k]
+            s = sep[c]
+            ms = 1.0
+            isc = 0.0
+            if s > 0.0:
+                bias = s * inv_h
+            elif use_bias:
+                bias = bias_rate * s
+                if bias < -max_push:
+                    bias = -max_push
+                ms = mass_scale
+                isc = impulse_scale
+            else:
+                bias = 0.0
+            old = clam[c, 0]
+            new = old - rmass[c, 0] * ms * (vn + bias) - isc * old
+            if new < 0.0:
+                new = 0.0
+            d = new - old
+            clam[c, 0] = new
+            if new > maxlam[c]:
+                maxlam[c] = new
+            for m in range(4):
+                va[m] -= ima * d * R[0, m]
+                vb[m] += imb * d * R[0, m]
+            for k in range(6):
+                wa[k] -= d * IA[0, k]
+                wb[k] += d * IB[0, k]
             # Friction: one vector impulse clamped to the friction ball.
-            limit = cmu[c] * clam[c, 0]
+            limit = cmu[c] * new
             s2 = 0.0
             for r in range(3):
-                vt = _rel_vel(c, r + 1, a, b, rows, ja, jb, vel, omg)
-                dl[r] = clam[c, r + 1] - rmass[c, r + 1] * vt
+                v = 0.0
+                for m in range(4):
+                    v += R[r + 1, m] * (vb[m] - va[m])
+                for k in range(6):
+                    v += JB[r + 1, k] * wb[k] - JA[r + 1, k] * wa[k]
+                dl[r] = clam[c, r + 1] - rmass[c, r + 1] * v
                 s2 += dl[r] * dl[r]
             if s2 > limit * limit:
-                sc = limit / np.sqrt(s2)
+                sc = limit / np.sqrt(s2) if s2 > 0.0 else 0.0
                 for r in range(3):
                     dl[r] *= sc
             for r in range(3):
                 d = dl[r] - clam[c, r + 1]
                 clam[c, r + 1] = dl[r]
-                if d != 0.0:
-                    _apply(c, r + 1, a, b, d, rows, ija, ijb, vel, omg, inv_mass)
-            # Normal: speculative contacts may close their gap this substep;
-            # overlapping ones are pushed apart (solve pass only).
-            vn = _rel_vel(c, 0, a, b, rows, ja, jb, vel, omg)
-            sep = -cd[c]
-            if sep > 0.0:
-                bias = sep * inv_h
-            elif use_bias:
-                bias = beta * inv_h * min(0.0, sep + slop)
-                if bias < -max_bias:
-                    bias = -max_bias
-            else:
-                bias = 0.0
-            lam = -rmass[c, 0] * (vn + bias)
-            new = clam[c, 0] + lam
-            if new < 0.0:
-                new = 0.0
-            d = new - clam[c, 0]
-            clam[c, 0] = new
-            if new > maxlam[c]:
-                maxlam[c] = new
-            if d != 0.0:
-                _apply(c, 0, a, b, d, rows, ija, ijb, vel, omg, inv_mass)
+                for m in range(4):
+                    va[m] -= ima * d * R[r + 1, m]
+                    vb[m] += imb * d * R[r + 1, m]
+                for k in range(6):
+                    wa[k] -= d * IA[r + 1, k]
+                    wb[k] += d * IB[r + 1, k]
+            for m in range(4):
+                vel[a, m] = va[m]
+            for k in range(6):
+                omg[a, k] = wa[k]
+            if b >= 0:
+                for m in range(4):
+                    vel[b, m] = vb[m]
+                for k in range(6):
+                    omg[b, k] = wb[k]
 
 
 @njit(cache=True)
@@ -292,7 +456,7 @@ def restitution(nc, ci, clam, ce, rows, ja, jb, ija, ijb, rmass, vn0, maxlam, ve
 
 @njit(cache=True)
 def store(nc, ci, clam, rows, cloc, ok, oloc, olam, oft):
-    """Keep this substep's impulses, keyed by pair, for the next warm start.
+    """Keep this tick's impulses, keyed by pair, for the next warm start.
 
     Returns
     -------

@@ -5,14 +5,14 @@
 >>> ball = world.add_body("hypersphere", radius=0.5, position=(0, 2, 0, 0.3))
 >>> box = world.add_body("hypercube", size=1.0, position=(2, 0.5, 0, 0),
 ...                      angles={"xw": 0.3})
->>> world.step(1 / 60)                                      # fixed substeps inside
+>>> world.step(1 / 60)                                      # one fixed tick
 1
 >>> model = world.body_pose(ball)                           # (5, 5) model matrix
 
 Bodies are kept in flat arrays indexed by id (ids are never reused) so that the
 compiled pipeline (:mod:`.pipeline`) can step them without Python overhead.
-``step(dt)`` feeds a time accumulator and runs whole substeps of the fixed
-``substep_dt``; the same sequence of calls therefore gives bit-identical states
+``step(dt)`` feeds a time accumulator and runs whole ticks of the fixed
+``tick_dt`` (each split into fixed substeps); the same sequence of calls therefore gives bit-identical states
 (:meth:`PhysicsWorld.state_hash`).
 """
 
@@ -28,9 +28,12 @@ from across_dimensions.core import transform
 from . import pipeline as pl
 from .bivector import world_inverse_inertia
 from .collide import BOX, SCRATCH_POINTS, SPHERE
-from .events import ContactEvent, manifold_events, merge_events
+from .events import ContactEvent, manifold_events, touching_keys
 from .mass import box_inertia, box_volume, hypersphere_inertia, hypersphere_volume
 from .queries import player_kernel, raycast_kernel
+
+#: Pairs closer than this (metres) count as touching for events.
+_TOUCH_TOL = 1e-3
 
 _KINDS = {"static": pl.STATIC, "kinematic": pl.KINEMATIC, "dynamic": pl.DYNAMIC}
 _SHAPES = {"hypersphere": SPHERE, "sphere": SPHERE, "ball": SPHERE,
@@ -84,34 +87,49 @@ class PhysicsWorld:
         attraction never lets a body rest.
     ground : bool
         Add the ground half-space ``y <= 0``.
-    substep_dt : float
-        Fixed internal time step, seconds.
+    tick_dt : float
+        Fixed tick, seconds: contacts are found once per tick.
+    substeps : int
+        Solver substeps per tick (the integration step is ``tick_dt / substeps``).
     iterations, relax_iterations : int
-        Solver sweeps per substep with and without the position bias.
+        Solver sweeps per substep with and without the push-out of overlaps.
     allow_sleep : bool
-    max_substeps : int
-        Most substeps one :meth:`step` may run (caps the catch-up after a hitch;
+    max_ticks : int
+        Most ticks one :meth:`step` may run (caps the catch-up after a hitch;
         the surplus time is dropped).
     world_friction, world_restitution : float
         Material of the static world.
+    sleep_time : float
+        Seconds a group of touching bodies must stay calm before it sleeps.
+    softening : float
+        Length added in quadrature to distances in the inverse-cube law, so
+        that touching bodies do not feel a near-infinite pull.
+    contact_hertz, damping_ratio, max_push : float
+        Stiffness, damping and top speed (m/s) of the push-out of overlaps.
     """
 
     def __init__(self, gravity=(0.0, -9.81, 0.0, 0.0), inverse_cube_G: float = 0.0, *,
-                 ground: bool = True, substep_dt: float = 1.0 / 120.0, iterations: int = 8,
-                 relax_iterations: int = 3, allow_sleep: bool = True, max_substeps: int = 8,
-                 world_friction: float = 0.6, world_restitution: float = 0.0,
-                 sleep_time: float = 0.5, softening: float = 0.05):
+                 ground: bool = True, tick_dt: float = 1.0 / 60.0, substeps: int = 4,
+                 iterations: int = 1, relax_iterations: int = 1, allow_sleep: bool = True,
+                 max_ticks: int = 4, world_friction: float = 0.6,
+                 world_restitution: float = 0.0, sleep_time: float = 0.5,
+                 softening: float = 0.05, contact_hertz: float = 30.0,
+                 damping_ratio: float = 10.0, max_push: float = 3.0):
         self.params = np.zeros(pl.N_PARAMS)
-        self.substep_dt = float(substep_dt)
+        if not tick_dt > 0 or int(substeps) < 1:
+            raise ValueError("tick_dt must be positive and substeps at least 1")
+        self.tick_dt = float(tick_dt)
+        self.substeps = int(substeps)
         self.gravity = gravity
         self.inverse_cube_G = inverse_cube_G
         p = self.params
-        p[pl.P_H] = self.substep_dt
+        p[pl.P_DT] = self.tick_dt
+        p[pl.P_SUBSTEPS] = self.substeps
         p[pl.P_SOFTEN] = softening
         p[pl.P_MARGIN] = 0.02
-        p[pl.P_SLOP] = 0.005
-        p[pl.P_BETA] = 0.2
-        p[pl.P_MAXBIAS] = 2.0
+        p[pl.P_HERTZ] = contact_hertz
+        p[pl.P_ZETA] = damping_ratio
+        p[pl.P_MAXPUSH] = max_push
         p[pl.P_RESTTHR] = 0.5
         p[pl.P_SLEEPLIN] = 0.05
         p[pl.P_SLEEPANG] = 0.1
@@ -121,7 +139,7 @@ class PhysicsWorld:
         p[pl.P_WORLDMU] = world_friction
         p[pl.P_WORLDE] = world_restitution
         self.allow_sleep = allow_sleep
-        self.max_substeps = int(max_substeps)
+        self.max_ticks = int(max_ticks)
         self.time = 0.0
         self._acc = 0.0
         self._n = 0
@@ -132,11 +150,10 @@ class PhysicsWorld:
             self.add_half_space((0.0, 1.0, 0.0, 0.0), 0.0)
         self._alloc_contacts(256, 256)
         self._scratch_p = np.zeros((SCRATCH_POINTS, 4))
-        self._scratch_d = np.zeros(SCRATCH_POINTS)
-        self._ev = self._empty_events()
-        self._ev_prev_keys = np.zeros(0, dtype=np.int64)
-        self._ev_began = np.zeros(0, dtype=bool)
-        self._events_cache: list[ContactEvent] | None = None
+        self._scratch_d = np.zeros((2, SCRATCH_POINTS))
+        self._touch_keys = np.zeros(0, dtype=np.int64)
+        self._touch_prev = np.zeros(0, dtype=np.int64)
+        self._events_cache: list[ContactEvent] | None = []
         self.last_contact_count = 0
 
     # ------------------------------------------------------------------ settings
@@ -197,7 +214,9 @@ class PhysicsWorld:
         self._cn = np.zeros((contact_cap, 4))
         self._cd = np.zeros(contact_cap)
         self._clam = np.zeros((contact_cap, 4))
-        self._cft = np.zeros((contact_cap, 4))
+        self._ctot = np.zeros(contact_cap)
+        self._work = pl.solver_work(contact_cap)
+        self._touch_buf = np.zeros(contact_cap, dtype=np.int64)
         ok = np.zeros(contact_cap, dtype=np.int64)
         oloc = np.zeros((contact_cap, 4))
         olam = np.zeros(contact_cap)
@@ -455,76 +474,82 @@ class PhysicsWorld:
 
     # ------------------------------------------------------------------ stepping
     def step(self, dt: float) -> int:
-        """Advance by ``dt`` seconds of game time using fixed substeps.
+        """Advance by ``dt`` seconds of game time in fixed ticks.
 
-        Time is accumulated and whole substeps of ``substep_dt`` are run (at most
-        ``max_substeps``); the remainder carries over to the next call. Events of
-        the substeps run are available in :attr:`events` until the next call.
+        Time is accumulated and whole ticks of ``tick_dt`` are run (at most
+        ``max_ticks``); the remainder carries over to the next call. Events of
+        the last tick run are available in :attr:`events` until the next call
+        that runs a tick.
 
         Returns
         -------
         int
-            Substeps run.
+            Ticks run.
         """
-        if dt < 0:
+        if not dt >= 0:
             raise ValueError("dt must be non-negative")
-        h = self.substep_dt
+        h = self.tick_dt
         self._acc += float(dt)
-        # The small tolerance makes 1/60 s run exactly two 1/120 s substeps
-        # despite rounding in the accumulator.
+        # The small tolerance makes 1/60 s run exactly one 1/60 s tick despite
+        # rounding in the accumulator.
         n = int(np.floor(self._acc / h + 1e-6))
         self._acc = max(0.0, self._acc - n * h)
-        if n > self.max_substeps:
-            n = self.max_substeps
+        if n > self.max_ticks:
+            n = self.max_ticks
             self._acc = 0.0
-        ev = self._empty_events()
         for _ in range(n):
-            nc = self._substep()
-            cur = manifold_events(nc, self._ci, self._cp, self._cn, self._cd, self._clam, 1e-3)
-            ev = merge_events(*ev, *cur)
-            self.time += h
-        if n:
-            self._ev_began = ~np.isin(ev[0], self._ev_prev_keys)
-            self._ev_prev_keys = ev[0]
-            self._ev = ev
-            self._events_cache = None
+            self.tick()
         return n
 
-    def _substep(self) -> int:
+    def tick(self) -> int:
+        """Run exactly one tick of ``tick_dt`` (ignoring the accumulator).
+
+        Returns
+        -------
+        int
+            Number of contact points solved.
+        """
         p = self.params
         if self.inverse_cube_G != 0.0:
             p = p.copy()
             p[pl.P_ALLOWSLEEP] = 0.0
         while True:
-            nb = self._n
-            nc = pl.substep(nb, self.alive, self.kind, self.shape, self.half, self.bound,
-                            self.pos, self.rot, self.vel, self.omg, self.mass, self.inv_mass,
-                            self.inv_inertia, self.mu, self.rest, self.awake, self.timer,
-                            self.island, self._half_spaces, self._boxes, p, self._pairs,
-                            self._marg, self._scratch_p, self._scratch_d, self._ci, self._cp,
-                            self._cn, self._cd, self._clam, self._cft, self._ok, self._oloc,
-                            self._olam, self._oft, self._ocnt)
+            nc = pl.tick(self._n, self.alive, self.kind, self.shape, self.half, self.bound,
+                         self.pos, self.rot, self.vel, self.omg, self.mass, self.inv_mass,
+                         self.inv_inertia, self.mu, self.rest, self.awake, self.timer,
+                         self.island, self._half_spaces, self._boxes, p, self._pairs,
+                         self._marg, self._scratch_p, self._scratch_d, self._ci, self._cp,
+                         self._cn, self._cd, self._clam, self._ctot, self._ok, self._oloc, self._olam,
+                         self._oft, self._ocnt, self._work)
             if nc == -1:
                 self._alloc_contacts(2 * int(self._ocnt[1]), self._ci.shape[0])
             elif nc == -2:
                 self._alloc_contacts(self._pairs.shape[0], 2 * int(self._ocnt[1]))
             else:
-                self.last_contact_count = nc
-                return nc
-
-    @staticmethod
-    def _empty_events():
-        return (np.zeros(0, dtype=np.int64), np.zeros((0, 2), dtype=np.int64),
-                np.zeros((0, 4)), np.zeros((0, 4)), np.zeros(0))
+                break
+        self.last_contact_count = nc
+        self.time += self.tick_dt
+        nt = touching_keys(nc, self._ci, self._cd, self._ctot, _TOUCH_TOL, self._touch_buf)
+        self._touch_prev = self._touch_keys
+        self._touch_keys = self._touch_buf[:nt].copy()
+        self._events_cache = None
+        return nc
 
     @property
     def events(self) -> list[ContactEvent]:
-        """Contact events of the last :meth:`step` (see :class:`ContactEvent`)."""
+        """Contact events of the last tick (see :class:`ContactEvent`).
+
+        Built on first access from the tick's contacts, which stay untouched
+        until the next tick runs.
+        """
         if self._events_cache is None:
-            keys, ab, pts, nrm, imp = self._ev
+            nc = self.last_contact_count
+            keys, ab, pts, nrm, imp = manifold_events(nc, self._ci, self._cp, self._cn,
+                                                      self._cd, self._ctot, _TOUCH_TOL)
+            began = ~np.isin(keys, self._touch_prev)
             self._events_cache = [
                 ContactEvent(int(ab[e, 0]), int(ab[e, 1]) if ab[e, 1] >= 0 else "world",
-                             pts[e].copy(), nrm[e].copy(), float(imp[e]), bool(self._ev_began[e]))
+                             pts[e].copy(), nrm[e].copy(), float(imp[e]), bool(began[e]))
                 for e in range(keys.shape[0])
             ]
         return self._events_cache
