@@ -102,12 +102,9 @@ def _parse_params(items) -> dict:
 
 
 def _make_shape(name: str, params: dict):
-    from ..core.shapes import make_shape
+    from ..core.shapes import make_shape  # raises ValueError naming the shape and parameter
 
-    try:
-        return make_shape(name, **params)
-    except TypeError as e:
-        raise UserError(f"shape {name!r}: bad parameter ({e})") from None
+    return make_shape(name, **params)
 
 
 def shape(args) -> int:
@@ -133,6 +130,9 @@ def slice(args) -> int:  # noqa: A001 - the subcommand's name
     from ..core.mesh import TetMesh4
     from ..core.transform import angles_to_rotation, parse_axis_assignments, translation
 
+    suffix = Path(args.output).suffix.lower()
+    if suffix not in (".obj", ".ply", ".glb"):
+        raise UserError(f"slice: output must end in .obj, .ply or .glb, got {args.output!r}")
     src = Path(args.source)
     mesh = TetMesh4.load(src) if src.suffix == ".npz" else _make_shape(args.source, {})
     rot = parse_axis_assignments(args.rotate, "plane")
@@ -145,9 +145,6 @@ def slice(args) -> int:  # noqa: A001 - the subcommand's name
         if args.distance <= 0:
             raise UserError(f"--distance: expected a positive number, got {args.distance}")
         tri = frustum_project(mesh, translation((0, 0, 0, -args.distance)), fov_deg=args.fov, model=model)
-    suffix = Path(args.output).suffix.lower()
-    if suffix not in (".obj", ".ply", ".glb"):
-        raise UserError(f"slice: output must end in .obj, .ply or .glb, got {args.output!r}")
     tri.save(args.output)
     if tri.is_empty:
         _out(f"{args.output}: empty - the hyperplane misses {mesh.name or src}")

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import os
 import tempfile
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -199,7 +200,8 @@ class TetMesh4:
             return [f"{self.label}: has no tets"]
         if not np.isfinite(self.vertices).all():
             bad = np.flatnonzero(~np.isfinite(self.vertices).all(axis=1))
-            out.append(f"{self.label}: vertices {bad[:max_report].tolist()} are not finite")
+            # Nothing geometric can be checked on NaN or infinite coordinates.
+            return [f"{self.label}: vertices {bad[:max_report].tolist()} are not finite"]
         if self.tets.max() >= n:
             bad = np.flatnonzero((self.tets >= n).any(axis=1))
             out.append(
@@ -285,6 +287,8 @@ class TetMesh4:
         Written to a temporary file then renamed, so a crash leaves no half file.
         """
         path = Path(path)
+        if not path.parent.is_dir():
+            raise FileNotFoundError(f"{path}: the folder {path.parent} does not exist")
         arrays = {"vertices": self.vertices, "tets": self.tets}
         if self.colors is not None:
             arrays["colors"] = self.colors
@@ -301,6 +305,8 @@ class TetMesh4:
     def load(cls, path, validate: bool = True) -> "TetMesh4":
         """Read a mesh written by :meth:`save`; problems raise :class:`MeshError`."""
         path = Path(path)
+        if path.is_file() and not zipfile.is_zipfile(path):
+            raise MeshError(f"{path}: not a .npz file (expected a zip archive of numpy arrays)")
         try:
             with np.load(path, allow_pickle=False) as data:
                 missing = [k for k in ("vertices", "tets") if k not in data]

@@ -28,6 +28,8 @@ def save_trimesh3(mesh, path) -> None:
     ext = path.suffix.lower()
     if ext not in FORMATS:
         raise ValueError(f"{path}: unknown mesh format {ext or '(none)'!r}; expected one of {', '.join(FORMATS)}")
+    if not path.parent.is_dir():
+        raise FileNotFoundError(f"{path}: the folder {path.parent} does not exist")
     tmp = path.with_name(path.name + ".tmp")
     try:
         if ext == ".obj":

@@ -842,4 +842,8 @@ def make_shape(name: str, **params) -> TetMesh4:
     unknown = [p for p in params if p not in accepted]
     if unknown:
         raise ValueError(f"shape {key!r} takes {', '.join(accepted)}; got unknown parameter(s) {', '.join(unknown)}")
-    return builder(**params)
+    try:
+        return builder(**params)
+    except (TypeError, ValueError) as e:
+        given = ", ".join(f"{k}={v!r}" for k, v in params.items())
+        raise ValueError(f"shape {key!r} with {given}: {e}") from None
