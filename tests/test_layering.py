@@ -45,8 +45,6 @@ CLOCK_FUNCS = {
 #: numpy.random names that do not touch the global RandomState.
 RANDOM_ALLOWED = {"default_rng", "Generator", "SeedSequence", "BitGenerator", "PCG64", "PCG64DXSM", "Philox",
                   "SFC64", "MT19937"}
-#: Known violations, each covered by a strict xfail below; remove an entry once fixed.
-KNOWN_CLOCK_BUGS: set[str] = set()
 
 
 # ----------------------------------------------------------------- the checker
@@ -250,7 +248,7 @@ def test_only_app_imports_pyglet():
 
 def test_no_wall_clock_in_deterministic_layers():
     problems = [p for rel, src in _deterministic_files().items()
-                if rel not in CLOCK_ALLOWED | KNOWN_CLOCK_BUGS for p in clock_problems(rel, src)]
+                if rel not in CLOCK_ALLOWED for p in clock_problems(rel, src)]
     assert not problems, _report(problems)
 
 
