@@ -395,6 +395,7 @@ def _tetwild_child(v, f, kw):
         proc = subprocess.Popen(
             [sys.executable, "-c", _WORKER, src, dst, json.dumps(kw)],
             stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+            cwd=tmp,  # fTetWild writes __tracked_surface.stl into the working folder
         )
         try:
             _, err = proc.communicate()
