@@ -5,10 +5,6 @@ and broken levels (tests/data/levels/*.toml) with the problems they must report.
 file, the entry, the field and what was expected, and ``check-level`` must
 print them one per line with exit status 2 and no traceback. Level files are
 data: nothing in them is executed and asset paths stay inside assets/.
-
-Tests marked ``xfail(strict=True)`` pin down known bugs in the loader; each
-reason says what is wrong. When a bug is fixed its test starts passing and
-strict xfail turns that into a failure: remove the marker then.
 """
 
 from __future__ import annotations
@@ -560,9 +556,6 @@ HUGE = "9" * 400  # a TOML integer far beyond float range (tomllib accepts any s
 HUGER = "9" * 5000  # beyond Python's int-string limit: tomllib raises a bare ValueError
 
 
-@pytest.mark.xfail(reason="level.py: an integer too large for a float raises OverflowError from math.isfinite "
-                          "(number, vector, scale, angles); one over 4300 digits makes tomllib raise a plain "
-                          "ValueError; neither becomes a problem", strict=True)
 @pytest.mark.parametrize("extra", [
     f"[[box]]\ncenter = [{HUGE}, 0, 0]\nsize = [1, 1, 1]\n",
     OBJECT.replace("position", f"mass = {HUGE}\nposition"),
@@ -570,15 +563,13 @@ HUGER = "9" * 5000  # beyond Python's int-string limit: tomllib raises a bare Va
     OBJECT.replace("position", f"rotation = {{ xy = {HUGE} }}\nposition"),
     OBJECT.replace("position", f"mass = {HUGER}\nposition"),
 ], ids=["vector", "number", "scale", "angles", "5000_digits"])
-def test_bug_huge_integer_is_a_problem_not_a_crash(tmp_path, extra):
+def test_huge_integer_is_a_problem_not_a_crash(tmp_path, extra):
     problems = problems_of(write(tmp_path, BASE + "\n" + extra))
     assert len(problems) == 1
 
 
-@pytest.mark.xfail(reason="level.py: huge integers stop check-level with 'internal error: OverflowError' (exit 1) "
-                          "or an error naming no file, and the remaining files are not checked", strict=True)
 @pytest.mark.parametrize("digits", [HUGE, HUGER], ids=["400_digits", "5000_digits"])
-def test_bug_check_level_huge_integer(tmp_path, digits):
+def test_check_level_huge_integer(tmp_path, digits):
     path = write(tmp_path, BASE + "\n" + OBJECT.replace("position", f"mass = {digits}\nposition"))
     good = REPO / "levels" / "01_first_steps.toml"
     res = check_level(path, good)
@@ -587,8 +578,6 @@ def test_bug_check_level_huge_integer(tmp_path, digits):
     assert res.stdout.startswith(f"{good}: ok")
 
 
-@pytest.mark.xfail(reason="level.py: shape parameter VALUES are not checked (only their names), so check-level "
-                          "says ok and the game fails when it builds the shape", strict=True)
 @pytest.mark.parametrize("shape, params", [
     ("tesseract", "{ size = -1.0 }"),
     ("5-cell", "{ radius = \"big\" }"),
@@ -597,49 +586,39 @@ def test_bug_check_level_huge_integer(tmp_path, digits):
     ("hypersphere", "{ subdivisions = 9 }"),  # 600 * 8**9 tets: would exhaust memory
     ("tesseract", "{ color = \"red\" }"),
 ])
-def test_bug_bad_shape_param_values(tmp_path, shape, params):
+def test_bad_shape_param_values(tmp_path, shape, params):
     extra = OBJECT.replace('"tesseract"', f'"{shape}"').replace("position", f"params = {params}\nposition")
     (msg,) = problems_of(write(tmp_path, BASE + extra))
     assert "[[object]] #1 'thing': field 'params'" in msg
 
 
-@pytest.mark.xfail(reason="level.py: an unknown shape name falls back to '5-cell' and then a params problem "
-                          "is reported against '5-cell', a shape the file never named", strict=True)
-def test_bug_unknown_shape_with_params_reports_one_problem(tmp_path):
+def test_unknown_shape_with_params_reports_one_problem(tmp_path):
     extra = OBJECT.replace('"tesseract"', '"hypercube"').replace("position", "params = { size = 2.0 }\nposition")
     problems = problems_of(write(tmp_path, BASE + extra))
     assert len(problems) == 1, problems
     assert "5-cell" not in problems[0].split("expected one of")[0]
 
 
-@pytest.mark.xfail(reason="level.py: asset = \"\" is silently accepted: a [[mesh]] is dropped, an [[object]] "
-                          "ends up with neither shape nor asset and build_scene raises TypeError", strict=True)
 @pytest.mark.parametrize("extra", [
     "[[mesh]]\nasset = \"\"\n",
     "[[object]]\nname = \"blank\"\nasset = \"\"\nposition = [0.0, 1.0, 3.0, 0.0]\n",
 ], ids=["mesh", "object"])
-def test_bug_empty_asset_path(tmp_path, extra):
+def test_empty_asset_path(tmp_path, extra):
     (msg,) = problems_of(write(tmp_path, BASE + "\n" + extra))
     assert "field 'asset'" in msg
 
 
-@pytest.mark.xfail(reason="level.py/resources.py: an asset that is not a mesh file (README.md, make_assets.py) "
-                          "passes check-level; the game then fails with AssetError when building", strict=True)
 @pytest.mark.parametrize("asset", ["README.md", "meshes/make_assets.py"])
-def test_bug_asset_must_be_a_mesh_format(tmp_path, asset):
+def test_asset_must_be_a_mesh_format(tmp_path, asset):
     (msg,) = problems_of(write(tmp_path, BASE + f"\n[[mesh]]\nasset = \"{asset}\"\n"))
     assert "field 'asset'" in msg and ".obj" in msg
 
 
-@pytest.mark.xfail(reason="resources.py: a NUL character in an asset path gives the bare message "
-                          "'embedded null byte', not what was expected", strict=True)
-def test_bug_nul_in_asset_path(tmp_path):
+def test_nul_in_asset_path(tmp_path):
     (msg,) = problems_of(write(tmp_path, BASE + '\n[[mesh]]\nasset = "meshes/crate\\u0000.obj"\n'))
     assert "inside the assets folder" in msg
 
 
-@pytest.mark.xfail(reason="level.py: after a malformed vector the loader checks the zeros it substituted, adding "
-                          "a second, false problem (or a redundant one for a missing table)", strict=True)
 @pytest.mark.parametrize("edit", [
     ("w_range = [-1.0, 1.0]", "w_range = [1.0]"),                       # + "got [0.0, 0.0]"
     ("w_range = [-1.0, 1.0]\n\n[spawn]\nposition = [0.0, 0.0, 0.0, 0.0]",
@@ -647,34 +626,28 @@ def test_bug_nul_in_asset_path(tmp_path):
     ("[spawn]\nposition = [0.0, 0.0, 0.0, 0.0]\n", ""),                 # + "missing field 'position'"
     ("[[box]]", "[[world]]\nname = \"m\"\nw = 0.0\ndepth = 1.0\n[[world.mesh]]\nasset = \"../x.obj\"\n\n[[box]]"),
 ], ids=["w_range_short", "spawn_short", "missing_spawn", "world_only_bad_mesh"])
-def test_bug_one_mistake_one_problem(tmp_path, edit):
+def test_one_mistake_one_problem(tmp_path, edit):
     old, new = edit
     assert old in BASE
     problems = problems_of(write(tmp_path, BASE.replace(old, new, 1)))
     assert len(problems) == 1, problems
 
 
-@pytest.mark.xfail(reason="level.py: [goal] w_range is not checked: a reversed or out-of-level range makes the "
-                          "exit unreachable and check-level says ok", strict=True)
 @pytest.mark.parametrize("goal_w", ["[1.0, -1.0]", "[5.0, 6.0]"], ids=["reversed", "outside_level"])
-def test_bug_goal_w_range_checked(tmp_path, goal_w):
+def test_goal_w_range_checked(tmp_path, goal_w):
     text = BASE.replace("size = [1.0, 2.0, 1.0]", f"size = [1.0, 2.0, 1.0]\nw_range = {goal_w}")
     (msg,) = problems_of(write(tmp_path, text))
     assert "[goal]: field 'w_range'" in msg
 
 
-@pytest.mark.xfail(reason="level.py: hints are str.format_map'ed by the window; a stray '{' or '}' or '{}' "
-                          "raises ValueError there (crashing the game) but load_level accepts it", strict=True)
 @pytest.mark.parametrize("hint", ["Press { to open", "Use {} here", "a } b", "{w_ana.upper}"])
-def test_bug_hint_braces_are_checked(tmp_path, hint):
+def test_hint_braces_are_checked(tmp_path, hint):
     text = BASE.replace('name = "base"', f'name = "base"\nhints = ["{hint}"]')
     (msg,) = problems_of(write(tmp_path, text))
     assert "field 'hints'" in msg
 
 
-@pytest.mark.xfail(reason="level.py: a UTF-8 byte-order mark (Windows editors) is reported as "
-                          "'Invalid statement (at line 1, column 1)' instead of being skipped", strict=True)
-def test_bug_utf8_bom_is_accepted(tmp_path):
+def test_utf8_bom_is_accepted(tmp_path):
     path = tmp_path / "bom.toml"
     path.write_bytes(b"\xef\xbb\xbf" + BASE.encode("utf-8"))
     assert load_level(path).name == "base"

@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import inspect
 import math
+import string
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -24,6 +25,57 @@ from . import resources
 PROFILES = ("prism", "round", "taper")
 OBJECT_BODIES = ("none", "hypersphere", "hypercube")
 DEFAULT_COLOR = (0.7, 0.7, 0.72, 1.0)
+MESH_SUFFIXES = (".obj", ".glb", ".gltf", ".stl")  # what world/bake.py reads
+_INT64 = (-2**63, 2**63 - 1)  # TOML integers are 64-bit; tomllib accepts any size
+
+
+def _is_number(x) -> bool:
+    """A finite int or float, not a bool."""
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def _big_ints(value, where=""):
+    """Dotted paths of integers outside TOML's 64-bit range."""
+    if isinstance(value, dict):
+        for k, v in value.items():
+            yield from _big_ints(v, f"{where}.{k}" if where else k)
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            yield from _big_ints(v, f"{where}[{i}]")
+    elif isinstance(value, int) and not isinstance(value, bool) and not _INT64[0] <= value <= _INT64[1]:
+        yield where
+
+
+# Shape parameters: how each is checked (the builders in core/shapes.py take these names).
+_PARAM_RULES = {
+    "radius": ("positive", None), "size": ("positive", None), "height": ("positive", None),
+    "r1": ("positive", None), "r2": ("positive", None),
+    "p": ("whole", (3, 128)), "q": ("whole", (3, 128)), "segments": ("whole", (3, 128)),
+    "subdivisions": ("whole", (0, 3)),
+}
+
+
+def _param_problem(name, value) -> str | None:
+    if name == "color":
+        return "set the colour with the object's 'color' field, not in 'params'"
+    kind, rng = _PARAM_RULES.get(name, (None, None))
+    if kind == "positive" and not (_is_number(value) and value > 0):
+        return f"'{name}' must be a positive number, got {value!r}"
+    if kind == "whole" and not (isinstance(value, int) and not isinstance(value, bool) and rng[0] <= value <= rng[1]):
+        return f"'{name}' must be a whole number from {rng[0]} to {rng[1]}, got {value!r}"
+    return None
+
+
+def _hint_problem(hint: str) -> str | None:
+    """Why the window cannot show ``hint`` ({action} placeholders, {{ }} for braces)."""
+    try:
+        parts = list(string.Formatter().parse(hint))
+    except ValueError as e:
+        return f"{e} (write {{{{ and }}}} for a brace)"
+    for _, name, spec, conv in parts:
+        if name is not None and (not name.isidentifier() or spec or conv):
+            return f"'{{{name}{'!' + conv if conv else ''}{':' + spec if spec else ''}}}' is not an {{action}} placeholder"
+    return None
 
 
 class LevelError(ValueError):
@@ -157,7 +209,7 @@ class _Reader:
                 return 0.0
             return float(default)
         v = data[key]
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        if not _is_number(v):
             self.problem(where, f"field '{key}': expected a number, got {v!r}")
             return float(default or 0.0)
         if v < lo or v > hi or (lo_open and v == lo):
@@ -174,7 +226,7 @@ class _Reader:
             return np.asarray(default, dtype=np.float64)
         v = data[key]
         ok = (isinstance(v, list) and len(v) == n
-              and all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in v))
+              and all(_is_number(x) for x in v))
         if ok and positive and any(x <= 0 for x in v):
             self.problem(where, f"field '{key}': expected {n} positive numbers, got {v!r}")
             return np.ones(n)
@@ -186,7 +238,7 @@ class _Reader:
     def scale(self, data, key, where, n):
         v = data.get(key, 1.0)
         if isinstance(v, (int, float)) and not isinstance(v, bool):
-            if v <= 0 or not math.isfinite(v):
+            if not _is_number(v) or v <= 0:
                 self.problem(where, f"field '{key}': expected a positive number or {n} positive numbers, got {v!r}")
                 return np.ones(n)
             return np.full(n, float(v))
@@ -233,7 +285,7 @@ class _Reader:
         for plane, deg in v.items():
             if plane not in PLANES:
                 self.problem(where, f"field '{key}': unknown rotation plane '{plane}' (expected one of {', '.join(PLANES)})")
-            elif isinstance(deg, bool) or not isinstance(deg, (int, float)) or not math.isfinite(deg):
+            elif not _is_number(deg):
                 self.problem(where, f"field '{key}.{plane}': expected degrees as a number, got {deg!r}")
             else:
                 out[plane] = float(deg)
@@ -242,12 +294,19 @@ class _Reader:
     def asset(self, data, where, key="asset") -> Path | None:
         rel = self.string(data, key, where)
         if not rel:
+            if isinstance(data.get(key), str):
+                self.problem(where, f"field '{key}': expected a path inside the assets folder such as "
+                                    f"\"meshes/crate.obj\", got an empty string")
             return None
         try:
-            return resources.resolve_asset(rel)
+            full = resources.resolve_asset(rel)
         except ValueError as e:
             self.problem(where, f"field '{key}': {e}")
             return None
+        if full.suffix.lower() not in MESH_SUFFIXES:
+            self.problem(where, f"field '{key}': expected a mesh file ({', '.join(MESH_SUFFIXES)}), got {rel!r}")
+            return None
+        return full
 
 
 _BOX_FIELDS = {"center", "size", "color"}
@@ -290,11 +349,15 @@ def load_level(path) -> Level:
     except OSError as e:
         raise LevelError(path, [f"{path}: cannot read the file ({e.strerror or e})"]) from None
     try:
-        data = tomllib.loads(raw.decode("utf-8"))
+        data = tomllib.loads(raw.decode("utf-8-sig"))  # -sig: skip a byte-order mark
     except UnicodeDecodeError:
         raise LevelError(path, [f"{path}: not a text file (expected UTF-8 TOML)"]) from None
-    except tomllib.TOMLDecodeError as e:
+    except (tomllib.TOMLDecodeError, ValueError) as e:  # ValueError: an integer over 4300 digits
         raise LevelError(path, [f"{path}: not valid TOML: {e}"]) from None
+    big = list(_big_ints(data))
+    if big:
+        raise LevelError(path, [f"{path}: {b}: integer out of range (TOML integers are 64-bit; "
+                                f"write a float like 1e30 for huge values)" for b in big])
 
     r = _Reader(path)
     r.unknown(data, {"level", "spawn", "goal", "box", "mesh", "world", "object", "physics"}, "top level")
@@ -305,28 +368,49 @@ def load_level(path) -> Level:
     fmt = r.number(meta, "format", "[level]", default=1)
     if fmt != 1:
         r.problem("[level]", f"field 'format': this game reads format 1, the file says {fmt:g}")
+    n = len(r.problems)
     w_range = r.vector(meta, "w_range", "[level]", 2, default=(-1.0, 1.0), names="ab")
-    if w_range[0] >= w_range[1]:
+    w_ok = len(r.problems) == n
+    if w_ok and w_range[0] >= w_range[1]:
         r.problem("[level]", f"field 'w_range': expected [low, high] with low < high, got {w_range.tolist()}")
+        w_ok = False
     hints = meta.get("hints", [])
     if not (isinstance(hints, list) and all(isinstance(h, str) for h in hints)):
         r.problem("[level]", "field 'hints': expected a list of strings")
         hints = []
+    for i, h in enumerate(hints, 1):
+        why = _hint_problem(h)
+        if why:
+            r.problem("[level]", f"field 'hints': hint #{i}: {why}")
 
+    n = len(r.problems)
     spawn_t = r.table(data, "spawn", "[spawn]", required=True)
-    r.unknown(spawn_t, {"position", "yaw"}, "[spawn]")
-    spawn = r.vector(spawn_t, "position", "[spawn]", 4)
-    if w_range[0] < w_range[1] and not w_range[0] <= spawn[3] <= w_range[1]:
-        r.problem("[spawn]", f"field 'position': w = {spawn[3]:g} is outside the level's w_range {w_range.tolist()}")
-    spawn_yaw = r.number(spawn_t, "yaw", "[spawn]", default=0.0)
+    spawn, spawn_yaw = np.zeros(4), 0.0
+    if len(r.problems) == n:  # a missing [spawn] is one problem, not one per field
+        r.unknown(spawn_t, {"position", "yaw"}, "[spawn]")
+        n = len(r.problems)
+        spawn = r.vector(spawn_t, "position", "[spawn]", 4)
+        if len(r.problems) == n and w_ok and not w_range[0] <= spawn[3] <= w_range[1]:
+            r.problem("[spawn]", f"field 'position': w = {spawn[3]:g} is outside the level's w_range {w_range.tolist()}")
+        spawn_yaw = r.number(spawn_t, "yaw", "[spawn]", default=0.0)
 
+    n = len(r.problems)
     goal_t = r.table(data, "goal", "[goal]", required=True)
-    r.unknown(goal_t, {"center", "size", "w_range"}, "[goal]")
-    goal_w = None
-    if "w_range" in goal_t:
-        gw = r.vector(goal_t, "w_range", "[goal]", 2, names="ab")
-        goal_w = (float(gw[0]), float(gw[1]))
-    goal = GoalSpec(r.vector(goal_t, "center", "[goal]", 3), r.vector(goal_t, "size", "[goal]", 3, positive=True), goal_w)
+    goal = GoalSpec(np.zeros(3), np.ones(3), None)
+    if len(r.problems) == n:
+        r.unknown(goal_t, {"center", "size", "w_range"}, "[goal]")
+        goal_w = None
+        if "w_range" in goal_t:
+            n = len(r.problems)
+            gw = r.vector(goal_t, "w_range", "[goal]", 2, names="ab")
+            goal_w = (float(gw[0]), float(gw[1]))
+            if len(r.problems) == n and gw[0] > gw[1]:
+                r.problem("[goal]", f"field 'w_range': expected [low, high] with low <= high, got {gw.tolist()}")
+            elif len(r.problems) == n and w_ok and (gw[1] < w_range[0] or gw[0] > w_range[1]):
+                r.problem("[goal]", f"field 'w_range': {gw.tolist()} is outside the level's w_range "
+                                    f"{w_range.tolist()}, so the goal can never be reached")
+        goal = GoalSpec(r.vector(goal_t, "center", "[goal]", 3), r.vector(goal_t, "size", "[goal]", 3, positive=True),
+                        goal_w)
 
     phys = r.table(data, "physics", "[physics]")
     r.unknown(phys, {"gravity", "inverse_cube_g"}, "[physics]")
@@ -352,7 +436,7 @@ def load_level(path) -> Level:
             _boxes(r, wt, where, color),
             _meshes(r, wt, where, color),
         )
-        if not world.boxes and not world.meshes:
+        if not wt.get("box") and not wt.get("mesh"):
             r.problem(where, "has no [[world.box]] or [[world.mesh]] entries")
         worlds.append(world)
 
@@ -370,6 +454,8 @@ def load_level(path) -> Level:
             r.problem(where, "expected exactly one of 'shape' (a 4D shape name) or 'asset' (a 3D mesh to lift)")
         elif "shape" in ot:
             shape = r.string(ot, "shape", where, choices=tuple(SHAPES))
+            if shape != ot["shape"]:  # reported; do not check params against a stand-in shape
+                shape = None
         else:
             asset = r.asset(ot, where)
         params = ot.get("params", {})
@@ -382,6 +468,11 @@ def load_level(path) -> Level:
             except TypeError as e:
                 accepted = ", ".join(inspect.signature(SHAPES[shape]).parameters)
                 r.problem(where, f"field 'params': {e} (shape '{shape}' accepts: {accepted})")
+            else:
+                for k, v in params.items():
+                    why = _param_problem(k, v)
+                    if why:
+                        r.problem(where, f"field 'params': {why}")
         objects.append(ObjectSpec(
             oname, shape, params, asset,
             r.number(ot, "depth", where, default=1.0, lo=0.0, lo_open=True),

@@ -45,6 +45,8 @@ def resolve_asset(relative: str) -> Path:
     """
     root = assets_dir().resolve()
     p = Path(relative)
+    if "\x00" in relative:
+        raise ValueError(f"expected a path inside the assets folder, got {relative!r} which contains a NUL character")
     if not relative or p.is_absolute() or relative.startswith(("/", "\\")) or ":" in relative:
         raise ValueError(f"expected a path inside the assets folder, got the absolute path {relative!r}")
     full = (root / p).resolve()
