@@ -68,7 +68,7 @@ class GameWindow(pyglet.window.Window):
         if record:
             self.start_recording()
         self.set_exclusive_mouse(True)
-        pyglet.clock.schedule(self.update)
+        self.last_draw: float | None = None
 
     # ----------------------------------------------------------------- levels
     def load(self, path: Path) -> None:
@@ -187,8 +187,10 @@ class GameWindow(pyglet.window.Window):
 
     # ------------------------------------------------------------------- loop
     def update(self, dt: float) -> None:
+        """Advance by ``dt`` wall-clock seconds: as many fixed ticks as fit."""
         self.wall_time += dt
-        self.fps = 0.9 * self.fps + 0.1 / max(dt, 1e-6) if self.fps else 1.0 / max(dt, 1e-6)
+        if dt > 0:
+            self.fps = 0.9 * self.fps + 0.1 / dt if self.fps else 1.0 / dt
         text, left = self.notice
         self.notice = (text, left - dt)
         if self.screenshot_after is not None and self.wall_time >= self.screenshot_after:
@@ -224,6 +226,8 @@ class GameWindow(pyglet.window.Window):
         hud = frame.hud
         hud.fps = self.fps if self.show_fps else None
         hud.paused = self.paused
+        if self.paused and not (self.notice[1] > 0 and self.notice[0]):
+            hud.message = "Click to resume"
         text, left = self.notice
         if left > 0 and text:
             hud.message = text
@@ -241,6 +245,11 @@ class GameWindow(pyglet.window.Window):
         return self.game.level.hints[i].format_map(_Missing(keys))
 
     def on_draw(self):
+        # One update per drawn frame: the wall clock is read here, in the app,
+        # and reaches the simulation only as a whole number of fixed ticks.
+        now = time.perf_counter()
+        self.update(0.0 if self.last_draw is None else min(now - self.last_draw, 0.25))
+        self.last_draw = now
         frame = self.current_frame()
         fw, fh = self.get_framebuffer_size()
         self.ctx.screen.use()
@@ -298,7 +307,7 @@ def run_window(args) -> int:
         print(f"across-dimensions: cannot open an OpenGL 3.3 window here ({e}); "
               f"try the headless demo: across-dimensions demo --screenshots out/", file=sys.stderr)
         return 1
-    pyglet.app.run()
+    pyglet.app.run(1 / 120)  # redraw up to 120 Hz; vsync, when on, paces it to the display
     window.stop_recording()
     window.close()
     return 0
