@@ -34,17 +34,22 @@ MAX_POINTS = 8
 #: Scratch rows needed by :func:`box_box` for its candidate points.
 SCRATCH_POINTS = 160
 #: Rows of the ``(SCRATCH_ROWS, 4)`` work array the routines here use.
-SCRATCH_ROWS = 32
+SCRATCH_ROWS = 40
 
 SPHERE = 0
 BOX = 1
 
 
 @njit(cache=True)
-def reduce_points(cp, cd, cm, cnt, n, out_p, out_n, out_d, k):
-    """Keep the deepest candidate and then the ones farthest from those kept.
+def reduce_points(cp, cd, cnt, n, rot, wk, out_p, out_n, out_d, k):
+    """Keep the candidates that are extreme along the diagonals of a box face.
 
-    Distances are measured in the contact hyperplane (orthogonal to ``n``).
+    A face-to-face contact region is (close to) a 3D box whose edges follow the
+    lateral axes of one of the boxes, so the candidates farthest along the
+    eight directions ``+-u1 +-u2 +-u3`` are its corners: the support outline a
+    resting box needs. Nearly tied candidates (a vertex and the point where an
+    edge through it leaves the speculative margin, or two almost coincident
+    corners of the two boxes) resolve to the deepest.
 
     Parameters
     ----------
@@ -52,11 +57,14 @@ def reduce_points(cp, cd, cm, cnt, n, out_p, out_n, out_d, k):
         Candidate points; rows ``[:cnt]`` are used.
     cd : (M,) float64
         Candidate depths.
-    cm : (M,) float64
-        Scratch.
     cnt : int
     n : (4,) float64
         Shared contact normal, copied to every output row.
+    rot : (4, 4) float64
+        Rotation of the box whose face the region follows; its axis most
+        aligned with ``n`` is dropped and the other three give ``u1, u2, u3``.
+    wk : (4, 4) float64
+        Scratch.
     out_p, out_n : (C, 4) float64
     out_d : (C,) float64
     k : int
@@ -69,39 +77,61 @@ def reduce_points(cp, cd, cm, cnt, n, out_p, out_n, out_d, k):
     """
     if cnt == 0:
         return 0
-    best = 0
-    for i in range(1, cnt):
-        cm[i] = np.inf
-        if cd[i] > cd[best]:
-            best = i
-    cm[0] = np.inf
+    drop = 0
+    big = -1.0
+    for a in range(4):
+        s = 0.0
+        for b in range(4):
+            s += rot[b, a] * n[b]
+        if abs(s) > big:
+            big = abs(s)
+            drop = a
+    u = wk[0:3]
+    d = wk[3]
+    j = 0
+    for a in range(4):
+        if a == drop:
+            continue
+        for b in range(4):
+            u[j, b] = rot[b, a]
+        j += 1
     written = 0
-    pick = best
-    while written < MAX_POINTS:
-        for a in range(4):
-            out_p[k + written, a] = cp[pick, a]
-            out_n[k + written, a] = n[a]
-        out_d[k + written] = cd[pick]
-        written += 1
-        far = -1.0
-        nxt = -1
+    for sgn in range(8):
+        for b in range(4):
+            d[b] = 0.0
+            for q in range(3):
+                d[b] += u[q, b] if (sgn >> q) & 1 else -u[q, b]
+        far = -np.inf
         for i in range(cnt):
             s = 0.0
-            sn = 0.0
-            for a in range(4):
-                t = cp[i, a] - cp[pick, a]
-                s += t * t
-                sn += t * n[a]
-            s -= sn * sn
-            if s < cm[i]:
-                cm[i] = s
-            if cm[i] > far:
-                far = cm[i]
-                nxt = i
-        # Remaining candidates all duplicate kept points (to 0.1 mm).
-        if far < 1e-8:
-            break
-        pick = nxt
+            for b in range(4):
+                s += cp[i, b] * d[b]
+            if s > far:
+                far = s
+        pick = -1
+        for i in range(cnt):
+            s = 0.0
+            for b in range(4):
+                s += cp[i, b] * d[b]
+            if s >= far - 1e-4 and (pick < 0 or cd[i] > cd[pick]):
+                pick = i
+        dup = False
+        for q in range(written):
+            same = True
+            for b in range(4):
+                if out_p[k + q, b] != cp[pick, b]:
+                    same = False
+                    break
+            if same:
+                dup = True
+                break
+        if dup:
+            continue
+        for b in range(4):
+            out_p[k + written, b] = cp[pick, b]
+            out_n[k + written, b] = n[b]
+        out_d[k + written] = cd[pick]
+        written += 1
     return written
 
 
@@ -215,16 +245,16 @@ def box_sphere(xb, rot, h, c, r, margin, wk, out_p, out_n, out_d, k):
 
 
 @njit(cache=True)
-def _inside(v, th, margin):
+def _inside(v, lim):
     for a in range(4):
-        if abs(v[a]) > th[a] + margin:
+        if abs(v[a]) > lim[a]:
             return False
     return True
 
 
 @njit(cache=True)
-def _clip_into(tx, trot, th, loc_c, loc_axes, oh, margin, m, sup, cp, cd, cnt, v, pl):
-    """Add the points of box O that lie inside box T (expanded by ``margin``).
+def _clip_into(tx, trot, th, loc_c, loc_axes, oh, margin, m, sup, cp, cd, cnt, v, pl, lim):
+    """Add the points of box O that lie inside box T (expanded by ``margin`` along ``m``).
 
     Points are O's vertices inside T and the points where O's edges cross T's
     boundary. Their depth is measured along ``m`` (the normal pointing out of T
@@ -250,7 +280,7 @@ def _clip_into(tx, trot, th, loc_c, loc_axes, oh, margin, m, sup, cp, cd, cnt, v
         Rows already used.
     v : (16, 4) float64
         Scratch for O's vertices.
-    pl : (4,) float64
+    pl, lim : (4,) float64
         Scratch.
 
     Returns
@@ -258,6 +288,27 @@ def _clip_into(tx, trot, th, loc_c, loc_axes, oh, margin, m, sup, cp, cd, cnt, v
     int
         New row count.
     """
+    # T expanded by the margin only along the normal: a vertex that overhangs
+    # T's face sideways is not supported by it.
+    # Depth is measured to the face of T that m leaves through, when there is
+    # one (T's face plane, tilted or not); the support plane of T along m
+    # would overstate the depth under a tilted face.
+    fk = -1
+    fm = 0.7
+    for a in range(4):
+        s = 0.0
+        for b in range(4):
+            s += trot[b, a] * m[b]
+        lim[a] = th[a] + margin * abs(s) + 1e-6
+        if abs(s) > fm:
+            fm = abs(s)
+            fk = a
+            fs = s
+    if fk >= 0:
+        fm = fs
+        fh = th[fk] if fs > 0.0 else -th[fk]
+    else:
+        fh = 0.0
     for j in range(16):
         for a in range(4):
             s = loc_c[a]
@@ -267,30 +318,29 @@ def _clip_into(tx, trot, th, loc_c, loc_axes, oh, margin, m, sup, cp, cd, cnt, v
                 else:
                     s -= oh[kk] * loc_axes[a, kk]
             v[j, a] = s
-        if _inside(v[j], th, margin):
-            cnt = _emit(tx, trot, v[j], m, sup, margin, cp, cd, cnt)
+        if _inside(v[j], lim):
+            cnt = _emit(tx, trot, v[j], m, sup, margin, cp, cd, cnt, fk, fm, fh)
     for j in range(16):
-        in_j = _inside(v[j], th, margin)
+        in_j = _inside(v[j], lim)
         for kk in range(4):
             if (j >> kk) & 1:
                 continue
             j2 = j | (1 << kk)
-            if in_j and _inside(v[j2], th, margin):
+            if in_j and _inside(v[j2], lim):
                 continue
             t0 = 0.0
             t1 = 1.0
             ok = True
             for a in range(4):
-                lim = th[a] + margin
                 p0 = v[j, a]
                 dp = v[j2, a] - p0
                 if abs(dp) < 1e-14:
-                    if abs(p0) > lim:
+                    if abs(p0) > lim[a]:
                         ok = False
                         break
                     continue
-                ta = (-lim - p0) / dp
-                tb = (lim - p0) / dp
+                ta = (-lim[a] - p0) / dp
+                tb = (lim[a] - p0) / dp
                 if ta > tb:
                     ta, tb = tb, ta
                 if ta > t0:
@@ -305,17 +355,21 @@ def _clip_into(tx, trot, th, loc_c, loc_axes, oh, margin, m, sup, cp, cd, cnt, v
             if t0 > 0.0:
                 for a in range(4):
                     pl[a] = v[j, a] + t0 * (v[j2, a] - v[j, a])
-                cnt = _emit(tx, trot, pl, m, sup, margin, cp, cd, cnt)
+                cnt = _emit(tx, trot, pl, m, sup, margin, cp, cd, cnt, fk, fm, fh)
             if t1 < 1.0:
                 for a in range(4):
                     pl[a] = v[j, a] + t1 * (v[j2, a] - v[j, a])
-                cnt = _emit(tx, trot, pl, m, sup, margin, cp, cd, cnt)
+                cnt = _emit(tx, trot, pl, m, sup, margin, cp, cd, cnt, fk, fm, fh)
     return cnt
 
 
 @njit(cache=True)
-def _emit(tx, trot, pl, m, sup, margin, cp, cd, cnt):
-    """Store a candidate given in T's frame if it is within ``margin`` of touching."""
+def _emit(tx, trot, pl, m, sup, margin, cp, cd, cnt, fk, fm, fh):
+    """Store a candidate given in T's frame if it is within ``margin`` of touching.
+
+    Its depth is the distance along ``m`` to T's face ``fk`` (``x_fk = fh``,
+    ``fm = m . axis_fk``), or to T's support plane ``sup`` when ``fk < 0``.
+    """
     if cnt >= cp.shape[0]:
         return cnt
     dot = 0.0
@@ -325,7 +379,10 @@ def _emit(tx, trot, pl, m, sup, margin, cp, cd, cnt):
             s += trot[a, b] * pl[b]
         cp[cnt, a] = s
         dot += m[a] * s
-    depth = sup - dot
+    if fk >= 0:
+        depth = (fh - pl[fk]) / fm
+    else:
+        depth = sup - dot
     if depth < -margin:
         return cnt
     for a in range(4):
@@ -484,15 +541,26 @@ def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, cm, wk, out_p, out_n, out_d,
         negn[m] = -n[m]
     v = wk[16:32]
     pl = wk[13]
-    cnt = _clip_into(xa, ra, ha, da, c, hb, margin, n, sup_a, cp, cd, cnt, v, pl)
+    cnt = _clip_into(xa, ra, ha, da, c, hb, margin, n, sup_a, cp, cd, cnt, v, pl, wk[14])
     # A's points inside B, depth along -n.
     for i in range(4):
         for j in range(4):
             loc_axes[i, j] = c[j, i]
     for m in range(4):
         db[m] = -db[m]
-    cnt = _clip_into(xb, rb, hb, db, loc_axes, ha, margin, negn, sup_b, cp, cd, cnt, v, pl)
-    return reduce_points(cp, cd, cm, cnt, n, out_p, out_n, out_d, k)
+    cnt = _clip_into(xb, rb, hb, db, loc_axes, ha, margin, negn, sup_b, cp, cd, cnt, v, pl, wk[14])
+    # The region follows the faces of whichever box faces the normal squarely.
+    fa = 0.0
+    fb = 0.0
+    for i in range(4):
+        sa = 0.0
+        sb = 0.0
+        for m in range(4):
+            sa += n[m] * ra[m, i]
+            sb += n[m] * rb[m, i]
+        fa = max(fa, abs(sa))
+        fb = max(fb, abs(sb))
+    return reduce_points(cp, cd, cnt, n, ra if fa >= fb else rb, wk[32:36], out_p, out_n, out_d, k)
 
 
 @njit(cache=True)
@@ -538,4 +606,4 @@ def box_halfspace(x, rot, h, pn, off, margin, cp, cd, cm, wk, out_p, out_n, out_
         cnt += 1
     for a in range(4):
         negn[a] = -pn[a]
-    return reduce_points(cp, cd, cm, cnt, negn, out_p, out_n, out_d, k)
+    return reduce_points(cp, cd, cnt, negn, rot, wk[32:36], out_p, out_n, out_d, k)

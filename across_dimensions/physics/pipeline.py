@@ -616,6 +616,12 @@ def tick(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass
                 continue
             for m in range(4):
                 dpos[i, m] = pos[i, m] - x0[i, m]
+            if shape[i] == SPHERE:
+                # A ball's contact point stays where the normal leaves its
+                # centre however it spins; rotating the anchor would make a
+                # rolling ball look lifted off the ground and let it sink.
+                continue
+            for m in range(4):
                 for q in range(4):
                     s = 0.0
                     for k in range(4):
