@@ -150,7 +150,7 @@ def test_contact_events_report_touches():
     assert ev.point[3] == pytest.approx(0.2, abs=1e-9)
     # The impulse is what changed the ball's momentum beyond gravity.
     assert ev.impulse == pytest.approx(world.body_mass(ball) * dv[1], rel=1e-9)
-    assert dv[1] > 4.0
+    assert dv[1] > 1.0
     world.step(1 / 60)
     assert world.events and not world.events[0].began
 
