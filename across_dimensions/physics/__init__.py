@@ -6,7 +6,12 @@ Depends on numpy, numba and :mod:`across_dimensions.core` only.
 >>> world = PhysicsWorld(gravity=(0, -9.81, 0, 0), inverse_cube_G=0.0)
 """
 
-from .events import ContactEvent
-from .world import PhysicsWorld
+from ._cache import drop_stale_kernels
+
+# Before any kernel is loaded from the on-disk cache (see _cache for why).
+drop_stale_kernels()
+
+from .events import ContactEvent  # noqa: E402
+from .world import PhysicsWorld  # noqa: E402
 
 __all__ = ["ContactEvent", "PhysicsWorld"]

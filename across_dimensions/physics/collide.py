@@ -392,7 +392,7 @@ def _emit(tx, trot, pl, m, sup, margin, cp, cd, cnt, fk, fm, fh):
 
 
 @njit(cache=True)
-def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, cm, wk, out_p, out_n, out_d, k):
+def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, wk, out_p, out_n, out_d, k):
     """Contact manifold of two 4D boxes (normal from a to b).
 
     Parameters
@@ -405,7 +405,7 @@ def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, cm, wk, out_p, out_n, out_d,
         Half extents.
     margin : float
         Speculative distance: pairs closer than this still get contacts.
-    cp, cd, cm : (SCRATCH_POINTS, 4), (SCRATCH_POINTS,), (SCRATCH_POINTS,) float64
+    cp, cd : (SCRATCH_POINTS, 4), (SCRATCH_POINTS,) float64
         Scratch for candidate points.
     wk : (SCRATCH_ROWS, 4) float64
         Scratch.
@@ -581,7 +581,7 @@ def sphere_halfspace(c, r, pn, off, margin, out_p, out_n, out_d, k):
 
 
 @njit(cache=True)
-def box_halfspace(x, rot, h, pn, off, margin, cp, cd, cm, wk, out_p, out_n, out_d, k):
+def box_halfspace(x, rot, h, pn, off, margin, cp, cd, wk, out_p, out_n, out_d, k):
     """Box against the solid ``{x : pn . x <= off}``: its vertices near or below the plane."""
     cnt = 0
     v = wk[0]

@@ -273,8 +273,6 @@ def narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p, s
     vr = np.eye(4)
     vh = np.empty(4)
     pn = np.empty(4)
-    sd = scratch_d[0]
-    sm = scratch_d[1]
     wk = np.empty((SCRATCH_ROWS, 4))
     for op in range(npairs):
         p = order[op]
@@ -294,7 +292,7 @@ def narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p, s
                         cn[k + q, t] = -cn[k + q, t]
             else:
                 got = box_box(pos[a], rot[a], half[a], pos[b], rot[b], half[b], m,
-                              scratch_p, sd, sm, wk, cp, cn, cd, k)
+                              scratch_p, scratch_d, wk, cp, cn, cd, k)
         else:
             s = -1 - b
             m = marg[a]
@@ -305,7 +303,7 @@ def narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p, s
                     got = sphere_halfspace(pos[a], half[a, 0], pn, hs[s, 4], m, cp, cn, cd, k)
                 else:
                     got = box_halfspace(pos[a], rot[a], half[a], pn, hs[s, 4], m,
-                                        scratch_p, sd, sm, wk, cp, cn, cd, k)
+                                        scratch_p, scratch_d, wk, cp, cn, cd, k)
             else:
                 # A world box spans all of w: make it a 4D box wide enough in w
                 # that its w faces can never be the separating axis.
@@ -325,7 +323,7 @@ def narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p, s
                             cn[k + q, t] = -cn[k + q, t]
                 else:
                     got = box_box(pos[a], rot[a], half[a], vx, vr, vh, m,
-                                  scratch_p, sd, sm, wk, cp, cn, cd, k)
+                                  scratch_p, scratch_d, wk, cp, cn, cd, k)
         for q in range(got):
             ci[k + q, 0] = a
             ci[k + q, 1] = b

@@ -150,7 +150,7 @@ class PhysicsWorld:
             self.add_half_space((0.0, 1.0, 0.0, 0.0), 0.0)
         self._alloc_contacts(256, 256)
         self._scratch_p = np.zeros((SCRATCH_POINTS, 4))
-        self._scratch_d = np.zeros((2, SCRATCH_POINTS))
+        self._scratch_d = np.zeros(SCRATCH_POINTS)
         self._touch_keys = np.zeros(0, dtype=np.int64)
         self._touch_prev = np.zeros(0, dtype=np.int64)
         self._events_cache: list[ContactEvent] | None = []
