@@ -68,7 +68,7 @@ def bench_physics(n_bodies: int = 200, ticks: int = 300, settle_ticks: int = 120
     -------
     dict
         ``mean_ms``, ``median_ms``, ``p95_ms`` and ``max_ms`` per tick,
-        ``contacts`` (mean solved contact points per substep), the
+        ``contacts`` (mean solved contact points per tick), the
         baselines ``empty_step_ms`` (a tick of a world without bodies) and
         ``numpy_ms`` (one vectorised numpy update of same-sized body arrays),
         plus the settings.
@@ -121,7 +121,7 @@ def main(argv=None) -> None:
     args = ap.parse_args(argv)
     r = bench_physics(args.bodies, args.ticks)
     print(f"{r['n_bodies']} bodies, {r['ticks']} ticks of {r['substeps_per_tick']} substeps, "
-          f"{r['contacts']:.0f} contact points per substep")
+          f"{r['contacts']:.0f} contact points per tick")
     print(f"per tick: mean {r['mean_ms']:.2f} ms, median {r['median_ms']:.2f} ms, "
           f"p95 {r['p95_ms']:.2f} ms, max {r['max_ms']:.2f} ms (target <= 4 ms)")
     print(f"baselines: empty world tick {r['empty_step_ms']:.3f} ms, "

@@ -34,7 +34,7 @@ MAX_POINTS = 8
 #: Scratch rows needed by :func:`box_box` for its candidate points.
 SCRATCH_POINTS = 160
 #: Rows of the ``(SCRATCH_ROWS, 4)`` work array the routines here use.
-SCRATCH_ROWS = 40
+SCRATCH_ROWS = 36 + SCRATCH_POINTS
 
 SPHERE = 0
 BOX = 1
@@ -63,7 +63,7 @@ def reduce_points(cp, cd, cnt, n, rot, wk, out_p, out_n, out_d, k):
     rot : (4, 4) float64
         Rotation of the box whose face the region follows; its axis most
         aligned with ``n`` is dropped and the other three give ``u1, u2, u3``.
-    wk : (4, 4) float64
+    wk : (4 + M, 4) float64
         Scratch.
     out_p, out_n : (C, 4) float64
     out_d : (C,) float64
@@ -87,7 +87,6 @@ def reduce_points(cp, cd, cnt, n, rot, wk, out_p, out_n, out_d, k):
             big = abs(s)
             drop = a
     u = wk[0:3]
-    d = wk[3]
     j = 0
     for a in range(4):
         if a == drop:
@@ -95,26 +94,31 @@ def reduce_points(cp, cd, cnt, n, rot, wk, out_p, out_n, out_d, k):
         for b in range(4):
             u[j, b] = rot[b, a]
         j += 1
+    # Coordinates along u1..u3 once; each diagonal is then a sum of signs.
+    pr = wk[4:4 + cnt]
+    for i in range(cnt):
+        for q in range(3):
+            s = 0.0
+            for b in range(4):
+                s += cp[i, b] * u[q, b]
+            pr[i, q] = s
     written = 0
     for sgn in range(8):
-        for b in range(4):
-            d[b] = 0.0
-            for q in range(3):
-                d[b] += u[q, b] if (sgn >> q) & 1 else -u[q, b]
+        s0 = 1.0 if sgn & 1 else -1.0
+        s1 = 1.0 if sgn & 2 else -1.0
+        s2 = 1.0 if sgn & 4 else -1.0
         far = -np.inf
-        for i in range(cnt):
-            s = 0.0
-            for b in range(4):
-                s += cp[i, b] * d[b]
-            if s > far:
-                far = s
         pick = -1
         for i in range(cnt):
-            s = 0.0
-            for b in range(4):
-                s += cp[i, b] * d[b]
-            if s >= far - 1e-4 and (pick < 0 or cd[i] > cd[pick]):
+            s = s0 * pr[i, 0] + s1 * pr[i, 1] + s2 * pr[i, 2]
+            if s > far + 1e-4:
+                far = s
                 pick = i
+            elif s >= far - 1e-4:
+                if cd[i] > cd[pick]:
+                    pick = i
+                if s > far:
+                    far = s
         dup = False
         for q in range(written):
             same = True
@@ -328,19 +332,25 @@ def _clip_into(tx, trot, th, loc_c, loc_axes, oh, margin, m, sup, cp, cd, cnt, v
             j2 = j | (1 << kk)
             if in_j and _inside(v[j2], lim):
                 continue
+            # Most edges miss T entirely: both ends beyond the same face.
+            ok = True
+            for a in range(4):
+                if (v[j, a] > lim[a] and v[j2, a] > lim[a]) or (
+                        v[j, a] < -lim[a] and v[j2, a] < -lim[a]):
+                    ok = False
+                    break
+            if not ok:
+                continue
             t0 = 0.0
             t1 = 1.0
-            ok = True
             for a in range(4):
                 p0 = v[j, a]
                 dp = v[j2, a] - p0
                 if abs(dp) < 1e-14:
-                    if abs(p0) > lim[a]:
-                        ok = False
-                        break
                     continue
-                ta = (-lim[a] - p0) / dp
-                tb = (lim[a] - p0) / dp
+                inv = 1.0 / dp
+                ta = (-lim[a] - p0) * inv
+                tb = (lim[a] - p0) * inv
                 if ta > tb:
                     ta, tb = tb, ta
                 if ta > t0:
@@ -473,11 +483,12 @@ def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, wk, out_p, out_n, out_d, k):
         for kk in range(4):
             u = c[q, kk]
             w = -c[p, kk]
-            ln = np.sqrt(u * u + w * w)
-            if ln < 1e-3:
+            ln2 = u * u + w * w
+            if ln2 < 1e-6:
                 continue
-            u /= ln
-            w /= ln
+            inv = 1.0 / np.sqrt(ln2)
+            u *= inv
+            w *= inv
             rr = ha[p] * abs(u) + ha[q] * abs(w)
             for m in range(4):
                 rr += hb[m] * abs(u * c[p, m] + w * c[q, m])
@@ -497,11 +508,12 @@ def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, wk, out_p, out_n, out_d, k):
         for i in range(4):
             u = c[i, q]
             w = -c[i, p]
-            ln = np.sqrt(u * u + w * w)
-            if ln < 1e-3:
+            ln2 = u * u + w * w
+            if ln2 < 1e-6:
                 continue
-            u /= ln
-            w /= ln
+            inv = 1.0 / np.sqrt(ln2)
+            u *= inv
+            w *= inv
             rr = hb[p] * abs(u) + hb[q] * abs(w)
             for m in range(4):
                 rr += ha[m] * abs(u * c[m, p] + w * c[m, q])
@@ -560,7 +572,7 @@ def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, wk, out_p, out_n, out_d, k):
             sb += n[m] * rb[m, i]
         fa = max(fa, abs(sa))
         fb = max(fb, abs(sb))
-    return reduce_points(cp, cd, cnt, n, ra if fa >= fb else rb, wk[32:36], out_p, out_n, out_d, k)
+    return reduce_points(cp, cd, cnt, n, ra if fa >= fb else rb, wk[32:], out_p, out_n, out_d, k)
 
 
 @njit(cache=True)
@@ -606,4 +618,4 @@ def box_halfspace(x, rot, h, pn, off, margin, cp, cd, wk, out_p, out_n, out_d, k
         cnt += 1
     for a in range(4):
         negn[a] = -pn[a]
-    return reduce_points(cp, cd, cnt, negn, rot, wk[32:36], out_p, out_n, out_d, k)
+    return reduce_points(cp, cd, cnt, negn, rot, wk[32:], out_p, out_n, out_d, k)
