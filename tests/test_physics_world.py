@@ -282,3 +282,15 @@ def test_bench_pile_stays_inside_the_arena():
     assert np.abs(p[:, [0, 2, 3]]).max() < 1.5
     speed = np.linalg.norm(world.vel[:200], axis=1)
     assert speed.max() < 1.0
+
+
+def test_events_cover_exactly_the_ticks_of_the_last_step():
+    world = PhysicsWorld()
+    world.add_body("hypercube", size=0.5, position=(0, 0.25, 0, 0))
+    world.step(1 / 60)
+    assert len(world.events) == 1
+    world.step(0.001)  # no tick ran: nothing new happened
+    assert world.events == []
+    world.step(3 / 60)  # three ticks caught up: one touch each
+    assert len(world.events) == 3
+    assert [e.began for e in world.events] == [False, False, False]

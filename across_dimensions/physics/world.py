@@ -154,6 +154,7 @@ class PhysicsWorld:
         self._touch_keys = np.zeros(0, dtype=np.int64)
         self._touch_prev = np.zeros(0, dtype=np.int64)
         self._events_cache: list[ContactEvent] | None = []
+        self._events_earlier: list[ContactEvent] = []
         self.last_contact_count = 0
 
     # ------------------------------------------------------------------ settings
@@ -477,9 +478,9 @@ class PhysicsWorld:
         """Advance by ``dt`` seconds of game time in fixed ticks.
 
         Time is accumulated and whole ticks of ``tick_dt`` are run (at most
-        ``max_ticks``); the remainder carries over to the next call. Events of
-        the last tick run are available in :attr:`events` until the next call
-        that runs a tick.
+        ``max_ticks``); the remainder carries over to the next call. The
+        contact events of the ticks run are in :attr:`events` until the next
+        call (empty if this call ran no tick).
 
         Returns
         -------
@@ -497,8 +498,15 @@ class PhysicsWorld:
         if n > self.max_ticks:
             n = self.max_ticks
             self._acc = 0.0
-        for _ in range(n):
+        earlier: list[ContactEvent] = []
+        for k in range(n):
+            if k:
+                # Catching up: keep the events of every tick of this step.
+                earlier += self.events
             self.tick()
+        self._events_earlier = earlier
+        if n == 0:
+            self._events_cache = []
         return n
 
     def tick(self) -> int:
@@ -533,15 +541,21 @@ class PhysicsWorld:
         self._touch_prev = self._touch_keys
         self._touch_keys = self._touch_buf[:nt].copy()
         self._events_cache = None
+        self._events_earlier = []
         return nc
 
     @property
     def events(self) -> list[ContactEvent]:
-        """Contact events of the last tick (see :class:`ContactEvent`).
+        """Contact events of the ticks run by the last :meth:`step` (see :class:`ContactEvent`).
 
-        Built on first access from the tick's contacts, which stay untouched
-        until the next tick runs.
+        One event per touching pair per tick. Built on first access from the
+        tick's contacts, which stay untouched until the next tick runs. Pairs
+        whose bodies fall asleep stop reporting; a touch after waking is new
+        (``began``) again.
         """
+        return self._events_earlier + self._last_tick_events()
+
+    def _last_tick_events(self) -> list[ContactEvent]:
         if self._events_cache is None:
             nc = self.last_contact_count
             keys, ab, pts, nrm, imp = manifold_events(nc, self._ci, self._cp, self._cn,
