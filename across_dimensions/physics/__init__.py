@@ -1,9 +1,36 @@
-"""4D rigid-body physics: hyperspheres and hypercubes, the 3D world, player queries.
+"""4D rigid-body physics: hyperspheres and 4D boxes, the 3D world, player queries.
 
-Depends on numpy, numba and :mod:`across_dimensions.core` only.
+Depends on numpy, numba and :mod:`across_dimensions.core` only; no wall clock
+and no global random state, so a replay of the same calls is bit-identical.
 
 >>> from across_dimensions.physics import PhysicsWorld
 >>> world = PhysicsWorld(gravity=(0, -9.81, 0, 0), inverse_cube_G=0.0)
+>>> world.set_static_boxes([((0, 0.5, 3), (1, 0.5, 1))])   # 3D boxes, all of w
+>>> ball = world.add_body("hypersphere", radius=0.3, position=(0, 2, 0, 0.2))
+>>> cube = world.add_body("hypercube", size=0.8, position=(1, 1, 0, 0),
+...                       angles={"xw": 0.4}, restitution=0.2, friction=0.6)
+>>> world.step(1 / 60)                                    # fixed ticks inside
+1
+>>> model = world.body_pose(cube)                         # (5, 5) model matrix
+
+Game-facing API of :class:`PhysicsWorld`:
+
+* bodies: ``add_body``, ``remove_body``, ``body_pose``, ``body_position``,
+  ``body_rotation``, ``body_velocity``, ``body_mass``, ``body_inertia``,
+  ``set_velocity``, ``set_pose``, ``push``, ``wake``, ``is_sleeping``,
+  ``body_ids``;
+* static world: ground ``y <= 0`` (``ground=True``), ``set_static_boxes``,
+  ``add_half_space`` (slopes, walls in w);
+* time: ``step(dt)`` runs whole ticks of ``tick_dt`` (default 1/60 s, four
+  substeps each); ``tick()`` runs exactly one;
+* queries: ``player_collide``, ``raycast``, ``events`` (:class:`ContactEvent`);
+* determinism: ``state_bytes``, ``state_hash``;
+* level settings: ``gravity``, ``inverse_cube_G``, ``allow_sleep``.
+
+Modules: :mod:`.bivector` (rotation maths on bivectors), :mod:`.mass`
+(hypervolumes and inertia), :mod:`.collide` (narrowphase), :mod:`.solver`
+(contact impulses), :mod:`.pipeline` (one compiled tick), :mod:`.queries`
+(ray casts, player), :mod:`.events`, :mod:`.world`, :mod:`.bench`.
 """
 
 from ._cache import drop_stale_kernels
