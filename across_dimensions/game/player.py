@@ -86,7 +86,7 @@ def overlapping(lo, hi, boxes: np.ndarray) -> np.ndarray:
     return np.all((lo < boxes[:, 1]) & (hi > boxes[:, 0]), axis=1)
 
 
-def _move_axis(pos: np.ndarray, axis: int, delta: float, boxes: np.ndarray) -> tuple[np.ndarray, bool]:
+def move_axis(pos: np.ndarray, axis: int, delta: float, boxes: np.ndarray) -> tuple[np.ndarray, bool]:
     """Move along one axis, stopping flush at the first box entered."""
     if delta == 0.0:
         return pos, False
@@ -111,20 +111,20 @@ def _move_axis(pos: np.ndarray, axis: int, delta: float, boxes: np.ndarray) -> t
 
 def _move_horizontal(pos, dx: float, dz: float, boxes, on_ground: bool) -> np.ndarray:
     """Walk in x then z; when blocked on the ground, also try stepping up a ledge."""
-    flat, hit_x = _move_axis(pos, 0, dx, boxes)
-    flat, hit_z = _move_axis(flat, 2, dz, boxes)
+    flat, hit_x = move_axis(pos, 0, dx, boxes)
+    flat, hit_z = move_axis(flat, 2, dz, boxes)
     if not (on_ground and (hit_x or hit_z)):
         return flat
-    up, _ = _move_axis(pos, 1, STEP_HEIGHT, boxes)
-    stepped, _ = _move_axis(up, 0, dx, boxes)
-    stepped, _ = _move_axis(stepped, 2, dz, boxes)
-    stepped, _ = _move_axis(stepped, 1, pos[1] - up[1], boxes)  # back down onto the ledge
+    up, _ = move_axis(pos, 1, STEP_HEIGHT, boxes)
+    stepped, _ = move_axis(up, 0, dx, boxes)
+    stepped, _ = move_axis(stepped, 2, dz, boxes)
+    stepped, _ = move_axis(stepped, 1, pos[1] - up[1], boxes)  # back down onto the ledge
     moved = lambda p: (p[0] - pos[0]) ** 2 + (p[2] - pos[2]) ** 2  # noqa: E731
     return stepped if moved(stepped) > moved(flat) + 1e-12 else flat
 
 
 def step_player(player: Player, actions: Actions, dt: float, gravity_y: float, w_range: tuple[float, float],
-                colliders_at) -> None:
+                colliders_at, blocked_w=None) -> None:
     """Advance the player one tick.
 
     Parameters
@@ -140,6 +140,9 @@ def step_player(player: Player, actions: Actions, dt: float, gravity_y: float, w
         Allowed w interval.
     colliders_at : callable
         ``colliders_at(w) -> (k, 2, 3) float64`` boxes solid in the slice at w.
+    blocked_w : callable, optional
+        ``blocked_w(position, w) -> bool``: something other than those boxes
+        (a rigid body) would overlap the player moved to ``w``.
     """
     player.yaw = float((player.yaw + actions.yaw + np.pi) % (2 * np.pi) - np.pi)
     player.pitch = float(np.clip(player.pitch + actions.pitch, -MAX_PITCH, MAX_PITCH))
@@ -174,13 +177,15 @@ def step_player(player: Player, actions: Actions, dt: float, gravity_y: float, w
         lo, hi = player_box(pos)
         if (overlapping(lo, hi, colliders_at(w_new)) & ~overlapping(lo, hi, colliders_at(pos[3]))).any():
             w_new = float(pos[3])
+        elif blocked_w is not None and blocked_w(pos, w_new):
+            w_new = float(pos[3])
     if w_new != w_target:  # stopped by the range's end or by a wall appearing
         v[3] = 0.0
     pos[3] = w_new
 
     boxes = colliders_at(pos[3])
     pos_new = _move_horizontal(pos, v[0] * dt, v[2] * dt, boxes, player.on_ground)
-    pos_new, hit_y = _move_axis(pos_new, 1, v[1] * dt, boxes)
+    pos_new, hit_y = move_axis(pos_new, 1, v[1] * dt, boxes)
     # Velocity along an axis we were stopped on is gone.
     for axis in (0, 2):
         if abs(pos_new[axis] - (pos[axis] + v[axis] * dt)) > 1e-9:

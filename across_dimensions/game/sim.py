@@ -14,14 +14,16 @@ import hashlib
 import numpy as np
 
 from ..world.level import Level
-from ..world.scene import Scene, SectionCache, build_scene
+from ..core.transform import scaling
+from ..world.scene import Scene, SectionCache, build_physics, build_scene
 from .actions import Actions
 from .frame import Camera3, Drawable, Frame, Hud
-from .player import HEIGHT, Player, overlapping, player_box, step_player
+from .player import HALF_WIDTH, HEIGHT, Player, move_axis, step_player
 
 TICK_RATE = 60
 DT = 1.0 / TICK_RATE
 FALL_LIMIT = -30.0  # below this y the player has fallen out of the level
+PUSH = 0.5  # share of the player's velocity into a body given to it per tick of contact
 
 
 class Game:
@@ -42,6 +44,8 @@ class Game:
         self.rng = np.random.default_rng(seed)
         self.scene = scene if scene is not None else build_scene(level)
         self.sections = SectionCache()
+        self.physics, self.body_of = build_physics(self.scene, DT)
+        self.events: list = []  # contact events of the last tick (physics.ContactEvent)
         self.tick = 0
         self.outcome: str | None = None  # "complete" once the goal is reached
         self.completed_tick: int | None = None
@@ -56,9 +60,14 @@ class Game:
         """Simulated seconds since the start."""
         return self.tick * DT
 
-    def object_model(self, index: int, t: float | None = None) -> np.ndarray:
-        """Object-to-world ``(5, 5)`` of object ``index`` at time ``t``."""
-        return self.scene.objects[index].model_at(self.time if t is None else t)
+    def object_model(self, index: int) -> np.ndarray:
+        """Object-to-world ``(5, 5)`` of object ``index`` now: its rigid body's pose,
+        or its level pose turned by its spin."""
+        obj = self.scene.objects[index]
+        body = self.body_of.get(index)
+        if body is None:
+            return obj.model_at(self.time)
+        return self.physics.body_pose(body) @ scaling(obj.scale)
 
     def colliders_at(self, w: float) -> np.ndarray:
         """Boxes ``(k, 2, 3)`` solid in the slice at ``w``: the 3D world, the
@@ -66,7 +75,7 @@ class Game:
         are the same things at every w; a thing absent at ``w`` is NaN."""
         parts = [self.scene.static_boxes, self.scene.world_boxes_at(w)]
         for i, obj in enumerate(self.scene.objects):
-            if not obj.solid:
+            if not obj.solid or i in self.body_of:  # rigid bodies collide through physics
                 continue
             key = f"object:{i}"
             self.sections.section(key, obj.mesh, self.object_model(i), w)
@@ -78,13 +87,49 @@ class Game:
         p = self.player
         self._prev_eye = p.eye()
         self._prev_view = (p.yaw, p.pitch)
-        step_player(p, actions, DT, float(self.level.gravity[1]), self.level.w_range, self.colliders_at)
+        step_player(p, actions, DT, float(self.level.gravity[1]), self.level.w_range, self.colliders_at,
+                    self._bodies_block if self.physics else None)
+        if self.physics is not None:
+            self._touch_bodies()
+            self.physics.tick()
+            self.events = self.physics.events
         if p.position[1] < FALL_LIMIT:
             self.respawn()
         self.tick += 1
         if self.outcome is None and self.in_goal():
             self.outcome = "complete"
             self.completed_tick = self.tick
+
+    def _bodies_block(self, position, w: float) -> bool:
+        """Would stepping to ``w`` put the player inside a rigid body?"""
+        moved = np.array(position, dtype=np.float64)
+        moved[3] = w
+        here, _ = self.physics.player_collide(position, HALF_WIDTH, HEIGHT)
+        there, _ = self.physics.player_collide(moved, HALF_WIDTH, HEIGHT)
+        return bool(np.linalg.norm(there) > np.linalg.norm(here) + 1e-4)
+
+    def _touch_bodies(self) -> None:
+        """Bodies in the player's slice block the player, and the player pushes them."""
+        p = self.player
+        corr, touched = self.physics.player_collide(p.position, HALF_WIDTH, HEIGHT)
+        n = np.linalg.norm(corr)
+        if n == 0.0:
+            return
+        # Apply the push-out as a move, so the static world still stops it: a
+        # body never shoves the player through a floor or a wall.
+        boxes = self.colliders_at(float(p.position[3]))
+        for axis in (0, 2, 1):
+            p.position, _ = move_axis(p.position, axis, float(corr[axis]), boxes)
+        normal = corr / n
+        into = float(p.velocity[:3] @ normal)
+        if into < 0.0:  # stop moving into the body, pass the motion on to it
+            p.velocity[:3] -= into * normal
+            for b in touched:
+                mass = self.physics.body_mass(b)
+                self.physics.push(b, np.append(into * normal * mass * PUSH, 0.0))  # away from the player
+        if normal[1] > 0.7:  # standing on a body
+            p.on_ground = True
+            p.velocity[1] = max(p.velocity[1], 0.0)
 
     def respawn(self) -> None:
         self.player = Player(self.level.spawn.astype(np.float64).copy(), yaw=float(np.radians(self.level.spawn_yaw_deg)))
@@ -103,7 +148,10 @@ class Game:
 
     def state_hash(self) -> str:
         """A short hash of the simulation state; equal states give equal hashes."""
-        return hashlib.sha256(self.state_array().astype(np.float64).tobytes()).hexdigest()[:16]
+        h = hashlib.sha256(self.state_array().astype(np.float64).tobytes())
+        if self.physics is not None:
+            h.update(self.physics.state_bytes())
+        return h.hexdigest()[:16]
 
     # ------------------------------------------------------------------ frame
     def frame(self, alpha: float = 1.0, fov_y_deg: float = 75.0) -> Frame:
@@ -127,10 +175,4 @@ class Game:
         return Frame(camera, drawables, Hud(w=w, w_min=lo, w_max=hi, message=message))
 
 
-def blocked_by(game: Game, w: float) -> bool:
-    """Whether the player would overlap something solid in the slice at ``w``."""
-    lo, hi = player_box(game.player.position)
-    return bool(overlapping(lo, hi, game.colliders_at(w)).any())
-
-
-__all__ = ["Game", "TICK_RATE", "DT", "HEIGHT", "blocked_by"]
+__all__ = ["Game", "TICK_RATE", "DT"]

@@ -137,6 +137,7 @@ class ObjectSpec:
     solid: bool
     body: str
     mass: float
+    velocity: np.ndarray = field(default_factory=lambda: np.zeros(4))
 
 
 @dataclass
@@ -446,7 +447,7 @@ def load_level(path) -> Level:
     for i, ot in enumerate(r.array_of_tables(data, "object", "top level"), 1):
         where = f"[[object]] #{i}"
         r.unknown(ot, {"name", "shape", "params", "asset", "depth", "position", "rotation", "scale", "color",
-                       "spin", "solid", "body", "mass"}, where)
+                       "spin", "solid", "body", "mass", "velocity"}, where)
         oname = r.string(ot, "name", where, default=f"object{i}")
         where = f"[[object]] #{i} '{oname}'"
         shape = asset = None
@@ -484,6 +485,7 @@ def load_level(path) -> Level:
             r.boolean(ot, "solid", where, True),
             r.string(ot, "body", where, default="none", choices=OBJECT_BODIES),
             r.number(ot, "mass", where, default=1.0, lo=0.0, lo_open=True),
+            r.vector(ot, "velocity", where, 4, default=(0.0, 0.0, 0.0, 0.0)),
         ))
 
     if r.problems:

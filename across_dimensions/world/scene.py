@@ -61,6 +61,7 @@ class Object4:
     solid: bool
     body: str
     mass: float
+    velocity: np.ndarray
 
     def model_at(self, t: float, position=None, extra_rotation=None) -> np.ndarray:
         """Object-to-world ``(5, 5)`` at time ``t`` seconds (spin included)."""
@@ -155,7 +156,55 @@ def _build_object(spec) -> Object4:
         mesh = lift_asset(spec.asset, spec.depth)
     mesh = mesh.with_color(spec.color)
     return Object4(spec.name, mesh, spec.position.copy(), dict(spec.rotation_deg), spec.scale.copy(),
-                   dict(spec.spin_deg), spec.solid, spec.body, spec.mass)
+                   dict(spec.spin_deg), spec.solid, spec.body, spec.mass, spec.velocity.copy())
+
+
+def build_physics(scene: Scene, tick_dt: float):
+    """The rigid-body world of a scene, or ``(None, {})`` when nothing in it moves.
+
+    Bodies collide with the 3D geometry present at every w (as boxes
+    extending over all w), with each extended world's parts over the w interval
+    where they are at least half their full size, and with each other. A body
+    object's collider is its mesh's bounding box (``hypercube``) or bounding
+    hypersphere, scaled; its ``spin`` becomes its initial angular velocity.
+
+    Returns
+    -------
+    physics : PhysicsWorld or None
+    body_of : dict of int to int
+        Object index to body id.
+    """
+    movers = [i for i, o in enumerate(scene.objects) if o.body != "none"]
+    if not movers:
+        return None, {}
+    from ..core.transform import PLANES
+    from ..physics import PhysicsWorld
+
+    level = scene.level
+    world = PhysicsWorld(gravity=level.gravity, inverse_cube_G=level.inverse_cube_g, ground=False,
+                         tick_dt=tick_dt)
+    world.set_static_boxes([(0.5 * (lo + hi), 0.5 * (hi - lo)) for lo, hi in scene.static_boxes])
+    for wd in scene.worlds:
+        ws = np.linspace(wd.layers_w[0], wd.layers_w[-1], 257)
+        inside = ws[np.array([wd.scale_at(w) >= 0.5 for w in ws])]
+        if len(inside) == 0:
+            continue
+        for c, h in zip(wd.centers, wd.halves):
+            world.add_body("hypercube", size=np.append(2 * h, inside[-1] - inside[0]), kind="static",
+                           position=np.append(c, 0.5 * (inside[0] + inside[-1])))
+    body_of = {}
+    for i in movers:
+        o = scene.objects[i]
+        v = o.mesh.vertices.astype(np.float64)
+        common = dict(position=o.position, angles={p: np.radians(a) for p, a in o.rotation_deg.items()},
+                      velocity=o.velocity, mass=o.mass,
+                      angular_velocity=[np.radians(o.spin_deg.get(p, 0.0)) for p in PLANES])
+        if o.body == "hypersphere":
+            body_of[i] = world.add_body("hypersphere", radius=float(np.linalg.norm(v, axis=1).max() * o.scale.max()),
+                                        **common)
+        else:
+            body_of[i] = world.add_body("hypercube", size=np.ptp(v, axis=0) * o.scale, **common)
+    return world, body_of
 
 
 class SectionCache:
