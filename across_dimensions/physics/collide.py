@@ -561,6 +561,20 @@ def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, wk, out_p, out_n, out_d, k):
     for m in range(4):
         db[m] = -db[m]
     cnt = _clip_into(xb, rb, hb, db, loc_axes, ha, margin, negn, sup_b, cp, cd, cnt, v, pl, wk[14])
+    if cnt == 0:
+        # Overlapping, yet no vertex or edge of either box is inside the other:
+        # the region's corners are where 2-faces of the two boxes cross, which
+        # only happens for deep overlaps (shallow contacts always have a box
+        # edge through the other). One point between the centres, at the SAT
+        # depth, pushes them apart along the separating axis.
+        best = min(best_face, best_cross)
+        if best < 0.0:
+            return 0
+        for m in range(4):
+            out_p[k, m] = 0.5 * (xa[m] + xb[m])
+            out_n[k, m] = n[m]
+        out_d[k] = best_face if best_cross + 0.002 + 0.05 * abs(best_face) >= best_face else best_cross
+        return 1
     # The region follows the faces of whichever box faces the normal squarely.
     fa = 0.0
     fb = 0.0

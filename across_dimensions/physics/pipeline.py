@@ -73,7 +73,8 @@ P_WORLDMU = 19
 P_WORLDE = 20
 P_LINDAMP = 21
 P_ANGDAMP = 22
-N_PARAMS = 23
+P_SPINR = 23
+N_PARAMS = 24
 
 
 @njit(cache=True)
@@ -441,19 +442,23 @@ def _find(parent, i):
 
 
 @njit(cache=True)
-def update_sleep(nb, alive, kind, awake, vel, omg, timer, island, nc, ci, params):
-    """Islands by union-find over dynamic-dynamic contacts; whole islands sleep.
+def update_sleep(nb, alive, kind, awake, vel, omg, timer, island, npairs, pairs, params):
+    """Islands by union-find over the broadphase pairs; whole islands sleep.
 
     A body is calm when its speed and spin stay under the thresholds; an island
     sleeps once all its bodies have been calm for ``sleep_time``. Sleeping
     bodies keep the island id so a touch wakes all of them together.
+
+    Islands join bodies whose (margin-expanded) boxes overlap, the same test
+    that wakes sleepers: joining only bodies in actual contact would let two
+    neighbours fall asleep at different times and wake each other forever.
     """
     h = params[P_DT]
     parent = np.arange(nb)
     stir = np.zeros(nb, dtype=np.bool_)
-    for c in range(nc):
-        a = ci[c, 0]
-        b = ci[c, 1]
+    for c in range(npairs):
+        a = pairs[c, 0]
+        b = pairs[c, 1]
         if b < 0:
             continue
         if kind[a] == DYNAMIC and kind[b] == DYNAMIC:
@@ -515,11 +520,13 @@ def solver_work(cap):
         ``e`` and ``sep``, each ``(cap,)``.
     """
     f = np.float64
+    spin = (np.zeros(cap, f), np.zeros((cap, 3, 6), f), np.zeros((cap, 3, 6), f),
+            np.zeros((cap, 3, 6), f), np.zeros((cap, 3), f), np.zeros((cap, 3), f))
     return (np.zeros((cap, 4, 4), f), np.zeros((cap, 4), f), np.zeros((cap, 4), f),
             np.zeros((cap, 4, 6), f), np.zeros((cap, 4, 6), f), np.zeros((cap, 4, 6), f),
             np.zeros((cap, 4, 6), f), np.zeros((cap, 4), f), np.zeros((cap, 4), f),
             np.zeros(cap, f), np.zeros(cap, f), np.zeros(cap, f), np.zeros(cap, f),
-            np.zeros(cap, f))
+            np.zeros(cap, f), spin)
 
 
 @njit(cache=True)
@@ -582,10 +589,12 @@ def tick(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass
             for k in range(1, 6):
                 if inv_inertia[i, k] != inv_inertia[i, 0]:
                     iso[i] = -1.0
-    rows, ra, rb, ja, jb, ija, ijb, rmass, cloc, vn0, maxlam, cmu, ce, sep = work
+    rows, ra, rb, ja, jb, ija, ijb, rmass, cloc, vn0, maxlam, cmu, ce, sep = work[:14]
+    spin = work[14]
     prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, rest,
             params[P_WORLDMU], params[P_WORLDE], ok, oloc, olam, oft, ocnt_arr[0], rows, ra,
-            rb, ja, jb, ija, ijb, rmass, clam, cmu, ce, vn0, maxlam, cloc)
+            rb, ja, jb, ija, ijb, rmass, clam, cmu, ce, vn0, maxlam, cloc, shape,
+            params[P_SPINR], spin)
     x0 = pos[:nb].copy()
     r0 = rot[:nb].copy()
     dpos = np.zeros((nb, 4))
@@ -603,11 +612,11 @@ def tick(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass
         ctot[c] = 0.0
     for _ in range(ns):
         apply_forces(nb, alive, kind, awake, pos, vel, omg, mass, params, h)
-        warm_start(nc, ci, clam, rows, ija, ijb, vel, omg, inv_mass)
+        warm_start(nc, ci, clam, rows, ja, jb, ija, ijb, vel, omg, inv_mass, iso, spin)
         current_separation(nc, ci, cd, rows, ra, rb, dpos, drot, sep)
         solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg,
-              inv_mass, inv_h, True, bias_rate, mass_scale, impulse_scale,
-              params[P_MAXPUSH], iters)
+              inv_mass, iso, inv_h, True, bias_rate, mass_scale, impulse_scale,
+              params[P_MAXPUSH], iters, spin)
         integrate_positions(nb, alive, kind, awake, pos, rot, vel, omg, inv_inertia, h)
         for i in range(nb):
             if not alive[i] or kind[i] == STATIC:
@@ -627,16 +636,16 @@ def tick(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass
                     drot[i, m, q] = s
         current_separation(nc, ci, cd, rows, ra, rb, dpos, drot, sep)
         solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg,
-              inv_mass, inv_h, False, bias_rate, mass_scale, impulse_scale,
-              params[P_MAXPUSH], relax)
+              inv_mass, iso, inv_h, False, bias_rate, mass_scale, impulse_scale,
+              params[P_MAXPUSH], relax, spin)
         for c in range(nc):
             ctot[c] += clam[c, 0]
     for c in range(nc):
         ctot[c] -= clam[c, 0]
     restitution(nc, ci, clam, ce, rows, ja, jb, ija, ijb, rmass, vn0, maxlam, vel, omg,
-                inv_mass, params[P_RESTTHR])
+                inv_mass, iso, params[P_RESTTHR])
     for c in range(nc):
         ctot[c] += clam[c, 0]
     ocnt_arr[0] = store(nc, ci, clam, rows, cloc, ok, oloc, olam, oft)
-    update_sleep(nb, alive, kind, awake, vel, omg, timer, island, nc, ci, params)
+    update_sleep(nb, alive, kind, awake, vel, omg, timer, island, npairs, pairs, params)
     return nc

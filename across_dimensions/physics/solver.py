@@ -51,7 +51,7 @@ def soft_params(hertz, zeta, h):
 @njit(cache=True)
 def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, rest,
             world_mu, world_e, ok, oloc, olam, oft, ocnt, rows, ra_, rb_, ja, jb, ija, ijb,
-            rmass, clam, cmu, ce, vn0, maxlam, cloc):
+            rmass, clam, cmu, ce, vn0, maxlam, cloc, shape, spin_radius, spin):
     """Build the solver rows of every contact and warm start them from the last tick.
 
     Parameters
@@ -85,7 +85,8 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
     ra_, rb_ : (C, 4) float64
         Output: anchors relative to the body centres.
     ja, jb, ija, ijb : (C, 4, 6) float64
-        Output: angular Jacobians ``r ^ d`` and their images under ``I^-1``.
+        Output: angular Jacobians ``r ^ d`` and their images under ``I^-1``
+        (the latter only for bodies with ``iso < 0``).
     rmass : (C, 4) float64
         Output: effective masses.
     clam : (C, 4) float64
@@ -98,6 +99,12 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
         Output: zeroed; largest normal impulse while solving.
     cloc : (C, 4) float64
         Output: contact points in body a's frame (for next tick's matching).
+    shape : (N,) int8
+        Body shapes (0 for hyperspheres).
+    spin_radius : float
+        Radius of the contact patch of a ball, as a fraction of its radius.
+    spin : tuple
+        Output: spin-friction rows (see :func:`_prepare_spin`).
     """
     ra = np.empty(4)
     rb = np.empty(4)
@@ -150,8 +157,15 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
             for k in range(6):
                 ja[c, r, k] = wa[k]
                 jb[c, r, k] = wb[k]
-                ija[c, r, k] = ia[k]
-                ijb[c, r, k] = ib[k]
+            # I^-1 J is only stored where the inertia is not a multiple of
+            # the identity; elsewhere the solver scales J (less memory to
+            # stream through every pass).
+            if iso[a] < 0.0:
+                for k in range(6):
+                    ija[c, r, k] = ia[k]
+            if b >= 0 and iso[b] < 0.0:
+                for k in range(6):
+                    ijb[c, r, k] = ib[k]
             rmass[c, r] = 1.0 / kk if kk > 0.0 else 0.0
             if r == 0:
                 for m in range(4):
@@ -165,6 +179,7 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
                         vn += wb[k] * omg[b, k]
         vn0[c] = vn
         maxlam[c] = 0.0
+        _prepare_spin(c, a, b, tb, cmu[c], shape, bound, iinv, iso, spin_radius, spin)
         # The contact point in a's frame: the same material point next tick.
         for m in range(4):
             s = 0.0
@@ -206,6 +221,50 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
 
 
 @njit(cache=True)
+def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, spin):
+    """Spin friction of a contact involving a ball.
+
+    A ball touching at one point can spin freely in the three planes of the
+    contact hyperplane (``t_i ^ t_j``) - point friction has no lever there -
+    so a ball in a pile could twirl forever and never sleep. A real contact is
+    a small patch; its friction resists that spin with a torque of at most
+    ``mu * N * spin_radius * r``. Rows: the unit bivectors ``B_k = t_i ^ t_j``
+    acting on the relative angular velocity.
+
+    ``spin`` holds ``(limit (C,), B (C, 3, 6), IA^-1 B, IB^-1 B (C, 3, 6),
+    mass (C, 3), impulse (C, 3))``; ``limit`` is 0 for contacts without a ball.
+    """
+    lim, bv, sia, sib, smass, slam = spin
+    r = np.inf
+    if shape[a] == 0:
+        r = bound[a]
+    if b >= 0 and shape[b] == 0:
+        r = min(r, bound[b])
+    if r == np.inf:
+        lim[c] = 0.0
+        return
+    lim[c] = mu * spin_radius * r
+    k = 0
+    tmp = np.empty(6)
+    for i in range(1, 4):
+        for j in range(i + 1, 4):
+            wedge(tb[i], tb[j], tmp)
+            for q in range(6):
+                bv[c, k, q] = tmp[q]
+            _inv_inertia_times(iinv[a], iso[a], bv[c, k], sia[c, k])
+            kk = 0.0
+            for q in range(6):
+                kk += bv[c, k, q] * sia[c, k, q]
+            if b >= 0:
+                _inv_inertia_times(iinv[b], iso[b], bv[c, k], sib[c, k])
+                for q in range(6):
+                    kk += bv[c, k, q] * sib[c, k, q]
+            smass[c, k] = 1.0 / kk if kk > 0.0 else 0.0
+            slam[c, k] = 0.0
+            k += 1
+
+
+@njit(cache=True)
 def _inv_inertia_times(m, iso, v, out):
     """``out = m @ v`` for a ``(6, 6)`` inverse inertia; ``iso >= 0`` says that
     ``m == iso * I`` (balls, hypercubes, non-dynamic bodies), the common case."""
@@ -233,26 +292,41 @@ def _rel_vel(c, r, a, b, rows, ja, jb, vel, omg):
 
 
 @njit(cache=True)
-def _apply(c, r, a, b, lam, rows, ija, ijb, vel, omg, inv_mass):
+def _apply(c, r, a, b, lam, rows, ja, jb, ija, ijb, vel, omg, inv_mass, iso):
     """Apply impulse ``lam`` along row ``r``: +lam on b, -lam on a."""
     ima = inv_mass[a] * lam
     for m in range(4):
         vel[a, m] -= ima * rows[c, r, m]
-    for k in range(6):
-        omg[a, k] -= lam * ija[c, r, k]
+    if iso[a] >= 0.0:
+        for k in range(6):
+            omg[a, k] -= lam * iso[a] * ja[c, r, k]
+    else:
+        for k in range(6):
+            omg[a, k] -= lam * ija[c, r, k]
     if b >= 0:
         imb = inv_mass[b] * lam
         for m in range(4):
             vel[b, m] += imb * rows[c, r, m]
-        for k in range(6):
-            omg[b, k] += lam * ijb[c, r, k]
+        if iso[b] >= 0.0:
+            for k in range(6):
+                omg[b, k] += lam * iso[b] * jb[c, r, k]
+        else:
+            for k in range(6):
+                omg[b, k] += lam * ijb[c, r, k]
 
 
 @njit(cache=True)
-def warm_start(nc, ci, clam, rows, ija, ijb, vel, omg, inv_mass):
-    """Apply the accumulated impulses so the iterations start near the answer."""
+def warm_start(nc, ci, clam, rows, ja, jb, ija, ijb, vel, omg, inv_mass, iso, spin):
+    """Apply the accumulated impulses so the iterations start near the answer.
+
+    Spin friction is not warm started: it only damps, so it restarts from zero
+    each substep.
+    """
+    slam = spin[5]
     p = np.empty(4)
     for c in range(nc):
+        for k in range(3):
+            slam[c, k] = 0.0
         a = ci[c, 0]
         b = ci[c, 1]
         for m in range(4):
@@ -262,19 +336,23 @@ def warm_start(nc, ci, clam, rows, ija, ijb, vel, omg, inv_mass):
             p[m] = s
         for m in range(4):
             vel[a, m] -= inv_mass[a] * p[m]
+        ia = ja if iso[a] >= 0.0 else ija
+        fa = iso[a] if iso[a] >= 0.0 else 1.0
         for k in range(6):
             s = 0.0
             for r in range(4):
-                s += clam[c, r] * ija[c, r, k]
-            omg[a, k] -= s
+                s += clam[c, r] * ia[c, r, k]
+            omg[a, k] -= fa * s
         if b >= 0:
             for m in range(4):
                 vel[b, m] += inv_mass[b] * p[m]
+            ib = jb if iso[b] >= 0.0 else ijb
+            fb = iso[b] if iso[b] >= 0.0 else 1.0
             for k in range(6):
                 s = 0.0
                 for r in range(4):
-                    s += clam[c, r] * ijb[c, r, k]
-                omg[b, k] += s
+                    s += clam[c, r] * ib[c, r, k]
+                omg[b, k] += fb * s
 
 
 @njit(cache=True)
@@ -311,8 +389,8 @@ def current_separation(nc, ci, cd, rows, ra_, rb_, dpos, drot, sep):
 
 @njit(cache=True)
 def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg,
-          inv_mass, inv_h, use_bias, bias_rate, mass_scale, impulse_scale, max_push,
-          iterations):
+          inv_mass, iso, inv_h, use_bias, bias_rate, mass_scale, impulse_scale, max_push,
+          iterations, spin):
     """Gauss-Seidel sweeps over all contacts: normal, then friction.
 
     Parameters
@@ -325,7 +403,10 @@ def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, om
     bias_rate, mass_scale, impulse_scale : float
         From :func:`soft_params`.
     iterations : int
+    spin : tuple
+        Spin-friction rows (see :func:`_prepare_spin`).
     """
+    slim, sbv, sia, sib, smass, slam = spin
     # The two bodies' velocities live in small local arrays while a contact is
     # solved: writing straight into vel/omg would make the compiler reload
     # every Jacobian after each store (it cannot rule out aliasing), which
@@ -359,8 +440,19 @@ def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, om
             R = rows[c]
             JA = ja[c]
             JB = jb[c]
-            IA = ija[c]
-            IB = ijb[c]
+            # Isotropic bodies: I^-1 J = iso * J (see prepare).
+            if iso[a] >= 0.0:
+                IA = JA
+                fa = iso[a]
+            else:
+                IA = ija[c]
+                fa = 1.0
+            if b >= 0 and iso[b] < 0.0:
+                IB = ijb[c]
+                fb = 1.0
+            else:
+                IB = JB
+                fb = iso[b] if b >= 0 else 0.0
             # Normal: a speculative contact (s > 0) may close its gap this
             # substep; an overlapping one is pushed out softly (solve pass only).
             vn = 0.0
@@ -393,8 +485,8 @@ def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, om
                 va[m] -= ima * d * R[0, m]
                 vb[m] += imb * d * R[0, m]
             for k in range(6):
-                wa[k] -= d * IA[0, k]
-                wb[k] += d * IB[0, k]
+                wa[k] -= d * fa * IA[0, k]
+                wb[k] += d * fb * IB[0, k]
             # Friction: one vector impulse clamped to the friction ball.
             limit = cmu[c] * new
             s2 = 0.0
@@ -417,8 +509,27 @@ def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, om
                     va[m] -= ima * d * R[r + 1, m]
                     vb[m] += imb * d * R[r + 1, m]
                 for k in range(6):
-                    wa[k] -= d * IA[r + 1, k]
-                    wb[k] += d * IB[r + 1, k]
+                    wa[k] -= d * fa * IA[r + 1, k]
+                    wb[k] += d * fb * IB[r + 1, k]
+            if slim[c] > 0.0:
+                limit = slim[c] * new
+                s2 = 0.0
+                for r in range(3):
+                    v = 0.0
+                    for k in range(6):
+                        v += sbv[c, r, k] * (wb[k] - wa[k])
+                    dl[r] = slam[c, r] - smass[c, r] * v
+                    s2 += dl[r] * dl[r]
+                if s2 > limit * limit:
+                    sc = limit / np.sqrt(s2) if s2 > 0.0 else 0.0
+                    for r in range(3):
+                        dl[r] *= sc
+                for r in range(3):
+                    d = dl[r] - slam[c, r]
+                    slam[c, r] = dl[r]
+                    for k in range(6):
+                        wa[k] -= d * sia[c, r, k]
+                        wb[k] += d * sib[c, r, k]
             for m in range(4):
                 vel[a, m] = va[m]
             for k in range(6):
@@ -432,7 +543,7 @@ def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, om
 
 @njit(cache=True)
 def restitution(nc, ci, clam, ce, rows, ja, jb, ija, ijb, rmass, vn0, maxlam, vel, omg,
-                inv_mass, threshold):
+                inv_mass, iso, threshold):
     """Bounce: drive the normal velocity to ``-e * vn0`` for contacts that were hit.
 
     Only contacts approaching faster than ``threshold`` and that actually pushed
@@ -451,7 +562,7 @@ def restitution(nc, ci, clam, ce, rows, ja, jb, ija, ijb, rmass, vn0, maxlam, ve
         d = new - clam[c, 0]
         clam[c, 0] = new
         if d != 0.0:
-            _apply(c, 0, a, b, d, rows, ija, ijb, vel, omg, inv_mass)
+            _apply(c, 0, a, b, d, rows, ja, jb, ija, ijb, vel, omg, inv_mass, iso)
 
 
 @njit(cache=True)

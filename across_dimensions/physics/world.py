@@ -106,6 +106,10 @@ class PhysicsWorld:
         that touching bodies do not feel a near-infinite pull.
     contact_hertz, damping_ratio, max_push : float
         Stiffness, damping and top speed (m/s) of the push-out of overlaps.
+    spin_friction : float
+        Contact-patch radius of a hypersphere as a fraction of its radius: it
+        brakes spinning in the planes of the contact (which point friction
+        cannot), so balls do not twirl in place forever. 0 turns it off.
     """
 
     def __init__(self, gravity=(0.0, -9.81, 0.0, 0.0), inverse_cube_G: float = 0.0, *,
@@ -114,7 +118,8 @@ class PhysicsWorld:
                  max_ticks: int = 4, world_friction: float = 0.6,
                  world_restitution: float = 0.0, sleep_time: float = 0.5,
                  softening: float = 0.05, contact_hertz: float = 30.0,
-                 damping_ratio: float = 10.0, max_push: float = 3.0):
+                 damping_ratio: float = 10.0, max_push: float = 3.0,
+                 spin_friction: float = 0.1):
         self.params = np.zeros(pl.N_PARAMS)
         if not tick_dt > 0 or int(substeps) < 1:
             raise ValueError("tick_dt must be positive and substeps at least 1")
@@ -131,6 +136,7 @@ class PhysicsWorld:
         p[pl.P_ZETA] = damping_ratio
         p[pl.P_MAXPUSH] = max_push
         p[pl.P_RESTTHR] = 0.5
+        p[pl.P_SPINR] = spin_friction
         p[pl.P_SLEEPLIN] = 0.05
         p[pl.P_SLEEPANG] = 0.1
         p[pl.P_SLEEPTIME] = sleep_time
