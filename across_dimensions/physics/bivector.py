@@ -169,17 +169,25 @@ def expm_skew(w, h, out, wk):
             a[i, j] *= scale
             term[i, j] = 1.0 if i == j else 0.0
             out[i, j] = term[i, j]
+    if norm == 0.0:
+        return
     for n in range(1, 11):
+        inv_n = 1.0 / n
+        big = 0.0
         for i in range(4):
             for j in range(4):
                 s = 0.0
                 for k in range(4):
                     s += term[i, k] * a[k, j]
-                tmp[i, j] = s / n
+                tmp[i, j] = s * inv_n
+                big = max(big, abs(tmp[i, j]))
         for i in range(4):
             for j in range(4):
                 term[i, j] = tmp[i, j]
                 out[i, j] += tmp[i, j]
+        # Slow spins (the usual case) converge in a handful of terms.
+        if big < 1e-18:
+            break
     for _ in range(squarings):
         for i in range(4):
             for j in range(4):

@@ -29,7 +29,7 @@ import numpy as np
 
 from across_dimensions.core._jit import njit
 
-from .bivector import mat6_vec, tangent_basis, wedge
+from .bivector import PLANE_I, PLANE_J, mat6_vec, tangent_basis, wedge
 
 
 @njit(cache=True)
@@ -109,6 +109,7 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
     ra = np.empty(4)
     rb = np.empty(4)
     tb = np.empty((4, 4))
+    olo = 0
     wa = np.empty(6)
     wb = np.empty(6)
     ia = np.empty(6)
@@ -179,7 +180,7 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
                         vn += wb[k] * omg[b, k]
         vn0[c] = vn
         maxlam[c] = 0.0
-        _prepare_spin(c, a, b, tb, cmu[c], shape, bound, iinv, iso, spin_radius, spin)
+        _prepare_spin(c, a, b, tb, cmu[c], shape, bound, iinv, iso, spin_radius, spin, wa)
         # The contact point in a's frame: the same material point next tick.
         for m in range(4):
             s = 0.0
@@ -188,16 +189,12 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
             cloc[c, m] = s
         for r in range(4):
             clam[c, r] = 0.0
-        # Warm start from the nearest old contact of the same pair.
-        lo = 0
-        hi = ocnt
+        # Warm start from the nearest old contact of the same pair. Both
+        # lists are sorted by key, so the search position only moves forward.
         key = ci[c, 2]
-        while lo < hi:
-            mid = (lo + hi) // 2
-            if ok[mid] < key:
-                lo = mid + 1
-            else:
-                hi = mid
+        while olo < ocnt and ok[olo] < key:
+            olo += 1
+        lo = olo
         tol = 0.1 * bound[a]
         best = tol * tol
         pick = -1
@@ -221,7 +218,7 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
 
 
 @njit(cache=True)
-def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, spin):
+def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, spin, tmp):
     """Spin friction of a contact involving a ball.
 
     A ball touching at one point can spin freely in the three planes of the
@@ -232,7 +229,9 @@ def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, spin):
     acting on the relative angular velocity.
 
     ``spin`` holds ``(limit (C,), B (C, 3, 6), IA^-1 B, IB^-1 B (C, 3, 6),
-    mass (C, 3), impulse (C, 3))``; ``limit`` is 0 for contacts without a ball.
+    mass (C, 3), impulse (C, 3))``; ``limit`` is 0 for contacts without a ball,
+    and ``I^-1 B`` is only stored for anisotropic bodies (as in :func:`prepare`).
+    ``tmp`` is ``(6,)`` scratch.
     """
     lim, bv, sia, sib, smass, slam = spin
     r = np.inf
@@ -244,21 +243,36 @@ def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, spin):
         lim[c] = 0.0
         return
     lim[c] = mu * spin_radius * r
+    if lim[c] == 0.0:
+        return
     k = 0
-    tmp = np.empty(6)
     for i in range(1, 4):
         for j in range(i + 1, 4):
-            wedge(tb[i], tb[j], tmp)
+            # B = t_i ^ t_j, a unit bivector (the t are orthonormal).
             for q in range(6):
-                bv[c, k, q] = tmp[q]
-            _inv_inertia_times(iinv[a], iso[a], bv[c, k], sia[c, k])
+                pi = PLANE_I[q]
+                pj = PLANE_J[q]
+                bv[c, k, q] = tb[i, pi] * tb[j, pj] - tb[i, pj] * tb[j, pi]
             kk = 0.0
-            for q in range(6):
-                kk += bv[c, k, q] * sia[c, k, q]
-            if b >= 0:
-                _inv_inertia_times(iinv[b], iso[b], bv[c, k], sib[c, k])
+            if iso[a] >= 0.0:
+                kk += iso[a]
+            else:
                 for q in range(6):
-                    kk += bv[c, k, q] * sib[c, k, q]
+                    s = 0.0
+                    for l in range(6):
+                        s += iinv[a, q, l] * bv[c, k, l]
+                    sia[c, k, q] = s
+                    kk += bv[c, k, q] * s
+            if b >= 0:
+                if iso[b] >= 0.0:
+                    kk += iso[b]
+                else:
+                    for q in range(6):
+                        s = 0.0
+                        for l in range(6):
+                            s += iinv[b, q, l] * bv[c, k, l]
+                        sib[c, k, q] = s
+                        kk += bv[c, k, q] * s
             smass[c, k] = 1.0 / kk if kk > 0.0 else 0.0
             slam[c, k] = 0.0
             k += 1
@@ -524,12 +538,14 @@ def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, om
                     sc = limit / np.sqrt(s2) if s2 > 0.0 else 0.0
                     for r in range(3):
                         dl[r] *= sc
+                sa = sbv if iso[a] >= 0.0 else sia
+                sb = sbv if b < 0 or iso[b] >= 0.0 else sib
                 for r in range(3):
                     d = dl[r] - slam[c, r]
                     slam[c, r] = dl[r]
                     for k in range(6):
-                        wa[k] -= d * sia[c, r, k]
-                        wb[k] += d * sib[c, r, k]
+                        wa[k] -= d * fa * sa[c, r, k]
+                        wb[k] += d * fb * sb[c, r, k]
             for m in range(4):
                 vel[a, m] = va[m]
             for k in range(6):
