@@ -48,6 +48,45 @@ def test_replay_is_bit_identical():
     assert world.state_hash() != hashes[0]
 
 
+_REPLAY = """
+import sys
+sys.path.insert(0, {tests!r})
+from test_physics_world import _scene
+world = _scene()
+for t in range(90):
+    world.step(1 / 60)
+print(world.state_hash())
+"""
+
+
+def test_replay_in_a_fresh_process_is_bit_identical():
+    # Nothing may depend on the process: hash seeds, addresses, the clock.
+    import os
+    import subprocess
+    import sys
+
+    world = _scene()
+    for _ in range(90):
+        world.step(1 / 60)
+    code = _REPLAY.format(tests=os.path.dirname(__file__))
+    env = dict(os.environ, PYTHONHASHSEED="123")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
+                         check=True, timeout=300)
+    assert out.stdout.strip().splitlines()[-1] == world.state_hash()
+
+
+def test_sleeping_bodies_cost_no_contacts():
+    world = PhysicsWorld()
+    for k in range(6):
+        world.add_body("hypercube", size=0.5, position=(0.6 * k, 0.25, 0, 0.3 * k))
+        world.add_body("hypercube", size=0.5, position=(0.6 * k, 0.76, 0, 0.3 * k))
+    for _ in range(120):
+        world.step(1 / 60)
+    assert not world.awake[:12].any()
+    world.step(1 / 60)
+    assert world.last_contact_count == 0
+
+
 def test_step_runs_fixed_ticks_whatever_the_frame_time():
     a, b = _scene(n=6), _scene(n=6)
     for _ in range(60):
