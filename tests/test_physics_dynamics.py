@@ -149,6 +149,27 @@ def test_hypersphere_slides_into_rolling_with_four_d_inertia():
     assert world.body_position(b)[1] == pytest.approx(r, abs=5e-3)
 
 
+def test_spin_friction_and_rolling_resistance_stop_a_ball():
+    # Spinning in place in the xz plane (parallel to the ground) is braked by
+    # the contact patch; rolling only by the optional rolling resistance.
+    world = PhysicsWorld(rolling_resistance=0.05)
+    r = 0.3
+    spinner = world.add_body("hypersphere", radius=r, position=(0, r, 0, 0),
+                             angular_velocity={"xz": 5.0, "zw": -3.0})
+    roller = world.add_body("hypersphere", radius=r, position=(3, r, 0, 0),
+                            velocity=(0, 0, 0, 2.0), angular_velocity={"yw": 2.0 / r})
+    ideal = PhysicsWorld()
+    free = ideal.add_body("hypersphere", radius=r, position=(0, r, 0, 0), velocity=(0, 0, 0, 2.0),
+                          angular_velocity={"yw": 2.0 / r})
+    for _ in range(600):
+        world.step(1 / 60)
+        ideal.step(1 / 60)
+    assert world.is_sleeping(spinner) and world.is_sleeping(roller)
+    assert world.body_position(roller)[3] > 1.0
+    # Without rolling resistance the ball rolls on at its speed.
+    assert ideal.body_velocity(free)[0][3] == pytest.approx(2.0, rel=1e-3)
+
+
 def test_hypersphere_rolls_down_a_slope_without_slipping():
     theta = 0.3
     world = PhysicsWorld(ground=False)

@@ -74,7 +74,8 @@ P_WORLDE = 20
 P_LINDAMP = 21
 P_ANGDAMP = 22
 P_SPINR = 23
-N_PARAMS = 24
+P_ROLL = 24
+N_PARAMS = 25
 
 
 @njit(cache=True)
@@ -520,8 +521,8 @@ def solver_work(cap):
         ``e`` and ``sep``, each ``(cap,)``.
     """
     f = np.float64
-    spin = (np.zeros(cap, f), np.zeros((cap, 3, 6), f), np.zeros((cap, 3, 6), f),
-            np.zeros((cap, 3, 6), f), np.zeros((cap, 3), f), np.zeros((cap, 3), f))
+    spin = (np.zeros((cap, 2), f), np.zeros((cap, 6, 6), f), np.zeros((cap, 6, 6), f),
+            np.zeros((cap, 6, 6), f), np.zeros((cap, 6), f), np.zeros((cap, 6), f))
     return (np.zeros((cap, 4, 4), f), np.zeros((cap, 4), f), np.zeros((cap, 4), f),
             np.zeros((cap, 4, 6), f), np.zeros((cap, 4, 6), f), np.zeros((cap, 4, 6), f),
             np.zeros((cap, 4, 6), f), np.zeros((cap, 4), f), np.zeros((cap, 4), f),
@@ -594,7 +595,7 @@ def tick(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass
     prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, rest,
             params[P_WORLDMU], params[P_WORLDE], ok, oloc, olam, oft, ocnt_arr[0], rows, ra,
             rb, ja, jb, ija, ijb, rmass, clam, cmu, ce, vn0, maxlam, cloc, shape,
-            params[P_SPINR], spin)
+            params[P_SPINR], params[P_ROLL], spin)
     x0 = pos[:nb].copy()
     r0 = rot[:nb].copy()
     dpos = np.zeros((nb, 4))

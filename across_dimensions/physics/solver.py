@@ -51,7 +51,7 @@ def soft_params(hertz, zeta, h):
 @njit(cache=True)
 def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, rest,
             world_mu, world_e, ok, oloc, olam, oft, ocnt, rows, ra_, rb_, ja, jb, ija, ijb,
-            rmass, clam, cmu, ce, vn0, maxlam, cloc, shape, spin_radius, spin):
+            rmass, clam, cmu, ce, vn0, maxlam, cloc, shape, spin_radius, rolling, spin):
     """Build the solver rows of every contact and warm start them from the last tick.
 
     Parameters
@@ -103,6 +103,8 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
         Body shapes (0 for hyperspheres).
     spin_radius : float
         Radius of the contact patch of a ball, as a fraction of its radius.
+    rolling : float
+        Rolling-resistance coefficient of balls.
     spin : tuple
         Output: spin-friction rows (see :func:`_prepare_spin`).
     """
@@ -180,7 +182,7 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
                         vn += wb[k] * omg[b, k]
         vn0[c] = vn
         maxlam[c] = 0.0
-        _prepare_spin(c, a, b, tb, cmu[c], shape, bound, iinv, iso, spin_radius, spin, wa)
+        _prepare_spin(c, a, b, tb, cmu[c], shape, bound, iinv, iso, spin_radius, rolling, spin)
         # The contact point in a's frame: the same material point next tick.
         for m in range(4):
             s = 0.0
@@ -218,20 +220,21 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
 
 
 @njit(cache=True)
-def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, spin, tmp):
-    """Spin friction of a contact involving a ball.
+def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, rolling, spin):
+    """Spin friction and rolling resistance of a contact involving a ball.
 
     A ball touching at one point can spin freely in the three planes of the
     contact hyperplane (``t_i ^ t_j``) - point friction has no lever there -
     so a ball in a pile could twirl forever and never sleep. A real contact is
     a small patch; its friction resists that spin with a torque of at most
-    ``mu * N * spin_radius * r``. Rows: the unit bivectors ``B_k = t_i ^ t_j``
-    acting on the relative angular velocity.
+    ``mu * N * spin_radius * r``. Rolling (the planes ``n ^ t_k``) is resisted
+    by at most ``rolling * N * r``. Rows: the unit bivectors acting on the
+    relative angular velocity, three per group.
 
-    ``spin`` holds ``(limit (C,), B (C, 3, 6), IA^-1 B, IB^-1 B (C, 3, 6),
-    mass (C, 3), impulse (C, 3))``; ``limit`` is 0 for contacts without a ball,
-    and ``I^-1 B`` is only stored for anisotropic bodies (as in :func:`prepare`).
-    ``tmp`` is ``(6,)`` scratch.
+    ``spin`` holds ``(limits (C, 2), B (C, 6, 6), IA^-1 B, IB^-1 B (C, 6, 6),
+    mass (C, 6), impulse (C, 6))``; the limits are 0 for contacts without a
+    ball, and ``I^-1 B`` is only stored for anisotropic bodies (as in
+    :func:`prepare`).
     """
     lim, bv, sia, sib, smass, slam = spin
     r = np.inf
@@ -240,19 +243,22 @@ def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, spin, t
     if b >= 0 and shape[b] == 0:
         r = min(r, bound[b])
     if r == np.inf:
-        lim[c] = 0.0
+        lim[c, 0] = 0.0
+        lim[c, 1] = 0.0
         return
-    lim[c] = mu * spin_radius * r
-    if lim[c] == 0.0:
+    lim[c, 0] = mu * spin_radius * r
+    lim[c, 1] = rolling * r
+    if lim[c, 0] == 0.0 and lim[c, 1] == 0.0:
         return
-    k = 0
-    for i in range(1, 4):
+    for i in range(4):
         for j in range(i + 1, 4):
-            # B = t_i ^ t_j, a unit bivector (the t are orthonormal).
+            # Unit bivectors t_i ^ t_j (k = 0..2) then n ^ t_j (k = 3..5); the
+            # frame is orthonormal.
+            row = j + 2 if i == 0 else i + j - 3
             for q in range(6):
                 pi = PLANE_I[q]
                 pj = PLANE_J[q]
-                bv[c, k, q] = tb[i, pi] * tb[j, pj] - tb[i, pj] * tb[j, pi]
+                bv[c, row, q] = tb[i, pi] * tb[j, pj] - tb[i, pj] * tb[j, pi]
             kk = 0.0
             if iso[a] >= 0.0:
                 kk += iso[a]
@@ -260,9 +266,9 @@ def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, spin, t
                 for q in range(6):
                     s = 0.0
                     for l in range(6):
-                        s += iinv[a, q, l] * bv[c, k, l]
-                    sia[c, k, q] = s
-                    kk += bv[c, k, q] * s
+                        s += iinv[a, q, l] * bv[c, row, l]
+                    sia[c, row, q] = s
+                    kk += bv[c, row, q] * s
             if b >= 0:
                 if iso[b] >= 0.0:
                     kk += iso[b]
@@ -270,12 +276,11 @@ def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, spin, t
                     for q in range(6):
                         s = 0.0
                         for l in range(6):
-                            s += iinv[b, q, l] * bv[c, k, l]
-                        sib[c, k, q] = s
-                        kk += bv[c, k, q] * s
-            smass[c, k] = 1.0 / kk if kk > 0.0 else 0.0
-            slam[c, k] = 0.0
-            k += 1
+                            s += iinv[b, q, l] * bv[c, row, l]
+                        sib[c, row, q] = s
+                        kk += bv[c, row, q] * s
+            smass[c, row] = 1.0 / kk if kk > 0.0 else 0.0
+            slam[c, row] = 0.0
 
 
 @njit(cache=True)
@@ -339,7 +344,7 @@ def warm_start(nc, ci, clam, rows, ja, jb, ija, ijb, vel, omg, inv_mass, iso, sp
     slam = spin[5]
     p = np.empty(4)
     for c in range(nc):
-        for k in range(3):
+        for k in range(6):
             slam[c, k] = 0.0
         a = ci[c, 0]
         b = ci[c, 1]
@@ -525,27 +530,29 @@ def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, om
                 for k in range(6):
                     wa[k] -= d * fa * IA[r + 1, k]
                     wb[k] += d * fb * IB[r + 1, k]
-            if slim[c] > 0.0:
-                limit = slim[c] * new
+            sa = sbv if iso[a] >= 0.0 else sia
+            sb = sbv if b < 0 or iso[b] >= 0.0 else sib
+            for g in range(2):
+                if slim[c, g] == 0.0:
+                    continue
+                limit = slim[c, g] * new
                 s2 = 0.0
                 for r in range(3):
                     v = 0.0
                     for k in range(6):
-                        v += sbv[c, r, k] * (wb[k] - wa[k])
-                    dl[r] = slam[c, r] - smass[c, r] * v
+                        v += sbv[c, 3 * g + r, k] * (wb[k] - wa[k])
+                    dl[r] = slam[c, 3 * g + r] - smass[c, 3 * g + r] * v
                     s2 += dl[r] * dl[r]
                 if s2 > limit * limit:
                     sc = limit / np.sqrt(s2) if s2 > 0.0 else 0.0
                     for r in range(3):
                         dl[r] *= sc
-                sa = sbv if iso[a] >= 0.0 else sia
-                sb = sbv if b < 0 or iso[b] >= 0.0 else sib
                 for r in range(3):
-                    d = dl[r] - slam[c, r]
-                    slam[c, r] = dl[r]
+                    d = dl[r] - slam[c, 3 * g + r]
+                    slam[c, 3 * g + r] = dl[r]
                     for k in range(6):
-                        wa[k] -= d * fa * sa[c, r, k]
-                        wb[k] += d * fb * sb[c, r, k]
+                        wa[k] -= d * fa * sa[c, 3 * g + r, k]
+                        wb[k] += d * fb * sb[c, 3 * g + r, k]
             for m in range(4):
                 vel[a, m] = va[m]
             for k in range(6):

@@ -110,6 +110,11 @@ class PhysicsWorld:
         Contact-patch radius of a hypersphere as a fraction of its radius: it
         brakes spinning in the planes of the contact (which point friction
         cannot), so balls do not twirl in place forever. 0 turns it off.
+    rolling_resistance : float
+        Hypersphere rolling resistance: the braking torque is at most this
+        times the normal force times the radius. 0 (the default) rolls on
+        ideally, as the physics tests expect; a level may want about 0.02 so
+        balls come to rest and sleep.
     """
 
     def __init__(self, gravity=(0.0, -9.81, 0.0, 0.0), inverse_cube_G: float = 0.0, *,
@@ -119,7 +124,7 @@ class PhysicsWorld:
                  world_restitution: float = 0.0, sleep_time: float = 0.5,
                  softening: float = 0.05, contact_hertz: float = 30.0,
                  damping_ratio: float = 10.0, max_push: float = 3.0,
-                 spin_friction: float = 0.1):
+                 spin_friction: float = 0.1, rolling_resistance: float = 0.0):
         self.params = np.zeros(pl.N_PARAMS)
         if not tick_dt > 0 or int(substeps) < 1:
             raise ValueError("tick_dt must be positive and substeps at least 1")
@@ -137,6 +142,7 @@ class PhysicsWorld:
         p[pl.P_MAXPUSH] = max_push
         p[pl.P_RESTTHR] = 0.5
         p[pl.P_SPINR] = spin_friction
+        p[pl.P_ROLL] = rolling_resistance
         p[pl.P_SLEEPLIN] = 0.05
         p[pl.P_SLEEPANG] = 0.1
         p[pl.P_SLEEPTIME] = sleep_time
