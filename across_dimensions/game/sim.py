@@ -13,8 +13,8 @@ import hashlib
 
 import numpy as np
 
-from ..world.level import Level
 from ..core.transform import scaling
+from ..world.level import Level
 from ..world.scene import Scene, SectionCache, build_physics, build_scene
 from .actions import Actions
 from .frame import Camera3, Drawable, Frame, Hud
@@ -49,7 +49,7 @@ class Game:
         self.tick = 0
         self.outcome: str | None = None  # "complete" once the goal is reached
         self.completed_tick: int | None = None
-        self.player = Player(level.spawn.astype(np.float64).copy(), yaw=float(np.radians(level.spawn_yaw_deg)))
+        self.player = self._spawned()
         self.respawns = 0
         self._prev_eye = self.player.eye()
         self._prev_view = (self.player.yaw, self.player.pitch)
@@ -131,8 +131,12 @@ class Game:
             p.on_ground = True
             p.velocity[1] = max(p.velocity[1], 0.0)
 
+    def _spawned(self) -> Player:
+        return Player(self.level.spawn.astype(np.float64).copy(), yaw=float(np.radians(self.level.spawn_yaw_deg)))
+
     def respawn(self) -> None:
-        self.player = Player(self.level.spawn.astype(np.float64).copy(), yaw=float(np.radians(self.level.spawn_yaw_deg)))
+        """Back to the spawn point (after falling out of the level)."""
+        self.player = self._spawned()
         self.respawns += 1
 
     def in_goal(self) -> bool:
