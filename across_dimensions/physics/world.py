@@ -12,8 +12,8 @@
 Bodies are kept in flat arrays indexed by id (ids are never reused) so that the
 compiled pipeline (:mod:`.pipeline`) can step them without Python overhead.
 ``step(dt)`` feeds a time accumulator and runs whole ticks of the fixed
-``tick_dt`` (each split into fixed substeps); the same sequence of calls therefore gives bit-identical states
-(:meth:`PhysicsWorld.state_hash`).
+``tick_dt`` (each split into fixed substeps); the same sequence of calls
+therefore gives bit-identical states (:meth:`PhysicsWorld.state_hash`).
 """
 
 from __future__ import annotations
@@ -61,6 +61,8 @@ def _bivector(value) -> np.ndarray:
     if isinstance(value, Mapping):
         out = np.zeros(6)
         for plane, rate in value.items():
+            if plane not in transform.PLANES:
+                raise ValueError(f"unknown plane {plane!r}; use one of {', '.join(transform.PLANES)}")
             out[transform.PLANES.index(plane)] = float(rate)
         return out
     out = np.asarray(value, dtype=np.float64).reshape(6)
@@ -178,6 +180,7 @@ class PhysicsWorld:
     @gravity.setter
     def gravity(self, value) -> None:
         self.params[pl.P_G:pl.P_G + 4] = _vec4(value, "gravity")
+        self._wake_all()  # sleepers must feel the new pull
 
     @property
     def inverse_cube_G(self) -> float:
@@ -187,6 +190,7 @@ class PhysicsWorld:
     @inverse_cube_G.setter
     def inverse_cube_G(self, value: float) -> None:
         self.params[pl.P_INVCUBE] = float(value)
+        self._wake_all()
 
     @property
     def allow_sleep(self) -> bool:
