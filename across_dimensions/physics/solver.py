@@ -10,6 +10,9 @@ on ``(vA, wA, vB, wB)``, so the relative velocity along ``d`` is
 Friction is isotropic: the three tangent impulses form one vector clamped to
 the ball of radius ``mu * normal impulse`` (a Coulomb cone in 4D), which is what
 turns a sliding hypersphere's slip into spin in whatever plane the slip is.
+Contacts of hyperspheres also get angular-only rows: spin friction in the three
+planes of the contact hyperplane and optional rolling resistance in the three
+planes containing the normal (see :func:`_prepare_spin`).
 
 The time stepping is Box2D v3's "soft step": contacts are found and prepared
 once per tick, then several substeps each warm start, solve with a soft
