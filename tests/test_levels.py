@@ -215,7 +215,8 @@ def test_readme_error_sample_is_real(example, tmp_path):
 def test_readme_example_can_be_played_to_the_exit(example):
     """The walk-through the README describes: red wall, ana, green wall, ana, exit."""
     from across_dimensions.game.actions import Actions
-    from across_dimensions.game.sim import Game, blocked_by
+    from across_dimensions.game.player import overlapping, player_box
+    from across_dimensions.game.sim import Game
 
     game = Game(load_level(example))
 
@@ -227,7 +228,7 @@ def test_readme_example_can_be_played_to_the_exit(example):
     assert game.player.on_ground and game.player.position[1] == pytest.approx(0.0, abs=1e-3)
     run(150, forward=1.0)  # up against the red wall at z = 0
     assert -1.0 < game.player.position[2] < -0.3
-    assert blocked_by(game, 0.0) is False  # touching, not inside
+    assert not overlapping(*player_box(game.player.position), game.colliders_at(0.0)).any()  # touching, not inside
     assert game.outcome is None
     run(40, w=1.0)  # ana until the red wall has gone
     assert 0.5 < game.player.position[3] < 0.8
@@ -240,7 +241,7 @@ def test_readme_example_can_be_played_to_the_exit(example):
     assert game.outcome == "complete"
     assert game.respawns == 0
     # Everything drew something along the way.
-    assert len(game.frame().drawables) == 1 + 2 + 3
+    assert len(game.frame().drawables) == 2 + 2 + 3  # static and floor, 2 worlds, 3 objects
 
 
 def test_readme_example_green_wall_blocks_at_its_w(example):

@@ -167,7 +167,7 @@ class Game:
         pitch = self._prev_view[1] + alpha * (p.pitch - self._prev_view[1])
         camera = Camera3(eye, yaw, pitch, fov_y_deg=fov_y_deg)
         w = float(p.position[3])
-        drawables = [Drawable("static", 0, self.scene.static_mesh)]
+        drawables = [Drawable("static", 0, self.scene.static_mesh), Drawable("floor", 0, self.scene.floor_mesh, style="floor")]
         for i, world in enumerate(self.scene.worlds):
             tri, rev = self.sections.section(f"world:{i}", world.mesh, np.eye(5), w)
             drawables.append(Drawable(f"world:{i}", rev, tri))

@@ -84,6 +84,7 @@ class Scene:
     level: Level
     static_mesh: TriMesh3
     static_boxes: np.ndarray
+    floor_mesh: TriMesh3 = field(default_factory=TriMesh3.empty)
     worlds: list[ExtendedWorld] = field(default_factory=list)
     objects: list[Object4] = field(default_factory=list)
 
@@ -108,9 +109,13 @@ def _aabb_of(v) -> tuple[np.ndarray, np.ndarray]:
 def build_scene(level: Level) -> Scene:
     """Build all geometry of ``level`` (lifted assets come from the bake cache)."""
     tris: list[TriMesh3] = []
+    floors: list[TriMesh3] = []
     boxes = []
     for b in level.boxes:
-        tris.append(box_trimesh(b.center, b.size, b.color))
+        # Wide, flat boxes are floors: drawn with a metre grid, which tells the
+        # player how fast they move and how far things are.
+        is_floor = b.size[1] <= 1.0 and b.size[0] * b.size[2] >= 16.0
+        (floors if is_floor else tris).append(box_trimesh(b.center, b.size, b.color))
         boxes.append([b.center - b.size / 2, b.center + b.size / 2])
     for m in level.meshes:
         v, f, model = _mesh_surface(m)
@@ -121,7 +126,7 @@ def build_scene(level: Level) -> Scene:
 
     worlds = [_build_world(w) for w in level.worlds]
     objects = [_build_object(o) for o in level.objects]
-    return Scene(level, merge_trimeshes(tris), static_boxes, worlds, objects)
+    return Scene(level, merge_trimeshes(tris), static_boxes, merge_trimeshes(floors), worlds, objects)
 
 
 def _build_world(spec) -> ExtendedWorld:
