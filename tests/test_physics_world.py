@@ -254,6 +254,14 @@ def test_player_push_moves_touched_dynamic_bodies():
     for _ in range(30):
         world.step(1 / 60)
     assert world.body_position(box)[0] > 0.7
+    # Walking into it with a velocity pushes it along (and not backwards).
+    before = world.body_velocity(box)[0]
+    world.player_collide(world.body_position(box) - (0.5, 0.3, 0.0, 0.0), radius=0.3, height=1.8,
+                         velocity=(2.0, 0.0, 0.0))
+    assert world.body_velocity(box)[0][0] == pytest.approx(max(2.0, before[0]))
+    world.player_collide(world.body_position(box) + (0.5, -0.3, 0.0, 0.0), radius=0.3, height=1.8,
+                         velocity=(2.0, 0.0, 0.0))
+    assert world.body_velocity(box)[0][0] == pytest.approx(max(2.0, before[0]))
     # A rotated hypercube still blocks, and the correction separates.
     cube = world.add_body("hypercube", size=1.0, position=(0, 0.5, 3.0, 0.0),
                           angles={"xz": 0.5, "zw": 0.4}, kind="static")

@@ -635,12 +635,22 @@ class PhysicsWorld:
         who = int(hit) if hit >= 0 else "world"
         return who, float(t), o + t * d, normal
 
-    def player_collide(self, position, radius: float, height: float, w_half: float = 0.05):
+    def player_collide(self, position, radius: float, height: float, w_half: float = 0.05,
+                       velocity=None):
         """Push a player out of the bodies in its w slab.
 
         The player is the upright box ``[x +- radius] x [y, y + height] x
         [z +- radius] x [w +- w_half]`` with ``position = (x, y, z, w)`` its feet.
         Bodies whose 4D shape does not reach into the slab are ignored.
+
+        Parameters
+        ----------
+        position : (4,) array_like
+        radius, height, w_half : float
+        velocity : (3,) or (4,) array_like, optional
+            The player's velocity. If given, touched dynamic bodies that the
+            player walks into get the impulse that makes them move at least
+            as fast as the player along its direction of motion (pushing).
 
         Returns
         -------
@@ -653,4 +663,21 @@ class PhysicsWorld:
         touched = np.zeros(self._n, dtype=bool)
         corr = player_kernel(self._n, self.alive, self.shape, self.half, self.pos, self.rot,
                              feet, float(radius), float(height), float(w_half), 4, touched)
-        return corr, [int(i) for i in np.flatnonzero(touched)]
+        ids = [int(i) for i in np.flatnonzero(touched)]
+        if velocity is not None:
+            v = np.zeros(4)
+            vv = np.asarray(velocity, dtype=np.float64).reshape(-1)
+            v[: vv.shape[0]] = vv
+            speed = np.linalg.norm(v)
+            if speed > 0:
+                d = v / speed
+                for i in ids:
+                    if self.kind[i] != pl.DYNAMIC:
+                        continue
+                    # Only bodies ahead of the player: behind ones are not pushed.
+                    if (self.pos[i] - feet) @ d <= 0:
+                        continue
+                    lag = speed - self.vel[i] @ d
+                    if lag > 0:
+                        self.push(i, self.mass[i] * lag * d)
+        return corr, ids
