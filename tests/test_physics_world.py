@@ -117,6 +117,19 @@ def test_body_pose_is_a_model_matrix():
         world.add_body("hypercube", kind="floating")
 
 
+def test_pose_interpolates_between_ticks():
+    world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
+    b = world.add_body("hypercube", size=1.0, velocity=(0, 0, 0, 6.0), angular_velocity={"xw": 3.0})
+    world.step(1 / 60)
+    world.step(1 / 120)
+    assert world.tick_fraction == pytest.approx(0.5)
+    half = world.body_pose(b, world.tick_fraction)
+    assert half[3, 4] == pytest.approx(0.05)
+    np.testing.assert_allclose(half[:4, :4], transform.rotation4("xw", 0.025), atol=1e-4)
+    assert transform.orthonormality_error(half[:4, :4]) < 1e-12
+    np.testing.assert_array_equal(world.body_pose(b, 1.0), world.body_pose(b))
+
+
 def test_static_and_kinematic_bodies():
     world = PhysicsWorld()
     floor = world.add_body("hypercube", size=(4, 0.2, 4, 4), position=(0, 1.0, 0, 0), kind="static")

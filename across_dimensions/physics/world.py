@@ -214,6 +214,8 @@ class PhysicsWorld:
             "inv_inertia": ((6,), np.float64), "mu": ((), np.float64),
             "rest": ((), np.float64), "awake": ((), bool), "timer": ((), np.float64),
             "island": ((), np.int64),
+            # Poses at the start of the last tick, for render interpolation.
+            "prev_pos": ((4,), np.float64), "prev_rot": ((4, 4), np.float64),
         }
         for name, (shape, dtype) in fields.items():
             arr = np.zeros((cap,) + shape, dtype=dtype)
@@ -339,6 +341,8 @@ class PhysicsWorld:
         self.awake[i] = True
         self.timer[i] = 0.0
         self.island[i] = i
+        self.prev_pos[i] = self.pos[i]
+        self.prev_rot[i] = self.rot[i]
         return i
 
     def remove_body(self, body_id: int) -> None:
@@ -362,13 +366,33 @@ class PhysicsWorld:
         """Ids of the bodies that exist."""
         return [int(i) for i in np.flatnonzero(self.alive[: self._n])]
 
-    def body_pose(self, body_id: int) -> np.ndarray:
-        """Model matrix of a body: ``(5, 5) float64`` homogeneous ``[[R, x], [0, 1]]``."""
+    def body_pose(self, body_id: int, alpha: float | None = None) -> np.ndarray:
+        """Model matrix of a body: ``(5, 5) float64`` homogeneous ``[[R, x], [0, 1]]``.
+
+        Parameters
+        ----------
+        body_id : int
+        alpha : float, optional
+            Blend from the pose at the start of the last tick (0) to the
+            current one (1), for drawing frames between ticks; pass
+            :attr:`tick_fraction` to draw where the accumulated time is. The
+            simulation itself is unaffected.
+        """
         i = self._check(body_id)
         m = np.eye(5)
-        m[:4, :4] = self.rot[i]
-        m[:4, 4] = self.pos[i]
+        if alpha is None or alpha >= 1.0:
+            m[:4, :4] = self.rot[i]
+            m[:4, 4] = self.pos[i]
+        else:
+            a = max(0.0, float(alpha))
+            m[:4, :4] = transform.orthonormalize((1 - a) * self.prev_rot[i] + a * self.rot[i])
+            m[:4, 4] = (1 - a) * self.prev_pos[i] + a * self.pos[i]
         return m
+
+    @property
+    def tick_fraction(self) -> float:
+        """Time accumulated towards the next tick, as a fraction of ``tick_dt`` in [0, 1)."""
+        return min(self._acc / self.tick_dt, 1.0)
 
     def body_position(self, body_id: int) -> np.ndarray:
         """Centre ``(4,) float64`` (a copy)."""
@@ -537,6 +561,9 @@ class PhysicsWorld:
         if self.inverse_cube_G != 0.0:
             p = p.copy()
             p[pl.P_ALLOWSLEEP] = 0.0
+        n = self._n
+        self.prev_pos[:n] = self.pos[:n]
+        self.prev_rot[:n] = self.rot[:n]
         while True:
             nc = pl.tick(self._n, self.alive, self.kind, self.shape, self.half, self.bound,
                          self.pos, self.rot, self.vel, self.omg, self.mass, self.inv_mass,
