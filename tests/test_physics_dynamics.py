@@ -128,6 +128,24 @@ def test_elastic_head_on_collision_conserves_momentum_and_energy(m2):
     assert world.body_position(a)[0] < world.body_position(b)[0]
 
 
+@pytest.mark.parametrize("e", [0.0, 0.5, 0.8])
+def test_restitution_sets_the_bounce_speed(e):
+    world = PhysicsWorld()
+    r = 0.25
+    b = world.add_body("hypersphere", radius=r, position=(0, 2 + r, 0, 0.4), restitution=e)
+    before = after = None
+    for _ in range(60):
+        v0 = world.body_velocity(b)[0][1]
+        world.step(1 / 60)
+        v1 = world.body_velocity(b)[0][1]
+        if world.events:
+            before, after = v0, v1
+            break
+    assert before is not None and before < -5.0
+    # The approach speed of the impact tick comes back scaled by e.
+    assert after == pytest.approx(-e * before, abs=1e-9)
+
+
 def test_hypersphere_slides_into_rolling_with_four_d_inertia():
     # Friction converts slip into spin until the contact point rests. With the
     # 4-ball's plane inertia m r^2 / 3 the final speed is v0 / (1 + 1/3) = 3/4 v0
