@@ -87,3 +87,14 @@ def test_box_inertia_by_sampling():
     for k, (i, j) in enumerate(zip(bivector.PLANE_I, bivector.PLANE_J)):
         assert np.mean(pts[:, i] ** 2 + pts[:, j] ** 2) == pytest.approx(inertia[k], rel=0.01)
     assert mass.box_volume(half) == pytest.approx(np.prod(2 * half))
+
+
+def test_stable_argsort_matches_numpy():
+    from across_dimensions.physics.sorting import argsort_stable
+
+    rng = _rng()
+    for n in (0, 1, 2, 7, 64, 1000):
+        keys = rng.integers(0, 20, size=n).astype(np.int64)
+        np.testing.assert_array_equal(argsort_stable(keys), np.argsort(keys, kind="stable"))
+        fkeys = rng.normal(size=n)
+        np.testing.assert_array_equal(argsort_stable(fkeys), np.argsort(fkeys, kind="stable"))

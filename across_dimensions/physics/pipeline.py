@@ -44,6 +44,7 @@ from .solver import (
     store,
     warm_start,
 )
+from .sorting import argsort_stable
 
 STATIC = 0
 KINEMATIC = 1
@@ -167,7 +168,7 @@ def find_pairs(nb, alive, kind, shape, half, pos, rot, vel, omg, awake, timer, i
             lo[i, m] = pos[i, m] - ext[m] - marg[i]
             hi[i, m] = pos[i, m] + ext[m] + marg[i]
         key[i] = lo[i, 0]
-    order = np.argsort(key, kind="mergesort")
+    order = argsort_stable(key)
     cap = pairs.shape[0]
     n = 0
     # Collect overlapping pairs with at least one dynamic body, then wake
@@ -268,7 +269,7 @@ def narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p, s
         a = pairs[p, 0]
         b = pairs[p, 1]
         keys[p] = (a << 32) | (b if b >= 0 else STATIC_KEY + (-1 - b))
-    order = np.argsort(keys, kind="mergesort")
+    order = argsort_stable(keys)
     nh = hs.shape[0]
     k = 0
     vx = np.empty(4)
