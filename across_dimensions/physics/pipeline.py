@@ -6,12 +6,12 @@ on the inputs, never on timing or hashing):
 1. bounding boxes, sort-and-sweep broadphase along x (bodies) plus a direct
    test against the few static world colliders;
 2. wake sleeping islands touched by moving bodies;
-3. narrowphase contacts for the pairs, sorted by pair key (needed for warm
-   starting by binary search);
-4. external forces (gravity, optional inverse-cube attraction);
-5. substeps of the soft-step solver (see :mod:`.solver`): forces, warm start,
-   solve, move, relax; then restitution;
-6. islands and sleeping.
+3. narrowphase contacts for the pairs, sorted by pair key (so last tick's
+   contacts can be matched for warm starting in one forward pass);
+4. solver rows for every contact (see :mod:`.solver`);
+5. substeps of the soft-step solver: forces (gravity, optional inverse-cube
+   attraction), warm start, solve, move, relax; then restitution;
+6. islands (from the broadphase pairs) and sleeping.
 
 The kernel checks buffer capacity before it changes any body, so the caller can
 grow the buffers and call it again when it reports an overflow.
