@@ -60,14 +60,15 @@ class Game:
         """Simulated seconds since the start."""
         return self.tick * DT
 
-    def object_model(self, index: int) -> np.ndarray:
-        """Object-to-world ``(5, 5)`` of object ``index`` now: its rigid body's pose,
-        or its level pose turned by its spin."""
+    def object_model(self, index: int, alpha: float | None = None) -> np.ndarray:
+        """Object-to-world ``(5, 5)`` of object ``index``: its rigid body's pose,
+        or its level pose turned by its spin; ``alpha`` of the way from the
+        previous tick when given (for drawing)."""
         obj = self.scene.objects[index]
         body = self.body_of.get(index)
         if body is None:
-            return obj.model_at(self.time)
-        return self.physics.body_pose(body) @ scaling(obj.scale)
+            return obj.model_at(self.time if alpha is None else self.time - (1.0 - alpha) * DT)
+        return self.physics.body_pose(body, alpha) @ scaling(obj.scale)
 
     def colliders_at(self, w: float) -> np.ndarray:
         """Boxes ``(k, 2, 3)`` solid in the slice at ``w``: the 3D world, the
@@ -172,7 +173,7 @@ class Game:
             tri, rev = self.sections.section(f"world:{i}", world.mesh, np.eye(5), w)
             drawables.append(Drawable(f"world:{i}", rev, tri))
         for i, obj in enumerate(self.scene.objects):
-            tri, rev = self.sections.section(f"object:{i}", obj.mesh, self.object_model(i), w)
+            tri, rev = self.sections.section(f"object:{i}", obj.mesh, self.object_model(i, alpha), w)
             drawables.append(Drawable(f"object:{i}", rev, tri))
         lo, hi = self.level.w_range
         message = "Level complete" if self.outcome == "complete" else ""
