@@ -16,4 +16,9 @@ if "NUMBA_CACHE_DIR" not in os.environ:
 
 import numba  # noqa: E402  (must follow the environment set-up above)
 
-njit = numba.njit
+def njit(*args, **kwargs):
+    """``numba.njit`` with NumPy's error model: a division by zero gives inf or
+    NaN instead of a Python exception, which would cost a branch per division
+    in every kernel. The kernels guard their divisions themselves."""
+    kwargs.setdefault("error_model", "numpy")
+    return numba.njit(*args, **kwargs)

@@ -31,6 +31,8 @@ oracle the tests compare against).
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ._jit import njit
@@ -92,59 +94,80 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
         interpolated colours, in the camera's xyz frame. Empty when nothing is cut.
     """
     mv = _model_view(model, camera_pose)
-    tets, lo, hi, centers, radii = mesh_clusters(mesh)
-    colors = mesh.vertex_colors()
+    layout = mesh_clusters(mesh)
+    tets, lo, hi, centers, radii = layout.tets, layout.lo, layout.hi, layout.centers, layout.radii
+    colors = _layout_colors(mesh, layout)
     # Bound on how far a unit object-space step moves camera-space w.
     w_gain = float(np.linalg.norm(mv[3, :4]))
     flip = 1.0 if np.linalg.det(mv[:4, :4]) > 0 else -1.0
     if not cull:
         lo, hi = lo[:1], hi[-1:]
         centers, radii = centers[:1], np.array([np.inf])
-    cut, ntri = _find_cut(mesh.vertices, tets, mv, lo, hi, centers, radii, w_gain, CASE_COUNT)
+    cut, ntri = _find_cut(layout.vertices, tets, mv, lo, hi, centers, radii, w_gain, CASE_COUNT, cull)
     if ntri == 0:
         return TriMesh3.empty()
-    v, n, c = _emit(mesh.vertices, tets, colors, mv, flip, cut, ntri, CASE_EDGES, CASE_COUNT)
+    v, n, c = _emit(layout.vertices, tets, colors, mv, flip, cut, ntri, CASE_EDGES, CASE_COUNT)
     faces = np.arange(3 * ntri, dtype=np.uint32).reshape(-1, 3)
     return TriMesh3(v, faces, n, c)
 
 
-CLUSTER_SIZE = 128
+CLUSTER_SIZE = 64
 
 
-def mesh_clusters(mesh: TetMesh4, size: int = CLUSTER_SIZE):
-    """Tets reordered into spatially coherent clusters with bounding spheres.
+class Layout(NamedTuple):
+    """A mesh rearranged for slicing (see :func:`mesh_clusters`)."""
+
+    vertices: np.ndarray  # (n', 4) float32, in order of first use by the sorted tets
+    tets: np.ndarray  # (m, 4) uint32, sorted into clusters, indexing ``vertices``
+    source: np.ndarray  # (n',) int64, the original index of each vertex
+    lo: np.ndarray  # (c,) int64, first tet of each cluster
+    hi: np.ndarray  # (c,) int64, one past its last tet
+    centers: np.ndarray  # (c, 4) float64, bounding sphere centres
+    radii: np.ndarray  # (c,) float64
+
+
+def mesh_clusters(mesh: TetMesh4, size: int = CLUSTER_SIZE) -> Layout:
+    """Tets sorted into spatially coherent clusters with bounding spheres.
 
     Cached on the mesh. Sorting by a 4D Morton code of tet centroids makes each
     run of ``size`` tets compact, so a hyperplane far from a cluster's sphere
-    skips all of its tets without touching them.
-
-    Returns
-    -------
-    tets : (m, 4) uint32
-        Reordered tets.
-    lo, hi : (c,) int64
-        Tet range of each cluster.
-    centers : (c, 4) float64
-    radii : (c,) float64
+    skips all of its tets without touching them. Vertices are renumbered in the
+    order the sorted tets first use them, so a cluster's vertices sit together
+    in memory: the gathers of a scan hit the cache instead of main memory.
     """
     key = ("clusters", size)
     if key not in mesh._cache:
         v = mesh.vertices.astype(np.float64)
-        p = v[mesh.tets]
-        cent = p.mean(axis=1)
+        cent = v[mesh.tets].mean(axis=1)
         lo_b, hi_b = cent.min(axis=0), cent.max(axis=0)
         q = ((cent - lo_b) / np.maximum(hi_b - lo_b, 1e-12) * 255).astype(np.uint64)
         code = np.zeros(len(cent), np.uint64)
         for bit in range(8):
             for axis in range(4):
                 code |= ((q[:, axis] >> np.uint64(bit)) & np.uint64(1)) << np.uint64(4 * bit + axis)
-        order = np.argsort(code, kind="stable")
-        tets = np.ascontiguousarray(mesh.tets[order])
+        sorted_tets = mesh.tets[np.argsort(code, kind="stable")]
+        used, first = np.unique(sorted_tets.ravel(), return_index=True)
+        source = used[np.argsort(first, kind="stable")]
+        renumber = np.empty(len(mesh.vertices), np.int64)
+        renumber[source] = np.arange(len(source))
+        tets = np.ascontiguousarray(renumber[sorted_tets].astype(np.uint32))
+        vertices = np.ascontiguousarray(mesh.vertices[source])
         starts = np.arange(0, len(tets), size, dtype=np.int64)
         ends = np.minimum(starts + size, len(tets))
-        centers, radii = _cluster_spheres(v, tets, starts, ends)
-        mesh._cache[key] = (tets, starts, ends, centers, radii)
+        centers, radii = _cluster_spheres(vertices.astype(np.float64), tets, starts, ends)
+        mesh._cache[key] = Layout(vertices, tets, source, starts, ends, centers, radii)
     return mesh._cache[key]
+
+
+def _layout_colors(mesh: TetMesh4, layout: Layout) -> np.ndarray:
+    """The mesh's vertex colours in the layout's order (cached with the colours)."""
+    key = ("layout_colors", len(layout.source))
+    colors = mesh.vertex_colors()
+    entry = mesh._cache.get(key)
+    if entry is None or entry[0] is not colors:
+        entry = (colors, np.ascontiguousarray(colors[layout.source]))
+        mesh._cache[key] = entry
+    return entry[1]
 
 
 @njit(cache=True)
@@ -176,15 +199,22 @@ def _cluster_spheres(v, tets, starts, ends):
 
 
 @njit(cache=True)
-def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, case_count):
-    """Indices of tets the hyperplane cuts, and the number of triangles they make."""
+def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, case_count, lazy):
+    """Indices of tets the hyperplane cuts, and the number of triangles they make.
+
+    One byte per vertex (is it above?) keeps the per-tet gathers in cache and
+    the case index branch-free. With ``lazy`` the bytes are filled only for
+    vertices of clusters that survive culling, so a scene mostly far from the
+    hyperplane costs little more than its cluster count.
+    """
     m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
     n = v.shape[0]
-    # One byte per vertex (is it above?) keeps the per-tet gathers in cache and
-    # the case index branch-free.
     above = np.empty(n, np.uint8)
-    for i in range(n):
-        above[i] = (m0 * v[i, 0] + m1 * v[i, 1] + m2 * v[i, 2] + m3 * v[i, 3] + m4) > 0.0
+    if lazy:
+        above[:] = 2  # not computed yet
+    else:
+        for i in range(n):
+            above[i] = (m0 * v[i, 0] + m1 * v[i, 1] + m2 * v[i, 2] + m3 * v[i, 3] + m4) > 0.0
     cut = np.empty(tets.shape[0], np.int64)
     ncut = 0
     ntri = 0
@@ -192,6 +222,12 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, case_count):
         dc = m0 * centers[c, 0] + m1 * centers[c, 1] + m2 * centers[c, 2] + m3 * centers[c, 3] + m4
         if abs(dc) > radii[c] * w_gain:
             continue
+        if lazy:
+            for t in range(lo[c], hi[c]):
+                for k in range(4):
+                    i = tets[t, k]
+                    if above[i] == 2:
+                        above[i] = (m0 * v[i, 0] + m1 * v[i, 1] + m2 * v[i, 2] + m3 * v[i, 3] + m4) > 0.0
         for t in range(lo[c], hi[c]):
             mask = above[tets[t, 0]] | (above[tets[t, 1]] << 1) | (above[tets[t, 2]] << 2) | (above[tets[t, 3]] << 3)
             if mask != 0 and mask != 15:
