@@ -300,6 +300,7 @@ def run_window(args) -> int:
     if args.fullscreen:
         settings.fullscreen = True
     path = resolve_level(args.level) if args.level else level_files()[0]
+    load_level(path)  # a broken level is reported before a window opens
     try:
         window = GameWindow(settings, path, seed=args.seed, record=args.record, warnings=warnings,
                    screenshot_after=args.screenshot_after, quit_after=args.quit_after)
