@@ -5,9 +5,12 @@ feet at ``position[1]``) living in the 3D slice at ``w = position[3]``. It
 collides with axis-aligned boxes: the 3D world's boxes and, for 4D geometry, the
 bounds of its cross-section at the player's w (see ``world.scene``).
 
-Why not pymunk: pymunk solves 2D rigid bodies; a walker needs 3D (jumping onto
-ledges, ceilings), and against boxes an axis-by-axis sweep is exact, cheap and
-trivially deterministic, which replays rely on.
+Why not pymunk (which the design suggested for the walker's collisions in the
+ground plane): a walker here needs the third axis too (jumping onto ledges,
+stepping up, ceilings), its obstacles change every time the player moves along
+w, and against boxes an axis-by-axis sweep is exact, cheap and deterministic,
+which replays rely on. Rebuilding a 2D pymunk space per w step would cost more
+and still leave y to this code; so the project does not depend on pymunk.
 
 Motion is resolved one axis at a time (x, z, then y): a move that would enter
 a box stops flush against it. A per-tick step is below the smallest wall
