@@ -21,7 +21,7 @@ from ..render.context import Offscreen, RenderError, wrap_current_context
 from ..render.renderer import Renderer
 from ..world.level import load_level
 from ..world.resources import level_files, resolve_level
-from .settings import Settings, load_settings, look_delta
+from .settings import Settings, load_settings, look_delta, save_settings, settings_path
 
 MAX_CATCH_UP = 5
 HINT_SECONDS = 7.0
@@ -297,6 +297,11 @@ def run_window(args) -> int:
     settings, warnings = load_settings(args.settings)
     for w in warnings:
         print(f"warning: {w}", file=sys.stderr)
+    if args.settings is None and not settings_path().exists():
+        try:  # first run: leave a settings file for the player to edit
+            save_settings(settings)
+        except OSError as e:
+            print(f"warning: could not write {settings_path()} ({e}); playing with the defaults", file=sys.stderr)
     if args.fullscreen:
         settings.fullscreen = True
     path = resolve_level(args.level) if args.level else level_files()[0]
