@@ -49,8 +49,11 @@ def _load_game(level_arg: str, seed: int):
 def replay(args) -> int:
     from ..game.replay import Replay, play
 
+    from .warmup import warm_up
+
     rep = Replay.load(args.replay)
     game = _load_game(args.level, rep.seed)
+    warm_up()
     shooter = _screenshotter(args, game) if args.screenshots else None
     result = play(rep, game, on_tick=shooter, check=not args.no_check)
     if shooter is not None:

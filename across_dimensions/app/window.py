@@ -22,6 +22,7 @@ from ..render.renderer import Renderer
 from ..world.level import load_level
 from ..world.resources import level_files, resolve_level
 from .settings import Settings, load_settings, look_delta, save_settings, settings_path
+from .warmup import warm_up
 
 MAX_CATCH_UP = 5
 HINT_SECONDS = 7.0
@@ -306,6 +307,7 @@ def run_window(args) -> int:
         settings.fullscreen = True
     path = resolve_level(args.level) if args.level else level_files()[0]
     load_level(path)  # a broken level is reported before a window opens
+    warm_up()
     try:
         window = GameWindow(settings, path, seed=args.seed, record=args.record, warnings=warnings,
                    screenshot_after=args.screenshot_after, quit_after=args.quit_after)
