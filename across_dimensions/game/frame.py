@@ -125,6 +125,77 @@ class Hud:
     paused: bool = False
     message: str = ""
     crosshair: bool = True
+    energy: EnergyGauge | None = None
+
+
+@dataclass(frozen=True)
+class EnergyGauge:
+    """The energy bar: crystal energy that pays for moving along w and other 4D actions.
+
+    Parameters
+    ----------
+    value, maximum : float
+        ``0 <= value <= maximum``; the bar shows ``value / maximum`` and the value as a number.
+    flash : float
+        1 right after a crystal is collected, fading to 0 (the bar flashes).
+    empty : bool
+        True while the player asked for something the bar cannot pay for (the bar says "NO ENERGY").
+    """
+
+    value: float
+    maximum: float
+    flash: float = 0.0
+    empty: bool = False
+
+
+#: Pin kinds the radar draws, each with its own head shape (never colour alone).
+RADAR_KINDS = ("crystal", "body", "enemy", "bullet", "target", "camera_focus", "camera_eye", "object")
+
+
+@dataclass(frozen=True)
+class RadarPin:
+    """One 4D entity on the holographic radar, in the radar's own frame.
+
+    The radar is a disc in the player's x-z plane, centred on the player and turned with the
+    player's yaw, so "ahead" is always the same direction on the disc.
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`RADAR_KINDS`; sets the pin's head shape and colour.
+    x, z : float
+        Position on the disc in disc radii: ``x`` to the player's right, ``z`` ahead. Entities
+        beyond the radar's range are not listed.
+    height : float
+        ``(w_entity - w_player) * w_scale``, in disc radii: positive (ana) stands above the disc,
+        negative (kata) hangs below it, 0 lies on the disc (visible in the slice now).
+    visible : bool
+        The entity's cross-section is in the player's slice this frame.
+    """
+
+    kind: str
+    x: float
+    z: float
+    height: float
+    visible: bool
+
+
+@dataclass
+class Radar:
+    """What the holographic radar shows this frame.
+
+    Parameters
+    ----------
+    range : float
+        Metres from the player to the disc's rim.
+    w_scale : float
+        Disc radii per unit of w offset (pin height = w offset * w_scale).
+    pins : list of RadarPin
+    """
+
+    range: float
+    w_scale: float
+    pins: list[RadarPin] = field(default_factory=list)
 
 
 @dataclass
@@ -134,5 +205,6 @@ class Frame:
     camera: Camera3
     drawables: list[Drawable] = field(default_factory=list)
     hud: Hud = field(default_factory=Hud)
+    radar: Radar | None = None
     sky_color: tuple[float, float, float] = (0.05, 0.06, 0.10)
     light_dir: tuple[float, float, float] = (0.4, 1.0, 0.25)
