@@ -287,6 +287,7 @@ def _energy_bar(q: _QuadList, gauge: EnergyGauge, m: HudMetrics) -> None:
         q.rect(x - g, y - g, w + 2 * g, h + 2 * g, ENERGY_FLASH_COLOR[:3] + (0.55 * flash,))
     outline = (ENERGY_EMPTY_COLOR[:3] + (0.9,)) if gauge.empty else _mix(OUTLINE_COLOR, ENERGY_FLASH_COLOR, flash)
     q.rect(x - 1, y - 1, w + 2, h + 2, outline)
+    q.rect(x, y, w, h, OUTLINE_COLOR)  # a dark backing inside the (possibly bright) outline keeps the fill readable
     q.rect(x, y, w, h, ENERGY_EMPTY_TRACK_COLOR if gauge.empty else ENERGY_TRACK_COLOR)
     pad = max(1, h // 6)
     inner_w = w - 2 * pad

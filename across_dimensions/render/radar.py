@@ -34,6 +34,7 @@ without OpenGL.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 
 import moderngl
@@ -85,6 +86,11 @@ KIND_COLORS = {
 PIECES = ("stem", "foot", "seen_ring", "arrow")
 #: Every instanced mesh, in draw order.
 SHAPES = tuple(dict.fromkeys(HEAD_SHAPES.values())) + PIECES
+_HEAD_SHAPE_NAMES = tuple(dict.fromkeys(HEAD_SHAPES.values()))
+_KIND_CODE = {k: i for i, k in enumerate(RADAR_KINDS)}
+_KIND_RGB = np.array([KIND_COLORS[k] for k in RADAR_KINDS], np.float64)
+_KIND_SCALE = np.array([KIND_SIZE.get(k, 1.0) for k in RADAR_KINDS], np.float64)
+_KIND_SHAPE = np.array([SHAPES.index(HEAD_SHAPES[k]) for k in RADAR_KINDS], np.intp)
 #: Floats per instance: position xyz | scale xyz | colour rgb, emission.
 INSTANCE_FLOATS = 10
 
@@ -148,12 +154,14 @@ def radar_geometry(radar: Radar, px_per_radius: float = 120.0) -> RadarGeometry:
     geo = RadarGeometry()
     if n == 0:
         return geo
-    kinds = [p.kind for p in pins]
-    for k in set(kinds):
-        if k not in HEAD_SHAPES:
-            raise RenderError(f"radar pin kind {k!r} is not one of {', '.join(RADAR_KINDS)}")
-    data = np.array([(p.x, p.z, p.height, p.visible) for p in pins], np.float64).reshape(n, 4)
-    x, z, h, seen = data[:, 0], data[:, 1], data[:, 2], data[:, 3] > 0.5
+    try:
+        code = np.fromiter((_KIND_CODE[p.kind] for p in pins), np.intp, n)
+    except KeyError as e:
+        raise RenderError(f"radar pin kind {e.args[0]!r} is not one of {', '.join(RADAR_KINDS)}") from None
+    x = np.fromiter((p.x for p in pins), np.float64, n)
+    z = np.fromiter((p.z for p in pins), np.float64, n)
+    h = np.fromiter((p.height for p in pins), np.float64, n)
+    seen = np.fromiter((p.visible for p in pins), bool, n)
     r = np.hypot(x, z)
     pull = np.where(r > 1.0, 1.0 / np.maximum(r, 1e-12), 1.0)
     x, z = x * pull * RADIUS, z * pull * RADIUS
@@ -161,47 +169,51 @@ def radar_geometry(radar: Radar, px_per_radius: float = 120.0) -> RadarGeometry:
     y = np.clip(h, -HEIGHT_CLAMP, HEIGHT_CLAMP) * RADIUS
     px = 1.0 / max(float(px_per_radius), 1e-6)  # disc radii per pixel
 
-    color = np.array([KIND_COLORS[k] for k in kinds], np.float64)
-    size = np.array([KIND_SIZE.get(k, 1.0) for k in kinds]) * max(HEAD_SIZE, HEAD_MIN_PX * px)
+    color = _KIND_RGB[code]
+    size = _KIND_SCALE[code] * max(HEAD_SIZE, HEAD_MIN_PX * px)
     emission = np.where(seen, 0.8, 0.0)
     ones = np.ones(n)
 
     def rows(pos, scale, rgb, em):
-        out = np.empty((len(pos), INSTANCE_FLOATS), np.float32)
+        out = np.empty((len(rgb), INSTANCE_FLOATS), np.float32)
         out[:, 0:3] = pos
         out[:, 3:6] = scale
         out[:, 6:9] = rgb
         out[:, 9] = em
         return out
 
-    inst: dict[str, list[np.ndarray]] = {}
+    inst: dict[str, np.ndarray] = {}
     heads = np.stack([x, y, z], axis=1)
-    shapes = [HEAD_SHAPES[k] for k in kinds]
-    shape_arr = np.array(shapes)
-    head_rows = rows(heads, np.repeat(size[:, None], 3, axis=1), color, emission)
-    for s in dict.fromkeys(shapes):
-        inst.setdefault(s, []).append(head_rows[shape_arr == s])
+    head_rows = rows(heads, size[:, None], color, emission)
+    # Group the heads by shape with one stable sort (pins of one kind keep their order).
+    shape_code = _KIND_SHAPE[code]
+    order = np.argsort(shape_code, kind="stable")
+    bounds = np.searchsorted(shape_code[order], np.arange(len(SHAPES) + 1))
+    for i, name in enumerate(SHAPES[:len(_HEAD_SHAPE_NAMES)]):
+        if bounds[i + 1] > bounds[i]:
+            inst[name] = head_rows[order[bounds[i]:bounds[i + 1]]]
     # Stems: a unit quad (x in [-0.5, 0.5], y in [0, 1]) stretched from the disc to the head; a
     # minimum height keeps the scale invertible for the normal.
     stem_w = max(STEM_WIDTH, STEM_MIN_PX * px)
     sy = np.where(np.abs(y) < 1e-4, 1e-4, y)
-    inst["stem"] = [rows(np.stack([x, 0 * x, z], 1), np.stack([stem_w * ones, sy, ones], 1), 0.75 * color, 0.3 * emission)]
+    inst["stem"] = rows(np.stack([x, 0 * x, z], 1), np.stack([stem_w * ones, sy, ones], 1), 0.75 * color, 0.3 * emission)
     # Feet lie just above the disc so the disc (drawn after, depth-tested) never covers them.
     foot = max(0.028, 2.2 * px)
-    inst["foot"] = [rows(np.stack([x, 0.004 + 0 * x, z], 1), np.stack([foot * ones, ones, foot * ones], 1), color, emission)]
+    inst["foot"] = rows(np.stack([x, 0.004 + 0 * x, z], 1), np.stack([foot * ones, ones, foot * ones], 1), color, emission)
     if seen.any():
         # Wider than the head, so the ring shows round a head sitting on the disc.
         ring = np.repeat(np.maximum(1.7 * size[seen], 6.0 * px)[:, None], 3, axis=1)
         ring_rgb = 0.3 * color[seen] + 0.7
-        inst["seen_ring"] = [rows(np.stack([x[seen], 0.006 + 0 * x[seen], z[seen]], 1), ring, ring_rgb, 1.0 + 0 * x[seen])]
+        inst["seen_ring"] = rows(np.stack([x[seen], 0.006 + 0 * x[seen], z[seen]], 1), ring, ring_rgb, 1.0)
     if clamped.any():
         sgn = np.sign(h[clamped])
         ay = y[clamped] + sgn * size[clamped] * 1.45
         asz = size[clamped] * 0.9
         arrow_rgb = 0.4 * color[clamped] + 0.6  # lighter than the head, so it reads as a sign, not a second head
-        inst["arrow"] = [rows(np.stack([x[clamped], ay, z[clamped]], 1), np.stack([asz, sgn * asz * 1.2, asz], 1), arrow_rgb, 0 * ay)]
-    geo.instances = {s: np.concatenate(v) for s, v in inst.items() if sum(len(a) for a in v)}
-    geo.heads, geo.shapes, geo.clamped = heads, shapes, clamped
+        inst["arrow"] = rows(np.stack([x[clamped], ay, z[clamped]], 1), np.stack([asz, sgn * asz * 1.2, asz], 1), arrow_rgb, 0.0)
+    geo.instances = inst
+    geo.heads, geo.clamped = heads, clamped
+    geo.shapes = [SHAPES[c] for c in shape_code]
     return geo
 
 
@@ -288,6 +300,17 @@ def _sphere(subdiv: int = 1) -> np.ndarray:
     return _soup(v, f)
 
 
+def weld(soup: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Indexed form of a triangle soup: unique ``(k, 6) float32`` rows and ``(3 f,) uint32`` indices.
+
+    Indexed draws let llvmpipe shade each shared vertex once per instance instead of once per
+    triangle corner (it runs vertex shaders on the CPU).
+    """
+    q = np.round(np.asarray(soup, np.float64) * 1e5).astype(np.int64)
+    _, first, inverse = np.unique(q, axis=0, return_index=True, return_inverse=True)
+    return np.ascontiguousarray(soup[first], np.float32), inverse.reshape(-1).astype(np.uint32)
+
+
 def unit_shapes() -> dict[str, np.ndarray]:
     """Every instanced shape as a triangle soup ``(k, 6) float32`` (position, normal), about unit size.
 
@@ -301,10 +324,13 @@ def unit_shapes() -> dict[str, np.ndarray]:
     tet = np.array([(1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1)], float) * 0.8
     # Stella octangula: two interpenetrating tetrahedra, all spikes.
     s["star"] = np.concatenate([_soup(tet, _hull_faces(tet)), _soup(-tet, _hull_faces(-tet))])
-    s["sphere"] = _sphere(1)
+    sphere = _sphere(0)  # an icosahedron with smooth normals: bullets are a few pixels wide
+    sphere[:, 3:] = sphere[:, :3]
+    s["sphere"] = sphere
     # Torus standing in the x-y plane (a ring facing the radar camera): revolve a circle about z,
     # built as rings of quads.
-    seg, tube, big, small = 20, 8, 0.72, 0.26
+    # Few segments: llvmpipe transforms every vertex of every instance on the CPU.
+    seg, tube, big, small = 10, 4, 0.72, 0.27
     u = np.linspace(0, 2 * np.pi, seg + 1)[:-1]
     w = np.linspace(0, 2 * np.pi, tube + 1)[:-1]
     U, Wt = np.meshgrid(u, w, indexing="ij")
@@ -315,34 +341,49 @@ def unit_shapes() -> dict[str, np.ndarray]:
             a, b = i * tube + j, ((i + 1) % seg) * tube + j
             c, d = ((i + 1) % seg) * tube + (j + 1) % tube, i * tube + (j + 1) % tube
             tf += [(a, b, c), (a, c, d)]
-    s["torus"] = _soup(tv, tf)
+    torus = _soup(tv, tf).reshape(-1, 6)
+    # Smooth normals (from the tube's centre line), so the welded mesh shares every vertex.
+    p = torus[:, :3].astype(np.float64)
+    centre = p.copy()
+    centre[:, 2] = 0.0
+    centre *= big / np.maximum(np.linalg.norm(centre, axis=1, keepdims=True), 1e-12)
+    nrm = p - centre
+    torus[:, 3:] = nrm / np.linalg.norm(nrm, axis=1, keepdims=True)
+    s["torus"] = torus
     bar = 0.22
     s["cross"] = np.concatenate([_box((0, 0, 0), (1.0, bar, bar)), _box((0, 0, 0), (bar, 1.0, bar)), _box((0, 0, 0), (bar, bar, 1.0))])
     # Camera eye: a cone lying on its side, tip to the right (reads as a projector or eye beam).
-    s["cone"] = _revolve([(0.0, 1.0), (0.7, -0.8), (0.0, -0.8)], axis=0, segments=16)
-    e, t = 0.75, 0.14
-    edges = []
+    s["cone"] = _revolve([(0.0, 1.0), (0.7, -0.8), (0.0, -0.8)], axis=0, segments=10)
+    # Object: a hollow cube, each face a square frame (eight triangles), so its edges read as an outline.
+    e, t = 0.8, 0.55
+    frames = []
     for axis in range(3):
-        for a in (-e, e):
-            for b in (-e, e):
-                c = np.zeros(3)
-                o = [i for i in range(3) if i != axis]
-                c[o[0]], c[o[1]] = a, b
-                half = np.full(3, t)
-                half[axis] = e + t
-                edges.append(_box(c, half))
-    s["cube_outline"] = np.concatenate(edges)
+        a, b = [i for i in range(3) if i != axis]
+        for side in (-e, e):
+            outer = [(-e, -e), (e, -e), (e, e), (-e, e)]
+            pts = []
+            for u, v in outer + [(t * u, t * v) for u, v in outer]:
+                p = np.zeros(3)
+                p[axis], p[a], p[b] = side, u, v
+                pts.append(p)
+            tris = [t_ for i in range(4) for t_ in ((i, (i + 1) % 4, 4 + (i + 1) % 4), (i, 4 + (i + 1) % 4, 4 + i))]
+            frames.append(_soup(pts, tris))
+    s["cube_outline"] = np.concatenate(frames)
     s["stem"] = _soup([(-0.5, 0, 0), (0.5, 0, 0), (0.5, 1, 0), (-0.5, 1, 0)], [(0, 1, 2), (0, 2, 3)])
-    ang = np.linspace(0, 2 * np.pi, 17)[:-1]
+    k = 8
+    ang = np.linspace(0, 2 * np.pi, k + 1)[:-1]
     circle = np.stack([np.cos(ang), 0 * ang, np.sin(ang)], 1)
-    s["foot"] = _soup(np.vstack([[0, 0, 0], circle]), [(0, 1 + i, 1 + (i + 1) % 16) for i in range(16)])
+    s["foot"] = _soup(np.vstack([[0, 0, 0], circle]), [(0, 1 + i, 1 + (i + 1) % k) for i in range(k)])
+    k = 12
+    ang = np.linspace(0, 2 * np.pi, k + 1)[:-1]
+    circle = np.stack([np.cos(ang), 0 * ang, np.sin(ang)], 1)
     ring = np.vstack([circle, 0.72 * circle])
-    s["seen_ring"] = _soup(ring, [t for i in range(16) for t in ((i, (i + 1) % 16, 16 + (i + 1) % 16), (i, 16 + (i + 1) % 16, 16 + i))])
-    s["arrow"] = _revolve([(0.0, 1.0), (1.0, 0.0), (0.0, 0.0)], axis=1, segments=12)
+    s["seen_ring"] = _soup(ring, [t for i in range(k) for t in ((i, (i + 1) % k, k + (i + 1) % k), (i, k + (i + 1) % k, k + i))])
+    s["arrow"] = _revolve([(0.0, 1.0), (1.0, 0.0), (0.0, 0.0)], axis=1, segments=8)
     return s
 
 
-def _annulus(r0, r1, color, segments=96, y=0.0, a0=0.0, a1=2 * np.pi) -> np.ndarray:
+def _annulus(r0, r1, color, segments=64, y=0.0, a0=0.0, a1=2 * np.pi) -> np.ndarray:
     ang = np.linspace(a0, a1, segments + 1)
     c0, s0 = np.cos(ang[:-1]), np.sin(ang[:-1])
     c1, s1 = np.cos(ang[1:]), np.sin(ang[1:])
@@ -472,6 +513,9 @@ def _mat4_bytes(m: np.ndarray) -> bytes:
     return np.ascontiguousarray(np.asarray(m, np.float64).T, np.float32).tobytes()
 
 
+_IDENTITY = _mat4_bytes(np.eye(4))
+
+
 def radar_rect_gl(viewport: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
     """The radar's rectangle inside ``viewport`` (both ``(x, y, w, h)``, OpenGL origin bottom-left)."""
     vx, vy, vw, vh = (int(v) for v in viewport)
@@ -492,6 +536,9 @@ class RadarRenderer:
         Draw calls of the last :meth:`draw`.
     instance_writes : int
         Instance buffer writes over the renderer's life (the radar's only per-frame uploads).
+    driver_seconds : float
+        Time spent inside the draw calls of the last :meth:`draw` (on llvmpipe this includes the
+        vertex shading and triangle setup that a GPU would do), for the benchmark.
     last_geometry : RadarGeometry or None
     """
 
@@ -505,14 +552,18 @@ class RadarRenderer:
         self._objects: list = [self.shape_prog, self.flat_prog]
         self._shapes: dict[str, tuple[moderngl.Buffer, moderngl.VertexArray, int]] = {}
         for name, soup in unit_shapes().items():
-            vbo = ctx.buffer(soup.tobytes())
+            verts, idx = weld(soup)
+            vbo = ctx.buffer(verts.tobytes())
+            ibo = ctx.buffer(idx.tobytes())
             inst = ctx.buffer(reserve=64 * INSTANCE_FLOATS * 4, dynamic=True)
             vao = ctx.vertex_array(
                 self.shape_prog,
                 [(vbo, "3f 3f", "in_pos", "in_normal"), (inst, "3f 3f 4f/i", "i_pos", "i_scale", "i_color")],
+                index_buffer=ibo,
+                index_element_size=4,
             )
-            self._shapes[name] = (inst, vao, len(soup))
-            self._objects += [vao, vbo, inst]
+            self._shapes[name] = (inst, vao, len(idx))
+            self._objects += [vao, vbo, ibo, inst]
         disc = disc_vertices()
         self._disc_vbo = ctx.buffer(disc.tobytes())
         self._disc_vao = ctx.vertex_array(self.flat_prog, [(self._disc_vbo, "3f 4f", "in_pos", "in_color")])
@@ -541,6 +592,7 @@ class RadarRenderer:
         self.shape_prog["u_to_eye"].value = (0.0, float(np.sin(p)), float(-np.cos(p)))
         self.draw_calls = 0
         self.instance_writes = 0
+        self.driver_seconds = 0.0
         self.last_geometry: RadarGeometry | None = None
 
     def _view_proj(self, aspect: float) -> tuple[bytes, float]:
@@ -558,8 +610,10 @@ class RadarRenderer:
         rect = radar_rect_gl(viewport)
         rw, rh = rect[2], rect[3]
         self.draw_calls = 0
+        self.driver_seconds = 0.0
         if rw <= 0 or rh <= 0 or fbo is None:
             return
+        clock = time.perf_counter
         vp_bytes, ndc_r = self._view_proj(rw / rh)
         geo = radar_geometry(radar, px_per_radius=ndc_r * rw / 2)
         self.last_geometry = geo
@@ -573,8 +627,10 @@ class RadarRenderer:
         ctx.depth_func = "1"
         # Destination alpha stays 1 so screenshots stay opaque.
         ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
-        self.flat_prog["u_view_proj"].write(_mat4_bytes(np.eye(4)))
+        self.flat_prog["u_view_proj"].write(_IDENTITY)
+        t0 = clock()
         self._back_vao.render(moderngl.TRIANGLES, vertices=self._back_n)
+        spent = clock() - t0
         ctx.disable(moderngl.BLEND)
         ctx.depth_func = "<"
         self.draw_calls = 1
@@ -590,13 +646,17 @@ class RadarRenderer:
                 inst.orphan(len(data) * 2)
             inst.write(data)
             self.instance_writes += 1
+            t0 = clock()
             vao.render(moderngl.TRIANGLES, vertices=n_vert, instances=len(rows))
+            spent += clock() - t0
             self.draw_calls += 1
 
         ctx.enable(moderngl.BLEND)
         fbo.depth_mask = False
         self.flat_prog["u_view_proj"].write(vp_bytes)
+        t0 = clock()
         self._disc_vao.render(moderngl.TRIANGLES, vertices=self._disc_n)
+        self.driver_seconds = spent + clock() - t0
         self.draw_calls += 1
         fbo.depth_mask = True
         ctx.disable(moderngl.BLEND)
