@@ -110,7 +110,7 @@ def bench_hud(ctx, n_pins: int = 200, frames: int = 300, size: tuple[int, int] =
                 t0 = time.perf_counter()
                 if with_radar:
                     renderer.radar.draw(r, vp)
-                renderer.hud.draw(hud, vp)
+                renderer.hud.draw(hud, vp, r if with_radar else None)
                 t1 = time.perf_counter()
                 ctx.finish()
                 if i >= 5:
@@ -126,7 +126,7 @@ def bench_hud(ctx, n_pins: int = 200, frames: int = 300, size: tuple[int, int] =
         px = 100.0
         for i in range(frames):
             t0 = time.perf_counter()
-            hud_quads(full, *size)
+            hud_quads(full, *size, radar)
             radar_geometry(radar, px)
             times.append(time.perf_counter() - t0)
         out["layout_ms"] = float(np.median(times) * 1e3)

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from ..game.frame import EnergyGauge, Hud
+from ..game.frame import EnergyGauge, Hud, Radar
 from .font import CELL_H, CELL_W, GLYPH_H, GLYPH_W, SOLID_CELL, build_atlas, cell_origin, glyph_index
 
 CROSSHAIR_COLOR = (0.95, 0.95, 0.95, 1.0)
@@ -55,6 +55,7 @@ ENERGY_FLASH_COLOR = (0.85, 1.0, 1.0, 1.0)
 ENERGY_EMPTY_COLOR = (1.0, 0.18, 0.15, 1.0)
 ENERGY_EMPTY_TRACK_COLOR = (1.0, 0.15, 0.1, 0.28)
 ENERGY_LABEL_COLOR = (0.75, 0.95, 1.0, 1.0)
+RADAR_LABEL_COLOR = (0.6, 0.9, 1.0, 0.85)
 #: Width over height of the radar's rectangle (the radar view fits itself to it).
 RADAR_ASPECT = 0.95
 
@@ -180,8 +181,12 @@ def _wrap(message: str, max_chars: int) -> list[str]:
     return lines
 
 
-def hud_quads(hud: Hud, width: int, height: int) -> np.ndarray:
+def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> np.ndarray:
     """Lay out the HUD for a ``width x height`` viewport.
+
+    With ``radar``, also the radar's labels round its rectangle (the radar itself is drawn by
+    :class:`~across_dimensions.render.radar.RadarRenderer`): ``+w`` at the top left, ``-w`` at the
+    bottom left (pins stand above for ana, hang below for kata) and the range at the bottom right.
 
     Returns
     -------
@@ -220,6 +225,14 @@ def hud_quads(hud: Hud, width: int, height: int) -> np.ndarray:
     # --- energy bar (bottom-left)
     if hud.energy is not None:
         _energy_bar(q, hud.energy, m)
+
+    # --- radar labels
+    if radar is not None:
+        rx, ry, rw, rh = m.radar_rect()
+        q.text("+w", rx + s, ry + s, s, RADAR_LABEL_COLOR)
+        q.text("-w", rx + s, ry + rh - GLYPH_H * s - s, s, RADAR_LABEL_COLOR)
+        rng = f"{radar.range:.0f} m"
+        q.text(rng, rx + rw - text_width(rng, s) - s, ry + rh - GLYPH_H * s - s, s, RADAR_LABEL_COLOR)
 
     # --- FPS (top-left)
     if hud.fps is not None:
@@ -366,10 +379,13 @@ class HudRenderer:
             ],
         )
 
-    def draw(self, hud: Hud, viewport: tuple[int, int, int, int]) -> None:
-        """Draw over whatever is in ``viewport`` (``(x, y, w, h)``, GL convention) of the bound framebuffer."""
+    def draw(self, hud: Hud, viewport: tuple[int, int, int, int], radar: Radar | None = None) -> None:
+        """Draw over whatever is in ``viewport`` (``(x, y, w, h)``, GL convention) of the bound framebuffer.
+
+        ``radar`` adds the radar's labels (see :func:`hud_quads`).
+        """
         _, _, w, h = (int(v) for v in viewport)
-        quads = hud_quads(hud, w, h)
+        quads = hud_quads(hud, w, h, radar)
         self.last_quads = quads
         if len(quads) == 0:
             return

@@ -469,7 +469,7 @@ class Renderer:
             if frame.radar is not None:
                 self.radar.draw(frame.radar, viewport)
                 st.draw_calls += self.radar.draw_calls
-            self.hud.draw(frame.hud, viewport)
+            self.hud.draw(frame.hud, viewport, frame.radar)
 
     def _draw_mesh(self, style: str, gm: _GpuMesh, model: np.ndarray, mode: int, count: int) -> None:
         prog = self._programs[style]
