@@ -114,11 +114,13 @@ def test_bar_keeps_clear_of_crosshair_w_indicator_and_radar(size):
     bar = m.energy_bar()
     label_h = (GLYPH_H + 4) * m.text_scale + 1
     bar_and_label = (bar[0], bar[1] - label_h, bar[2], bar[3] + label_h)
-    tx, ty, tw, th = m.w_track()
+    tx, ty, _, th = m.w_track()
     w_column = (tx - 3 * 6 * m.text_scale, ty - label_h, w - (tx - 3 * 6 * m.text_scale), th + 2 * label_h)
     cross = (w // 2 - m.arm - 1, h // 2 - m.arm - 1, 2 * m.arm + 3, 2 * m.arm + 3)
     radar = m.radar_rect()
-    for a, b in ((bar_and_label, w_column), (bar_and_label, cross), (bar_and_label, radar), (radar, w_column), (radar, cross)):
+    bar_l = bar_and_label
+    pairs = ((bar_l, w_column), (bar_l, cross), (bar_l, radar), (radar, w_column), (radar, cross))
+    for a, b in pairs:
         assert not overlap(a, b), (a, b)
     assert 0 <= radar[0] and radar[1] >= 0 and radar[1] + radar[3] <= h and bar[1] + bar[3] <= h
 

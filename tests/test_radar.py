@@ -13,7 +13,15 @@ import sys
 import numpy as np
 import pytest
 
-from across_dimensions.game.frame import RADAR_KINDS, Camera3, Drawable, Frame, Hud, Radar, RadarPin
+from across_dimensions.game.frame import (
+    RADAR_KINDS,
+    Camera3,
+    Drawable,
+    Frame,
+    Hud,
+    Radar,
+    RadarPin,
+)
 from across_dimensions.render.bench_hud import demo_pins, hud_demo_frame, random_pins
 from across_dimensions.render.context import Offscreen, RenderError
 from across_dimensions.render.demo import box_mesh
@@ -121,7 +129,8 @@ def test_heads_keep_a_readable_size_on_small_screens():
 def test_radar_camera_frames_the_disc_and_the_clamp_height(aspect):
     vp, ndc_r = radar_view_proj(aspect)
     ang = np.linspace(0, 2 * np.pi, 64)
-    pts = [np.c_[np.cos(ang), np.full_like(ang, y), np.sin(ang), np.ones_like(ang)] for y in (-HEIGHT_CLAMP, 0, HEIGHT_CLAMP)]
+    heights = (-HEIGHT_CLAMP, 0, HEIGHT_CLAMP)
+    pts = [np.c_[np.cos(ang), np.full_like(ang, y), np.sin(ang), np.ones_like(ang)] for y in heights]
     clip = np.concatenate(pts) @ vp.T
     ndc = clip[:, :3] / clip[:, 3:]
     assert (np.abs(ndc) < 1.0).all(), "disc or clamped pins outside the radar's view"
@@ -213,10 +222,12 @@ def test_two_hundred_pins_cost_a_handful_of_draw_calls(gl_ctx, renderer):
 
 @pytest.mark.gl
 def test_second_view_in_a_frame_does_not_evict_or_reupload_the_first(gl_ctx, renderer):
-    main = Frame(Camera3(position=np.array([0.0, 1.0, -4.0])), hud=Hud(), sky_color=SKY, radar=Radar(30.0, 0.5, demo_pins()),
-                 drawables=[Drawable("wall", 0, box_mesh((0, 1, 0), (2, 2, 0.3))), Drawable("crate", 0, box_mesh((1, 0.5, 1)))])
+    crate = Drawable("crate", 0, box_mesh((1, 0.5, 1)))
+    main = Frame(Camera3(position=np.array([0.0, 1.0, -4.0])), hud=Hud(), sky_color=SKY,
+                 radar=Radar(30.0, 0.5, demo_pins()),
+                 drawables=[Drawable("wall", 0, box_mesh((0, 1, 0), (2, 2, 0.3))), crate])
     inset = Frame(Camera3(position=np.array([0.0, 6.0, 0.0]), pitch=-1.5), sky_color=SKY,
-                  drawables=[Drawable("map", 0, box_mesh((0, 0, 0), (5, 0.1, 5))), Drawable("crate", 0, box_mesh((1, 0.5, 1)))])
+                  drawables=[Drawable("map", 0, box_mesh((0, 0, 0), (5, 0.1, 5))), crate])
     with Offscreen(gl_ctx, 320, 180) as t:
         t.use()
         for _ in range(4):
@@ -256,8 +267,9 @@ def test_golden_radar(gl_ctx, renderer, compare_golden, size):
 
 @pytest.mark.gl
 def test_bench_hud_command_runs(gl_ctx, tmp_path):
-    cmd = [sys.executable, "-m", "across_dimensions.render.bench_hud", "--frames", "5", "--pins", "50", "--png", str(tmp_path)]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    cmd = [sys.executable, "-m", "across_dimensions.render.bench_hud", "--frames", "5", "--pins", "50",
+           "--png", str(tmp_path)]
+    p = subprocess.run(cmd, check=False, capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
     assert "radar of 50 pins" in p.stdout and "ms" in p.stdout
     assert (tmp_path / "radar_1280.png").stat().st_size > 1000 and (tmp_path / "radar_800.png").exists()
@@ -265,5 +277,5 @@ def test_bench_hud_command_runs(gl_ctx, tmp_path):
 
 def test_bench_hud_command_refuses_bad_arguments():
     p = subprocess.run([sys.executable, "-m", "across_dimensions.render.bench_hud", "--frames", "many"],
-                       capture_output=True, text=True, timeout=120)
+                       check=False, capture_output=True, text=True, timeout=120)
     assert p.returncode == 2 and "--frames" in p.stderr and "Traceback" not in p.stderr

@@ -47,7 +47,8 @@ def random_pins(n: int, seed: int = 0) -> list[RadarPin]:
     h = rng.uniform(-1.2, 1.2, n)
     h[rng.random(n) < 0.25] = 0.0
     kinds = rng.integers(0, len(RADAR_KINDS), n)
-    return [RadarPin(RADAR_KINDS[k], float(r[i] * np.cos(a[i])), float(r[i] * np.sin(a[i])), float(h[i]), bool(h[i] == 0.0))
+    x, z = r * np.cos(a), r * np.sin(a)
+    return [RadarPin(RADAR_KINDS[k], float(x[i]), float(z[i]), float(h[i]), bool(h[i] == 0.0))
             for i, k in enumerate(kinds)]
 
 

@@ -103,7 +103,8 @@ class HudMetrics:
     def radar_rect(self) -> tuple[int, int, int, int]:
         """The radar's rectangle as ``(x, y, w, h)`` pixels, origin top-left.
 
-        Bottom-right, sized from the viewport height (46%, up to 50% on small screens), left of the w indicator and its value.
+        Bottom-right, sized from the viewport height (46%, up to 50% on small screens), left of the
+        w indicator and its value.
         """
         h = max(24, int(round(max(self.height * 0.46, min(220, self.height * 0.5)))))
         w = max(24, int(round(h * RADAR_ASPECT)))

@@ -196,10 +196,11 @@ def radar_geometry(radar: Radar, px_per_radius: float = 120.0) -> RadarGeometry:
     # minimum height keeps the scale invertible for the normal.
     stem_w = max(STEM_WIDTH, STEM_MIN_PX * px)
     sy = np.where(np.abs(y) < 1e-4, 1e-4, y)
-    inst["stem"] = rows(np.stack([x, 0 * x, z], 1), np.stack([stem_w * ones, sy, ones], 1), 0.75 * color, 0.3 * emission)
+    disc = np.stack([x, 0 * x, z], 1)
+    inst["stem"] = rows(disc, np.stack([stem_w * ones, sy, ones], 1), 0.75 * color, 0.3 * emission)
     # Feet lie just above the disc so the disc (drawn after, depth-tested) never covers them.
     foot = max(0.028, 2.2 * px)
-    inst["foot"] = rows(np.stack([x, 0.004 + 0 * x, z], 1), np.stack([foot * ones, ones, foot * ones], 1), color, emission)
+    inst["foot"] = rows(disc + [0.0, 0.004, 0.0], np.stack([foot * ones, ones, foot * ones], 1), color, emission)
     if seen.any():
         # Wider than the head, so the ring shows round a head sitting on the disc.
         ring = np.repeat(np.maximum(1.7 * size[seen], 6.0 * px)[:, None], 3, axis=1)
@@ -210,7 +211,8 @@ def radar_geometry(radar: Radar, px_per_radius: float = 120.0) -> RadarGeometry:
         ay = y[clamped] + sgn * size[clamped] * 1.45
         asz = size[clamped] * 0.9
         arrow_rgb = 0.4 * color[clamped] + 0.6  # lighter than the head, so it reads as a sign, not a second head
-        inst["arrow"] = rows(np.stack([x[clamped], ay, z[clamped]], 1), np.stack([asz, sgn * asz * 1.2, asz], 1), arrow_rgb, 0.0)
+        pos = np.stack([x[clamped], ay, z[clamped]], 1)
+        inst["arrow"] = rows(pos, np.stack([asz, sgn * asz * 1.2, asz], 1), arrow_rgb, 0.0)
     geo.instances = inst
     geo.heads, geo.clamped = heads, clamped
     geo.shapes = [SHAPES[c] for c in shape_code]
@@ -285,7 +287,7 @@ def _sphere(subdiv: int = 1) -> np.ndarray:
     for _ in range(subdiv):
         nf, cache = [], {}
 
-        def mid(i, j):
+        def mid(i, j, cache=cache):
             key = (min(i, j), max(i, j))
             if key not in cache:
                 m = v[i] + v[j]
@@ -319,7 +321,8 @@ def unit_shapes() -> dict[str, np.ndarray]:
     ``arrow`` a cone with its tip at ``y = 1`` and its base at ``y = 0``.
     """
     s: dict[str, np.ndarray] = {}
-    s["octahedron"] = _soup(*(lambda v: (v, _hull_faces(v)))([(0.75, 0, 0), (-0.75, 0, 0), (0, 1.25, 0), (0, -1.25, 0), (0, 0, 0.75), (0, 0, -0.75)]))
+    octa = [(0.75, 0, 0), (-0.75, 0, 0), (0, 1.25, 0), (0, -1.25, 0), (0, 0, 0.75), (0, 0, -0.75)]
+    s["octahedron"] = _soup(octa, _hull_faces(octa))
     s["cube"] = _box((0, 0, 0), (0.75, 0.75, 0.75))
     tet = np.array([(1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1)], float) * 0.8
     # Stella octangula: two interpenetrating tetrahedra, all spikes.
@@ -334,7 +337,8 @@ def unit_shapes() -> dict[str, np.ndarray]:
     u = np.linspace(0, 2 * np.pi, seg + 1)[:-1]
     w = np.linspace(0, 2 * np.pi, tube + 1)[:-1]
     U, Wt = np.meshgrid(u, w, indexing="ij")
-    tv = np.stack([(big + small * np.cos(Wt)) * np.cos(U), (big + small * np.cos(Wt)) * np.sin(U), small * np.sin(Wt)], -1).reshape(-1, 3)
+    ring_r = big + small * np.cos(Wt)
+    tv = np.stack([ring_r * np.cos(U), ring_r * np.sin(U), small * np.sin(Wt)], -1).reshape(-1, 3)
     tf = []
     for i in range(seg):
         for j in range(tube):
@@ -351,7 +355,7 @@ def unit_shapes() -> dict[str, np.ndarray]:
     torus[:, 3:] = nrm / np.linalg.norm(nrm, axis=1, keepdims=True)
     s["torus"] = torus
     bar = 0.22
-    s["cross"] = np.concatenate([_box((0, 0, 0), (1.0, bar, bar)), _box((0, 0, 0), (bar, 1.0, bar)), _box((0, 0, 0), (bar, bar, 1.0))])
+    s["cross"] = np.concatenate([_box((0, 0, 0), half) for half in ((1.0, bar, bar), (bar, 1.0, bar), (bar, bar, 1.0))])
     # Camera eye: a cone lying on its side, tip to the right (reads as a projector or eye beam).
     s["cone"] = _revolve([(0.0, 1.0), (0.7, -0.8), (0.0, -0.8)], axis=0, segments=10)
     # Object: a hollow cube, each face a square frame (eight triangles), so its edges read as an outline.
@@ -378,7 +382,8 @@ def unit_shapes() -> dict[str, np.ndarray]:
     ang = np.linspace(0, 2 * np.pi, k + 1)[:-1]
     circle = np.stack([np.cos(ang), 0 * ang, np.sin(ang)], 1)
     ring = np.vstack([circle, 0.72 * circle])
-    s["seen_ring"] = _soup(ring, [t for i in range(k) for t in ((i, (i + 1) % k, k + (i + 1) % k), (i, k + (i + 1) % k, k + i))])
+    quads = [((i, (i + 1) % k, k + (i + 1) % k), (i, k + (i + 1) % k, k + i)) for i in range(k)]
+    s["seen_ring"] = _soup(ring, [t for q in quads for t in q])
     s["arrow"] = _revolve([(0.0, 1.0), (1.0, 0.0), (0.0, 0.0)], axis=1, segments=8)
     return s
 
@@ -388,7 +393,9 @@ def _annulus(r0, r1, color, segments=64, y=0.0, a0=0.0, a1=2 * np.pi) -> np.ndar
     c0, s0 = np.cos(ang[:-1]), np.sin(ang[:-1])
     c1, s1 = np.cos(ang[1:]), np.sin(ang[1:])
     # Angle 0 is +x, angles grow towards +z.
-    p = lambda r, c, s: np.stack([r * c, np.full_like(c, y), r * s], -1)  # noqa: E731
+    def p(r, c, s):
+        return np.stack([r * c, np.full_like(c, y), r * s], -1)
+
     a, b, c, d = p(r0, c0, s0), p(r1, c0, s0), p(r1, c1, s1), p(r0, c1, s1)
     tris = np.stack([a, b, c, a, c, d], 1).reshape(-1, 3)
     return _colored(tris, color)
@@ -419,7 +426,8 @@ def disc_vertices() -> np.ndarray:
         parts.append(_colored(np.array([(z, 0.0, x) for x, z in tri]), AXIS_COLOR))  # z axis
     # Forward notch outside the rim, and the player's chevron at the centre, both pointing +z.
     parts.append(_colored(np.array([(-0.09, 0.0, 1.03), (0.09, 0.0, 1.03), (0.0, 0.0, 1.17)]), FORWARD_COLOR))
-    chev = np.array([(-0.06, 0.0, -0.05), (0.0, 0.0, 0.09), (0.0, 0.0, -0.01), (0.06, 0.0, -0.05), (0.0, 0.0, -0.01), (0.0, 0.0, 0.09)])
+    chev = np.array([(-0.06, 0.0, -0.05), (0.0, 0.0, 0.09), (0.0, 0.0, -0.01),
+                     (0.06, 0.0, -0.05), (0.0, 0.0, -0.01), (0.0, 0.0, 0.09)])
     chev[:, 1] = 0.007
     parts.append(_colored(chev, PLAYER_COLOR))
     return np.concatenate(parts).astype(np.float32)
@@ -432,8 +440,8 @@ def radar_view_proj(aspect: float) -> tuple[np.ndarray, float]:
     just fit. Also returns the disc radius in NDC x units (half-viewport widths), for sizing in pixels.
     """
     p = np.radians(PITCH_DEG)
-    cam = Camera3(position=np.array([0.0, CAMERA_DISTANCE * np.sin(p), -CAMERA_DISTANCE * np.cos(p)]), yaw=0.0, pitch=-p,
-                  fov_y_deg=FOV_Y_DEG, near=0.1, far=20.0)
+    eye = CAMERA_DISTANCE * np.array([0.0, np.sin(p), -np.cos(p)])
+    cam = Camera3(position=eye, yaw=0.0, pitch=-p, fov_y_deg=FOV_Y_DEG, near=0.1, far=20.0)
     vp = cam.projection_matrix(aspect) @ cam.view_matrix()
     ang = np.linspace(0, 2 * np.pi, 48, endpoint=False)
     top = HEIGHT_CLAMP * RADIUS + 3.2 * HEAD_SIZE

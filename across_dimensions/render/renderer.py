@@ -344,7 +344,9 @@ class Renderer:
         self._views.pop(view, None)
 
     # ----------------------------------------------------------------- drawing
-    def draw(self, frame: Frame, viewport: tuple[int, int, int, int] | None = None, hud: bool = True, view: str = "main") -> None:
+    def draw(
+        self, frame: Frame, viewport: tuple[int, int, int, int] | None = None, hud: bool = True, view: str = "main"
+    ) -> None:
         """Draw ``frame`` into the currently bound framebuffer.
 
         Parameters
