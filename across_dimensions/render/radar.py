@@ -24,9 +24,13 @@ Pieces
 
 Drawing (:class:`RadarRenderer`): its own programs and buffers, in its own viewport (the corner
 rectangle from :meth:`~across_dimensions.render.hud.HudMetrics.radar_rect`), after the main view:
-clear the depth in that rectangle, a dark backdrop, the opaque pins (one instanced draw per shape
-that has instances: at most 14 draw calls however many pins), then the translucent disc with depth
-writes off, so pins below it show through tinted and pins above it stand in front.
+a dark backdrop that also resets the depth in that rectangle, the opaque pins (one instanced,
+indexed draw per shape that has instances: at most 14 draw calls in all, however many pins), then
+the translucent disc with depth writes off, so pins below it show through tinted and pins above it
+stand in front. The main view's buffers are never touched. The HUD then labels the rectangle
+(``+w`` above, ``-w`` below, the range in metres).
+
+Colours are display-space RGB (no gamma), like the HUD's.
 
 :func:`radar_geometry` is the pure part (a :class:`Radar` to instance arrays) and is tested
 without OpenGL.
