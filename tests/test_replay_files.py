@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 from across_dimensions.game.actions import MAX_LOOK, Actions
-from across_dimensions.game.replay import (FORMAT, MAX_BYTES, MAX_TICKS, ActionRuns, Replay, ReplayError, play)
+from across_dimensions.game.replay import FORMAT, MAX_BYTES, MAX_TICKS, ActionRuns, Replay, ReplayError, play
 from across_dimensions.game.sim import Game
 from across_dimensions.world.level import load_level
 from across_dimensions.world.resources import levels_dir

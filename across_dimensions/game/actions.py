@@ -63,7 +63,7 @@ class Actions:
         return [self.forward, self.right, self.yaw, self.pitch, self.w, bits]
 
     @classmethod
-    def from_row(cls, row) -> "Actions":
+    def from_row(cls, row) -> Actions:
         """Inverse of :meth:`to_row`; raises ValueError on a malformed row.
 
         The five axes must be finite numbers (not booleans) within their
@@ -85,11 +85,12 @@ class Actions:
             values.append(float(v))
         bits = row[5]
         if isinstance(bits, bool) or not isinstance(bits, int) or not 0 <= bits < 1 << len(BUTTONS):
-            raise ValueError(f"buttons: expected a whole number from 0 to {(1 << len(BUTTONS)) - 1}, got {short_repr(bits)}")
+            raise ValueError(f"buttons: expected a whole number from 0 to {(1 << len(BUTTONS)) - 1}, "
+                             f"got {short_repr(bits)}")
         buttons = {name: bool(bits >> i & 1) for i, name in enumerate(BUTTONS)}
         return cls(*values, **buttons)
 
-    def clamped(self) -> "Actions":
+    def clamped(self) -> Actions:
         """This frame made safe to simulate and record: each axis clamped to its
         bound, a non-finite axis set to 0, ``-0.0`` written as ``0.0`` (so equal
         frames have equal replay rows)."""
@@ -106,7 +107,7 @@ class Actions:
                 changes[name] = safe
         return replace(self, **changes) if changes else self
 
-    def same_row(self, other: "Actions") -> bool:
+    def same_row(self, other: Actions) -> bool:
         """True when both frames have the same replay row, signs of zeros included
         (``0.0 == -0.0`` in Python, but the simulation can tell them apart)."""
         if self != other:

@@ -25,7 +25,9 @@ Limits (a replay is a file anyone can hand the game, so every entry is typed
 and bounded, and anything else is refused with one line naming the file and
 the entry):
 
-- the file is at most :data:`MAX_BYTES` (32 MiB) and a regular file;
+- the file is at most :data:`MAX_BYTES` (32 MiB) and a regular file (the JSON
+  is parsed whole, which takes up to about 15 times the file's size in memory,
+  under half a gigabyte at the limit; the loader itself adds O(runs));
 - a replay is at most :data:`MAX_TICKS` ticks long (two hours at 60 Hz),
   checked on the sum of the run lengths as they are read, before anything
   is built;
@@ -199,7 +201,7 @@ class Replay:
         atomic_write(path, _dumps(self.to_json()) + "\n")
 
     @classmethod
-    def load(cls, path) -> "Replay":
+    def load(cls, path) -> Replay:
         """Read and check a replay file, or the journal of a cut-short recording.
 
         Raises
@@ -213,7 +215,7 @@ class Replay:
             text = read_text(path, limit=MAX_BYTES, what="replay")
         except FileProblem as e:
             raise ReplayError(str(e)) from None
-        head, newline, rest = text.partition("\n")
+        head, _, rest = text.partition("\n")
         first = _parse(path, head, quiet=True)
         if isinstance(first, dict) and first.get("format") == JOURNAL_FORMAT:
             return _Checker(path).journal(first, rest)
@@ -372,7 +374,8 @@ class _Checker:
         if not isinstance(data["actions"], list):
             self.fail("entry 'actions'", f"expected a list of [count, row] runs, got {short_repr(data['actions'])}")
         if len(data["actions"]) > MAX_TICKS:
-            self.fail("entry 'actions'", f"{len(data['actions'])} runs, more than the {MAX_TICKS} ticks a replay may be")
+            self.fail("entry 'actions'",
+                      f"{len(data['actions'])} runs, more than the {MAX_TICKS} ticks a replay may be")
         runs = ActionRuns()
         for i, run in enumerate(data["actions"]):
             self.run(f"entry 'actions' #{i}", run, runs)
