@@ -347,8 +347,22 @@ class _Checker:
             "hash_every": self.whole("entry 'hash_every'", data["hash_every"], 1, MAX_TICKS),
         }
 
-    def run(self, where: str, run, runs: ActionRuns) -> None:
-        """Check one ``[count, row]`` and add it to ``runs``; the tick limit first."""
+    def run(self, where: str, index: int, run, runs: ActionRuns) -> None:
+        """Check one ``[count, row]`` and add it to ``runs``; the tick limit first.
+
+        ``where.format(index)`` names it in a message; the text is only built
+        for a message (a replay may have 432,000 runs).
+        """
+        if type(run) is list and len(run) == 2:
+            count = run[0]
+            if type(count) is int and 1 <= count and len(runs) + count <= MAX_TICKS:
+                try:
+                    actions = Actions.from_row(run[1])
+                except ValueError as e:
+                    self.fail(where.format(index), str(e))
+                runs.append(actions, count)
+                return
+        where = where.format(index)
         if not isinstance(run, list) or len(run) != 2:
             self.fail(where, f"expected [count, [forward, right, yaw, pitch, w, buttons]], got {short_repr(run)}")
         count = self.whole(f"{where} count", run[0], 1, MAX_TICKS)
@@ -378,7 +392,7 @@ class _Checker:
                       f"{len(data['actions'])} runs, more than the {MAX_TICKS} ticks a replay may be")
         runs = ActionRuns()
         for i, run in enumerate(data["actions"]):
-            self.run(f"entry 'actions' #{i}", run, runs)
+            self.run("entry 'actions' #{}", i, run, runs)
         ticks = len(runs)
         hashes: dict[int, str] = {}
         if not isinstance(data["hashes"], dict):
@@ -416,11 +430,12 @@ class _Checker:
         for number, line in enumerate(lines[:-1], start=2):  # lines[-1] is empty or cut short
             if not line.strip():
                 continue
-            where = f"line {number}"
             item = _parse(self.path, line, quiet=True)
             if isinstance(item, list):
-                self.run(where, item, runs)
-            elif isinstance(item, dict) and set(item) == {"tick", "hash"}:
+                self.run("line {}", number, item, runs)
+                continue
+            where = f"line {number}"
+            if isinstance(item, dict) and set(item) == {"tick", "hash"}:
                 tick = self.whole(f"{where} 'tick'", item["tick"], 1, MAX_TICKS)
                 hash_lines.append((where, tick, item["hash"]))
             else:
