@@ -119,7 +119,7 @@ def test_save_writes_strict_json_and_no_temporary_files(tmp_path):
 
 def test_save_refuses_non_finite_actions(tmp_path):
     rep = Replay("01_first_steps", "0" * 64, actions=[Actions(w=math.nan)])
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="r.json: cannot save"):
         rep.save(tmp_path / "r.json")
     assert list(tmp_path.iterdir()) == []
 

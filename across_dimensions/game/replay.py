@@ -196,9 +196,14 @@ class Replay:
         Raises
         ------
         FileProblem
-            The folder is missing or the file cannot be written.
+            The folder is missing, the file cannot be written, or an action
+            is not finite (strict JSON has no NaN; the file is left untouched).
         """
-        atomic_write(path, _dumps(self.to_json()) + "\n")
+        try:
+            text = _dumps(self.to_json())
+        except ValueError as e:
+            raise FileProblem(f"{path}: cannot save this replay ({e})") from None
+        atomic_write(path, text + "\n")
 
     @classmethod
     def load(cls, path) -> Replay:
