@@ -1,0 +1,26 @@
+"""Bounds on what a mesh asset may ask of the machine.
+
+A mesh file comes from a modder or a download, so it is treated as hostile:
+every step that could grow without bound is capped, and an asset beyond a cap
+is refused with one line naming the file, what it asks for and the limit.
+The same numbers are documented for level authors in ``levels/README.md``.
+"""
+
+from __future__ import annotations
+
+from ...core.fileio import MiB
+
+#: Bytes read for one asset: the mesh file plus every file it references
+#: (a ``.gltf``'s buffers and images). An OBJ of the largest accepted mesh is
+#: about 8 MiB; data URIs count as part of the ``.gltf`` that holds them.
+MAX_ASSET_BYTES = 32 * MiB
+#: Triangles a surface may have before tetrahedralization. fTetWild takes
+#: seconds for the shipped assets (under 600 triangles) and minutes at this size.
+MAX_TRIANGLES = 100_000
+#: Elements a glTF accessor may declare. The loader allocates ``count`` elements
+#: even when no buffer backs them, so a few bytes of JSON could ask for gigabytes.
+MAX_GLTF_ELEMENTS = 3 * MAX_TRIANGLES
+#: Tetrahedra a baked 3D solid may have. Lifted to 4D with the round profile it
+#: becomes about two to three times as many boundary tets, about what a level
+#: can slice at 60 Hz beside everything else.
+MAX_TETS = 500_000
