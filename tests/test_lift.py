@@ -85,7 +85,8 @@ def test_tips_close_the_solid():
 
 @pytest.mark.parametrize(
     "layers, scales",
-    [([0.0], None), ([0.0, 0.0], None), ([1.0, 0.0], None), ([0, 1, 2], [1, 0, 1]), ([0, 1], [1, -1]), ([0, 1], [0, 0])],
+    [([0.0], None), ([0.0, 0.0], None), ([1.0, 0.0], None), ([0, 1, 2], [1, 0, 1]), ([0, 1], [1, -1]),
+     ([0, 1], [0, 0])],
 )
 def test_extrude_rejects_bad_layers(layers, scales):
     v, t = unit_cube()
@@ -342,7 +343,8 @@ def test_lifted_pillar_cache_hit(pillar_bake, monkeypatch):
 
     monkeypatch.setattr(bake, "tetrahedralize", no_tetwild)
     t0 = time.perf_counter()
-    again = lift_asset(ASSETS / "pillar.obj", 2.0, w_center=1.0, cache_dir=cache, edge_length_fac=COARSE, progress=False)
+    again = lift_asset(ASSETS / "pillar.obj", 2.0, w_center=1.0, cache_dir=cache, edge_length_fac=COARSE,
+                       progress=False)
     hit_seconds = time.perf_counter() - t0
     np.testing.assert_array_equal(again.tets, mesh.tets)
     assert hit_seconds * 10 < bake_seconds
