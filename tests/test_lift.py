@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import io
+import sys
 import time
 from pathlib import Path
 
@@ -257,14 +259,21 @@ def fake_tetwild(monkeypatch):
     return calls
 
 
-def test_cache_hit_is_silent_and_skips_tetrahedralization(tmp_path, fake_tetwild, capsys):
+class Terminal(io.StringIO):
+    def isatty(self):
+        return True
+
+
+def test_cache_hit_is_silent_and_skips_tetrahedralization(tmp_path, fake_tetwild, monkeypatch):
     asset = ASSETS / "crate.obj"
+    monkeypatch.setattr(sys, "stderr", Terminal())
     first = lift_asset(asset, 2.0, cache_dir=tmp_path)
-    err = capsys.readouterr().err
+    err = sys.stderr.getvalue()
     assert "tetrahedralize" in err and "crate.obj" in err
     assert len(list(tmp_path.glob("crate-*.npz"))) == 1
+    monkeypatch.setattr(sys, "stderr", Terminal())
     second = lift_asset(asset, 2.0, cache_dir=tmp_path)
-    assert capsys.readouterr().err == ""
+    assert sys.stderr.getvalue() == ""
     assert len(fake_tetwild) == 1
     np.testing.assert_array_equal(first.tets, second.tets)
     # Depth, position and profile do not need a new bake; resolution does.

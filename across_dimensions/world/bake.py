@@ -78,7 +78,8 @@ def bake_solid(path, edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC, cache_dir
     cache_dir : str or Path, optional
         Default :func:`default_cache_dir`.
     progress : bool
-        A status line on stderr while a bake runs (a cache hit prints nothing).
+        A status line while a bake runs, when stderr is a terminal (a cache
+        hit prints nothing).
 
     Returns
     -------
@@ -115,7 +116,7 @@ def bake_solid(path, edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC, cache_dir
         bar.stage("save")
         save_entry(file, tv, tt)
     except BaseException:
-        bar.done("failed")
+        bar.close()
         raise
     bar.done(f"{len(tt)} tets")
     return tv, tt
@@ -139,7 +140,8 @@ def lift_asset(path, depth: float, w_center: float = 0.0, profile: str = "prism"
     cache_dir : str or Path, optional
         Where baked 3D tets are kept; default :func:`default_cache_dir`.
     progress : bool
-        A status line on stderr while a bake runs (a cache hit prints nothing).
+        A status line while a bake runs, when stderr is a terminal (a cache
+        hit prints nothing).
     layers : int
         Copies along ``w`` for the ``round`` and ``taper`` profiles.
     edge_length_fac : float

@@ -22,7 +22,7 @@ import struct
 from pathlib import Path
 from urllib.parse import unquote
 
-from ...core.fileio import FileProblem, read_bytes
+from ...core.fileio import FileProblem, MiB, read_bytes
 from .errors import AssetError
 from .limits import MAX_ASSET_BYTES, MAX_GLTF_ELEMENTS
 
@@ -50,9 +50,16 @@ class Budget:
         try:
             data = read_bytes(path, limit=self.left, what=what)
         except FileProblem as e:
+            if self.left < self.limit and "larger than" in str(e):  # the budget, not the file, ran out
+                raise AssetError(f"{path}: more than the {self.left} bytes left of the {_size(self.limit)} "
+                                 f"a {what} and the files it references may take together") from None
             raise AssetError(str(e)) from None
         self.left -= len(data)
         return data
+
+
+def _size(n: int) -> str:
+    return f"{n / MiB:.3g} MiB" if n >= MiB else f"{n} bytes"
 
 
 def confined_path(root: Path, uri: str, owner: Path, what: str = "URI") -> Path:

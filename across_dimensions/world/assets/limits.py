@@ -3,7 +3,6 @@
 A mesh file comes from a modder or a download, so it is treated as hostile:
 every step that could grow without bound is capped, and an asset beyond a cap
 is refused with one line naming the file, what it asks for and the limit.
-The same numbers are documented for level authors in ``levels/README.md``.
 """
 
 from __future__ import annotations
