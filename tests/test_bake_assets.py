@@ -25,7 +25,7 @@ import trimesh
 
 from across_dimensions.core.lift import box_solid
 from across_dimensions.world import bake
-from across_dimensions.world.assets import bake_cache, confine, mesh_files, tetwild
+from across_dimensions.world.assets import bake_cache, confine, limits, mesh_files, tetwild
 from across_dimensions.world.assets.progress import BakeProgress
 from across_dimensions.world.bake import AssetError, cache_key, lift_asset, load_surface
 
@@ -256,14 +256,20 @@ def test_the_resolver_serves_only_its_folder(tmp_path):
         res.write("x.bin", b"")
 
 
-def test_gltf_accessor_count_is_bounded(tmp_path):
+def test_gltf_accessor_counts_are_bounded_together(tmp_path):
     gltf = write_gltf(tmp_path / "asset")
     doc = json.loads(gltf.read_text())
     doc["accessors"][0]["count"] = 10**12
     gltf.write_text(json.dumps(doc))
     with pytest.raises(AssetError) as e:
         load_surface(gltf)
-    one_line_error(e, "box.gltf", "accessor 0", str(bake.MAX_TRIANGLES * 3))
+    one_line_error(e, "box.gltf", "accessor 0", str(10**12), f"more than the {limits.MAX_GLTF_ELEMENTS}")
+    # Many accessors without buffers, each small, add up: the loader would allocate them all.
+    doc["accessors"] = [{"componentType": 5126, "type": "VEC3", "count": 100_000}] * 1000
+    gltf.write_text(json.dumps(doc))
+    with pytest.raises(AssetError) as e:
+        load_surface(gltf)
+    one_line_error(e, "box.gltf", f"accessor {limits.MAX_GLTF_ELEMENTS // 100_000}")
 
 
 # ------------------------------------------------------------------ bounds
@@ -289,11 +295,30 @@ def test_fifo_and_dev_zero_give_one_line(tmp_path):
     one_line_error(e, "zero.stl", "device")
 
 
-def test_triangle_limit(monkeypatch):
+def test_triangle_limit(tmp_path, monkeypatch):
     monkeypatch.setattr(mesh_files, "MAX_TRIANGLES", 10)
+    # Text formats are counted before trimesh parses them...
     with pytest.raises(AssetError) as e:
         load_surface(ASSETS / "crate.obj")
-    one_line_error(e, "crate.obj", "44 triangles", "more than the 10")
+    one_line_error(e, "crate.obj", "44 faces", "more than the 10 triangles")
+    stl = tmp_path / "box.stl"
+    stl.write_bytes(box_stl(False).encode())
+    with pytest.raises(AssetError) as e:
+        load_surface(stl)
+    one_line_error(e, "box.stl", "12 faces", "more than the 10 triangles")
+    # ... and everything once loaded.
+    with pytest.raises(AssetError) as e:
+        load_surface(write_gltf(tmp_path / "asset"))
+    one_line_error(e, "box.gltf", "12 triangles", "more than the 10")
+
+
+def test_unsupported_format_is_refused_before_reading(tmp_path):
+    fifo = tmp_path / "model.fbx"
+    os.mkfifo(fifo)
+    for call in (lambda: load_surface(fifo), lambda: bake.bake_solid(fifo, cache_dir=tmp_path, progress=False)):
+        with pytest.raises(AssetError) as e:
+            call()
+        one_line_error(e, "model.fbx", "unsupported mesh format '.fbx'")
 
 
 def test_tet_limit(tmp_path, monkeypatch, fake_tetwild):
@@ -312,7 +337,7 @@ def test_stl_binary_and_ascii_load(tmp_path):
     for binary in (True, False):
         path = tmp_path / f"box{int(binary)}.stl"
         data = box_stl(binary)
-        path.write_bytes(data if binary else data.encode() if isinstance(data, str) else data)
+        path.write_bytes(data if isinstance(data, bytes) else data.encode())
         v, f = load_surface(path)
         assert len(f) == 12 and signed_volume(v, f) == pytest.approx(1.0)
 

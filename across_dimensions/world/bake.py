@@ -29,7 +29,7 @@ from ..core.mesh import MeshError, TetMesh4
 from .assets.bake_cache import BAKE_VERSION, cache_key, default_cache_dir, entry_path, load_entry, save_entry
 from .assets.errors import AssetError
 from .assets.limits import MAX_ASSET_BYTES, MAX_TETS, MAX_TRIANGLES
-from .assets.mesh_files import SUPPORTED, read_triangles
+from .assets.mesh_files import SUPPORTED, check_format, read_triangles
 from .assets.progress import BakeProgress
 from .assets.repair import repair_surface
 from .assets.tetwild import DEFAULT_EDGE_LENGTH_FAC, tetrahedralize
@@ -92,6 +92,7 @@ def bake_solid(path, edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC, cache_dir
     AssetError
     """
     path = Path(path)
+    check_format(path)
     key = cache_key(path, edge_length_fac=float(edge_length_fac))
     file = entry_path(cache_dir, path, key)
     cached = load_entry(file) if file.exists() else None

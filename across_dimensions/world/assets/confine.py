@@ -128,8 +128,8 @@ def referenced_files(path: Path, data: bytes, root: Path) -> list[Path]:
     """The files a glTF asset references, each checked by :func:`confined_path`.
 
     Also refuses accessors that declare more than
-    :data:`~.limits.MAX_GLTF_ELEMENTS` elements: the loader allocates them
-    whether or not a buffer holds them.
+    :data:`~.limits.MAX_GLTF_ELEMENTS` elements together: the loader
+    allocates them whether or not a buffer holds them.
 
     Parameters
     ----------
@@ -150,11 +150,15 @@ def referenced_files(path: Path, data: bytes, root: Path) -> list[Path]:
     if path.suffix.lower() not in REFERENCING:
         return []
     doc = _gltf_json(path, data)
+    total = 0
     for i, acc in enumerate(_entries(doc, "accessors", path)):
         count = acc.get("count", 0)
-        if not isinstance(count, int) or isinstance(count, bool) or not 0 <= count <= MAX_GLTF_ELEMENTS:
-            raise AssetError(f"{path}: accessor {i} has count {count!r}; expected a whole number "
-                             f"from 0 to {MAX_GLTF_ELEMENTS}")
+        if not isinstance(count, int) or isinstance(count, bool) or count < 0:
+            raise AssetError(f"{path}: accessor {i} has count {count!r}; expected a whole number")
+        total += count
+        if total > MAX_GLTF_ELEMENTS:
+            raise AssetError(f"{path}: accessor {i} brings the elements its accessors declare to {total}, "
+                             f"more than the {MAX_GLTF_ELEMENTS} a mesh asset may have")
     files = []
     for key, what in (("buffers", "buffer"), ("images", "image")):
         for i, entry in enumerate(_entries(doc, key, path)):

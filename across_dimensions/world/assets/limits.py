@@ -16,9 +16,11 @@ MAX_ASSET_BYTES = 32 * MiB
 #: Triangles a surface may have before tetrahedralization. fTetWild takes
 #: seconds for the shipped assets (under 600 triangles) and minutes at this size.
 MAX_TRIANGLES = 100_000
-#: Elements a glTF accessor may declare. The loader allocates ``count`` elements
-#: even when no buffer backs them, so a few bytes of JSON could ask for gigabytes.
-MAX_GLTF_ELEMENTS = 3 * MAX_TRIANGLES
+#: Elements all accessors of a glTF may declare together (positions, normals,
+#: texture coordinates and indices of the largest accepted mesh fit). The loader
+#: allocates ``count`` elements even when no buffer backs them, so a few bytes
+#: of JSON could otherwise ask for gigabytes.
+MAX_GLTF_ELEMENTS = 8 * MAX_TRIANGLES
 #: Tetrahedra a baked 3D solid may have. Lifted to 4D with the round profile it
 #: becomes about two to three times as many boundary tets, about what a level
 #: can slice at 60 Hz beside everything else.

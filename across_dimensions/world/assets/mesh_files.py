@@ -9,6 +9,7 @@ Materials and textures are skipped: a bake needs only geometry.
 from __future__ import annotations
 
 import io
+import re
 import struct
 from pathlib import Path
 
@@ -21,6 +22,7 @@ from .limits import MAX_ASSET_BYTES, MAX_TRIANGLES
 SUPPORTED = (".obj", ".glb", ".gltf", ".stl")
 _STL_HEADER = 84  # 80-byte header + uint32 triangle count
 _STL_TRIANGLE = 50  # normal, three corners (12 float32) + uint16 attribute
+_OBJ_FACE = re.compile(rb"^[ \t]*f[ \t]", re.MULTILINE)
 
 
 def read_triangles(path) -> tuple[np.ndarray, np.ndarray]:
@@ -49,9 +51,7 @@ def read_triangles(path) -> tuple[np.ndarray, np.ndarray]:
     """
     path = Path(path)
     ext = path.suffix.lower()
-    if ext not in SUPPORTED:
-        raise AssetError(f"{path}: unsupported mesh format {ext or '(no extension)'!r}; "
-                         f"expected one of {', '.join(SUPPORTED)}")
+    check_format(path)
     budget = Budget(MAX_ASSET_BYTES)
     data = budget.read(path, "mesh asset")
     root = path.resolve().parent
@@ -60,6 +60,7 @@ def read_triangles(path) -> tuple[np.ndarray, np.ndarray]:
         _check_stl(path, data)
     elif ext == ".obj":
         data = _obj_as_utf8(data)
+    _check_text_face_count(path, ext, data)
     resolver = ConfinedResolver(root, path, budget)
     meshes = _load_meshes(path, ext, data, resolver)
     meshes = [m for m in meshes if len(m.faces)]
@@ -75,6 +76,37 @@ def read_triangles(path) -> tuple[np.ndarray, np.ndarray]:
     if not np.isfinite(vertices).all():
         raise AssetError(f"{path}: has non-finite vertex coordinates")
     return vertices, faces
+
+
+def check_format(path) -> None:
+    """Refuse a file whose suffix is not one of :data:`SUPPORTED`, before reading it.
+
+    Raises
+    ------
+    AssetError
+    """
+    ext = Path(path).suffix.lower()
+    if ext not in SUPPORTED:
+        raise AssetError(f"{path}: unsupported mesh format {ext or '(no extension)'!r}; "
+                         f"expected one of {', '.join(SUPPORTED)}")
+
+
+def _check_text_face_count(path: Path, ext: str, data: bytes) -> None:
+    """Refuse a text mesh with too many faces before trimesh parses them all.
+
+    Every OBJ face line (``f ...``) and every ASCII STL ``endfacet`` is at
+    least one triangle, so counting them bounds the parse by the limit, not by
+    the file size.
+    """
+    if ext == ".obj":
+        faces = len(_OBJ_FACE.findall(data))
+    elif ext == ".stl" and not _is_binary_stl(data):
+        faces = data.count(b"endfacet")
+    else:
+        return
+    if faces > MAX_TRIANGLES:
+        raise AssetError(f"{path}: {faces} faces is more than the {MAX_TRIANGLES} triangles a mesh asset may have; "
+                         "simplify it in the modelling tool")
 
 
 def _load_meshes(path: Path, ext: str, data: bytes, resolver: ConfinedResolver) -> list:
@@ -106,14 +138,12 @@ def _check_stl(path: Path, data: bytes) -> None:
     ASCII text starting with ``solid``; trimesh would otherwise try to guess
     a text encoding with an optional package and fail with an ImportError.
     """
-    if len(data) >= _STL_HEADER:
-        (count,) = struct.unpack_from("<I", data, 80)
-        if len(data) == _STL_HEADER + _STL_TRIANGLE * count:
-            if count > MAX_TRIANGLES:
-                raise AssetError(f"{path}: {count} triangles is more than the {MAX_TRIANGLES} a mesh asset may have")
-            return
-    else:
-        count = None
+    count = _is_binary_stl(data)
+    if count is not False:
+        if count > MAX_TRIANGLES:
+            raise AssetError(f"{path}: {count} triangles is more than the {MAX_TRIANGLES} a mesh asset may have")
+        return
+    count = struct.unpack_from("<I", data, 80)[0] if len(data) >= _STL_HEADER else None
     head = data[:512].lstrip()
     try:
         data.decode("ascii")
@@ -126,6 +156,14 @@ def _check_stl(path: Path, data: bytes) -> None:
                              "and not ASCII text starting with 'solid')")
         raise AssetError(f"{path}: corrupt binary STL: its header says {count} triangles, which needs "
                          f"{_STL_HEADER + _STL_TRIANGLE * count} bytes, but the file has {len(data)}")
+
+
+def _is_binary_stl(data: bytes):
+    """The triangle count of a well-formed binary STL, else False."""
+    if len(data) < _STL_HEADER:
+        return False
+    (count,) = struct.unpack_from("<I", data, 80)
+    return count if len(data) == _STL_HEADER + _STL_TRIANGLE * count else False
 
 
 def _obj_as_utf8(data: bytes) -> bytes:
