@@ -236,6 +236,26 @@ def test_a_fifo_outside_the_folder_is_never_opened(tmp_path):
         load_surface(gltf)  # opening the FIFO would block forever
 
 
+def test_an_obj_material_library_is_never_opened(tmp_path):
+    fifo = tmp_path / "materials.mtl"
+    os.mkfifo(fifo)  # opening it would block forever
+    text = (ASSETS / "crate.obj").read_text()
+    for ref in (str(fifo), "../materials.mtl"):
+        (tmp_path / "asset").mkdir(exist_ok=True)
+        path = tmp_path / "asset" / "crate.obj"
+        path.write_text(f"mtllib {ref}\nusemtl wood\n{text}")
+        assert len(load_surface(path)[1]) == SHIPPED["crate.obj"][1]
+
+
+def test_a_malformed_glb_is_named(tmp_path):
+    for data, why in ((b"glTF" + b"\0" * 30, "no complete JSON chunk"), (b"nope" * 10, "expected the 'glTF' header")):
+        path = tmp_path / "bad.glb"
+        path.write_bytes(data)
+        with pytest.raises(AssetError) as e:
+            load_surface(path)
+        one_line_error(e, "bad.glb", why)
+
+
 def test_the_resolver_serves_only_its_folder(tmp_path):
     (tmp_path / "asset" / "sub").mkdir(parents=True)
     (tmp_path / "asset" / "sub" / "a.bin").write_bytes(b"abc")
