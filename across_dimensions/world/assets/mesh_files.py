@@ -100,7 +100,7 @@ def _check_text_face_count(path: Path, ext: str, data: bytes) -> None:
     """
     if ext == ".obj":
         faces = len(_OBJ_FACE.findall(data))
-    elif ext == ".stl" and not _is_binary_stl(data):
+    elif ext == ".stl" and _binary_stl_count(data) is None:
         faces = data.count(b"endfacet")
     else:
         return
@@ -138,8 +138,8 @@ def _check_stl(path: Path, data: bytes) -> None:
     ASCII text starting with ``solid``; trimesh would otherwise try to guess
     a text encoding with an optional package and fail with an ImportError.
     """
-    count = _is_binary_stl(data)
-    if count is not False:
+    count = _binary_stl_count(data)
+    if count is not None:
         if count > MAX_TRIANGLES:
             raise AssetError(f"{path}: {count} triangles is more than the {MAX_TRIANGLES} a mesh asset may have")
         return
@@ -158,12 +158,12 @@ def _check_stl(path: Path, data: bytes) -> None:
                          f"{_STL_HEADER + _STL_TRIANGLE * count} bytes, but the file has {len(data)}")
 
 
-def _is_binary_stl(data: bytes):
-    """The triangle count of a well-formed binary STL, else False."""
+def _binary_stl_count(data: bytes) -> int | None:
+    """The triangle count of a well-formed binary STL, else None."""
     if len(data) < _STL_HEADER:
-        return False
+        return None
     (count,) = struct.unpack_from("<I", data, 80)
-    return count if len(data) == _STL_HEADER + _STL_TRIANGLE * count else False
+    return count if len(data) == _STL_HEADER + _STL_TRIANGLE * count else None
 
 
 def _obj_as_utf8(data: bytes) -> bytes:
