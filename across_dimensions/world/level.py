@@ -168,6 +168,7 @@ class Level:
     objects: list[ObjectSpec]
     source_hash: str
     hints: list[str] = field(default_factory=list)
+    rolling_resistance: float = 0.0
 
 
 class _Reader:
@@ -414,9 +415,10 @@ def load_level(path) -> Level:
                         goal_w)
 
     phys = r.table(data, "physics", "[physics]")
-    r.unknown(phys, {"gravity", "inverse_cube_g"}, "[physics]")
+    r.unknown(phys, {"gravity", "inverse_cube_g", "rolling_resistance"}, "[physics]")
     gravity = r.vector(phys, "gravity", "[physics]", 4, default=(0.0, -9.81, 0.0, 0.0))
     inverse_cube_g = r.number(phys, "inverse_cube_g", "[physics]", default=0.0, lo=0.0)
+    rolling_resistance = r.number(phys, "rolling_resistance", "[physics]", default=0.0, lo=0.0, hi=1.0)
 
     boxes = _boxes(r, data, "top level", DEFAULT_COLOR)
     meshes = _meshes(r, data, "top level", DEFAULT_COLOR)
@@ -494,5 +496,5 @@ def load_level(path) -> Level:
         path=path, name=name, description=description, w_range=(float(w_range[0]), float(w_range[1])),
         spawn=spawn, spawn_yaw_deg=spawn_yaw, goal=goal, gravity=gravity, inverse_cube_g=inverse_cube_g,
         boxes=boxes, meshes=meshes, worlds=worlds, objects=objects,
-        source_hash=hashlib.sha256(raw).hexdigest(), hints=list(hints),
+        source_hash=hashlib.sha256(raw).hexdigest(), hints=list(hints), rolling_resistance=rolling_resistance,
     )

@@ -168,7 +168,8 @@ def build_physics(scene: Scene, tick_dt: float):
     """The rigid-body world of a scene, or ``(None, {})`` when nothing in it moves.
 
     Bodies collide with the 3D geometry present at every w (as boxes
-    extending over all w), with each extended world's parts over the w interval
+    extending over all w), with walls in w at both ends of the level's
+    ``w_range``, with each extended world's parts over the w interval
     where they are at least half their full size, and with each other. A body
     object's collider is its mesh's bounding box (``hypercube``) or bounding
     hypersphere, scaled; its ``spin`` becomes its initial angular velocity.
@@ -187,7 +188,13 @@ def build_physics(scene: Scene, tick_dt: float):
 
     level = scene.level
     world = PhysicsWorld(gravity=level.gravity, inverse_cube_G=level.inverse_cube_g, ground=False,
-                         tick_dt=tick_dt)
+                         tick_dt=tick_dt, rolling_resistance=level.rolling_resistance)
+    # Walls at both ends of the level's w range: the player cannot leave it, so
+    # a body that rolled out along w would never be seen again (and, rolling
+    # on forever, never sleep). A body's whole extent stays inside.
+    lo, hi = level.w_range
+    world.add_half_space((0.0, 0.0, 0.0, -1.0), -hi)  # solid where w >= hi
+    world.add_half_space((0.0, 0.0, 0.0, 1.0), lo)  # solid where w <= lo
     world.set_static_boxes([(0.5 * (lo + hi), 0.5 * (hi - lo)) for lo, hi in scene.static_boxes])
     for wd in scene.worlds:
         ws = np.linspace(wd.layers_w[0], wd.layers_w[-1], 257)
