@@ -136,7 +136,8 @@ def test_readme_documents_every_table_field_and_shape():
                   "[[world.box]]", "[[world.mesh]]", "[[object]]"):
         assert f"`{table}`" in text, table
     fields = ("format name description w_range hints position yaw center size color asset scale "
-              "w depth profile shape params rotation spin solid body mass gravity inverse_cube_g rolling_resistance velocity").split()
+              "w depth profile shape params rotation spin solid body mass gravity inverse_cube_g rolling_resistance "
+              "velocity").split()
     for f in fields:
         assert f"| `{f}` |" in text, f"field {f} is not in a table of levels/README.md"
     for name in SHAPES:

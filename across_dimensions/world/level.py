@@ -22,17 +22,32 @@ import hashlib
 import inspect
 import math
 import string
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import tomllib
 
 from ..core import fileio
 from ..core.transform import PLANES
 from . import limits, resources
-from .limits import (ANGLE, COLOR, COORD, GRAVITY_MAX, INVERSE_CUBE_G, MASS, MAX_COUNTS, MAX_NAME_CHARS,
-                     MAX_TEXT_CHARS, ROLLING_RESISTANCE, SCALE, SIZE, SPEED, SPIN, Range)
+from .limits import (
+    ANGLE,
+    COLOR,
+    COORD,
+    GRAVITY_MAX,
+    INVERSE_CUBE_G,
+    MASS,
+    MAX_COUNTS,
+    MAX_NAME_CHARS,
+    MAX_TEXT_CHARS,
+    ROLLING_RESISTANCE,
+    SCALE,
+    SIZE,
+    SPEED,
+    SPIN,
+    Range,
+)
 
 PROFILES = ("prism", "round", "taper")
 OBJECT_BODIES = ("none", "hypersphere", "hypercube")
@@ -199,7 +214,8 @@ def _hint_problem(hint: str) -> str | None:
         return f"{e} (write {{{{ and }}}} for a brace)"
     for _, name, spec, conv in parts:
         if name is not None and (not name.isidentifier() or spec or conv):
-            return f"'{{{name}{'!' + conv if conv else ''}{':' + spec if spec else ''}}}' is not an {{action}} placeholder"
+            shown = f"{{{name}{'!' + conv if conv else ''}{':' + spec if spec else ''}}}"
+            return f"'{shown}' is not an {{action}} placeholder"
     return None
 
 
@@ -497,7 +513,8 @@ class _Reader:
         out = {}
         for plane, deg in v.items():
             if plane not in PLANES:
-                self.problem(where, f"field '{key}': unknown rotation plane '{plane}' (expected one of {', '.join(PLANES)})")
+                self.problem(where, f"field '{key}': unknown rotation plane '{plane}' "
+                                    f"(expected one of {', '.join(PLANES)})")
             elif not _is_number(deg):
                 self.problem(where, f"field '{key}.{plane}': expected degrees as a number, got {deg!r}")
             elif f.range is not None and deg not in f.range:
@@ -634,7 +651,9 @@ def _world_table(r: _Reader, wt: dict, i: int) -> WorldSpec:
 
 
 def _object_table(r: _Reader, ot: dict, i: int) -> ObjectSpec:
-    from ..core.shapes import SHAPES  # the shape registry; imported here to keep level parsing light
+    from ..core.shapes import (
+        SHAPES,  # the shape registry; imported here to keep level parsing light
+    )
 
     where = f"[[object]] #{i}"
     r.unknown(ot, OBJECT, where)
@@ -703,7 +722,9 @@ def _object_table(r: _Reader, ot: dict, i: int) -> ObjectSpec:
 def _asset_vertices(asset: Path, depth: float):
     """Vertices ``(2n, 4)`` of the asset lifted to a prism ``depth`` deep, or None if it
     cannot be read (that is reported when the level is played and the asset baked)."""
-    from .bake import load_surface  # trimesh is imported only for a body made from an asset
+    from .bake import (
+        load_surface,  # trimesh is imported only for a body made from an asset
+    )
 
     try:
         v3, _ = load_surface(asset)

@@ -24,13 +24,25 @@ from dataclasses import dataclass
 
 from ..core.fileio import MiB
 
-__all__ = ["Range", "MAX_LEVEL_BYTES", "MAX_COUNTS", "MAX_OBJECT_TETS", "MAX_TOTAL_TETS", "shape_tets",
-           "asset_object_tets", "world_tets", "tick_cost_ms", "FRAME_MS"]
+__all__ = [
+    "FRAME_MS",
+    "MAX_COUNTS",
+    "MAX_LEVEL_BYTES",
+    "MAX_OBJECT_TETS",
+    "MAX_TOTAL_TETS",
+    "Range",
+    "asset_object_tets",
+    "shape_tets",
+    "tick_cost_ms",
+    "world_tets",
+]
 
-#: Largest level file read. The biggest sensible level (every count at its
-#: limit, with comments) is a few hundred KiB; parsing 1 MiB of TOML takes
-#: about a second here, so check-level stays quick on anything it is handed.
-MAX_LEVEL_BYTES = 1 * MiB
+#: Largest level file read. A level with every count at its limit is about
+#: 200 KiB, comments aside. Parsing is the cost of checking a big file: here
+#: (2 busy cores) 1 MiB of TOML took 3-5 s to parse, so half that keeps
+#: check-level at a second or two on anything it is handed, and a file of a
+#: million boxes (tens of MiB) is refused before it is read.
+MAX_LEVEL_BYTES = MiB // 2
 
 #: Most entries of each kind in one level: table name -> (limit, what it counts).
 #: Boxes and meshes count those inside worlds too.
