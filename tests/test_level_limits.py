@@ -472,3 +472,42 @@ def test_a_body_thrown_off_the_level_is_caught(tmp_path):
     assert farthest > hi[0] + BOUNDS_MARGIN - 1.0, "it should have flown off to the wall"
     assert p[1] == pytest.approx(lo[1] - BOUNDS_MARGIN + 0.5, abs=0.05), "resting on the catching floor"
     assert game.physics.is_sleeping(b)
+
+
+def _random_level(rng) -> str:
+    """A level of random bodies anywhere inside the accepted ranges, on thin floors."""
+    g = rng.normal(size=4)
+    g *= rng.uniform(0, limits.GRAVITY_MAX * 0.999) / np.linalg.norm(g)
+    text = BASE.replace("size = [10.0, 1.0, 12.0]", "size = [10.0, 0.001, 12.0]").replace("-0.5, 0.0]", "-0.0005, 0.0]")
+    text += (f"\n[physics]\ngravity = [{', '.join(f'{x:.6g}' for x in g)}]\n"
+             f"inverse_cube_g = {float(rng.choice([0.0, limits.INVERSE_CUBE_G.hi]))}\n"
+             f"rolling_resistance = {rng.uniform(0, 1):.3f}\n"
+             "[[box]]\ncenter = [3.0, 1.0, 0.0]\nsize = [0.001, 2.0, 6.0]\n")
+    for k in range(4):
+        shape, body, unit = [("hypersphere", "hypersphere", 2.0), ("tesseract", "hypercube", 1.0),
+                             ("24-cell", "hypersphere", 2.0)][int(rng.integers(3))]
+        extent = np.exp(rng.uniform(np.log(0.011), np.log(25.0)))  # the body's smallest extent, m
+        scale = extent / unit * np.exp(rng.uniform(0, np.log(limits.BODY_ASPECT * 0.99), 4))
+        if body == "hypersphere":
+            scale[:] = scale[0]
+        spins = ", ".join(f"{p} = {rng.uniform(-720, 720):.1f}" for p in ("xy", "xw", "yz", "zw"))
+        text += obj(shape, position=f"[{rng.uniform(-2, 2):.3f}, {2 + 3 * k}, {rng.uniform(-2, 2):.3f}, "
+                                    f"{rng.uniform(-0.5, 0.5):.3f}]",
+                    scale=f"[{', '.join(f'{s:.6g}' for s in scale)}]", body=f'"{body}"',
+                    mass=f"{np.exp(rng.uniform(np.log(1e-3), np.log(1e4))):.6g}",
+                    velocity=f"[{', '.join(f'{v:.3f}' for v in rng.uniform(-50, 50, 4))}]",
+                    spin="{ " + spins + " }")
+    return text
+
+
+@pytest.mark.slow
+def test_random_levels_inside_the_ranges_play_finite(tmp_path):
+    """Property: random levels at the edges of the ranges (thin floors, strong
+    gravity any way, fast, spinning, heavy and light bodies) all load and play
+    finite for 10 s with random input."""
+    from across_dimensions.game.sim import Game
+
+    rng = np.random.default_rng(2026)
+    for i in range(40):
+        path = write(tmp_path, _random_level(rng), f"random{i}.toml")
+        _play_random(Game(load_level(path)), 600, seed=i)
