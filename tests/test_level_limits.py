@@ -131,6 +131,14 @@ def test_count_limits(tmp_path, kind, entry, text):
     assert f"at most {limit} {what}" in msg
 
 
+def test_limit_is_reported_once(tmp_path):
+    """Past the limit in [[box]], the worlds' boxes are not read either, and not reported again."""
+    boxes = "".join("[[box]]\ncenter = [0, 0, 0]\nsize = [1, 1, 1]\n" for _ in range(1000))
+    world = "[[world]]\nw = 0.0\ndepth = 1.0\n[[world.box]]\ncenter = [0, 0, 0]\nsize = [1, 1, 1]\n"
+    problems = problems_of(write(tmp_path, BASE + boxes + world + world))
+    assert len(problems) == 1 and "[[box]] #1001" in problems[0], problems
+
+
 def test_entries_past_the_limit_are_not_read(tmp_path):
     """A broken box after the limit is not reported: reading stops there."""
     boxes = "".join("[[box]]\ncenter = [0, 0, 0]\nsize = [1, 1, 1]\n" for _ in range(1100))

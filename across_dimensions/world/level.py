@@ -365,10 +365,12 @@ class _Reader:
         limit, what = MAX_COUNTS[key]
         room = limit - self.counts[key]
         if len(items) > room:
-            self.problem(label(room + 1), f"a level may have at most {limit} {what}; "
-                                          f"this one and those after it are not read")
-            items = items[:room]
-        self.counts[key] += len(items)
+            if room >= 0:  # one line per kind: later tables of that kind are just not read
+                self.problem(label(room + 1), f"a level may have at most {limit} {what}; "
+                                              f"this one and those after it are not read")
+            items = items[:max(room, 0)]
+            room = -1
+        self.counts[key] = limit + 1 if room < 0 else self.counts[key] + len(items)
         return items
 
     def add_tets(self, n: int, where: str) -> None:

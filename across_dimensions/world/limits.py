@@ -251,11 +251,12 @@ def world_tets(n_boxes: int, n_meshes: int, layers: int = 9) -> int:
 # ------------------------------------------------------------------ frame cost
 # Cost per frame on a typical 2-core machine with Mesa's software rasterizer,
 # at 1280x720, while the player moves along w (every section is recomputed,
-# uploaded and drawn: the worst steady case). Calibrated here: generated levels
-# of 1-200 tesseracts, 100-200 120-cells, 100-200 hypersphere bodies and
-# 8 duoprisms 128x128, timed per tick for Game.step + Game.frame + an
-# offscreen Renderer.draw while moving along w (a script in the commit that
-# added this). The machine was shared (load ~7 on 2 cores) and
+# uploaded and drawn: the worst steady case). Calibrated on this project's
+# machine: generated levels (a 40 x 40 m floor and N spinning objects in a
+# grid) of 1-200 tesseracts, 100-200 120-cells, 100-200 hypersphere bodies and
+# 8 duoprisms 128x128, each timed as the median over 240 ticks of Game.step +
+# Game.frame + Renderer.draw into a 1280x720 offscreen framebuffer (EGL,
+# llvmpipe) + ctx.finish(), holding w_ana / w_kata. The machine was shared (load ~7 on 2 cores) and
 # `across-dimensions bench` showed its physics median at 11 ms wall against
 # 3.2 ms CPU, so the measured times were divided by 3, the same factor:
 #   base (player, 3D world, floor, fill):  ~5 ms      (16 ms measured)
