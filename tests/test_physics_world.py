@@ -82,7 +82,7 @@ def test_sleeping_bodies_cost_no_contacts():
         world.add_body("hypercube", size=0.5, position=(0.6 * k, 0.76, 0, 0.3 * k))
     for _ in range(120):
         world.step(1 / 60)
-    assert not world.awake[:12].any()
+    assert not world.bodies.awake[:12].any()
     world.step(1 / 60)
     assert world.last_contact_count == 0
 
@@ -95,7 +95,7 @@ def test_step_runs_fixed_ticks_whatever_the_frame_time():
     for dt in [1 / 120] * 40 + [1 / 30] * 20:
         ran += b.step(dt)
     assert ran == 60
-    assert a.state_bytes() != b"" and np.array_equal(a.pos, b.pos)
+    assert a.state_bytes() != b"" and np.array_equal(a.bodies.position, b.bodies.position)
     assert a.step(0.0) == 0
 
 
@@ -337,10 +337,10 @@ def test_bench_pile_stays_inside_the_arena():
     world = build_pile(200)
     for _ in range(240):
         world.step(1 / 60)
-    p = world.pos[:200]
+    p = world.bodies.position[:200]
     assert p[:, 1].min() > 0.1 and p[:, 1].max() < 3.0
     assert np.abs(p[:, [0, 2, 3]]).max() < 1.5
-    speed = np.linalg.norm(world.vel[:200], axis=1)
+    speed = np.linalg.norm(world.bodies.velocity[:200], axis=1)
     assert speed.max() < 1.0
 
 
@@ -378,13 +378,13 @@ def test_random_scenes_stay_sane():
                                angular_velocity=rng.normal(size=6) * 3)
         for _ in range(600):
             world.step(1 / 60)
-        pos = world.pos[:60]
-        assert np.isfinite(pos).all() and np.isfinite(world.vel[:60]).all()
-        lowest = np.array([world.half[i].min() if world.shape[i] == 0 else 0.0 for i in range(60)])
+        pos = world.bodies.position[:60]
+        assert np.isfinite(pos).all() and np.isfinite(world.bodies.velocity[:60]).all()
+        lowest = np.array([world.bodies.half_extents[i].min() if world.bodies.shape[i] == 0 else 0.0 for i in range(60)])
         assert (pos[:, 1] >= lowest - 0.02).all()
         assert (np.abs(pos[:, 3]) <= 2.0).all()
         for i in range(60):
-            r = world.rot[i]
+            r = world.bodies.rotation[i]
             assert transform.orthonormality_error(r) < 1e-12
         # No energy from nowhere: nothing outruns a fall from the top (25 m).
-        assert np.linalg.norm(world.vel[:60], axis=1).max() < np.sqrt(2 * 9.81 * 26) + 3
+        assert np.linalg.norm(world.bodies.velocity[:60], axis=1).max() < np.sqrt(2 * 9.81 * 26) + 3
