@@ -1,10 +1,10 @@
 """The game-facing 4D rigid-body world.
 
->>> from across_dimensions.physics import PhysicsWorld
+>>> from across_dimensions.physics import BodyDef, PhysicsWorld
 >>> world = PhysicsWorld(gravity=(0, -9.81, 0, 0))          # ground plane y = 0
->>> ball = world.add_body("hypersphere", radius=0.5, position=(0, 2, 0, 0.3))
->>> box = world.add_body("hypercube", size=1.0, position=(2, 0.5, 0, 0),
-...                      angles={"xw": 0.3})
+>>> ball = world.add_body(BodyDef("hypersphere", radius=0.5, position=(0, 2, 0, 0.3)))
+>>> box = world.add_body(BodyDef("hypercube", size=1.0, position=(2, 0.5, 0, 0),
+...                               angles={"xw": 0.3}))
 >>> world.step(1 / 60)                                      # one fixed tick
 1
 >>> model = world.body_pose(ball)                           # (5, 5) model matrix
@@ -27,6 +27,7 @@ from across_dimensions.core import transform
 
 from . import pipeline as pl
 from .bivector import world_inverse_inertia
+from .body_def import BodyDef
 from .collide import BOX, SCRATCH_POINTS, SPHERE
 from .state import (
     Bodies,
@@ -39,7 +40,7 @@ from .state import (
 )
 from .events import ContactEvent, manifold_events, touching_keys
 from .mass import box_inertia, box_volume, hypersphere_inertia, hypersphere_volume
-from .queries import player_kernel, raycast_kernel
+from .queries import box_push_out_kernel, raycast_kernel
 
 #: Pairs closer than this (metres) count as touching for events.
 _TOUCH_TOL = 1e-3
@@ -258,49 +259,28 @@ class PhysicsWorld:
         return i
 
     # ------------------------------------------------------------------ bodies
-    def add_body(self, shape: str = "hypersphere", size=None, *, radius: float | None = None,
-                 position=(0.0, 0.0, 0.0, 0.0), rotation=None,
-                 angles: Mapping[str, float] | None = None, velocity=None,
-                 angular_velocity=None, mass: float | None = None, density: float = 1.0,
-                 kind: str = "dynamic", restitution: float = 0.1,
-                 friction: float = 0.5) -> int:
+    def add_body(self, body_def: BodyDef) -> int:
         """Add a body and return its id.
 
         Parameters
         ----------
-        shape : {"hypersphere", "hypercube"}
-            ``"box"`` and ``"tesseract"`` are accepted for "hypercube".
-        size : float or (4,) array_like, optional
-            Hypercube: edge length, or the four edge lengths of a box (its
-            inertia is then anisotropic). Hypersphere: diameter, if ``radius``
-            is not given. Default 1.
-        radius : float, optional
-            Hypersphere radius.
-        position : (4,) array_like
-            Centre, metres.
-        rotation : (4, 4) array_like or mapping of plane to angle, optional
-        angles : mapping of plane name to radians, optional
-            Alternative to ``rotation`` (see :func:`transform.angles_to_rotation`).
-        velocity : (4,) array_like, optional
-        angular_velocity : (6,) array_like or mapping of plane to rad/s, optional
-            Bivector in ``xy xz yz xw yw zw`` order.
-        mass : float, optional
-            Overrides ``density * hypervolume``.
-        density : float
-            kg per m^4.
-        kind : {"dynamic", "kinematic", "static"}
-            Kinematic bodies move with the velocity you set and push others
-            without being pushed; static ones never move.
-        restitution : float
-            Bounciness in [0, 1]; a pair uses the larger of its two values.
-        friction : float
-            Coulomb coefficient; a pair uses the geometric mean.
+        body_def : BodyDef
+            Shape, pose, motion and material (see :class:`BodyDef` for the defaults).
 
         Returns
         -------
         int
             The body id, stable until :meth:`remove_body`.
+
+        Raises
+        ------
+        ValueError
+            Unknown shape or kind, a non-positive size, radius or mass.
         """
+        if not isinstance(body_def, BodyDef):
+            raise TypeError(f"add_body takes a BodyDef, got {type(body_def).__name__}")
+        d = body_def
+        shape, size, radius, kind = d.shape, d.size, d.radius, d.kind
         if shape not in _SHAPES:
             raise ValueError(f"unknown shape {shape!r}; use 'hypersphere' or 'hypercube'")
         if kind not in _KINDS:
@@ -318,30 +298,35 @@ class PhysicsWorld:
                 raise ValueError("size must be positive")
             half = 0.5 * s
             volume = box_volume(half)
-        m = float(mass) if mass is not None else float(density) * volume
+        m = float(d.mass) if d.mass is not None else float(d.density) * volume
         if not m > 0:
             raise ValueError("mass must be positive")
         inertia = hypersphere_inertia(m, half[0]) if sh == SPHERE else box_inertia(m, half)
+        k = _KINDS[kind]
+        # Everything that can fail is checked before the slot is taken.
+        position = _vec4(d.position, "position")
+        rotation = _rotation(d.rotation, d.angles)
+        velocity = _vec4(d.velocity, "velocity") if k != pl.STATIC else 0.0
+        angular_velocity = _bivector(d.angular_velocity) if k != pl.STATIC else 0.0
         if self._n == self.bodies.alive.shape[0]:
             self._alloc_bodies(2 * self.bodies.alive.shape[0])
             self._scratch = self._scratch._replace(margin=np.zeros(self.bodies.alive.shape[0]))
         i = self._n
         self.bodies = self.bodies._replace(count=i + 1)
-        k = _KINDS[kind]
         self.bodies.alive[i] = True
         self.bodies.kind[i] = k
         self.bodies.shape[i] = sh
         self.bodies.half_extents[i] = half
         self.bodies.bound[i] = half[0] if sh == SPHERE else float(np.linalg.norm(half))
-        self.bodies.position[i] = _vec4(position, "position")
-        self.bodies.rotation[i] = _rotation(rotation, angles)
-        self.bodies.velocity[i] = _vec4(velocity, "velocity") if k != pl.STATIC else 0.0
-        self.bodies.angular_velocity[i] = _bivector(angular_velocity) if k != pl.STATIC else 0.0
+        self.bodies.position[i] = position
+        self.bodies.rotation[i] = rotation
+        self.bodies.velocity[i] = velocity
+        self.bodies.angular_velocity[i] = angular_velocity
         self.bodies.mass[i] = m
         self.bodies.inv_mass[i] = 1.0 / m if k == pl.DYNAMIC else 0.0
         self.bodies.inv_inertia[i] = 1.0 / inertia if k == pl.DYNAMIC else 0.0
-        self.bodies.friction[i] = friction
-        self.bodies.restitution[i] = restitution
+        self.bodies.friction[i] = d.friction
+        self.bodies.restitution[i] = d.restitution
         self.bodies.awake[i] = True
         self.bodies.sleep_timer[i] = 0.0
         self.bodies.island[i] = i
@@ -476,6 +461,11 @@ class PhysicsWorld:
             self.bodies.sleep_timer[:n][group] = 0.0
         self.bodies.awake[i] = True
         self.bodies.sleep_timer[i] = 0.0
+
+    def body_kind(self, body_id: int) -> str:
+        """``"dynamic"``, ``"kinematic"`` or ``"static"``."""
+        k = self.bodies.kind[self._check(body_id)]
+        return next(name for name, code in _KINDS.items() if code == k)
 
     def is_sleeping(self, body_id: int) -> bool:
         i = self._check(body_id)
@@ -656,57 +646,33 @@ class PhysicsWorld:
             raise ValueError("direction must be non-zero")
         d /= ln
         normal = np.zeros(4)
-        hit, t = raycast_kernel(self._n, self.bodies.alive, self.bodies.shape, self.bodies.half_extents, self.bodies.position, self.bodies.rotation,
-                                self.static.half_spaces, self.static.boxes, o, d, float(max_dist),
-                                include_world, normal)
+        hit, t = raycast_kernel(self.bodies, self.static, o, d, float(max_dist), include_world, normal)
         if hit == -(1 << 62):
             return None
         who = int(hit) if hit >= 0 else "world"
         return who, float(t), o + t * d, normal
 
-    def player_collide(self, position, radius: float, height: float, w_half: float = 0.05,
-                       velocity=None):
-        """Push a player out of the bodies in its w slab.
+    def push_box_out(self, center, half_extents):
+        """Shortest xyz move that takes an upright 4D box out of the bodies it overlaps.
 
-        The player is the upright box ``[x +- radius] x [y, y + height] x
-        [z +- radius] x [w +- w_half]`` with ``position = (x, y, z, w)`` its feet.
-        Bodies whose 4D shape does not reach into the slab are ignored.
+        The box is axis-aligned and moves only in x, y and z: a thing that lives
+        in the 3D slice at its w (the player, see
+        :func:`across_dimensions.game.player_bodies.player_collide`). Bodies whose
+        4D shape does not reach into its w slab are ignored.
 
         Parameters
         ----------
-        position : (4,) array_like
-        radius, height, w_half : float
-        velocity : (3,) or (4,) array_like, optional
-            The player's velocity. If given, touched dynamic bodies that the
-            player walks into get the impulse that makes them move at least
-            as fast as the player along its direction of motion (pushing).
+        center, half_extents : (4,) array_like
 
         Returns
         -------
         correction : (3,) float64
-            xyz offset to add to the player's position.
+            xyz offset to add to the box's position.
         touched : list of int
-            Ids of the bodies in contact (push the dynamic ones with :meth:`push`).
+            Ids of the bodies it overlapped, in id order.
         """
-        feet = _vec4(position, "position")
+        c = _vec4(center, "center")
+        h = _vec4(half_extents, "half_extents")
         touched = np.zeros(self._n, dtype=bool)
-        corr = player_kernel(self._n, self.bodies.alive, self.bodies.shape, self.bodies.half_extents, self.bodies.position, self.bodies.rotation,
-                             feet, float(radius), float(height), float(w_half), 4, touched)
-        ids = [int(i) for i in np.flatnonzero(touched)]
-        if velocity is not None:
-            v = np.zeros(4)
-            vv = np.asarray(velocity, dtype=np.float64).reshape(-1)
-            v[: vv.shape[0]] = vv
-            speed = np.linalg.norm(v)
-            if speed > 0:
-                d = v / speed
-                for i in ids:
-                    if self.bodies.kind[i] != pl.DYNAMIC:
-                        continue
-                    # Only bodies ahead of the player: behind ones are not pushed.
-                    if (self.bodies.position[i] - feet) @ d <= 0:
-                        continue
-                    lag = speed - self.bodies.velocity[i] @ d
-                    if lag > 0:
-                        self.push(i, self.bodies.mass[i] * lag * d)
-        return corr, ids
+        corr = box_push_out_kernel(self.bodies, c, h, 4, touched)
+        return corr, [int(i) for i in np.flatnonzero(touched)]
