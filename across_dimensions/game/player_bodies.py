@@ -13,6 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..physics.debug_draw import DebugDrawOptions
+from .player import HALF_WIDTH, HEIGHT
+
 #: Half thickness of the player's collider along w, metres: the player lives in
 #: one 3D slice, so only bodies reaching into this thin slab touch it.
 W_HALF = 0.05
@@ -77,3 +80,24 @@ def bodies_block(physics, position, w: float, radius: float, height: float) -> b
     here, _ = player_collide(physics, position, radius, height)
     there, _ = player_collide(physics, moved, radius, height)
     return bool(np.linalg.norm(there) > np.linalg.norm(here) + 1e-4)
+
+
+def debug_draw_game(game, drawer, options=None) -> None:
+    """Report the physics of ``game`` in the player's slice, and the player's collider, to ``drawer``.
+
+    Parameters
+    ----------
+    game : Game
+        Read only.
+    drawer : DebugDrawer
+        See :mod:`across_dimensions.physics.debug_draw`.
+    options : DebugDrawOptions, optional
+    """
+    opt = options or DebugDrawOptions()
+    p = game.player
+    box = player_box(p.position, HALF_WIDTH, HEIGHT)
+    w = float(p.position[3])
+    if game.physics is not None:
+        game.physics.debug_draw(drawer, w, opt, boxes=[box])
+    elif opt.boxes:
+        drawer.draw_box(box[0][:3], box[1][:3], opt.box_color)

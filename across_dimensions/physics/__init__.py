@@ -41,7 +41,8 @@ from ._cache import drop_stale_kernels
 drop_stale_kernels()
 
 from .body_def import BodyDef  # noqa: E402
+from .debug_draw import DebugDrawer, DebugDrawOptions  # noqa: E402
 from .events import ContactEvent  # noqa: E402
 from .world import PhysicsWorld  # noqa: E402
 
-__all__ = ["BodyDef", "ContactEvent", "PhysicsWorld"]
+__all__ = ["BodyDef", "ContactEvent", "DebugDrawer", "DebugDrawOptions", "PhysicsWorld"]

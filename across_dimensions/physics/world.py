@@ -28,6 +28,7 @@ from across_dimensions.core import transform
 from . import pipeline as pl
 from .bivector import world_inverse_inertia
 from .body_def import BodyDef
+from .debug_draw import DebugDrawer, DebugDrawOptions, debug_draw
 from .collide import BOX, SCRATCH_POINTS, SPHERE
 from .state import (
     Bodies,
@@ -676,3 +677,13 @@ class PhysicsWorld:
         touched = np.zeros(self._n, dtype=bool)
         corr = box_push_out_kernel(self.bodies, c, h, 4, touched)
         return corr, [int(i) for i in np.flatnonzero(touched)]
+
+    # ------------------------------------------------------------------ debug drawing
+    def debug_draw(self, drawer: DebugDrawer, w: float, options: DebugDrawOptions | None = None,
+                   boxes=()) -> None:
+        """Report colliders, contacts and query ``boxes`` in the 3D slice at ``w`` to ``drawer``.
+
+        See :func:`~across_dimensions.physics.debug_draw.debug_draw`; the world
+        does not change.
+        """
+        debug_draw(self, drawer, w, options, boxes)
