@@ -174,11 +174,13 @@ def test_overlay_draws_lines_over_a_frame(gl_ctx):
         gl_ctx.clear(0.0, 0.0, 0.0, 1.0)
         assert overlay.draw(LineDrawer(), cam, target.viewport) == 0
         assert target.read_rgb().max() == 0
-        # The window's hook: the player's box is drawn in its colour too.
+        # The window's hook: the player's box is drawn in its (half transparent) colour too.
         game = SimpleNamespace(physics=world, player=SimpleNamespace(position=np.array([0.0, 0.0, -1.0, 0.0])))
         assert overlay.draw_game(game, cam, target.viewport) > n
-        white = (target.read_rgb() >= 250).all(axis=2)
-        assert white.sum() > 10
+        c = DebugDrawOptions().box_color
+        expected = np.round(np.array(c[:3]) * c[3] * 255).astype(int)  # blended over black
+        box_px = (np.abs(target.read_rgb().astype(int) - expected) <= 2).all(axis=2)
+        assert box_px.sum() > 10
     finally:
         overlay.release()
         target.release()

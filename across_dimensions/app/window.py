@@ -280,7 +280,10 @@ class GameWindow(pyglet.window.Window):
         path = folder / f"shot_{len(list(folder.glob('shot_*.png'))):04d}.png"
         with Offscreen(self.ctx, fw, fh) as target:
             target.use()
-            self.renderer.draw(self.current_frame(), target.viewport)
+            frame = self.current_frame()
+            self.renderer.draw(frame, target.viewport)
+            if self.show_debug_draw and self.debug_overlay is not None:
+                self.debug_overlay.draw_game(self.game, frame.camera, target.viewport)
             target.save_png(path)
         self.ctx.screen.use()
         print(f"screenshot saved: {path}", flush=True)

@@ -82,7 +82,8 @@ class DebugDrawOptions:
     kinematic_color: Color = (1.0, 0.8, 0.2, 1.0)
     static_color: Color = (0.65, 0.65, 0.65, 1.0)
     contact_color: Color = (1.0, 0.2, 0.2, 1.0)
-    box_color: Color = (1.0, 1.0, 1.0, 1.0)
+    # Half transparent: in first person the camera sits inside the player's box.
+    box_color: Color = (1.0, 1.0, 1.0, 0.5)
 
 
 # The 24 square faces of a 4D box: two free axes (p, q) and signs for the other
