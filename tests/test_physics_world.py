@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from across_dimensions.core import transform
-from across_dimensions.physics import BodyDef, ContactEvent, PhysicsWorld
 from across_dimensions.game.player_bodies import player_collide
+from across_dimensions.physics import BodyDef, ContactEvent, PhysicsWorld
 from across_dimensions.physics.bench import bench_physics, build_pile
 
 

@@ -57,6 +57,9 @@ def manifold_events(nc, contacts, touch_tol):
     cp = contacts.point
     cd = contacts.depth
     imp_pt = contacts.normal_impulse
+    body_a = contacts.body_a
+    body_b = contacts.body_b
+    normal = contacts.normal
     keys = np.empty(nc, dtype=np.int64)
     ab = np.empty((nc, 2), dtype=np.int64)
     pts = np.zeros((nc, 4))
@@ -81,10 +84,10 @@ def manifold_events(nc, contacts, touch_tol):
                 for m in range(4):
                     pts[ne, m] += wgt * cp[q, m]
             keys[ne] = key[c]
-            ab[ne, 0] = contacts.body_a[c]
-            ab[ne, 1] = contacts.body_b[c]
+            ab[ne, 0] = body_a[c]
+            ab[ne, 1] = body_b[c]
             for m in range(4):
-                nrm[ne, m] = contacts.normal[c, m]
+                nrm[ne, m] = normal[c, m]
             imp[ne] = tot
             ne += 1
         c = e

@@ -14,7 +14,9 @@ on the inputs, never on timing or hashing):
 6. islands (from the broadphase pairs) and sleeping.
 
 The kernel checks buffer capacity before it changes any body, so the caller can
-grow the buffers and call it again when it reports an overflow.
+grow the buffers and call it again when it reports an overflow. Its arguments
+are the named bundles of :mod:`.state` (bodies, static world, parameters,
+contacts, warm start, solver rows, scratch).
 """
 
 from __future__ import annotations
@@ -267,9 +269,14 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
     rot = bodies.rotation
     hs = static.half_spaces
     wb = static.boxes
+    # Arrays are taken out of the bundles once: reading a bundle's field inside
+    # a loop costs a reference-count update per iteration.
     cp = contacts.point
     cn = contacts.normal
     cd = contacts.depth
+    body_a = contacts.body_a
+    body_b = contacts.body_b
+    pair_key = contacts.key
     if npairs * MAX_POINTS > cp.shape[0]:
         return -npairs * MAX_POINTS
     keys = np.empty(npairs, dtype=np.int64)
@@ -336,9 +343,9 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
                     got = box_box(pos[a], rot[a], half[a], vx, vr, vh, m,
                                   scratch_p, scratch_d, wk, cp, cn, cd, k)
         for q in range(got):
-            contacts.body_a[k + q] = a
-            contacts.body_b[k + q] = b
-            contacts.key[k + q] = keys[p]
+            body_a[k + q] = a
+            body_b[k + q] = b
+            pair_key[k + q] = keys[p]
         k += got
     return k
 
@@ -578,6 +585,7 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
     pos = bodies.position
     rot = bodies.rotation
     inv_inertia = bodies.inv_inertia
+    awake = bodies.awake
     dt = prm.tick_dt
     ns = int(prm.substeps)
     h = dt / ns
@@ -594,7 +602,7 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
     # bodies at 0), or -1 where the full 6x6 operator is needed.
     iso = np.zeros(nb)
     for i in range(nb):
-        if alive[i] and kind[i] == DYNAMIC and bodies.awake[i]:
+        if alive[i] and kind[i] == DYNAMIC and awake[i]:
             world_inverse_inertia(rot[i], inv_inertia[i], iinv[i])
             iso[i] = inv_inertia[i, 0]
             for k in range(1, 6):

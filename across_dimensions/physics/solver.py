@@ -90,8 +90,13 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
     bound = bodies.bound
     mu = bodies.friction
     rest = bodies.restitution
+    shape = bodies.shape
+    keys = contacts.key
     world_mu = prm.world_friction
     world_e = prm.world_restitution
+    spin_radius = prm.spin_friction
+    rolling = prm.rolling_resistance
+    spin = rows_out.spin
     old_key = warm.key
     old_point = warm.local_point
     old_normal = warm.normal_impulse
@@ -185,8 +190,7 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
                         vn += wb[k] * omg[b, k]
         vn0[c] = vn
         maxlam[c] = 0.0
-        _prepare_spin(c, a, b, tb, cmu[c], bodies.shape, bound, iinv, iso, prm.spin_friction,
-                      prm.rolling_resistance, rows_out.spin)
+        _prepare_spin(c, a, b, tb, cmu[c], shape, bound, iinv, iso, spin_radius, rolling, spin)
         # The contact point in a's frame: the same material point next tick.
         for m in range(4):
             s = 0.0
@@ -197,7 +201,7 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
             lam[c, r] = 0.0
         # Warm start from the nearest old contact of the same pair. Both
         # lists are sorted by key, so the search position only moves forward.
-        key = contacts.key[c]
+        key = keys[c]
         while olo < old_count and old_key[olo] < key:
             olo += 1
         lo = olo
@@ -662,13 +666,19 @@ def store(nc, contacts, rows_in, warm):
     """Keep this tick's impulses, keyed by pair, in ``warm`` for the next warm start."""
     lam = rows_in.impulse
     rows = rows_in.direction
+    local_point = rows_in.local_point
+    keys = contacts.key
+    old_key = warm.key
+    old_normal = warm.normal_impulse
+    old_point = warm.local_point
+    old_friction = warm.friction_impulse
     for c in range(nc):
-        warm.key[c] = contacts.key[c]
-        warm.normal_impulse[c] = lam[c, 0]
+        old_key[c] = keys[c]
+        old_normal[c] = lam[c, 0]
         for m in range(4):
-            warm.local_point[c, m] = rows_in.local_point[c, m]
+            old_point[c, m] = local_point[c, m]
             s = 0.0
             for r in range(3):
                 s += lam[c, r + 1] * rows[c, r + 1, m]
-            warm.friction_impulse[c, m] = s
+            old_friction[c, m] = s
     warm.count[0] = nc

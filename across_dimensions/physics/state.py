@@ -18,6 +18,10 @@ capacity); only the first ``Bodies.count`` bodies and the first ``n`` contacts
 a tick reports are meaningful. A contact's second body ``b`` is ``-1 - s`` for
 static world collider ``s`` (half-spaces first, then world boxes): those rows
 have no second body.
+
+Kernels take the arrays out of the bundles once, before their loops: reading a
+bundle's field inside a hot loop costs numba a reference-count update per
+iteration (measured: 15% on the contact preparation).
 """
 
 from __future__ import annotations

@@ -28,8 +28,11 @@ from across_dimensions.core import transform
 from . import pipeline as pl
 from .bivector import world_inverse_inertia
 from .body_def import BodyDef
-from .debug_draw import DebugDrawer, DebugDrawOptions, debug_draw
 from .collide import BOX, SCRATCH_POINTS, SPHERE
+from .debug_draw import DebugDrawer, DebugDrawOptions, debug_draw
+from .events import ContactEvent, manifold_events, touching_keys
+from .mass import box_inertia, box_volume, hypersphere_inertia, hypersphere_volume
+from .queries import box_push_out_kernel, raycast_kernel
 from .state import (
     Bodies,
     Scratch,
@@ -39,9 +42,6 @@ from .state import (
     new_solver_rows,
     new_warm_start,
 )
-from .events import ContactEvent, manifold_events, touching_keys
-from .mass import box_inertia, box_volume, hypersphere_inertia, hypersphere_volume
-from .queries import box_push_out_kernel, raycast_kernel
 
 #: Pairs closer than this (metres) count as touching for events.
 _TOUCH_TOL = 1e-3
@@ -128,6 +128,19 @@ class PhysicsWorld:
         times the normal force times the radius. 0 (the default) rolls on
         ideally, as the physics tests expect; a level may want about 0.02 so
         balls come to rest and sleep.
+
+    Attributes
+    ----------
+    bodies : Bodies
+        Every body slot (see :mod:`.state`); read it, change bodies through the methods.
+    static : StaticWorld
+        Half-spaces and 3D world boxes.
+    params : (1,) PARAMS_DTYPE record array
+        The tuning values above, by name (``params["max_push"]``).
+    contacts : Contacts
+        The last tick's contacts; the first :attr:`last_contact_count` are valid.
+    warm : WarmStart
+        The impulses the next tick starts from.
     """
 
     def __init__(self, gravity=(0.0, -9.81, 0.0, 0.0), inverse_cube_G: float = 0.0, *,
