@@ -19,6 +19,7 @@ from ..world.scene import Scene, SectionCache, build_physics, build_scene
 from .actions import Actions
 from .frame import Camera3, Drawable, Frame, Hud
 from .player import HALF_WIDTH, HEIGHT, Player, move_axis, step_player
+from .player_bodies import bodies_block, player_collide
 
 TICK_RATE = 60
 DT = 1.0 / TICK_RATE
@@ -103,16 +104,12 @@ class Game:
 
     def _bodies_block(self, position, w: float) -> bool:
         """Would stepping to ``w`` put the player inside a rigid body?"""
-        moved = np.array(position, dtype=np.float64)
-        moved[3] = w
-        here, _ = self.physics.player_collide(position, HALF_WIDTH, HEIGHT)
-        there, _ = self.physics.player_collide(moved, HALF_WIDTH, HEIGHT)
-        return bool(np.linalg.norm(there) > np.linalg.norm(here) + 1e-4)
+        return bodies_block(self.physics, position, w, HALF_WIDTH, HEIGHT)
 
     def _touch_bodies(self) -> None:
         """Bodies in the player's slice block the player, and the player pushes them."""
         p = self.player
-        corr, touched = self.physics.player_collide(p.position, HALF_WIDTH, HEIGHT)
+        corr, touched = player_collide(self.physics, p.position, HALF_WIDTH, HEIGHT)
         n = np.linalg.norm(corr)
         if n == 0.0:
             return
