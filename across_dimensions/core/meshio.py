@@ -1,19 +1,41 @@
-"""Writing projected 3D meshes to common file formats.
+"""Writing projected 3D meshes to common file formats, welded and indexed.
 
-OBJ and PLY are written here with numpy alone; GLB goes through trimesh,
-imported only when asked for (the core's one deliberate optional import).
-Every writer goes to a temporary file renamed into place, so a failure never
-leaves half a file.
+Projections produce triangle soups: every triangle has its own three corners,
+and flat regions are cut into many small triangles (a cube sliced from a
+tesseract is 48 triangles over 26 points). A file made of that is a mesh that
+Blender or trimesh sees as open. Before writing, :func:`indexed_mesh`
+
+1. welds corners that share both position and colour (a point is split only
+   where its colours differ), and
+2. removes the points that only subdivide a flat region or a straight crease,
+   by collapsing each into a neighbour when that changes neither the surface
+   nor (beyond :data:`COLOR_TOL`) the colours, so the tesseract's section is written as 8
+   points and 12 triangles.
+
+OBJ and PLY are written here with numpy alone, without normals (every viewer
+derives them from the welded faces); GLB goes through trimesh, imported only
+when asked for (the core's one deliberate optional import). Every writer goes
+through :func:`~.fileio.atomic_writer`: the file is whole or absent.
 """
 
 from __future__ import annotations
 
-import os
+import json
+import struct
 from pathlib import Path
 
 import numpy as np
 
+from .errors import InputError
+from .fileio import FileProblem, atomic_writer
+
 FORMATS = (".obj", ".ply", ".glb")
+#: Largest colour change (per channel, linear 0..1) a removed point may cause.
+#: The shapes' default colours blend bilinearly in y and w, which the slicer's
+#: triangles follow only piecewise (a tesseract's section face is off a plain
+#: linear blend by up to 0.019); 1/32 keeps each face's gradient within 8/255
+#: while writing a flat face as the fewest triangles.
+COLOR_TOL = 1.0 / 32.0
 
 
 def save_trimesh3(mesh, path) -> None:
@@ -21,61 +43,226 @@ def save_trimesh3(mesh, path) -> None:
 
     Raises
     ------
-    ValueError
+    InputError
         For an extension other than ``.obj``, ``.ply`` or ``.glb``.
+    FileProblem
+        The folder is missing or the file cannot be written.
     """
     path = Path(path)
     ext = path.suffix.lower()
     if ext not in FORMATS:
-        raise ValueError(f"{path}: unknown mesh format {ext or '(none)'!r}; expected one of {', '.join(FORMATS)}")
-    if not path.parent.is_dir():
-        raise FileNotFoundError(f"{path}: the folder {path.parent} does not exist")
-    tmp = path.with_name(path.name + ".tmp")
+        raise InputError(f"{path}: unknown mesh format {ext or '(none)'!r}; expected one of {', '.join(FORMATS)}")
+    vertices, faces, colors = indexed_mesh(mesh)
     try:
-        if ext == ".obj":
-            _write_obj(mesh, tmp)
-        elif ext == ".ply":
-            _write_ply(mesh, tmp)
+        if ext == ".glb":
+            data = _glb_bytes(vertices, faces, colors)  # before opening: a failure leaves nothing
+            with atomic_writer(path, "wb") as f:
+                f.write(data)
         else:
-            _write_glb(mesh, tmp)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
+            with atomic_writer(path, "w", encoding="ascii") as f:
+                (_write_obj if ext == ".obj" else _write_ply)(f, vertices, faces, colors)
+    except OSError as e:
+        raise FileProblem(f"{path}: cannot write it ({e.strerror or e})") from None
 
 
-def _write_obj(mesh, path: Path) -> None:
-    with open(path, "w", encoding="ascii") as f:
-        f.write("# written by across-dimensions\n")
-        # Vertex colours as the widely read "v x y z r g b" extension.
-        rows = np.hstack([mesh.vertices, mesh.colors[:, :3]]) if len(mesh.vertices) else np.zeros((0, 6))
-        np.savetxt(f, rows, fmt="v %.6g %.6g %.6g %.4f %.4f %.4f")
-        np.savetxt(f, mesh.normals, fmt="vn %.5f %.5f %.5f")
-        idx = mesh.faces.astype(np.int64) + 1
-        np.savetxt(f, np.repeat(idx, 2, axis=1), fmt="f %d//%d %d//%d %d//%d")
+# ------------------------------------------------------------------ welding
+def indexed_mesh(mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A projection's triangles as a welded, indexed mesh with per-vertex colours.
+
+    Parameters
+    ----------
+    mesh : TriMesh3
+
+    Returns
+    -------
+    vertices : (k, 3) float32
+    faces : (f, 3) int64
+        Same winding as the input; collapsed triangles dropped.
+    colors : (k, 4) float32
+    """
+    if mesh.is_empty:
+        return np.zeros((0, 3), np.float32), np.zeros((0, 3), np.int64), np.zeros((0, 4), np.float32)
+    pos = np.ascontiguousarray(mesh.vertices, dtype=np.float32) + np.float32(0.0)  # folds -0.0 into 0.0
+    col = np.ascontiguousarray(mesh.colors, dtype=np.float32)
+    # The slicer computes a shared edge's point and colour identically in every
+    # tet, so exact (bitwise) equality is the right test.
+    key = np.ascontiguousarray(np.hstack([pos.view(np.uint32), col.view(np.uint32)]))
+    _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    faces = inverse.reshape(-1)[np.asarray(mesh.faces, dtype=np.int64)]
+    faces = faces[(faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])]
+    vertices, colors = pos[first], col[first]
+    faces = _collapse_flat(vertices.astype(np.float64), colors.astype(np.float64), faces)
+    used = np.unique(faces)
+    renumber = np.full(len(vertices), -1, np.int64)
+    renumber[used] = np.arange(len(used))
+    return vertices[used], renumber[faces], colors[used]
 
 
-def _write_ply(mesh, path: Path) -> None:
-    n, m = len(mesh.vertices), len(mesh.faces)
-    with open(path, "w", encoding="ascii") as f:
-        f.write("ply\nformat ascii 1.0\ncomment written by across-dimensions\n")
-        f.write(f"element vertex {n}\nproperty float x\nproperty float y\nproperty float z\n")
-        f.write("property float nx\nproperty float ny\nproperty float nz\n")
-        f.write("property uchar red\nproperty uchar green\nproperty uchar blue\n")
-        f.write(f"element face {m}\nproperty list uchar uint vertex_indices\nend_header\n")
-        rgb = np.clip(mesh.colors[:, :3] * 255 + 0.5, 0, 255).astype(np.int64)
-        if n:
-            rows = np.hstack([mesh.vertices.astype(np.float64), mesh.normals.astype(np.float64), rgb])
-            np.savetxt(f, rows, fmt="%.6g %.6g %.6g %.5f %.5f %.5f %d %d %d")
-        if m:
-            np.savetxt(f, np.hstack([np.full((m, 1), 3), mesh.faces.astype(np.int64)]), fmt="%d %d %d %d")
+def _collapse_flat(v: np.ndarray, c: np.ndarray, faces: np.ndarray, max_passes: int = 8) -> np.ndarray:
+    """Collapse points that only subdivide flat regions or straight creases.
+
+    A point ``p`` is collapsed into a neighbour ``q`` when all triangles around
+    it lie in one plane (any ``q``), or in two planes meeting along a straight
+    line through ``p`` (``q`` one of its two neighbours on that line). The
+    collapse is kept only if the mesh is closed around ``p``, the link
+    condition holds (no duplicate triangles), no triangle flips or becomes
+    degenerate, and the colour interpolated at ``p`` afterwards is within
+    :data:`COLOR_TOL` of its own. So the surface is unchanged and only its
+    triangulation is coarser.
+
+    Parameters
+    ----------
+    v : (k, 3) float64
+    c : (k, 4) float64
+    faces : (f, 3) int64
+
+    Returns
+    -------
+    (f', 3) int64
+    """
+    faces = faces.copy()
+    if not len(faces):
+        return faces
+    p = v[faces]
+    n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    length = np.linalg.norm(n, axis=1)
+    scale = max(float(np.abs(v).max()), 1e-30)
+    normal = n / np.maximum(length, 1e-300)[:, None]
+    # Only points whose triangles take at most two normal directions are candidates (vectorised prefilter).
+    corner_vertex = faces.ravel()
+    corner_normal = np.round(np.repeat(normal, 3, axis=0), 5)
+    pairs = np.unique(np.hstack([corner_vertex[:, None].astype(np.float64), corner_normal]), axis=0)
+    distinct = np.bincount(pairs[:, 0].astype(np.int64), minlength=len(v))
+    candidates = np.flatnonzero((distinct >= 1) & (distinct <= 2))
+    if not len(candidates):
+        return faces
+    alive = np.ones(len(faces), bool)
+    around: dict[int, set] = {}
+    for fi, row in enumerate(faces):
+        for x in row:
+            around.setdefault(int(x), set()).add(fi)
+    tiny = (1e-7 * scale) ** 2  # twice the smallest triangle area we keep
+    for _ in range(max_passes):
+        changed = False
+        for x in candidates.tolist():
+            fs = [f for f in around.get(x, ()) if alive[f]]
+            if len(fs) < 3:
+                continue
+            targets = _collapse_targets(x, fs, faces, v, normal)
+            for q in targets:
+                if _try_collapse(x, q, fs, faces, v, c, normal, around, alive, tiny):
+                    changed = True
+                    break
+        if not changed:
+            break
+    return faces[alive]
 
 
-def _write_glb(mesh, path: Path) -> None:
+def _collapse_targets(x: int, fs: list, faces: np.ndarray, v: np.ndarray, normal: np.ndarray) -> list:
+    """Neighbours ``x`` may collapse into: any (flat) or its two crease neighbours."""
+    edges: dict[int, list] = {}
+    for f in fs:
+        row = faces[f].tolist()
+        k = row.index(x)
+        for y in (row[(k + 1) % 3], row[(k + 2) % 3]):
+            edges.setdefault(y, []).append(f)
+    if any(len(e) != 2 for e in edges.values()):
+        return []  # open or non-manifold around x: leave it
+    planes: list[np.ndarray] = []
+    for f in fs:
+        if not any(float(normal[f] @ pl) > 1 - 1e-9 for pl in planes):
+            planes.append(normal[f])
+            if len(planes) > 2:
+                return []
+    if len(planes) == 1:
+        return list(edges)
+    crease = [y for y, (f1, f2) in edges.items() if float(normal[f1] @ normal[f2]) < 1 - 1e-9]
+    if len(crease) != 2:
+        return []
+    a, b = v[crease[0]] - v[x], v[crease[1]] - v[x]
+    if np.linalg.norm(np.cross(a, b)) > 1e-9 * np.linalg.norm(a) * np.linalg.norm(b) or float(a @ b) >= 0:
+        return []  # the crease bends at x: x is a corner
+    return crease
+
+
+def _try_collapse(x, q, fs, faces, v, c, normal, around, alive, tiny) -> bool:
+    """Collapse ``x`` into ``q`` if it keeps the surface and colours; report whether it did."""
+    ring_x = {int(y) for f in fs for y in faces[f]} - {x}
+    ring_q = {int(y) for f in around[q] if alive[f] for y in faces[f]} - {q}
+    if len(ring_x & ring_q) != 2:  # link condition: otherwise triangles would duplicate or fold
+        return False
+    removed, kept = [], []
+    for f in fs:
+        (removed if q in faces[f] else kept).append(f)
+    new_rows = []
+    for f in kept:
+        row = np.where(faces[f] == x, q, faces[f])
+        p = v[row]
+        n = np.cross(p[1] - p[0], p[2] - p[0])
+        if float(n @ n) <= tiny or float(n @ normal[f]) <= 0:
+            return False
+        new_rows.append((f, row, n / np.sqrt(float(n @ n))))
+    if not _colour_kept(x, new_rows, v, c):
+        return False
+    for f in removed:
+        alive[f] = False
+    for f, row, n in new_rows:
+        faces[f] = row
+        normal[f] = n
+        around[q].add(f)
+    around[x] = set()
+    return True
+
+
+def _colour_kept(x: int, new_rows: list, v: np.ndarray, c: np.ndarray) -> bool:
+    """Whether the new triangles interpolate ``x``'s colour at its position within :data:`COLOR_TOL`."""
+    px = v[x]
+    for _, row, n in new_rows:
+        a, b, d = v[row]
+        # Barycentric coordinates of px in (a, b, d), by areas along the normal.
+        area = float(np.cross(b - a, d - a) @ n)
+        w = np.array([np.cross(d - b, px - b) @ n, np.cross(a - d, px - d) @ n, np.cross(b - a, px - a) @ n]) / area
+        if (w >= -1e-7).all() and abs(float(n @ (px - a))) <= 1e-6 * max(np.abs(v).max(), 1e-30):
+            return bool((np.abs(w @ c[row] - c[x]) <= COLOR_TOL).all())
+    return False
+
+
+# ------------------------------------------------------------------ writers
+def _write_obj(f, vertices: np.ndarray, faces: np.ndarray, colors: np.ndarray) -> None:
+    f.write("# written by across-dimensions: welded mesh, vertex colours as 'v x y z r g b'\n")
+    if len(vertices):
+        # Colours as the widely read "v x y z r g b" extension.
+        np.savetxt(f, np.hstack([vertices.astype(np.float64), colors[:, :3]]), fmt="v %.7g %.7g %.7g %.4f %.4f %.4f")
+    if len(faces):
+        np.savetxt(f, faces + 1, fmt="f %d %d %d")
+
+
+def _write_ply(f, vertices: np.ndarray, faces: np.ndarray, colors: np.ndarray) -> None:
+    n, m = len(vertices), len(faces)
+    f.write("ply\nformat ascii 1.0\ncomment written by across-dimensions\n")
+    f.write(f"element vertex {n}\nproperty float x\nproperty float y\nproperty float z\n")
+    f.write("property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n")
+    f.write(f"element face {m}\nproperty list uchar uint vertex_indices\nend_header\n")
+    if n:
+        rgba = np.clip(colors * 255 + 0.5, 0, 255).astype(np.int64)
+        np.savetxt(f, np.hstack([vertices.astype(np.float64), rgba]), fmt="%.7g %.7g %.7g %d %d %d %d")
+    if m:
+        np.savetxt(f, np.hstack([np.full((m, 1), 3), faces]), fmt="%d %d %d %d")
+
+
+def _glb_bytes(vertices: np.ndarray, faces: np.ndarray, colors: np.ndarray) -> bytes:
+    if not len(faces):
+        return _empty_glb()
     import trimesh  # optional: only GLB export needs it
 
-    t = trimesh.Trimesh(vertices=mesh.vertices, faces=mesh.faces, vertex_normals=mesh.normals,
-                        vertex_colors=np.clip(mesh.colors * 255, 0, 255).astype(np.uint8), process=False)
-    data = t.export(file_type="glb")
-    with open(path, "wb") as f:
-        f.write(data)
+    t = trimesh.Trimesh(vertices=vertices, faces=faces, vertex_colors=np.clip(colors * 255 + 0.5, 0, 255).astype(np.uint8),
+                        process=False)
+    return t.export(file_type="glb")
+
+
+def _empty_glb() -> bytes:
+    """A valid binary glTF 2.0 file holding one empty scene (trimesh refuses to export one)."""
+    doc = json.dumps({"asset": {"version": "2.0", "generator": "across-dimensions"},
+                      "scene": 0, "scenes": [{"nodes": []}]}, separators=(",", ":")).encode()
+    doc += b" " * (-len(doc) % 4)  # chunks are 4-byte aligned, JSON padded with spaces
+    return struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(doc)) + struct.pack("<I4s", len(doc), b"JSON") + doc
