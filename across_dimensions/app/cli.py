@@ -21,7 +21,9 @@ imported only by ``play``, so everything else runs with no display.
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
+import threading
 
 from . import commands
 from .options import UserError, finite_float, fov_degrees, positive_float, positive_int
@@ -123,9 +125,26 @@ def _user_errors() -> tuple[type, ...]:
     return InputError, LevelError, ReplayError, AssetError
 
 
+def _exit_on_signal(signum, frame):
+    # SIGTERM and SIGHUP would end the process without unwinding, leaving the
+    # temporary file of a write in progress; as SystemExit every ``finally``
+    # and the atomic writer's cleanup run first.
+    raise SystemExit(128 + signum)
+
+
+def _catch_termination() -> None:
+    if threading.current_thread() is not threading.main_thread():
+        return  # signal handlers can only be set from the main thread (main() called from a test thread)
+    for name in ("SIGTERM", "SIGHUP"):
+        sig = getattr(signal, name, None)
+        if sig is not None and signal.getsignal(sig) is signal.SIG_DFL:
+            signal.signal(sig, _exit_on_signal)
+
+
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
+    _catch_termination()
     try:
         args = _parser().parse_args(argv)
         if args.func is None:  # bare command: play the first level with the play defaults

@@ -14,7 +14,7 @@ import math
 from ..core.errors import InputError
 
 __all__ = ["UserError", "parse_size", "finite_float", "positive_float", "fov_degrees", "positive_int",
-           "SIZE_RANGE", "OPTION_LIMIT"]
+           "SIZE_RANGE", "OPTION_LIMIT", "FOV_RANGE", "axis_values"]
 
 #: Screenshot sizes accepted by ``--size``, pixels per side.
 SIZE_RANGE = (16, 8192)
@@ -65,11 +65,17 @@ def positive_float(text: str) -> float:
     return x
 
 
+#: Field of view accepted by ``--fov``, degrees: inside (0, 180), with a margin so
+#: the projection's 1 / tan(fov / 2) stays finite.
+FOV_RANGE = (0.001, 179.999)
+
+
 def fov_degrees(text: str) -> float:
-    """argparse type: a field of view in degrees, strictly between 0 and 180."""
+    """argparse type: a field of view in degrees, strictly between 0 and 180 (see :data:`FOV_RANGE`)."""
     x = _number(text)
-    if not 0 < x < 180:
-        raise argparse.ArgumentTypeError(f"expected degrees strictly between 0 and 180, got {text!r}")
+    lo, hi = FOV_RANGE
+    if not lo <= x <= hi:
+        raise argparse.ArgumentTypeError(f"expected degrees strictly between 0 and 180 ({lo:g} to {hi:g}), got {text!r}")
     return x
 
 

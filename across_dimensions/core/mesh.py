@@ -32,6 +32,9 @@ from .fileio import FileProblem, MiB, atomic_writer, read_bytes
 NPZ_MAX_BYTES = 256 * MiB
 NPZ_MAX_VERTICES = 1_000_000
 NPZ_MAX_TETS = 2_000_000
+#: Largest vertex coordinate (and colour channel) magnitude: far beyond any
+#: level, and far enough from float32's 3.4e38 that no product overflows.
+NPZ_MAX_COORD = 1e6
 _UINT32_MAX = 2**32 - 1
 
 
@@ -352,16 +355,19 @@ class TetMesh4:
         files only, at most :data:`NPZ_MAX_BYTES`). Each array's size is then
         checked twice before anything is decompressed or allocated: the size
         the zip directory declares for its member, and the shape in the
-        ``.npy`` header. Limits: at most :data:`NPZ_MAX_VERTICES` (1,000,000)
-        vertices and :data:`NPZ_MAX_TETS` (2,000,000) tets, so a zip bomb of a
-        few kilobytes is refused rather than expanded.
+        ``.npy`` header. Limits: at most :data:`NPZ_MAX_BYTES` (256 MiB) of
+        file, :data:`NPZ_MAX_VERTICES` (1,000,000) vertices and
+        :data:`NPZ_MAX_TETS` (2,000,000) tets, so a zip bomb of a few
+        kilobytes is refused rather than expanded.
 
         Accepted arrays (``allow_pickle`` is never used):
 
-        - ``vertices``: ``(n, 4)`` real numbers, all finite.
+        - ``vertices``: ``(n, 4)`` real numbers, finite and within
+          :data:`NPZ_MAX_COORD` (1e6) in magnitude.
         - ``tets``: ``(m, 4)`` integers in ``[0, n)``; the range is checked
           before the cast to ``uint32`` so large indices cannot wrap.
-        - ``colors`` (optional): ``(n, 3)`` or ``(n, 4)`` finite real numbers.
+        - ``colors`` (optional): ``(n, 3)`` or ``(n, 4)`` finite real numbers
+          (linear RGB(A), usually 0 to 1).
 
         Parameters
         ----------
@@ -382,7 +388,7 @@ class TetMesh4:
         n = len(arrays["vertices"])
         t = arrays["tets"]
         if t.size and int(t.max()) >= n:
-            raise MeshError(f"{path}: 'tets' index vertex {int(t.max())} past the end (there are {n} vertices)")
+            raise MeshError(f"{path}: 'tets' indexes vertex {int(t.max())}, past the end (there are {n} vertices)")
         mesh = cls(arrays["vertices"], t, arrays.get("colors"), name=str(path))
         return mesh.validate() if validate else mesh
 
@@ -465,9 +471,14 @@ def _read_npy(path: Path, name: str, data: bytes, widths: tuple, kinds: str, lim
                         f"{count * dtype.itemsize}")
     a = np.frombuffer(data, dtype=dtype, count=count, offset=offset)
     a = a.reshape(shape[::-1]).T if fortran else a.reshape(shape)
-    if dtype.kind == "f" and not np.isfinite(a).all():
-        bad = np.flatnonzero(~np.isfinite(a).all(axis=1))
-        raise MeshError(f"{where} rows {bad[:5].tolist()} are not finite; expected finite numbers")
+    if name != "tets":
+        with np.errstate(invalid="ignore"):  # NaN compares False: it is reported, not warned about
+            # Both bounds, not abs(): abs of the most negative integer is still negative.
+            bad = np.flatnonzero(~((a >= -NPZ_MAX_COORD) & (a <= NPZ_MAX_COORD)).all(axis=1))
+        if len(bad):
+            kind = "are not finite" if not np.isfinite(a[bad]).all() else f"exceed {NPZ_MAX_COORD:g} in magnitude"
+            raise MeshError(f"{where} rows {bad[:5].tolist()} {kind}; expected finite numbers within "
+                            f"+-{NPZ_MAX_COORD:g}")
     if dtype.kind in "iu" and name == "tets" and a.size and int(a.min()) < 0:
         raise MeshError(f"{where} holds the negative vertex index {int(a.min())}")
     return a

@@ -52,6 +52,9 @@ def save_trimesh3(mesh, path) -> None:
     ext = path.suffix.lower()
     if ext not in FORMATS:
         raise InputError(f"{path}: unknown mesh format {ext or '(none)'!r}; expected one of {', '.join(FORMATS)}")
+    if not (np.isfinite(mesh.vertices).all() and np.isfinite(mesh.colors).all()):
+        raise InputError(f"{path}: the projected mesh has points at infinity or NaN; nothing was written "
+                         f"(a camera too close, or a field of view too narrow?)")
     vertices, faces, colors = indexed_mesh(mesh)
     try:
         if ext == ".glb":
