@@ -188,46 +188,54 @@ def _collapse_targets(x: int, fs: list, faces: np.ndarray, v: np.ndarray, normal
     return crease
 
 
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of ``(k, 3)`` arrays (np.cross is slow on many tiny calls)."""
+    return np.stack([a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1],
+                     a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
+                     a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]], axis=1)
+
+
 def _try_collapse(x, q, fs, faces, v, c, normal, around, alive, tiny) -> bool:
     """Collapse ``x`` into ``q`` if it keeps the surface and colours; report whether it did."""
-    ring_x = {int(y) for f in fs for y in faces[f]} - {x}
-    ring_q = {int(y) for f in around[q] if alive[f] for y in faces[f]} - {q}
+    ring_x = set(faces[fs].ravel().tolist()) - {x}
+    ring_q = set(faces[[f for f in around[q] if alive[f]]].ravel().tolist()) - {q}
     if len(ring_x & ring_q) != 2:  # link condition: otherwise triangles would duplicate or fold
         return False
-    removed, kept = [], []
-    for f in fs:
-        (removed if q in faces[f] else kept).append(f)
-    new_rows = []
-    for f in kept:
-        row = np.where(faces[f] == x, q, faces[f])
-        p = v[row]
-        n = np.cross(p[1] - p[0], p[2] - p[0])
-        if float(n @ n) <= tiny or float(n @ normal[f]) <= 0:
-            return False
-        new_rows.append((f, row, n / np.sqrt(float(n @ n))))
-    if not _colour_kept(x, new_rows, v, c):
+    rows = faces[fs]
+    has_q = (rows == q).any(axis=1)
+    kept = [f for f, h in zip(fs, has_q) if not h]
+    removed = [f for f, h in zip(fs, has_q) if h]
+    new = np.where(rows[~has_q] == x, q, rows[~has_q])
+    p = v[new]
+    n = _cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    nn = (n * n).sum(axis=1)
+    if (nn <= tiny).any() or ((n * normal[kept]).sum(axis=1) <= 0).any():
+        return False  # a triangle would vanish or flip
+    n /= np.sqrt(nn)[:, None]
+    if not _colour_kept(x, new, n, v, c):
         return False
-    for f in removed:
-        alive[f] = False
-    for f, row, n in new_rows:
-        faces[f] = row
-        normal[f] = n
-        around[q].add(f)
+    alive[removed] = False
+    faces[kept] = new
+    normal[kept] = n
+    around[q].update(kept)
     around[x] = set()
     return True
 
 
-def _colour_kept(x: int, new_rows: list, v: np.ndarray, c: np.ndarray) -> bool:
-    """Whether the new triangles interpolate ``x``'s colour at its position within :data:`COLOR_TOL`."""
+def _colour_kept(x: int, rows: np.ndarray, n: np.ndarray, v: np.ndarray, c: np.ndarray) -> bool:
+    """Whether the triangles ``rows`` interpolate ``x``'s colour at its position within :data:`COLOR_TOL`."""
     px = v[x]
-    for _, row, n in new_rows:
-        a, b, d = v[row]
-        # Barycentric coordinates of px in (a, b, d), by areas along the normal.
-        area = float(np.cross(b - a, d - a) @ n)
-        w = np.array([np.cross(d - b, px - b) @ n, np.cross(a - d, px - d) @ n, np.cross(b - a, px - a) @ n]) / area
-        if (w >= -1e-7).all() and abs(float(n @ (px - a))) <= 1e-6 * max(np.abs(v).max(), 1e-30):
-            return bool((np.abs(w @ c[row] - c[x]) <= COLOR_TOL).all())
-    return False
+    a, b, d = v[rows[:, 0]], v[rows[:, 1]], v[rows[:, 2]]
+    # Barycentric coordinates of px in each triangle, by signed areas along its normal.
+    area = (_cross(b - a, d - a) * n).sum(axis=1)
+    w = np.stack([(_cross(d - b, px - b) * n).sum(axis=1), (_cross(a - d, px - d) * n).sum(axis=1),
+                  (_cross(b - a, px - a) * n).sum(axis=1)], axis=1) / area[:, None]
+    on_plane = np.abs(((px - a) * n).sum(axis=1)) <= 1e-6 * max(float(np.abs(v).max()), 1e-30)
+    inside = np.flatnonzero((w >= -1e-7).all(axis=1) & on_plane)
+    if not len(inside):
+        return False
+    k = inside[0]
+    return bool((np.abs(w[k] @ c[rows[k]] - c[x]) <= COLOR_TOL).all())
 
 
 # ------------------------------------------------------------------ writers
