@@ -635,3 +635,7 @@ def test_play_with_a_display_that_does_not_answer(cli, cli_env):
     r = cli("play", env=env)
     line = user_error(r, "DISPLAY=:917", "demo", status=1)
     assert "internal error" not in line
+
+
+def test_play_unknown_level_is_a_user_error(cli):
+    user_error(cli("play", "no_such_level"), "no_such_level", "shipped levels")

@@ -170,8 +170,14 @@ def main(argv=None) -> int:
 
 
 def _play(args) -> int:
+    from ..world.resources import resolve_level
     from .display import display_problem
 
+    if args.level:
+        try:
+            args.level = str(resolve_level(args.level))  # a typo is reported before any window work
+        except FileNotFoundError as e:
+            raise UserError(str(e)) from None
     problem = display_problem()
     if problem:
         print(f"{PROG}: {problem}; try the headless demo: {PROG} demo --screenshots out/", file=sys.stderr)

@@ -13,8 +13,8 @@ import re
 import socket
 import sys
 
-#: Seconds to wait for a TCP X server (``DISPLAY=host:0``) to accept.
-_TCP_TIMEOUT = 1.0
+#: Seconds to wait for an X server to accept the connection.
+_TIMEOUT = 1.0
 
 
 def display_problem() -> str | None:
@@ -44,6 +44,7 @@ def x_server_problem(display: str) -> str | None:
         path = f"/tmp/.X11-unix/X{num}"
         for address in ("\0" + path, path):  # Linux abstract socket first, as Xlib does
             with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as s:
+                s.settimeout(_TIMEOUT)  # a server too busy to accept would otherwise block connect()
                 try:
                     s.connect(address)
                     return None
@@ -51,7 +52,7 @@ def x_server_problem(display: str) -> str | None:
                     continue
         return f"no X server answers on DISPLAY={display} (nothing listens at {path})"
     try:
-        with socket.create_connection((host, 6000 + num), timeout=_TCP_TIMEOUT):
+        with socket.create_connection((host, 6000 + num), timeout=_TIMEOUT):
             return None
     except OSError as e:
         return f"no X server answers on DISPLAY={display} ({e.strerror or e})"
