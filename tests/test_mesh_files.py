@@ -218,3 +218,58 @@ def test_empty_export_is_a_valid_glb(tmp_path):
     TriMesh3.empty().save(tmp_path / "e.glb")
     scene = trimesh.load(str(tmp_path / "e.glb"))
     assert len(scene.geometry) == 0
+
+
+# ------------------------------------------------------------------ fuzzing
+def _mutations(rng, mesh):
+    """Arrays derived from a valid mesh by one random, plausible mistake each."""
+    v, t, c = np.array(mesh.vertices, np.float64), np.array(mesh.tets, np.int64), np.array(mesh.colors)
+    kind = rng.integers(9)
+    if kind == 0:
+        v[rng.integers(len(v)), rng.integers(4)] = rng.choice([np.nan, np.inf, -np.inf, 1e30, -1e7])
+    elif kind == 1:
+        t[rng.integers(len(t)), rng.integers(4)] = rng.choice([-1, len(v), 2**32 + 1, 2**40])
+    elif kind == 2:
+        v *= rng.choice([1e-30, 1e-6, 1e5, -1.0])
+    elif kind == 3:
+        t = t[: rng.integers(1, len(t))]  # an open mesh
+    elif kind == 4:
+        t[:, [0, 1]] = t[:, [1, 0]]  # inside out
+    elif kind == 5:
+        c = c[:, : rng.integers(0, 5)] if rng.random() < 0.5 else c[: rng.integers(len(c))]
+    elif kind == 6:
+        v = v.astype(rng.choice([np.float16, np.float32, np.int32]))
+    elif kind == 7:
+        t = t.astype(rng.choice([np.uint8, np.uint64, np.int16, np.float64]))
+    else:
+        v[rng.integers(len(v))] = v[rng.integers(len(v))]  # two vertices made one: degenerate tets
+    return {"vertices": v, "tets": t, "colors": c}
+
+
+def test_mutated_npz_meshes_load_or_refuse_cleanly(tmp_path):
+    """A fixed-seed fuzz: every mutated file either slices and exports, or raises one InputError line."""
+    import warnings
+
+    rng = np.random.default_rng(20261201)
+    bases = [make_shape(n) for n in ("5-cell", "tesseract", "24-cell")]
+    outcomes = {"ok": 0, "refused": 0}
+    for i in range(60):
+        path = tmp_path / f"m{i}.npz"
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("error", RuntimeWarning)
+                np.savez(path, **_mutations(rng, bases[i % len(bases)]))
+        except (ValueError, RuntimeWarning, OverflowError):
+            continue  # numpy itself could not make that array (e.g. 2**40 in uint8); not the loader's business
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", RuntimeWarning)
+            try:
+                mesh = TetMesh4.load(path)
+                tri = cross_section(mesh)
+                tri.save(tmp_path / "out.obj")
+                outcomes["ok"] += 1
+            except InputError as e:
+                assert str(path) in str(e) and "\n" not in str(e), str(e)
+                outcomes["refused"] += 1
+    assert outcomes["ok"] > 0 and outcomes["refused"] > 10, outcomes
+    assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
