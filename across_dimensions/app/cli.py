@@ -26,7 +26,7 @@ import sys
 import threading
 
 from . import commands
-from .options import UserError, finite_float, fov_degrees, positive_float, positive_int
+from .options import UserError, fov_degrees, positive_float, positive_int
 
 PROG = "across-dimensions"
 

@@ -13,7 +13,7 @@ import math
 
 from ..core.errors import InputError
 
-__all__ = ["UserError", "parse_size", "finite_float", "positive_float", "fov_degrees", "positive_int",
+__all__ = ["UserError", "parse_size", "positive_float", "fov_degrees", "positive_int",
            "SIZE_RANGE", "OPTION_LIMIT", "FOV_RANGE", "axis_values"]
 
 #: Screenshot sizes accepted by ``--size``, pixels per side.
@@ -49,14 +49,6 @@ def _number(text: str) -> float:
     return x
 
 
-def finite_float(text: str) -> float:
-    """argparse type: a finite number with magnitude at most :data:`OPTION_LIMIT`."""
-    x = _number(text)
-    if abs(x) > OPTION_LIMIT:
-        raise argparse.ArgumentTypeError(f"expected a number between {-OPTION_LIMIT:g} and {OPTION_LIMIT:g}, got {text!r}")
-    return x
-
-
 def positive_float(text: str) -> float:
     """argparse type: a finite number in ``(0, OPTION_LIMIT]``."""
     x = _number(text)
@@ -75,7 +67,8 @@ def fov_degrees(text: str) -> float:
     x = _number(text)
     lo, hi = FOV_RANGE
     if not lo <= x <= hi:
-        raise argparse.ArgumentTypeError(f"expected degrees strictly between 0 and 180 ({lo:g} to {hi:g}), got {text!r}")
+        raise argparse.ArgumentTypeError(
+            f"expected degrees strictly between 0 and 180 ({lo:g} to {hi:g}), got {text!r}")
     return x
 
 

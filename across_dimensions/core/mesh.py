@@ -264,7 +264,8 @@ class TetMesh4:
         degenerate = repeated | (vol <= 1e-9 * longest**3) | (longest == 0)
         if degenerate.any():
             bad = np.flatnonzero(degenerate)
-            out.append(f"{self.label}: {len(bad)} degenerate tets (zero volume or repeated vertex), e.g. {bad[:max_report].tolist()}")
+            out.append(f"{self.label}: {len(bad)} degenerate tets (zero volume or repeated vertex), "
+                       f"e.g. {bad[:max_report].tolist()}")
         if check_closed:
             of = self.oriented_faces()
             key = _face_keys(of, len(self.vertices))
@@ -290,7 +291,8 @@ class TetMesh4:
                         f"their tets (inverted tets), in tets {tets_bad[:max_report].tolist()}"
                     )
                 elif self.hypervolume() <= 0:
-                    out.append(f"{self.label}: the mesh is inside out (enclosed hyper-volume {self.hypervolume():.3g} <= 0)")
+                    out.append(f"{self.label}: the mesh is inside out "
+                               f"(enclosed hyper-volume {self.hypervolume():.3g} <= 0)")
         return out
 
     def validate(self, check_closed: bool = True) -> "TetMesh4":

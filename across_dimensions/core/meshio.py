@@ -266,8 +266,8 @@ def _glb_bytes(vertices: np.ndarray, faces: np.ndarray, colors: np.ndarray) -> b
         return _empty_glb()
     import trimesh  # optional: only GLB export needs it
 
-    t = trimesh.Trimesh(vertices=vertices, faces=faces, vertex_colors=np.clip(colors * 255 + 0.5, 0, 255).astype(np.uint8),
-                        process=False)
+    rgba = np.clip(colors * 255 + 0.5, 0, 255).astype(np.uint8)
+    t = trimesh.Trimesh(vertices=vertices, faces=faces, vertex_colors=rgba, process=False)
     return t.export(file_type="glb")
 
 

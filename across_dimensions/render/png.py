@@ -64,7 +64,8 @@ def encode_png(image: np.ndarray, compress_level: int = 6) -> bytes:
     raw = np.zeros((h, 1 + w * c), np.uint8)
     raw[:, 1:] = np.ascontiguousarray(a).reshape(h, w * c)
     header = struct.pack(">IIBBBBB", w, h, 8, _COLOR_TYPE[c], 0, 0, 0)
-    return _SIGNATURE + _chunk(b"IHDR", header) + _chunk(b"IDAT", zlib.compress(raw.tobytes(), compress_level)) + _chunk(b"IEND", b"")
+    idat = zlib.compress(raw.tobytes(), compress_level)
+    return _SIGNATURE + _chunk(b"IHDR", header) + _chunk(b"IDAT", idat) + _chunk(b"IEND", b"")
 
 
 def write_png(path, image: np.ndarray, compress_level: int = 6) -> None:
@@ -118,7 +119,8 @@ def decode_png(data: bytes) -> np.ndarray:
     if w * h > PNG_MAX_PIXELS:
         raise PngError(f"{w}x{h} pixels is more than the {PNG_MAX_PIXELS} an image may have")
     if depth != 8 or ctype not in _CHANNELS or interlace != 0:
-        raise PngError(f"unsupported PNG variant (bit depth {depth}, colour type {ctype}, interlace {interlace}); need 8-bit non-interlaced grey/RGB/RGBA")
+        raise PngError(f"unsupported PNG variant (bit depth {depth}, colour type {ctype}, interlace {interlace}); "
+                       f"need 8-bit non-interlaced grey/RGB/RGBA")
     c = _CHANNELS[ctype]
     try:
         # Never inflate past what the header promises, plus one byte to notice more.
