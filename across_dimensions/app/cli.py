@@ -26,9 +26,7 @@ import sys
 import threading
 
 from . import commands
-from .options import UserError, fov_degrees, positive_float, positive_int
-
-PROG = "across-dimensions"
+from .options import PROG, UserError, fov_degrees, positive_float, positive_int
 
 __all__ = ["PROG", "UserError", "main"]
 

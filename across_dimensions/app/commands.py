@@ -13,10 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .options import UserError, axis_values
+from .options import PROG, UserError, axis_values
 from .options import parse_size as _size
-
-PROG = "across-dimensions"
 
 
 def _out(msg: str = "") -> None:

@@ -13,9 +13,11 @@ import math
 
 from ..core.errors import InputError
 
-__all__ = ["UserError", "parse_size", "positive_float", "fov_degrees", "positive_int",
+__all__ = ["PROG", "UserError", "parse_size", "positive_float", "fov_degrees", "positive_int",
            "SIZE_RANGE", "OPTION_LIMIT", "FOV_RANGE", "axis_values"]
 
+#: The command's name, as users type it and as every message starts.
+PROG = "across-dimensions"
 #: Screenshot sizes accepted by ``--size``, pixels per side.
 SIZE_RANGE = (16, 8192)
 #: Largest magnitude accepted for --rotate degrees, --translate, --distance and --depth:
