@@ -393,7 +393,8 @@ def test_slice_exports_a_welded_closed_cube(cli, tmp_path, ext):
 
 
 def test_slice_obj_text_is_indexed(cli, tmp_path):
-    ok(cli("slice", "tesseract", "-o", "cube.obj"))
+    out = ok(cli("slice", "tesseract", "-o", "cube.obj"))
+    assert "cube.obj: 12 triangles, 8 vertices" in out, out
     lines = (tmp_path / "cube.obj").read_text(encoding="ascii").splitlines()
     assert sum(line.startswith("v ") for line in lines) == 8
     assert sum(line.startswith("f ") for line in lines) == 12

@@ -159,11 +159,12 @@ def slice(args) -> int:  # noqa: A001 - the subcommand's name
         tri = cross_section(mesh, model=model)
     else:
         tri = frustum_project(mesh, translation((0, 0, 0, -args.distance)), fov_deg=args.fov, model=model)
-    tri.save(out)
+    n_vertices, n_triangles = tri.save(out)
     if tri.is_empty:
         _out(f"{args.output}: empty - the hyperplane misses {mesh.name or src}")
     else:
-        _out(f"{args.output}: {len(tri)} triangles ({args.mode})")
+        _out(f"{args.output}: {n_triangles} triangles, {n_vertices} vertices ({args.mode}; "
+             f"{len(tri)} triangles before welding)")
     return 0
 
 

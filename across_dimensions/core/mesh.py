@@ -566,11 +566,17 @@ class TriMesh3:
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         return self.vertices.min(axis=0), self.vertices.max(axis=0)
 
-    def save(self, path) -> None:
-        """Write ``.obj``, ``.ply`` (ASCII, no dependencies) or ``.glb`` (needs trimesh)."""
+    def save(self, path) -> tuple[int, int]:
+        """Write ``.obj``, ``.ply`` (ASCII, no dependencies) or ``.glb`` (needs trimesh), welded and indexed.
+
+        Returns
+        -------
+        (int, int)
+            The vertices and triangles written (see :func:`~.meshio.indexed_mesh`).
+        """
         from .meshio import save_trimesh3  # local: keeps file formats out of the hot path
 
-        save_trimesh3(self, path)
+        return save_trimesh3(self, path)
 
 
 def concatenate(meshes, name: str = "") -> TetMesh4:

@@ -38,8 +38,13 @@ FORMATS = (".obj", ".ply", ".glb")
 COLOR_TOL = 1.0 / 32.0
 
 
-def save_trimesh3(mesh, path) -> None:
-    """Write a :class:`~across_dimensions.core.mesh.TriMesh3` by file extension.
+def save_trimesh3(mesh, path) -> tuple[int, int]:
+    """Write a :class:`~across_dimensions.core.mesh.TriMesh3` by file extension, welded (:func:`indexed_mesh`).
+
+    Returns
+    -------
+    (int, int)
+        The vertices and triangles written.
 
     Raises
     ------
@@ -66,6 +71,7 @@ def save_trimesh3(mesh, path) -> None:
                 (_write_obj if ext == ".obj" else _write_ply)(f, vertices, faces, colors)
     except OSError as e:
         raise FileProblem(f"{path}: cannot write it ({e.strerror or e})") from None
+    return len(vertices), len(faces)
 
 
 # ------------------------------------------------------------------ welding
