@@ -84,10 +84,15 @@ def _face_keys(faces: np.ndarray, n_vertices: int) -> np.ndarray:
 TET_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]], dtype=np.intp)
 
 
-def _frozen(a: np.ndarray) -> np.ndarray:
-    """``a`` as an array nobody can write into: copied unless already read-only."""
+def _frozen(a: np.ndarray, given) -> np.ndarray:
+    """``a`` (converted from ``given``) as an array nobody can write into.
+
+    Copied only when it is writeable memory the caller also holds: a fresh
+    array from a dtype conversion is just marked read-only.
+    """
     if a.flags.writeable:
-        a = a.copy()
+        if isinstance(given, np.ndarray) and np.may_share_memory(a, given):
+            a = a.copy()
         a.flags.writeable = False
     return a
 
@@ -122,11 +127,11 @@ class TetMesh4:
 
     def __setattr__(self, key, value):
         if key == "vertices":
-            value = _frozen(np.ascontiguousarray(value, dtype=np.float32).reshape(-1, 4))
+            value = _frozen(np.ascontiguousarray(value, dtype=np.float32).reshape(-1, 4), value)
         elif key == "tets":
-            value = _frozen(self._checked_tets(value))
+            value = _frozen(self._checked_tets(value), value)
         elif key == "colors" and value is not None and "vertices" in self.__dict__:
-            value = _frozen(self._checked_colors(value))
+            value = _frozen(self._checked_colors(value), value)
         if key in ("vertices", "tets", "colors") and "_cache" in self.__dict__:
             self._cache.clear()  # derived data described the old arrays
         object.__setattr__(self, key, value)
