@@ -89,11 +89,15 @@ def user_error(r: subprocess.CompletedProcess, *needles: str, status: int | None
 
 
 def load_tri(path: Path) -> trimesh.Trimesh:
-    """A 3D mesh file as one Trimesh, vertices merged by position (the writers emit per-triangle corners)."""
+    """A 3D mesh file as one Trimesh, exactly as written (the writers weld and index it)."""
     m = trimesh.load(str(path), force="mesh", process=False)
     assert isinstance(m, trimesh.Trimesh), type(m)
-    m.merge_vertices()
     return m
+
+
+def no_temp_files(folder: Path) -> None:
+    left = [p.name for p in folder.rglob("*") if p.name.endswith(".tmp")]
+    assert not left, f"temporary files left behind: {left}"
 
 
 def assert_box(m: trimesh.Trimesh, half_extents) -> None:
@@ -371,3 +375,268 @@ def test_bench_quick_prints_throughput_and_copy_baseline(cli):
     assert "copy" in lines[header], lines[header]
     rows = [line for line in lines[header + 1:] if re.search(r"\s\d+\s+[\d.]+\s+\d+\s+[\d.]+\s+[\d.]+$", line)]
     assert len(rows) >= 2, out
+
+
+# ------------------------------------------------------- welded exports
+@pytest.mark.parametrize("ext", [".obj", ".ply", ".glb"])
+def test_slice_exports_a_welded_closed_cube(cli, tmp_path, ext):
+    ok(cli("slice", "tesseract", "-o", f"cube{ext}"))
+    m = load_tri(tmp_path / f"cube{ext}")  # no merge_vertices: the file itself must be indexed
+    assert (len(m.vertices), len(m.faces)) == (8, 12)
+    assert_box(m, [0.5, 0.5, 0.5])
+    # Per-vertex colours survive: the tesseract's palette shades the cube from bottom to top.
+    colors = np.asarray(m.visual.vertex_colors)[:, :3].astype(int)
+    assert len(np.unique(colors, axis=0)) == 2, colors
+    top = m.vertices[:, 1] > 0
+    assert (colors[top].sum(axis=1) > colors[~top].sum(axis=1).max()).all()
+    no_temp_files(tmp_path)
+
+
+def test_slice_obj_text_is_indexed(cli, tmp_path):
+    out = ok(cli("slice", "tesseract", "-o", "cube.obj"))
+    assert "cube.obj: 12 triangles, 8 vertices" in out, out
+    lines = (tmp_path / "cube.obj").read_text(encoding="ascii").splitlines()
+    assert sum(line.startswith("v ") for line in lines) == 8
+    assert sum(line.startswith("f ") for line in lines) == 12
+
+
+def test_slice_welded_hypersphere_is_watertight(cli, tmp_path):
+    ok(cli("slice", "hypersphere", "--translate", "w=0.3", "--rotate", "xw=20", "-o", "s.obj"))
+    m = load_tri(tmp_path / "s.obj")
+    assert m.is_watertight and m.is_winding_consistent and m.volume > 0
+
+
+@pytest.mark.parametrize("ext", [".obj", ".ply", ".glb"])
+def test_slice_empty_section_writes_a_valid_empty_file(cli, tmp_path, ext):
+    out = ok(cli("slice", "tesseract", "--translate", "w=5", "-o", f"empty{ext}"))
+    assert "empty" in out
+    loaded = trimesh.load(str(tmp_path / f"empty{ext}"), process=False)
+    if isinstance(loaded, trimesh.Scene):
+        assert len(loaded.geometry) == 0
+    else:
+        assert len(loaded.faces) == 0
+    no_temp_files(tmp_path)
+
+
+# ----------------------------------------------------------------- lift
+def test_lift_writes_a_valid_tetmesh(cli, cli_env, tmp_path):
+    env = dict(cli_env, XDG_CACHE_HOME=str(tmp_path / "cache"))  # a fresh bake, not the user's cache
+    out = ok(cli("lift", REPO / "assets" / "meshes" / "crate.obj", "--depth", "1", "-o", "crate.npz", env=env))
+    mesh = TetMesh4.load(tmp_path / "crate.npz")  # validates: closed, oriented, in range
+    assert f"{len(mesh.vertices)} vertices, {len(mesh.tets)} tets" in out, out
+    lo, hi = mesh.bounds()
+    assert hi[3] - lo[3] == pytest.approx(1.0, rel=1e-5)
+    assert mesh.hypervolume() > 0
+    no_temp_files(tmp_path)
+
+
+def test_lift_refuses_a_missing_output_folder_before_baking(cli, tmp_path):
+    crate = REPO / "assets" / "meshes" / "crate.obj"
+    user_error(cli("lift", crate, "--depth", "1", "-o", "no/such/l.npz"), "no/such", "does not exist")
+    assert not (tmp_path / "no").exists()
+
+
+# -------------------------------------------------------- option limits
+@pytest.mark.parametrize("args, needles", [
+    (["--rotate", "xw=nan"], ["--rotate", "xw", "finite"]),
+    (["--rotate", "xw=inf"], ["--rotate", "finite"]),
+    (["--translate", "w=nan"], ["--translate", "w", "finite"]),
+    (["--translate", "w=-inf"], ["--translate", "finite"]),
+    (["--translate", "w=1e300"], ["--translate", "1e+06"]),
+    (["--mode", "frustum", "--fov", "0"], ["--fov", "between 0 and 180"]),
+    (["--mode", "frustum", "--fov", "180"], ["--fov", "180"]),
+    (["--mode", "frustum", "--fov", "nan"], ["--fov", "finite"]),
+    (["--mode", "frustum", "--fov", "1e-300"], ["--fov"]),
+    (["--mode", "frustum", "--distance", "0"], ["--distance", "positive"]),
+    (["--mode", "frustum", "--distance", "inf"], ["--distance", "finite"]),
+], ids=lambda v: "_".join(v) if isinstance(v, list) else None)
+def test_slice_refuses_bad_numbers_naming_the_option(cli, tmp_path, args, needles):
+    user_error(cli("slice", "tesseract", *args, "-o", "a.obj"), *needles)
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("param, needles", [
+    ("subdivisions=50", ["subdivisions", "0 to 3", "50"]),
+    ("subdivisions=1.5", ["subdivisions", "whole"]),
+    ("radius=inf", ["radius", "finite"]),
+    ("radius=nan", ["radius"]),
+    ("radius=0", ["radius", "0.001"]),
+    ("radius=1e9", ["radius", "1000"]),
+])
+def test_shape_parameters_are_bounded_before_any_work(cli, tmp_path, param, needles):
+    r = cli("shape", "hypersphere", "--param", param, "-o", "h.npz")
+    user_error(r, *needles)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_shape_duoprism_sides_are_bounded(cli, tmp_path):
+    user_error(cli("shape", "duoprism", "--param", "p=100000", "-o", "d.npz"), "'p'", "3 to 128")
+
+
+def test_numpy_warnings_never_reach_the_user(cli, cli_env, tmp_path):
+    env = dict(cli_env, PYTHONWARNINGS="error::RuntimeWarning")  # a warning would become an internal error
+    for args in (["slice", "tesseract", "--mode", "frustum", "--fov", "0.001", "--distance", "1e6", "-o", "a.obj"],
+                 ["slice", "24-cell", "--mode", "frustum", "--fov", "179.999", "--distance", "1e-300", "-o", "a.ply"],
+                 ["slice", "hypersphere", "--rotate", "xw=1e6", "--translate", "w=0.999", "-o", "a.glb"]):
+        ok(cli(*args, env=env))
+
+
+# --------------------------------------------------- special and hostile files
+@pytest.fixture
+def special_files(tmp_path):
+    os.mkfifo(tmp_path / "fifo.npz")
+    os.symlink("/dev/zero", tmp_path / "zero.npz")
+    (tmp_path / "folder.npz").mkdir()
+    return tmp_path
+
+
+@pytest.mark.parametrize("name, needle", [("fifo.npz", "FIFO"), ("zero.npz", "device"), ("folder.npz", "folder")])
+def test_slice_special_files_give_one_line(cli, special_files, name, needle):
+    r = cli("slice", name, "-o", "a.obj")  # a FIFO must not block, /dev/zero must not be read
+    user_error(r, name, needle)
+
+
+def _zip_bomb(path: Path, member_mib: int = 400) -> None:
+    """A .npz whose 'vertices' member inflates from a few hundred kB to ``member_mib`` MiB of zeros."""
+    import io
+    import zipfile
+
+    header = io.BytesIO()
+    n = member_mib * (1 << 20) // 32
+    np.lib.format.write_array_header_1_0(header, {"descr": "<f8", "fortran_order": False, "shape": (n, 4)})
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED, compresslevel=9) as z:
+        with z.open("vertices.npy", "w", force_zip64=True) as f:
+            f.write(header.getvalue())
+            chunk = bytes(1 << 20)
+            for _ in range(member_mib):
+                f.write(chunk)
+        z.writestr("tets.npy", b"")
+
+
+def test_slice_refuses_a_zip_bomb_without_inflating_it(cli, tmp_path):
+    _zip_bomb(tmp_path / "bomb.npz")
+    assert (tmp_path / "bomb.npz").stat().st_size < 1 << 20
+    r = cli("slice", "bomb.npz", "-o", "a.obj")
+    line = user_error(r, "bomb.npz", "vertices")
+    assert "rows" in line
+    assert not (tmp_path / "a.obj").exists()
+
+
+def test_slice_refuses_a_header_promising_a_huge_array(cli, tmp_path):
+    import io
+    import zipfile
+
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(header, {"descr": "<f8", "fortran_order": False, "shape": (10**12, 4)})
+    with zipfile.ZipFile(tmp_path / "liar.npz", "w") as z:
+        z.writestr("vertices.npy", header.getvalue() + bytes(64))
+        z.writestr("tets.npy", header.getvalue())
+    user_error(cli("slice", "liar.npz", "-o", "a.obj"), "liar.npz", "at most 1000000")
+
+
+@pytest.mark.parametrize("arrays, needles", [
+    pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 2**32 + 3]], np.uint64)},
+                 ["tets", "4294967299"], id="uint64-above-2^32"),
+    pytest.param({"vertices": np.array([["a"] * 4] * 5), "tets": np.array([[0, 1, 2, 3]])},
+                 ["vertices", "real numbers"], id="string-vertices"),
+    pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([["0"] * 4])}, ["tets", "integers"],
+                 id="string-tets"),
+    pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 3]]), "colors": np.float32(1)},
+                 ["colors", "shape ()"], id="scalar-colors"),
+    pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 3]]), "colors": np.ones((5, 7))},
+                 ["colors", "(5, 7)"], id="wide-colors"),
+    pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 3]]), "colors": np.ones((4, 3))},
+                 ["colors", "4 rows"], id="too-few-colors"),
+    pytest.param({"vertices": np.full((5, 4), np.inf), "tets": np.array([[0, 1, 2, 3]])}, ["vertices", "finite"],
+                 id="inf-vertices"),
+    pytest.param({"vertices": np.full((5, 4), 1e30), "tets": np.array([[0, 1, 2, 3]])}, ["vertices", "1e+06"],
+                 id="huge-vertices"),
+    pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, -3]])}, ["tets", "negative"],
+                 id="negative-index"),
+])
+def test_slice_npz_hostile_arrays_give_one_line(cli, tmp_path, arrays, needles):
+    np.savez(tmp_path / "bad.npz", **arrays)
+    user_error(cli("slice", "bad.npz", "-o", "a.obj"), "bad.npz", *needles)
+    assert not (tmp_path / "a.obj").exists()
+
+
+def test_slice_refuses_a_nested_zip(cli, tmp_path):
+    import zipfile
+
+    np.savez(tmp_path / "inner.npz", vertices=np.eye(5)[:, :4], tets=np.array([[0, 1, 2, 3]]))
+    with zipfile.ZipFile(tmp_path / "nested.npz", "w") as z:
+        z.write(tmp_path / "inner.npz", "vertices.npy")
+        z.write(tmp_path / "inner.npz", "tets.npy")
+    user_error(cli("slice", "nested.npz", "-o", "a.obj"), "nested.npz", "nested zip")
+
+
+# ------------------------------------------------------ atomic writes
+def test_two_concurrent_slices_to_one_file_leave_a_whole_file(cli_env, tmp_path):
+    cmd = [sys.executable, "-m", "across_dimensions", "slice"]
+    runs = [subprocess.Popen([*cmd, shape, "-o", "same.obj"], cwd=tmp_path, env=cli_env, stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True)
+            for shape in ("hypersphere", "tesseract")]
+    for p in runs:
+        _, err = p.communicate(timeout=TIMEOUT)
+        assert p.returncode == 0, err
+    m = load_tri(tmp_path / "same.obj")
+    assert m.is_watertight and m.is_winding_consistent
+    assert len(m.vertices) == 8 or len(m.vertices) > 100  # one whole run's file, never a mix
+    no_temp_files(tmp_path)
+
+
+def test_output_in_missing_folder_is_refused_before_any_work(cli, tmp_path):
+    for args in (["slice", "tesseract"], ["shape", "tesseract"]):
+        ext = ".obj" if args[0] == "slice" else ".npz"
+        line = user_error(cli(*args, "-o", f"missing/out{ext}"), "missing", "does not exist")
+        assert ".tmp" not in line
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_killed_write_leaves_no_temporary_file(cli_env, tmp_path):
+    """SIGTERM arriving in the middle of writing the .npz: no output, no temporary file."""
+    script = (
+        "import os, signal, sys, numpy as np\n"
+        "real = np.savez_compressed\n"
+        "def dying(f, **arrays):\n"
+        "    f.write(b'PK half a file')\n"
+        "    os.kill(os.getpid(), signal.SIGTERM)\n"
+        "    real(f, **arrays)\n"
+        "np.savez_compressed = dying\n"
+        "from across_dimensions.app.cli import main\n"
+        "sys.exit(main(['shape', 'tesseract', '-o', 'x.npz']))\n"
+    )
+    r = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=cli_env, capture_output=True, text=True,
+                       timeout=TIMEOUT)
+    assert r.returncode == 128 + 15, describe(r)
+    assert "Traceback" not in r.stderr, describe(r)
+    assert list(tmp_path.iterdir()) == []
+
+
+# ------------------------------------------------------------- errors
+def test_internal_errors_are_not_reported_as_user_errors(cli_env, tmp_path):
+    script = (
+        "import sys\n"
+        "from across_dimensions.app import commands\n"
+        "def broken(args):\n"
+        "    raise ValueError('a bug, not bad input')\n"
+        "commands.shape = broken\n"
+        "from across_dimensions.app.cli import main\n"
+        "sys.exit(main(['shape', 'tesseract', '-o', 'x.npz']))\n"
+    )
+    r = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=cli_env, capture_output=True, text=True,
+                       timeout=TIMEOUT)
+    assert r.returncode == 1, describe(r)
+    assert "internal error: ValueError" in r.stderr, describe(r)
+
+
+def test_play_with_a_display_that_does_not_answer(cli, cli_env):
+    env = {k: v for k, v in cli_env.items() if k != "WAYLAND_DISPLAY"}
+    env["DISPLAY"] = ":917"  # an unusual number: no X server listens there
+    r = cli("play", env=env)
+    line = user_error(r, "DISPLAY=:917", "demo", status=1)
+    assert "internal error" not in line
+
+
+def test_play_unknown_level_is_a_user_error(cli):
+    user_error(cli("play", "no_such_level"), "no_such_level", "shipped levels")

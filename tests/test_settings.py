@@ -246,6 +246,7 @@ def test_custom_settings_round_trip_exactly(tmp_path):
                  mouse_sensitivity=0.0031415926535, invert_x=True, invert_y=True, fov_deg=101.25,
                  fullscreen=True, vsync=False, show_fps=True, width=2560, height=1440)
     path = tmp_path / "deep" / "er" / "s.toml"
+    path.parent.mkdir(parents=True)  # a folder given explicitly is never created (only the config folder is)
     save_settings(s, path)
     assert load_settings(path) == (s, [])
     # Only the differences from the preset are written under [bindings].

@@ -1,4 +1,10 @@
-"""The command-line subcommands that need no window."""
+"""The command-line subcommands that need no window.
+
+Each takes the parsed ``argparse.Namespace`` and returns the exit status;
+:mod:`.cli` wires them to the subcommands with ``set_defaults(func=...)``.
+Problems the user can fix raise :class:`~.options.UserError` (or another
+:class:`~across_dimensions.core.errors.InputError`), never print a traceback.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .cli import PROG, UserError, _size
+from .options import PROG, UserError, axis_values
+from .options import parse_size as _size
 
 
 def _out(msg: str = "") -> None:
@@ -137,9 +144,18 @@ def _parse_params(items) -> dict:
 
 
 def _make_shape(name: str, params: dict):
-    from ..core.shapes import make_shape  # raises ValueError naming the shape and parameter
+    from ..core.shapes import make_shape  # raises InputError naming the shape, parameter and range
 
     return make_shape(name, **params)
+
+
+def _output(path: str, suffixes: tuple[str, ...], command: str) -> Path:
+    """The -o path, refused before any work if its type or folder is wrong."""
+    from ..core.fileio import check_folder
+
+    if Path(path).suffix.lower() not in suffixes:
+        raise UserError(f"{command}: output must end in {' or '.join(suffixes)}, got {path!r}")
+    return check_folder(path)
 
 
 def shape(args) -> int:
@@ -151,10 +167,9 @@ def shape(args) -> int:
         return 0
     if not args.output:
         raise UserError("shape: -o OUT.npz is required")
-    if not args.output.endswith(".npz"):
-        raise UserError(f"shape: output must be a .npz file, got {args.output!r}")
+    out = _output(args.output, (".npz",), "shape")
     mesh = _make_shape(args.name, _parse_params(args.param))
-    mesh.save(args.output)
+    mesh.save(out)
     _out(f"{args.output}: {mesh.name}, {len(mesh.vertices)} vertices, {len(mesh.tets)} tets, "
          f"hyper-volume {mesh.hypervolume():.4g}")
     return 0
@@ -163,39 +178,35 @@ def shape(args) -> int:
 def slice(args) -> int:
     from ..core import cross_section, frustum_project
     from ..core.mesh import TetMesh4
-    from ..core.transform import angles_to_rotation, parse_axis_assignments, translation
+    from ..core.transform import angles_to_rotation, translation
 
-    suffix = Path(args.output).suffix.lower()
-    if suffix not in (".obj", ".ply", ".glb"):
-        raise UserError(f"slice: output must end in .obj, .ply or .glb, got {args.output!r}")
+    out = _output(args.output, (".obj", ".ply", ".glb"), "slice")
+    rot = axis_values(args.rotate, "plane", "--rotate")
+    move = axis_values(args.translate, "axis", "--translate")
     src = Path(args.source)
-    mesh = TetMesh4.load(src) if src.suffix == ".npz" else _make_shape(args.source, {})
-    rot = parse_axis_assignments(args.rotate, "plane")
-    move = parse_axis_assignments(args.translate, "axis")
+    mesh = TetMesh4.load(src) if src.suffix.lower() == ".npz" else _make_shape(args.source, {})
     model = translation([move.get(a, 0.0) for a in "xyzw"])
     model[:4, :4] = angles_to_rotation({k: np.radians(v) for k, v in rot.items()})
     if args.mode == "section":
         tri = cross_section(mesh, model=model)
     else:
-        if args.distance <= 0:
-            raise UserError(f"--distance: expected a positive number, got {args.distance}")
         tri = frustum_project(mesh, translation((0, 0, 0, -args.distance)), fov_deg=args.fov, model=model)
-    tri.save(args.output)
+    n_vertices, n_triangles = tri.save(out)
     if tri.is_empty:
         _out(f"{args.output}: empty - the hyperplane misses {mesh.name or src}")
     else:
-        _out(f"{args.output}: {len(tri)} triangles ({args.mode})")
+        _out(f"{args.output}: {n_triangles} triangles, {n_vertices} vertices ({args.mode}; "
+             f"{len(tri)} triangles before welding)")
     return 0
 
 
 def lift(args) -> int:
+    from ..core.mesh import TetMesh4
     from ..world.bake import lift_to_file
 
-    if args.depth <= 0:
-        raise UserError(f"lift: --depth must be positive, got {args.depth}")
-    if not args.output.endswith(".npz"):
-        raise UserError(f"lift: output must be a .npz file, got {args.output!r}")
-    mesh = lift_to_file(args.mesh, args.depth, args.output, profile=args.profile)
+    out = _output(args.output, (".npz",), "lift")
+    written = lift_to_file(args.mesh, args.depth, out, profile=args.profile)
+    mesh = TetMesh4.load(written, validate=False)  # for the summary; lift_to_file validated it
     _out(f"{args.output}: {len(mesh.vertices)} vertices, {len(mesh.tets)} tets")
     return 0
 

@@ -38,8 +38,7 @@ import difflib
 import math
 import os
 import string
-import sys
-import tempfile
+import tomllib
 from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from typing import Any, Callable
@@ -47,10 +46,10 @@ from typing import Any, Callable
 import platformdirs
 import tomli_w
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover - the project still supports 3.10
-    import tomli as tomllib
+from ..core.fileio import FileProblem, atomic_writer, read_text
+
+#: Largest settings file read, in bytes: a real one is about 1 kB.
+SETTINGS_MAX_BYTES = 64 * 1024
 
 __all__ = [
     "ACTIONS",
@@ -479,12 +478,15 @@ def load_settings(path: str | os.PathLike | None = None) -> tuple[Settings, list
     path = Path(path) if path is not None else settings_path()
     defaults = _defaults()
     try:
-        # utf-8-sig: tolerate the byte-order mark some Windows editors add.
-        data = tomllib.loads(path.read_bytes().decode("utf-8-sig"))
-    except FileNotFoundError:
-        return default_settings(), []
-    except (OSError, UnicodeDecodeError) as exc:
-        return default_settings(), [f"{path}: cannot read the settings file ({exc}); using the default settings"]
+        # Regular files of at most SETTINGS_MAX_BYTES only: a FIFO or a link to
+        # /dev/zero must not hang or exhaust memory. A byte-order mark is skipped.
+        data = tomllib.loads(read_text(path, limit=SETTINGS_MAX_BYTES, what="settings"))
+    except FileProblem as exc:
+        if not os.path.lexists(path):
+            return default_settings(), []
+        return default_settings(), [f"{exc}; using the default settings"]
+    except RecursionError:  # deeply nested arrays: tomllib recurses per level
+        return default_settings(), [f"{path}: not valid TOML (nested too deeply); using the default settings"]
     except tomllib.TOMLDecodeError as exc:
         return default_settings(), [f"{path}: not valid TOML ({exc}); using the default settings"]
 
@@ -554,17 +556,19 @@ _HEADER = b"""\
 
 
 def save_settings(settings: Settings, path: str | os.PathLike | None = None) -> Path:
-    """Write settings as TOML, atomically.
+    """Write settings as TOML, atomically (:func:`~across_dimensions.core.fileio.atomic_writer`).
 
-    The text goes to a temporary file in the same folder, is flushed to disk,
-    then renamed over the target, so a crash or a full disk leaves either the
-    old file or the new one, never a truncated mix.
+    The text goes to a uniquely named temporary file in the same folder, is
+    flushed to disk, then renamed over the target, so a crash or a full disk
+    leaves either the old file or the new one, never a truncated mix, and no
+    temporary file.
 
     Parameters
     ----------
     settings : Settings
     path : path-like, optional
-        Defaults to :func:`settings_path`; missing folders are created.
+        Defaults to :func:`settings_path`, whose config folder is created if
+        missing. A folder given explicitly must already exist.
 
     Returns
     -------
@@ -576,26 +580,18 @@ def save_settings(settings: Settings, path: str | os.PathLike | None = None) -> 
     ValueError
         If ``settings`` was modified into an invalid state after construction
         (checked before anything is written).
+    FileProblem
+        If ``path``'s folder is missing (a ``ValueError`` naming it).
     OSError
         If the file cannot be written; the old file, if any, is untouched and
         no temporary file is left behind.
     """
+    own_folder = path is None
     path = Path(path) if path is not None else settings_path()
     checked = replace(settings)  # re-runs __post_init__ validation on fields set since construction
     payload = _HEADER + tomli_w.dumps(_to_toml(checked)).encode("utf-8")
-
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as tmp:
-            tmp.write(payload)
-            tmp.flush()
-            os.fsync(tmp.fileno())
-        os.replace(tmp_name, path)
-    except BaseException:
-        try:
-            os.unlink(tmp_name)
-        except OSError:
-            pass
-        raise
+    if own_folder:
+        path.parent.mkdir(parents=True, exist_ok=True)  # the game's own config folder, not a user's typo
+    with atomic_writer(path, "wb") as f:
+        f.write(payload)
     return path

@@ -17,7 +17,7 @@ one place where the rules hold:
 - **Never create folders the user did not ask for.** A missing target folder is
   an error naming it.
 
-Errors are :class:`FileProblem`, a ``ValueError`` whose message names the file
+Errors are :class:`FileProblem`, an :class:`~.errors.InputError` (a ``ValueError``) whose message names the file
 and says what was expected, ready to show a player as one line.
 """
 
@@ -29,6 +29,8 @@ import stat
 import tempfile
 from pathlib import Path
 
+from .errors import InputError
+
 __all__ = ["FileProblem", "MiB", "read_bytes", "read_text", "atomic_write", "atomic_writer", "check_folder"]
 
 MiB = 1 << 20
@@ -38,7 +40,7 @@ _UMASK = os.umask(0o022)
 os.umask(_UMASK)
 
 
-class FileProblem(ValueError):
+class FileProblem(InputError):
     """A file that cannot be read or written as asked; the message names it."""
 
 

@@ -16,16 +16,29 @@ oriented mesh every triangle appears exactly twice, once with each orientation.
 
 from __future__ import annotations
 
-import os
-import tempfile
+import io
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from .errors import InputError
+from .fileio import FileProblem, MiB, atomic_writer, read_bytes
 
-class MeshError(ValueError):
+#: Limits on what a ``.npz`` mesh file may ask for (see :meth:`TetMesh4.load`).
+#: A 4D mesh the game can slice at 60 Hz is far below these; they exist so a
+#: small hostile file cannot make the loader allocate gigabytes.
+NPZ_MAX_BYTES = 256 * MiB
+NPZ_MAX_VERTICES = 1_000_000
+NPZ_MAX_TETS = 2_000_000
+#: Largest vertex coordinate (and colour channel) magnitude: far beyond any
+#: level, and far enough from float32's 3.4e38 that no product overflows.
+NPZ_MAX_COORD = 1e6
+_UINT32_MAX = 2**32 - 1
+
+
+class MeshError(InputError):
     """A mesh that breaks one of the rules in its class docstring."""
 
 
@@ -71,9 +84,30 @@ def _face_keys(faces: np.ndarray, n_vertices: int) -> np.ndarray:
 TET_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]], dtype=np.intp)
 
 
+def _frozen(a: np.ndarray, given) -> np.ndarray:
+    """``a`` (converted from ``given``) as an array nobody can write into.
+
+    Copied only when it is writeable memory the caller also holds: a fresh
+    array from a dtype conversion is just marked read-only.
+    """
+    if a.flags.writeable:
+        if isinstance(given, np.ndarray) and np.may_share_memory(a, given):
+            a = a.copy()
+        a.flags.writeable = False
+    return a
+
+
 @dataclass(eq=False)
 class TetMesh4:
     """The closed boundary of a 4D solid as tetrahedra.
+
+    The arrays are read-only (``flags.writeable`` is False): derived data such
+    as the face table and the slicer's cluster layout is cached on the mesh, and
+    an in-place edit would leave that cache describing another mesh. Arrays
+    passed in are copied unless they are already read-only, so the caller's own
+    arrays stay writeable. To change a mesh, build a new one (for example with
+    :meth:`transformed`); assigning a new array to an attribute also works and
+    clears the cache.
 
     Parameters
     ----------
@@ -91,25 +125,41 @@ class TetMesh4:
     name: str = ""
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
-    def __post_init__(self):
-        self.vertices = np.ascontiguousarray(self.vertices, dtype=np.float32).reshape(-1, 4)
-        tets = np.asarray(self.tets)
-        if tets.size and (tets.min() < 0):
-            raise MeshError(f"{self.label}: negative vertex index {int(tets.min())} in tets")
-        self.tets = np.ascontiguousarray(tets, dtype=np.uint32).reshape(-1, 4)
-        if self.colors is not None:
-            c = np.asarray(self.colors, dtype=np.float32)
-            if c.ndim == 1:
-                c = np.broadcast_to(c, (len(self.vertices), c.shape[0]))
-            if c.shape[-1] == 3:
-                c = np.concatenate([c, np.ones(c.shape[:-1] + (1,), np.float32)], axis=-1)
-            if c.shape != (len(self.vertices), 4):
-                raise MeshError(f"{self.label}: colors must be (n, 3) or (n, 4) for n={len(self.vertices)}, got {c.shape}")
-            self.colors = np.ascontiguousarray(c)
+    def __setattr__(self, key, value):
+        if key == "vertices":
+            value = _frozen(np.ascontiguousarray(value, dtype=np.float32).reshape(-1, 4), value)
+        elif key == "tets":
+            value = _frozen(self._checked_tets(value), value)
+        elif key == "colors" and value is not None and "vertices" in self.__dict__:
+            value = _frozen(self._checked_colors(value), value)
+        if key in ("vertices", "tets", "colors") and "_cache" in self.__dict__:
+            self._cache.clear()  # derived data described the old arrays
+        object.__setattr__(self, key, value)
+
+    def _checked_tets(self, tets) -> np.ndarray:
+        tets = np.asarray(tets)
+        if tets.size and np.issubdtype(tets.dtype, np.integer):
+            # Range first: casting a negative or >= 2**32 index to uint32 would wrap silently.
+            lo, hi = int(tets.min()), int(tets.max())
+            if lo < 0:
+                raise MeshError(f"{self.label}: negative vertex index {lo} in tets")
+            if hi > _UINT32_MAX:
+                raise MeshError(f"{self.label}: vertex index {hi} in tets is past the uint32 range")
+        return np.ascontiguousarray(tets, dtype=np.uint32).reshape(-1, 4)
+
+    def _checked_colors(self, colors) -> np.ndarray:
+        c = np.asarray(colors, dtype=np.float32)
+        if c.ndim == 1:
+            c = np.broadcast_to(c, (len(self.vertices), c.shape[0]))
+        if c.ndim == 2 and c.shape[-1] == 3:
+            c = np.concatenate([c, np.ones(c.shape[:-1] + (1,), np.float32)], axis=-1)
+        if c.shape != (len(self.vertices), 4):
+            raise MeshError(f"{self.label}: colors must be (n, 3) or (n, 4) for n={len(self.vertices)}, got {c.shape}")
+        return np.ascontiguousarray(c)
 
     @property
     def label(self) -> str:
-        return self.name or "mesh"
+        return getattr(self, "name", "") or "mesh"  # "name" is set after the arrays in __init__
 
     def __len__(self) -> int:
         return len(self.tets)
@@ -219,7 +269,8 @@ class TetMesh4:
         degenerate = repeated | (vol <= 1e-9 * longest**3) | (longest == 0)
         if degenerate.any():
             bad = np.flatnonzero(degenerate)
-            out.append(f"{self.label}: {len(bad)} degenerate tets (zero volume or repeated vertex), e.g. {bad[:max_report].tolist()}")
+            out.append(f"{self.label}: {len(bad)} degenerate tets (zero volume or repeated vertex), "
+                       f"e.g. {bad[:max_report].tolist()}")
         if check_closed:
             of = self.oriented_faces()
             key = _face_keys(of, len(self.vertices))
@@ -245,7 +296,8 @@ class TetMesh4:
                         f"their tets (inverted tets), in tets {tets_bad[:max_report].tolist()}"
                     )
                 elif self.hypervolume() <= 0:
-                    out.append(f"{self.label}: the mesh is inside out (enclosed hyper-volume {self.hypervolume():.3g} <= 0)")
+                    out.append(f"{self.label}: the mesh is inside out "
+                               f"(enclosed hyper-volume {self.hypervolume():.3g} <= 0)")
         return out
 
     def validate(self, check_closed: bool = True) -> "TetMesh4":
@@ -284,48 +336,159 @@ class TetMesh4:
     def save(self, path) -> None:
         """Write ``.npz`` with arrays ``vertices``, ``tets`` and optionally ``colors``.
 
-        Written to a temporary file then renamed, so a crash leaves no half file.
+        Written whole or not at all (:func:`~.fileio.atomic_writer`): two
+        writers to one path, a crash or a kill never leave a half file or a
+        temporary file behind.
+
+        Raises
+        ------
+        FileProblem
+            The folder is missing or the file cannot be written.
         """
-        path = Path(path)
-        if not path.parent.is_dir():
-            raise FileNotFoundError(f"{path}: the folder {path.parent} does not exist")
         arrays = {"vertices": self.vertices, "tets": self.tets}
         if self.colors is not None:
             arrays["colors"] = self.colors
-        fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent or ".")
         try:
-            with os.fdopen(fd, "wb") as f:
+            with atomic_writer(path, "wb") as f:
                 np.savez_compressed(f, **arrays)
-            os.replace(tmp, path)
-        except BaseException:
-            os.unlink(tmp)
-            raise
+        except OSError as e:
+            raise FileProblem(f"{path}: cannot write it ({e.strerror or e})") from None
 
     @classmethod
     def load(cls, path, validate: bool = True) -> "TetMesh4":
-        """Read a mesh written by :meth:`save`; problems raise :class:`MeshError`."""
+        """Read a mesh written by :meth:`save`, treating the file as hostile.
+
+        The file is read whole through :func:`~.fileio.read_bytes` (regular
+        files only, at most :data:`NPZ_MAX_BYTES`). Each array's size is then
+        checked twice before anything is decompressed or allocated: the size
+        the zip directory declares for its member, and the shape in the
+        ``.npy`` header. Limits: at most :data:`NPZ_MAX_BYTES` (256 MiB) of
+        file, :data:`NPZ_MAX_VERTICES` (1,000,000) vertices and
+        :data:`NPZ_MAX_TETS` (2,000,000) tets, so a zip bomb of a few
+        kilobytes is refused rather than expanded.
+
+        Accepted arrays (``allow_pickle`` is never used):
+
+        - ``vertices``: ``(n, 4)`` real numbers, finite and within
+          :data:`NPZ_MAX_COORD` (1e6) in magnitude.
+        - ``tets``: ``(m, 4)`` integers in ``[0, n)``; the range is checked
+          before the cast to ``uint32`` so large indices cannot wrap.
+        - ``colors`` (optional): ``(n, 3)`` or ``(n, 4)`` finite real numbers
+          (linear RGB(A), usually 0 to 1).
+
+        Parameters
+        ----------
+        path : str or Path
+        validate : bool
+            Also check the mesh is closed and outward (:meth:`validate`).
+
+        Raises
+        ------
+        MeshError
+            One line naming the file, the array and what was expected.
+        FileProblem
+            Missing, not a regular file, or too large.
+        """
         path = Path(path)
-        if path.is_file() and not zipfile.is_zipfile(path):
-            raise MeshError(f"{path}: not a .npz file (expected a zip archive of numpy arrays)")
-        try:
-            with np.load(path, allow_pickle=False) as data:
-                missing = [k for k in ("vertices", "tets") if k not in data]
-                if missing:
-                    raise MeshError(f"{path}: missing array(s) {', '.join(missing)}; expected 'vertices' (n, 4) and 'tets' (m, 4)")
-                v, t = data["vertices"], data["tets"]
-                c = data["colors"] if "colors" in data else None
-        except MeshError:
-            raise
-        except FileNotFoundError:
-            raise MeshError(f"{path}: no such file") from None
-        except Exception as e:  # zip errors, bad headers
-            raise MeshError(f"{path}: not a readable .npz file ({e})") from None
-        if v.ndim != 2 or v.shape[1] != 4:
-            raise MeshError(f"{path}: 'vertices' must have shape (n, 4), got {v.shape}")
-        if t.ndim != 2 or t.shape[1] != 4 or not np.issubdtype(t.dtype, np.integer):
-            raise MeshError(f"{path}: 'tets' must be integers of shape (m, 4), got {t.dtype} {t.shape}")
-        mesh = cls(v, t, c, name=str(path))
+        raw = read_bytes(path, limit=NPZ_MAX_BYTES, what=".npz mesh")
+        arrays = _read_npz(path, raw)
+        n = len(arrays["vertices"])
+        t = arrays["tets"]
+        if t.size and int(t.max()) >= n:
+            raise MeshError(f"{path}: 'tets' indexes vertex {int(t.max())}, past the end (there are {n} vertices)")
+        mesh = cls(arrays["vertices"], t, arrays.get("colors"), name=str(path))
         return mesh.validate() if validate else mesh
+
+
+# What each array of a .npz mesh may be: element counts per row and the dtype
+# kinds accepted (f float, i signed, u unsigned integer).
+_NPZ_ARRAYS = {"vertices": ((4,), "fiu"), "tets": ((4,), "iu"), "colors": ((3, 4), "fiu")}
+
+
+def _read_npz(path: Path, raw: bytes) -> dict:
+    """The arrays of a ``.npz`` held in ``raw``, each checked before it is decompressed.
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``vertices (n, 4)``, ``tets (m, 4)`` and maybe ``colors (n, 3|4)``,
+        with the dtypes stored in the file.
+    """
+    if not raw.startswith(b"PK"):
+        raise MeshError(f"{path}: not a .npz file (expected a zip archive of numpy arrays)")
+    try:
+        zf = zipfile.ZipFile(io.BytesIO(raw))
+        members = {info.filename.removesuffix(".npy"): info for info in zf.infolist()}
+    except (zipfile.BadZipFile, ValueError, OSError, EOFError) as e:
+        raise MeshError(f"{path}: not a readable .npz file ({e})") from None
+    missing = [k for k in ("vertices", "tets") if k not in members]
+    if missing:
+        raise MeshError(f"{path}: missing array(s) {', '.join(missing)}; expected 'vertices' (n, 4) and 'tets' (m, 4)")
+    out = {}
+    for name, (widths, kinds) in _NPZ_ARRAYS.items():
+        if name not in members:
+            continue
+        limit = NPZ_MAX_TETS if name == "tets" else NPZ_MAX_VERTICES
+        info = members[name]
+        # 8-byte elements at most, plus the .npy header (bounded by numpy at 10 kB + alignment).
+        most = limit * max(widths) * 8 + 16_384
+        if info.file_size > most:
+            raise MeshError(f"{path}: '{name}' would unpack to {info.file_size} bytes, more than the "
+                            f"{limit} rows a mesh may have ({most} bytes)")
+        try:
+            data = zf.read(info)
+        except (zipfile.BadZipFile, ValueError, OSError, EOFError, NotImplementedError, RuntimeError) as e:
+            raise MeshError(f"{path}: cannot unpack '{name}' ({e})") from None
+        out[name] = _read_npy(path, name, data, widths, kinds, limit)
+    if "colors" in out and len(out["colors"]) != len(out["vertices"]):
+        raise MeshError(f"{path}: 'colors' has {len(out['colors'])} rows for {len(out['vertices'])} vertices; "
+                        f"expected one colour per vertex")
+    return out
+
+
+def _read_npy(path: Path, name: str, data: bytes, widths: tuple, kinds: str, limit: int) -> np.ndarray:
+    """One ``.npy`` member, its header checked before the array is made."""
+    where = f"{path}: '{name}'"
+    if data.startswith(b"PK"):
+        raise MeshError(f"{where} is a zip archive inside the .npz (nested zip); expected a numpy array")
+    f = io.BytesIO(data)
+    try:
+        version = np.lib.format.read_magic(f)
+        if version == (1, 0):
+            shape, fortran, dtype = np.lib.format.read_array_header_1_0(f)
+        elif version == (2, 0):
+            shape, fortran, dtype = np.lib.format.read_array_header_2_0(f)
+        else:
+            raise ValueError(f"unsupported .npy version {version}")
+    except (ValueError, EOFError, SyntaxError, TypeError) as e:
+        raise MeshError(f"{where} is not a numpy array ({e})") from None
+    if dtype.hasobject or dtype.kind not in kinds or dtype.itemsize > 8 or dtype.fields is not None:
+        expected = "integers" if kinds == "iu" else "real numbers"
+        raise MeshError(f"{where} holds {dtype} values; expected {expected}")
+    row = widths[0]
+    expected_shape = f"(n, {row})" if len(widths) == 1 else "(n, 3) or (n, 4)"
+    if len(shape) != 2 or shape[1] not in widths:
+        raise MeshError(f"{where} has shape {shape}; expected {expected_shape}")
+    if shape[0] > limit:
+        raise MeshError(f"{where} has {shape[0]} rows; a mesh may have at most {limit}")
+    offset = f.tell()
+    count = shape[0] * shape[1]
+    if len(data) - offset != count * dtype.itemsize:
+        raise MeshError(f"{where} holds {len(data) - offset} bytes of data; its header promises "
+                        f"{count * dtype.itemsize}")
+    a = np.frombuffer(data, dtype=dtype, count=count, offset=offset)
+    a = a.reshape(shape[::-1]).T if fortran else a.reshape(shape)
+    if name != "tets":
+        with np.errstate(invalid="ignore"):  # NaN compares False: it is reported, not warned about
+            # Both bounds, not abs(): abs of the most negative integer is still negative.
+            bad = np.flatnonzero(~((a >= -NPZ_MAX_COORD) & (a <= NPZ_MAX_COORD)).all(axis=1))
+        if len(bad):
+            kind = "are not finite" if not np.isfinite(a[bad]).all() else f"exceed {NPZ_MAX_COORD:g} in magnitude"
+            raise MeshError(f"{where} rows {bad[:5].tolist()} {kind}; expected finite numbers within "
+                            f"+-{NPZ_MAX_COORD:g}")
+    if dtype.kind in "iu" and name == "tets" and a.size and int(a.min()) < 0:
+        raise MeshError(f"{where} holds the negative vertex index {int(a.min())}")
+    return a
 
 
 def _permutation_parity(faces: np.ndarray) -> np.ndarray:
@@ -408,11 +571,17 @@ class TriMesh3:
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         return self.vertices.min(axis=0), self.vertices.max(axis=0)
 
-    def save(self, path) -> None:
-        """Write ``.obj``, ``.ply`` (ASCII, no dependencies) or ``.glb`` (needs trimesh)."""
+    def save(self, path) -> tuple[int, int]:
+        """Write ``.obj``, ``.ply`` (ASCII, no dependencies) or ``.glb`` (needs trimesh), welded and indexed.
+
+        Returns
+        -------
+        (int, int)
+            The vertices and triangles written (see :func:`~.meshio.indexed_mesh`).
+        """
         from .meshio import save_trimesh3  # local: keeps file formats out of the hot path
 
-        save_trimesh3(self, path)
+        return save_trimesh3(self, path)
 
 
 def concatenate(meshes, name: str = "") -> TetMesh4:

@@ -43,6 +43,7 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
+from .errors import InputError
 from .mesh import MeshError, TetMesh4, cross4
 
 PHI = (1.0 + 5.0**0.5) / 2.0
@@ -815,8 +816,45 @@ SHAPES: dict[str, Callable[..., TetMesh4]] = {
 }
 
 
+#: What each shape parameter may be, for :func:`make_shape` and for levels
+#: (``world/level.py`` checks an object's ``params`` with the same table).
+#: ``(kind, (lo, hi))``: ``"whole"`` is an integer from ``lo`` to ``hi``;
+#: ``"positive"`` is a finite number from ``lo`` to ``hi`` (sizes, in world
+#: units). The whole-number bounds keep every shape under about 3 s and 400 MB
+#: to build (``hypersphere`` with ``subdivisions=3`` has 307,200 tets, a
+#: 128 x 128 ``duoprism`` 96,768); each subdivision multiplies the work by 8.
+SHAPE_PARAM_RULES: dict[str, tuple[str, tuple[float, float]]] = {
+    "radius": ("positive", (1e-3, 1e3)), "size": ("positive", (1e-3, 1e3)), "height": ("positive", (1e-3, 1e3)),
+    "r1": ("positive", (1e-3, 1e3)), "r2": ("positive", (1e-3, 1e3)),
+    "p": ("whole", (3, 128)), "q": ("whole", (3, 128)), "segments": ("whole", (3, 128)),
+    "subdivisions": ("whole", (0, 3)),
+}
+
+
+def shape_param_problem(name: str, value) -> str | None:
+    """Why ``value`` is not allowed for the shape parameter ``name`` (None if it is).
+
+    Parameters outside :data:`SHAPE_PARAM_RULES` (``color``) are not judged here.
+    """
+    if name not in SHAPE_PARAM_RULES:
+        return None
+    kind, (lo, hi) = SHAPE_PARAM_RULES[name]
+    is_number = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
+    if kind == "whole":
+        whole = is_number and (isinstance(value, (int, np.integer)) or float(value).is_integer())
+        if not (whole and lo <= value <= hi):
+            return f"'{name}' must be a whole number from {lo} to {hi}, got {value!r}"
+    elif not (is_number and np.isfinite(value) and lo <= value <= hi):
+        return f"'{name}' must be a finite number from {lo:g} to {hi:g}, got {value!r}"
+    return None
+
+
 def make_shape(name: str, **params) -> TetMesh4:
     """Build a shape by its command-line name.
+
+    Every parameter is checked against :data:`SHAPE_PARAM_RULES` before any
+    work starts, so ``subdivisions=50`` is refused at once instead of filling
+    memory.
 
     Parameters
     ----------
@@ -831,19 +869,23 @@ def make_shape(name: str, **params) -> TetMesh4:
 
     Raises
     ------
-    ValueError
-        One line naming the known shapes, or the builder's parameters.
+    InputError
+        One line naming the known shapes, or the parameter and its range.
     """
     key = str(name).strip().lower().replace("_", "-")
     if key not in SHAPES:
-        raise ValueError(f"unknown shape {name!r}; known shapes: {', '.join(SHAPES)}")
+        raise InputError(f"unknown shape {name!r}; known shapes: {', '.join(SHAPES)}")
     builder = SHAPES[key]
     accepted = list(inspect.signature(builder).parameters)
     unknown = [p for p in params if p not in accepted]
     if unknown:
-        raise ValueError(f"shape {key!r} takes {', '.join(accepted)}; got unknown parameter(s) {', '.join(unknown)}")
+        raise InputError(f"shape {key!r} takes {', '.join(accepted)}; got unknown parameter(s) {', '.join(unknown)}")
+    for pname, value in params.items():
+        problem = shape_param_problem(pname, value)
+        if problem:
+            raise InputError(f"shape {key!r}: {problem}")
     try:
         return builder(**params)
     except (TypeError, ValueError) as e:
         given = ", ".join(f"{k}={v!r}" for k, v in params.items())
-        raise ValueError(f"shape {key!r} with {given}: {e}") from None
+        raise InputError(f"shape {key!r} with {given}: {e}") from None

@@ -11,9 +11,16 @@ from __future__ import annotations
 
 import struct
 import zlib
-from pathlib import Path
 
 import numpy as np
+
+from ..core.errors import InputError
+from ..core.fileio import MiB, atomic_write, read_bytes
+
+#: Largest PNG file :func:`read_png` reads, and most pixels it decodes
+#: (a 8192 x 8192 RGBA image): a small file must not inflate to gigabytes.
+PNG_MAX_BYTES = 256 * MiB
+PNG_MAX_PIXELS = 8192 * 8192
 
 _SIGNATURE = b"\x89PNG\r\n\x1a\n"
 # PNG colour type -> channels (8-bit depth only).
@@ -21,7 +28,7 @@ _CHANNELS = {0: 1, 4: 2, 2: 3, 6: 4}
 _COLOR_TYPE = {v: k for k, v in _CHANNELS.items()}
 
 
-class PngError(ValueError):
+class PngError(InputError):
     """A PNG this module cannot read (bad file, or an unsupported variant)."""
 
 
@@ -57,20 +64,22 @@ def encode_png(image: np.ndarray, compress_level: int = 6) -> bytes:
     raw = np.zeros((h, 1 + w * c), np.uint8)
     raw[:, 1:] = np.ascontiguousarray(a).reshape(h, w * c)
     header = struct.pack(">IIBBBBB", w, h, 8, _COLOR_TYPE[c], 0, 0, 0)
-    return _SIGNATURE + _chunk(b"IHDR", header) + _chunk(b"IDAT", zlib.compress(raw.tobytes(), compress_level)) + _chunk(b"IEND", b"")
+    idat = zlib.compress(raw.tobytes(), compress_level)
+    return _SIGNATURE + _chunk(b"IHDR", header) + _chunk(b"IDAT", idat) + _chunk(b"IEND", b"")
 
 
 def write_png(path, image: np.ndarray, compress_level: int = 6) -> None:
     """Write ``image`` (see :func:`encode_png`) to ``path``.
 
-    Written to a temporary file then renamed, so a crash never leaves half a
-    golden image behind.
+    Written whole or not at all (:func:`~across_dimensions.core.fileio.atomic_write`),
+    so a crash never leaves half a golden image or a temporary file behind.
+
+    Raises
+    ------
+    FileProblem
+        The folder is missing or the file cannot be written.
     """
-    path = Path(path)
-    data = encode_png(image, compress_level)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_bytes(data)
-    tmp.replace(path)
+    atomic_write(path, encode_png(image, compress_level))
 
 
 def decode_png(data: bytes) -> np.ndarray:
@@ -107,11 +116,16 @@ def decode_png(data: bytes) -> np.ndarray:
     if header is None:
         raise PngError("no IHDR chunk")
     w, h, depth, ctype, _, _, interlace = header
+    if w * h > PNG_MAX_PIXELS:
+        raise PngError(f"{w}x{h} pixels is more than the {PNG_MAX_PIXELS} an image may have")
     if depth != 8 or ctype not in _CHANNELS or interlace != 0:
-        raise PngError(f"unsupported PNG variant (bit depth {depth}, colour type {ctype}, interlace {interlace}); need 8-bit non-interlaced grey/RGB/RGBA")
+        raise PngError(f"unsupported PNG variant (bit depth {depth}, colour type {ctype}, interlace {interlace}); "
+                       f"need 8-bit non-interlaced grey/RGB/RGBA")
     c = _CHANNELS[ctype]
     try:
-        raw = np.frombuffer(zlib.decompress(b"".join(idat)), np.uint8)
+        # Never inflate past what the header promises, plus one byte to notice more.
+        inflater = zlib.decompressobj()
+        raw = np.frombuffer(inflater.decompress(b"".join(idat), h * (w * _CHANNELS[ctype] + 1) + 1), np.uint8)
     except zlib.error as e:
         raise PngError(f"corrupt image data ({e})") from None
     stride = w * c
@@ -153,5 +167,17 @@ def decode_png(data: bytes) -> np.ndarray:
 
 
 def read_png(path) -> np.ndarray:
-    """Read a PNG file; see :func:`decode_png` for the result."""
-    return decode_png(Path(path).read_bytes())
+    """Read a PNG file of at most :data:`PNG_MAX_BYTES`; see :func:`decode_png` for the result.
+
+    Raises
+    ------
+    FileProblem
+        Missing, not a regular file, or too large.
+    PngError
+        Not a PNG this module reads; the message names the file.
+    """
+    data = read_bytes(path, limit=PNG_MAX_BYTES, what="PNG image")
+    try:
+        return decode_png(data)
+    except PngError as e:
+        raise PngError(f"{path}: {e}") from None
