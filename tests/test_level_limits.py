@@ -86,8 +86,9 @@ def test_accepted_shape_proportions_build(tmp_path, shape, fine, coarse):
     """The most different lengths a level accepts still build, at both ends of the size range."""
     a, b = limits.SHAPE_LENGTH_PAIRS[shape]
     k = limits.MAX_SHAPE_ASPECT
+    lo, hi = shapes.SHAPE_PARAM_RULES[a][1]  # the lengths a shape (and so a level) accepts
     for params in (fine, coarse):
-        for big, small in ((limits.SIZE.lo * k, limits.SIZE.lo), (limits.SIZE.hi, limits.SIZE.hi / k)):
+        for big, small in ((lo * k, lo), (hi, hi / k)):
             for x, y in ((big, small), (small, big)):
                 p = {**params, a: x, b: y}
                 assert limits.shape_aspect_problem(shape, p) is None
@@ -257,7 +258,7 @@ EXTREMES = {
     "object_depth": ("[[object]]\nasset = 'meshes/crate.obj'\nposition = [0, 0, 0, 0]\ndepth = 1e9\n",
                      "[[object]] #1 'object1'", "field 'depth'", "0.001 to 10000 m"),
     "shape_radius": (obj("600-cell", params="{ radius = 1e300 }"), "[[object]] #1 'object1'", "field 'params'",
-                     "'radius' must be a number from 0.001 to 10000 m"),
+                     "'radius' must be a number from 0.001 to 1000 m"),
     "shape_aspect": (obj("duoprism", params="{ p = 3, q = 128, r1 = 10.0, r2 = 0.001 }"), "[[object]] #1 'object1'",
                      "field 'params'", "'r1' and 'r2' may differ by a factor of at most 10, got 10 and 0.001"),
     "mesh_scale": ("[[mesh]]\nasset = 'meshes/crate.obj'\nscale = 1e300\n", "[[mesh]] #1", "field 'scale'",
@@ -397,7 +398,7 @@ velocity = [50.0, 50.0, 50.0, 50.0]
 [[object]]
 name = "spinner"
 shape = "duoprism"
-params = {{ p = 3, q = 128, r1 = 10000.0, r2 = 1000.0 }}
+params = {{ p = 3, q = 128, r1 = 1000.0, r2 = 100.0 }}
 position = [-10000.0, -10000.0, -10000.0, -10000.0]
 scale = [10000.0, 0.001, 10000.0, 0.001]
 spin = {{ xy = 720.0, xw = -720.0 }}

@@ -29,6 +29,7 @@ import numpy as np
 import tomllib
 
 from ..core import fileio
+from ..core.shapes import SHAPE_PARAM_RULES
 from ..core.transform import PLANES
 from . import limits, resources
 from .limits import (
@@ -182,12 +183,10 @@ MODELS = {"level": LEVEL, "spawn": SPAWN, "goal": GOAL, "physics": PHYSICS, "box
           "world": WORLD, "object": OBJECT}
 
 # Shape parameters: how each is checked (the builders in core/shapes.py take these names).
-_PARAM_RULES = {
-    "radius": ("positive", SIZE), "size": ("positive", SIZE), "height": ("positive", SIZE),
-    "r1": ("positive", SIZE), "r2": ("positive", SIZE),
-    "p": ("whole", Range(3, 128)), "q": ("whole", Range(3, 128)), "segments": ("whole", Range(3, 128)),
-    "subdivisions": ("whole", Range(0, 3)),
-}
+# One table of rules for the core's builders and for levels (core.shapes.SHAPE_PARAM_RULES);
+# lengths are in metres here.
+_PARAM_RULES = {name: (kind, Range(lo, hi, "m" if kind == "positive" else ""))
+                for name, (kind, (lo, hi)) in SHAPE_PARAM_RULES.items()}
 
 
 def _param_problem(name, value) -> str | None:
