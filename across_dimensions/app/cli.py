@@ -25,6 +25,7 @@ import signal
 import sys
 import threading
 
+from ..core.errors import InputError
 from . import commands
 from .options import PROG, UserError, fov_degrees, positive_float, positive_int
 
@@ -110,21 +111,6 @@ def _add_play_args(p):
                    help="close the window after this many seconds")
 
 
-def _user_errors() -> tuple[type, ...]:
-    """The error types whose messages are written for the user.
-
-    All derive from :class:`~across_dimensions.core.errors.InputError`; the
-    others are listed too so a module that has not yet moved its error type
-    under that base is still reported as a user error.
-    """
-    from ..core.errors import InputError
-    from ..game.replay import ReplayError
-    from ..world.bake import AssetError
-    from ..world.level import LevelError
-
-    return InputError, LevelError, ReplayError, AssetError
-
-
 def _exit_on_signal(signum, frame):
     # SIGTERM and SIGHUP would end the process without unwinding, leaving the
     # temporary file of a write in progress; as SystemExit every ``finally``
@@ -158,11 +144,7 @@ def main(argv=None) -> int:
     except Exception as e:
         if debug:
             raise
-        try:
-            user_errors = _user_errors()
-        except Exception:  # noqa: BLE001 - a broken import must still give one line
-            user_errors = ()
-        if isinstance(e, user_errors):
+        if isinstance(e, InputError):  # every error written for the user derives from it
             print(f"{PROG}: error: {e}", file=sys.stderr)
             return 2
         print(f"{PROG}: internal error: {type(e).__name__}: {e} (run with --debug for details)", file=sys.stderr)

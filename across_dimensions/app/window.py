@@ -17,6 +17,7 @@ from pathlib import Path
 
 import pyglet
 
+from ..core.errors import InputError
 from ..core.fileio import FileProblem, check_folder
 from ..game.actions import Actions
 from ..game.replay import Recorder
@@ -378,7 +379,7 @@ def run_window(args) -> int:
     if args.settings is None and not settings_path().exists():
         try:  # first run: leave a settings file for the player to edit
             save_settings(settings)
-        except OSError as e:
+        except (OSError, InputError) as e:
             print(f"warning: could not write {settings_path()} ({e}); playing with the defaults", file=sys.stderr)
     if args.fullscreen:
         settings.fullscreen = True

@@ -68,6 +68,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..core.errors import InputError
 from ..core.fileio import FileProblem, MiB, atomic_write, read_text
 from ..physics.events import ContactEvent
 from .actions import Actions, short_repr
@@ -97,7 +98,7 @@ _OUTCOME = re.compile(r"[a-z][a-z0-9_]{0,31}")
 _TICK_KEY = re.compile(r"[1-9][0-9]{0,19}")
 
 
-class ReplayError(ValueError):
+class ReplayError(InputError):
     """A replay file that cannot be used, with a message naming file and entry."""
 
 

@@ -29,6 +29,7 @@ import numpy as np
 import tomllib
 
 from ..core import fileio
+from ..core.errors import InputError
 from ..core.shapes import SHAPE_PARAM_RULES
 from ..core.transform import PLANES
 from . import limits, resources
@@ -218,7 +219,7 @@ def _hint_problem(hint: str) -> str | None:
     return None
 
 
-class LevelError(ValueError):
+class LevelError(InputError):
     """Every problem found in one level file, one per line."""
 
     def __init__(self, path, problems: list[str]):
