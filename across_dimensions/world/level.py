@@ -21,11 +21,14 @@ import numpy as np
 
 from ..core.transform import PLANES
 from . import resources
+from .gameplay import CrystalSpec, EnergySpec, RadarSpec, read_crystals, read_energy, read_radar
 
 PROFILES = ("prism", "round", "taper")
 OBJECT_BODIES = ("none", "hypersphere", "hypercube")
 DEFAULT_COLOR = (0.7, 0.7, 0.72, 1.0)
 MESH_SUFFIXES = (".obj", ".glb", ".gltf", ".stl")  # what world/bake.py reads
+FORMATS = (1, 2)
+FORMAT2_TABLES = ("crystal", "energy", "radar")  # what format 2 adds
 _INT64 = (-2**63, 2**63 - 1)  # TOML integers are 64-bit; tomllib accepts any size
 
 
@@ -168,6 +171,9 @@ class Level:
     objects: list[ObjectSpec]
     source_hash: str
     hints: list[str] = field(default_factory=list)
+    crystals: list[CrystalSpec] = field(default_factory=list)
+    energy: EnergySpec = field(default_factory=EnergySpec)
+    radar: RadarSpec = field(default_factory=RadarSpec)
 
 
 class _Reader:
@@ -361,14 +367,19 @@ def load_level(path) -> Level:
                                 f"write a float like 1e30 for huge values)" for b in big])
 
     r = _Reader(path)
-    r.unknown(data, {"level", "spawn", "goal", "box", "mesh", "world", "object", "physics"}, "top level")
+    r.unknown(data, {"level", "spawn", "goal", "box", "mesh", "world", "object", "physics", *FORMAT2_TABLES},
+              "top level")
     meta = r.table(data, "level", "[level]", required=True)
     r.unknown(meta, {"name", "description", "w_range", "hints", "format"}, "[level]")
     name = r.string(meta, "name", "[level]", default=path.stem)
     description = r.string(meta, "description", "[level]", default="")
     fmt = r.number(meta, "format", "[level]", default=1)
-    if fmt != 1:
-        r.problem("[level]", f"field 'format': this game reads format 1, the file says {fmt:g}")
+    if fmt not in FORMATS:
+        r.problem("[level]", f"field 'format': this game reads formats 1 and 2, the file says {fmt:g}")
+    elif fmt == 1:
+        for t in FORMAT2_TABLES:
+            if t in data:
+                r.problem("top level", f"'{t}' needs format 2 (set format = 2 in [level])")
     n = len(r.problems)
     w_range = r.vector(meta, "w_range", "[level]", 2, default=(-1.0, 1.0), names="ab")
     w_ok = len(r.problems) == n
@@ -488,6 +499,10 @@ def load_level(path) -> Level:
             r.vector(ot, "velocity", where, 4, default=(0.0, 0.0, 0.0, 0.0)),
         ))
 
+    energy = read_energy(r, data)
+    radar = read_radar(r, data)
+    crystals = read_crystals(r, data, tuple(w_range) if w_ok else None)
+
     if r.problems:
         raise LevelError(path, r.problems)
     return Level(
@@ -495,4 +510,5 @@ def load_level(path) -> Level:
         spawn=spawn, spawn_yaw_deg=spawn_yaw, goal=goal, gravity=gravity, inverse_cube_g=inverse_cube_g,
         boxes=boxes, meshes=meshes, worlds=worlds, objects=objects,
         source_hash=hashlib.sha256(raw).hexdigest(), hints=list(hints),
+        crystals=crystals, energy=energy, radar=radar,
     )

@@ -234,6 +234,10 @@ class SectionCache:
         self.computed += 1
         return tri, rev
 
+    def forget(self, key: str) -> None:
+        """Drop a key's entry (its entity is gone)."""
+        self._entries.pop(key, None)
+
     def bounds(self, key: str) -> np.ndarray | None:
         """Bounds ``(2, 3)`` of the last section for ``key``; NaN if it is empty."""
         entry = self._entries.get(key)
