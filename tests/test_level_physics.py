@@ -19,14 +19,14 @@ def level2():
 
 
 def body(game, name):
-    index = next(i for i, o in enumerate(game.scene.objects) if o.name == name)
-    return index, game.body_of[index]
+    entity = game.entities.named(name)
+    return entity, entity.motion.body
 
 
-def in_slice(game, index) -> bool:
-    """Does the object's cross-section at the player's w have any triangles?"""
+def in_slice(game, entity) -> bool:
+    """Does the entity's cross-section at the player's w have any triangles?"""
     w = float(game.player.position[3])
-    tri, _ = game.sections.section(f"object:{index}", game.scene.objects[index].mesh, game.object_model(index), w)
+    tri, _ = game.sections.section(f"test:{entity.id}", entity.mesh, entity.model(game), w)
     return not tri.is_empty
 
 
@@ -41,15 +41,15 @@ def test_replay_finishes_and_is_deterministic(level2):
 def test_bodies_enter_and_leave_the_slice_during_the_replay(level2):
     replay = Replay.load(REPLAY2)
     game = Game(level2)
-    indices = [i for i in game.body_of]
-    seen = {i: [] for i in indices}
+    bodies = game.entities.of_kind("body")
+    seen = {e.name: [] for e in bodies}
 
     def record(g):
-        for i in indices:
-            seen[i].append(in_slice(g, i))
+        for e in bodies:
+            seen[e.name].append(in_slice(g, e))
 
     play(replay, game, on_tick=record)
-    changes = {game.scene.objects[i].name: int(np.sum(np.diff(np.array(v, int)) != 0)) for i, v in seen.items()}
+    changes = {name: int(np.sum(np.diff(np.array(v, int)) != 0)) for name, v in seen.items()}
     # Something leaves the slice and something arrives (the drifter, the
     # visitor, the stack and the hidden one as the player steps along w).
     assert sum(changes.values()) >= 4, changes

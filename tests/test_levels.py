@@ -295,7 +295,7 @@ CASES = {
     "asset_missing": [["[[mesh]] #1", "field 'asset'", "no asset 'meshes/no_such_mesh.obj'"]],
     "shape_and_asset": [["[[object]] #1 'confused'", "exactly one of 'shape'", "or 'asset'"]],
     "several_problems": [
-        ["[level]", "field 'format'", "reads format 1", "says 2"],
+        ["[level]", "field 'format'", "reads formats 1 and 2", "says 3"],
         ["[spawn]", "field 'yaw'", "expected a number", "'north'"],
         ["[goal]", "field 'size'", "positive"],
         ["[physics]", "field 'gravity'", "expected a list of 4 numbers"],
