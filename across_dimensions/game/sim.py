@@ -20,17 +20,15 @@ from collections import Counter
 
 import numpy as np
 
-from ..core import shapes
 from ..world.level import Level
-from ..world.scene import Object4, Scene, SectionCache, build_physics, build_scene
+from ..world.scene import Scene, SectionCache, build_physics, build_scene
 from .actions import Actions
 from .energy import EnergyBar
 from .entities import EntityStore, Rigid, Scripted
 from .events import Event
 from .frame import Camera3, Frame, Hud
 from .player import HALF_WIDTH, HEIGHT, Player
-from .systems import SYSTEMS
-from .systems.crystals import Crystal
+from .systems import SYSTEMS, crystals
 
 TICK_RATE = 60
 DT = 1.0 / TICK_RATE
@@ -75,8 +73,9 @@ class Game:
                 self.entity_of_body[body_of[i]] = e.id
             else:
                 self.entities.spawn("object", obj.name, obj.mesh, Scripted(obj), solid=obj.solid, radar="object")
+        self.regrowing: list = []  # (tick, CrystalSpec) of crystals growing back, soonest first
         for c in level.crystals:
-            self._spawn_crystal(c)
+            crystals.spawn(self, c)
         self.energy = EnergyBar.of(level.energy.start, level.energy.maximum) if level.energy.enabled else None
         self.radar_settings = level.radar
         self.events: list[Event] = []
@@ -89,13 +88,6 @@ class Game:
         self.respawns = 0
         self._prev_eye = self.player.eye()
         self._prev_view = (self.player.yaw, self.player.pitch)
-
-    def _spawn_crystal(self, spec) -> None:
-        mesh = shapes.make_shape(spec.shape).with_color(spec.color)
-        obj = Object4(spec.name, mesh, spec.position.copy(), {}, np.full(4, spec.size), dict(spec.spin_deg),
-                      solid=False, body="none", mass=1.0, velocity=np.zeros(4))
-        self.entities.spawn("crystal", spec.name, mesh, Scripted(obj), radar="crystal", style="glow",
-                            data=Crystal(spec.milli))
 
     # ---------------------------------------------------------------- stepping
     @property
@@ -174,6 +166,7 @@ class Game:
         for e in self.entities:
             h.update(f"{e.id}:{e.kind};".encode())
             h.update(np.asarray(e.motion.state(), dtype=np.float64).tobytes())
+        h.update(repr([(t, c.name) for t, c in self.regrowing]).encode())
         h.update(repr(self.rng.bit_generator.state).encode())
         if self.physics is not None:
             h.update(self.physics.state_bytes())

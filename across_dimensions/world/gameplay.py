@@ -36,6 +36,7 @@ class CrystalSpec:
     size: float = 0.35
     color: tuple = CRYSTAL_COLOR
     spin_deg: dict = field(default_factory=lambda: dict(CRYSTAL_SPIN))
+    respawn: float = 0.0  # seconds until it grows back after being taken; 0: never
 
 
 @dataclass
@@ -88,7 +89,7 @@ def read_crystals(r, data, w_range) -> list[CrystalSpec]:
         return out
     for i, t in enumerate(tables, 1):
         where = f"[[crystal]] #{i}"
-        r.unknown(t, {"name", "position", "energy", "shape", "size", "color", "spin"}, where)
+        r.unknown(t, {"name", "position", "energy", "shape", "size", "color", "spin", "respawn"}, where)
         name = r.string(t, "name", where, default=f"crystal{i}")
         where = f"[[crystal]] #{i} '{name}'"
         n = len(r.problems)
@@ -100,6 +101,7 @@ def read_crystals(r, data, w_range) -> list[CrystalSpec]:
         shape = r.string(t, "shape", where, default="16-cell", choices=CRYSTAL_SHAPES)
         size = r.number(t, "size", where, default=0.35, lo=0.05, hi=5.0)
         spin = r.angles(t, "spin", where) if "spin" in t else dict(CRYSTAL_SPIN)
+        respawn = r.number(t, "respawn", where, default=0.0, lo=0.0, hi=3600.0)
         out.append(CrystalSpec(name, position, int(round(energy * MILLI)), shape, size, r.color(t, where, CRYSTAL_COLOR),
-                               spin))
+                               spin, respawn))
     return out

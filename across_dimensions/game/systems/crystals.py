@@ -3,7 +3,8 @@
 A crystal can only be touched where it can be seen: the player must be at a w
 where the crystal's cross-section exists, and the player's box must reach that
 section. A crystal is taken once, adds its energy to the bar (up to the
-maximum) and disappears.
+maximum) and disappears. A crystal with a ``respawn`` time grows back as a new
+entity that many seconds later, so a level can make running dry recoverable.
 """
 
 from __future__ import annotations
@@ -12,6 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...core.shapes import make_shape
+from ...world.gameplay import CrystalSpec
+from ...world.scene import Object4
+from ..entities import Scripted
 from ..events import CrystalCollected
 from ..player import player_box
 
@@ -20,9 +25,23 @@ REACH = 0.15  # metres beyond the player's box that still count as touching (a h
 
 @dataclass
 class Crystal:
-    """A crystal's state (``Entity.data``)."""
+    """A crystal's state (``Entity.data``): the level entry it came from."""
 
-    milli: int  # energy it holds, thousandths
+    spec: CrystalSpec
+
+    @property
+    def milli(self) -> int:
+        """Energy it holds, thousandths."""
+        return self.spec.milli
+
+
+def spawn(game, spec: CrystalSpec):
+    """Put a crystal in the game: a small polychoron turning in the w planes, glowing."""
+    mesh = make_shape(spec.shape).with_color(spec.color)
+    obj = Object4(spec.name, mesh, spec.position.copy(), {}, np.full(4, spec.size), dict(spec.spin_deg),
+                  solid=False, body="none", mass=1.0, velocity=np.zeros(4))
+    return game.entities.spawn("crystal", spec.name, mesh, Scripted(obj), radar="crystal", style="glow",
+                               data=Crystal(spec))
 
 
 def touching(game, entity) -> bool:
@@ -44,8 +63,14 @@ def touching(game, entity) -> bool:
 
 
 def step(game, actions) -> None:
+    while game.regrowing and game.regrowing[0][0] <= game.tick:
+        spawn(game, game.regrowing.pop(0)[1])
     for e in game.entities.of_kind("crystal"):
         if touching(game, e):
             gained = game.energy.gain(e.data.milli) if game.energy is not None else 0
             game.emit(CrystalCollected(e.id, e.data.milli, gained))
             game.remove(e.id)
+            if e.data.spec.respawn > 0:
+                due = game.tick + max(1, round(e.data.spec.respawn / game.dt))
+                game.regrowing.append((due, e.data.spec))
+                game.regrowing.sort(key=lambda item: item[0])  # stable: equal ticks keep pickup order
