@@ -180,3 +180,55 @@ def test_levels_without_energy_move_freely(level_path=None):
     assert game.energy is None and game.frame().hud.energy is None
     hold_w(game, 1.0, 30)
     assert game.player.position[3] > 0.2
+
+
+# ---- the shipped crystal level ------------------------------------------------
+def crystal_cache():
+    from across_dimensions.world.resources import levels_dir
+
+    return Game(load_level(levels_dir() / "02_crystal_cache.toml"))
+
+
+def test_crystal_cache_needs_the_hidden_crystal():
+    game = crystal_cache()
+    walk_to(game, 0.0, -5.5)  # the crystal in plain sight: 2 energy, half a unit of w
+    assert game.energy.value == 2.0
+    hold_w(game, 1.0, 120)
+    assert game.player.position[3] < 0.8  # not enough to get past the blue wall
+    walk_to(game, 0.0, 12.0, ticks=600)
+    assert game.outcome is None and game.player.position[2] < 3.0  # stopped at the wall
+
+
+def test_crystal_cache_route_by_the_radar():
+    game = crystal_cache()
+    walk_to(game, 0.0, -5.5)
+    ana = max(game.frame().radar.pins, key=lambda p: p.height)
+    assert ana.kind == "crystal" and ana.height > 0 and not ana.visible  # a pin above the disc: go ana
+    hold_w(game, 1.0, 11)
+    walk_to(game, -3.0, -3.0)
+    assert game.energy.value > 4.0
+    walk_to(game, 0.0, 0.0)
+    hold_w(game, 1.0, 60)
+    walk_to(game, 0.0, 12.0, ticks=900)
+    assert game.outcome == "complete"
+
+
+def test_crystal_cache_running_dry_is_recoverable():
+    game = crystal_cache()
+    walk_to(game, 0.0, -5.5)
+    hold_w(game, -1.0, 120)  # the wrong way: spend it all going kata
+    assert game.energy.milli == 0 and game.event_counts["energy_empty"] == 1
+    walk_to(game, 3.0, -3.0)  # the kata crystal is visible from here
+    assert game.energy.milli > 0
+    hold_w(game, 1.0, 120)  # back towards ana as far as it pays
+    walk_to(game, -3.0, -3.0)
+    walk_to(game, 0.0, -5.5)  # "first light" has grown back meanwhile, or will
+    for _ in range(20 * TICK_RATE):
+        if game.entities.named("first light") is None:
+            game.step(Actions())
+        else:
+            break
+    walk_to(game, 0.0, -5.5)
+    hold_w(game, 1.0, 120)
+    walk_to(game, 0.0, 12.0, ticks=900)
+    assert game.outcome == "complete", (game.player.position, game.energy.value)
