@@ -38,6 +38,10 @@ class Motion:
         """``(5, 5) float64`` at the current tick, or ``alpha`` of the way from the previous one."""
         raise NotImplementedError
 
+    def center(self, game) -> np.ndarray:
+        """Where the entity's origin is now, ``(4,) float64``; cheaper than :meth:`model`."""
+        return self.model(game, None)[:4, 4]
+
     def state(self) -> np.ndarray:
         """What evolves, for the state hash (empty when the motion is a function of time)."""
         return np.zeros(0)
@@ -53,6 +57,9 @@ class Scripted(Motion):
         t = game.time if alpha is None else game.time - (1.0 - alpha) * game.dt
         return self.obj.model_at(t)
 
+    def center(self, game):
+        return self.obj.position  # spin turns the object about its origin; it never moves it
+
 
 @dataclass
 class Rigid(Motion):
@@ -63,6 +70,9 @@ class Rigid(Motion):
 
     def model(self, game, alpha=None):
         return game.physics.body_pose(self.body, alpha) @ scaling(self.scale)
+
+    def center(self, game):
+        return game.physics.body_position(self.body)
 
 
 @dataclass
@@ -85,6 +95,9 @@ class Placed(Motion):
         # Linear blend of consecutive ticks: close enough for a 1/60 s step, and
         # drawing never feeds back into the simulation.
         return self.previous + alpha * (self.pose - self.previous)
+
+    def center(self, game):
+        return self.pose[:4, 4]
 
     def state(self):
         return self.pose.ravel()
@@ -114,6 +127,9 @@ class Entity:
         Render style of its cross-section (``"solid"``, ``"glow"``, ...).
     data : Any
         Kind-specific state, owned by the kind's system.
+    radius : float
+        How far the mesh reaches from the centre, scale included (see
+        :func:`reach`); used to skip slicing what cannot reach the slice.
     """
 
     id: int
@@ -125,16 +141,26 @@ class Entity:
     radar: str | None = None
     style: str = "solid"
     data: Any = None
-    radius: float = field(init=False, default=0.0)
-
-    def __post_init__(self):
-        # Bounding radius about the mesh's own origin, for cheap culling before slicing.
-        if self.mesh is not None and len(self.mesh.vertices):
-            self.radius = float(np.linalg.norm(self.mesh.vertices.astype(np.float64), axis=1).max())
+    radius: float = 0.0
 
     def model(self, game, alpha: float | None = None) -> np.ndarray:
         """Object-to-world ``(5, 5) float64`` now, or ``alpha`` of the way from the previous tick."""
         return self.motion.model(game, alpha)
+
+    def center(self, game) -> np.ndarray:
+        """The entity's centre now, ``(4,) float64``."""
+        return self.motion.center(game)
+
+    def reaches_slice(self, game, w: float) -> bool:
+        """Can the entity's cross-section at ``w`` be non-empty? (False means: skip slicing.)"""
+        return abs(float(self.motion.center(game)[3]) - w) <= self.radius
+
+
+def reach(mesh: TetMesh4, scale=1.0) -> float:
+    """How far ``mesh``, scaled by ``scale`` (a number or ``(4,)``), reaches from its origin."""
+    if mesh is None or len(mesh.vertices) == 0:
+        return 0.0
+    return float(np.linalg.norm(mesh.vertices.astype(np.float64), axis=1).max() * np.max(scale))
 
 
 class EntityStore:

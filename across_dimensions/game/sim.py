@@ -24,7 +24,7 @@ from ..world.level import Level
 from ..world.scene import Scene, SectionCache, build_physics, build_scene
 from .actions import Actions
 from .energy import EnergyBar
-from .entities import EntityStore, Rigid, Scripted
+from .entities import EntityStore, Rigid, Scripted, reach
 from .events import Event
 from .frame import Camera3, Frame, Hud
 from .player import HALF_WIDTH, HEIGHT, Player
@@ -69,10 +69,12 @@ class Game:
         self.entity_of_body: dict[int, int] = {}
         for i, obj in enumerate(self.scene.objects):
             if i in body_of:
-                e = self.entities.spawn("body", obj.name, obj.mesh, Rigid(body_of[i], obj.scale), radar="body")
+                e = self.entities.spawn("body", obj.name, obj.mesh, Rigid(body_of[i], obj.scale), radar="body",
+                                        radius=reach(obj.mesh, obj.scale))
                 self.entity_of_body[body_of[i]] = e.id
             else:
-                self.entities.spawn("object", obj.name, obj.mesh, Scripted(obj), solid=obj.solid, radar="object")
+                self.entities.spawn("object", obj.name, obj.mesh, Scripted(obj), solid=obj.solid, radar="object",
+                                    radius=reach(obj.mesh, obj.scale))
         self.regrowing: list = []  # (tick, CrystalSpec) of crystals growing back, soonest first
         for c in level.crystals:
             crystals.spawn(self, c)
@@ -117,10 +119,14 @@ class Game:
         are the same things at every w; a thing absent at ``w`` is NaN."""
         parts = [self.scene.static_boxes, self.scene.world_boxes_at(w)]
         for e in self.entities:
-            if e.solid:
-                key = f"tick:{e.id}"
+            if not e.solid:
+                continue
+            key = f"tick:{e.id}"
+            if e.reaches_slice(self, w):
                 self.sections.section(key, e.mesh, e.model(self), w)
-                parts.append(self.sections.bounds(key)[None])
+            else:
+                self.sections.forget(key)  # absent at w: bounds are NaN
+            parts.append(self.sections.bounds(key)[None])
         return np.concatenate(parts)
 
     def bodies_block_w(self, position, w: float) -> bool:

@@ -16,7 +16,7 @@ import numpy as np
 from ...core.shapes import make_shape
 from ...world.gameplay import CrystalSpec
 from ...world.scene import Object4
-from ..entities import Scripted
+from ..entities import Scripted, reach
 from ..events import CrystalCollected
 from ..player import player_box
 
@@ -41,21 +41,20 @@ def spawn(game, spec: CrystalSpec):
     obj = Object4(spec.name, mesh, spec.position.copy(), {}, np.full(4, spec.size), dict(spec.spin_deg),
                   solid=False, body="none", mass=1.0, velocity=np.zeros(4))
     return game.entities.spawn("crystal", spec.name, mesh, Scripted(obj), radar="crystal", style="glow",
-                               data=Crystal(spec))
+                               data=Crystal(spec), radius=reach(mesh, spec.size))
 
 
 def touching(game, entity) -> bool:
     """Does the player's box (plus :data:`REACH`) touch the entity's section in the player's slice?"""
     p = game.player
-    model = entity.model(game)
-    centre, w = model[:3, 4], float(p.position[3])
+    centre, w = entity.center(game), float(p.position[3])
     # Cheap rejections before slicing: out of reach in w or in space.
-    reach = entity.radius * float(np.linalg.norm(model[:4, :4], axis=0).max()) + REACH
     lo, hi = player_box(p.position)
-    if abs(model[3, 4] - w) > reach or np.any(centre < lo - reach) or np.any(centre > hi + reach):
+    far = entity.radius + REACH
+    if abs(centre[3] - w) > entity.radius or np.any(centre[:3] < lo - far) or np.any(centre[:3] > hi + far):
         return False
     key = f"tick:{entity.id}"
-    game.sections.section(key, entity.mesh, model, w)
+    game.sections.section(key, entity.mesh, entity.model(game), w)
     b = game.sections.bounds(key)
     if np.isnan(b).any():
         return False  # not in the slice: invisible, so untouchable

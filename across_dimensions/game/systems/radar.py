@@ -28,11 +28,11 @@ def draw(game, frame, alpha) -> None:
     for e in game.entities:
         if e.radar is None:
             continue
-        m = e.model(game, alpha)
-        rel = np.array([m[0, 4] - eye[0], m[2, 4] - eye[2]])
+        c = e.center(game)
+        rel = np.array([c[0] - eye[0], c[2] - eye[2]])
         if rel @ rel > settings.range ** 2:
             continue
         bounds = game.sections.bounds(f"draw:{e.id}")  # the sections system sliced it this frame
         pins.append(RadarPin(e.radar, float(rel @ right) / settings.range, float(rel @ fwd) / settings.range,
-                             (float(m[3, 4]) - w) * settings.w_scale, not np.isnan(bounds).any()))
+                             (float(c[3]) - w) * settings.w_scale, not np.isnan(bounds).any()))
     frame.radar = Radar(settings.range, settings.w_scale, pins)
