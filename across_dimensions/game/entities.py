@@ -163,6 +163,30 @@ def reach(mesh: TetMesh4, scale=1.0) -> float:
     return float(np.linalg.norm(mesh.vertices.astype(np.float64), axis=1).max() * np.max(scale))
 
 
+@dataclass
+class EntityTable:
+    """The live entities of one tick as arrays, for culling many at once.
+
+    Attributes
+    ----------
+    entities : list of Entity
+        In spawn order.
+    centers : (n, 4) float64
+        Each entity's centre this tick.
+    radii : (n,) float64
+        Each entity's reach (:attr:`Entity.radius`).
+    """
+
+    entities: list
+    centers: np.ndarray
+    radii: np.ndarray
+
+    def reaching(self, w: float) -> list:
+        """Entities with a mesh whose reach spans the slice at ``w``."""
+        near = np.abs(self.centers[:, 3] - w) <= self.radii
+        return [e for e, n in zip(self.entities, near) if n and e.mesh is not None]
+
+
 class EntityStore:
     """The entities of a game, by id, in spawn order.
 
@@ -174,6 +198,7 @@ class EntityStore:
     def __init__(self):
         self._by_id: dict[int, Entity] = {}
         self._next = 1
+        self.version = 0  # bumps on every spawn and removal (for caches of the entity list)
 
     def spawn(self, kind: str, name: str = "", mesh: TetMesh4 | None = None, motion: Motion | None = None,
               **fields) -> Entity:
@@ -183,11 +208,15 @@ class EntityStore:
         e = Entity(self._next, kind, name, mesh, motion, **fields)
         self._by_id[e.id] = e
         self._next += 1
+        self.version += 1
         return e
 
     def remove(self, entity_id: int) -> Entity | None:
         """Forget an entity; returns it, or None if it was already gone."""
-        return self._by_id.pop(entity_id, None)
+        e = self._by_id.pop(entity_id, None)
+        if e is not None:
+            self.version += 1
+        return e
 
     def get(self, entity_id: int) -> Entity | None:
         """The live entity with this id, or None once it is removed."""

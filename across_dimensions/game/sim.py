@@ -24,7 +24,7 @@ from ..world.level import Level
 from ..world.scene import Scene, SectionCache, build_physics, build_scene
 from .actions import Actions
 from .energy import EnergyBar
-from .entities import EntityStore, Rigid, Scripted, reach
+from .entities import EntityStore, EntityTable, Rigid, Scripted, reach
 from .events import Event
 from .frame import Camera3, Frame, Hud
 from .player import HALF_WIDTH, HEIGHT, Player
@@ -66,6 +66,7 @@ class Game:
         self.sections = SectionCache()
         self.physics, body_of = build_physics(self.scene, DT)
         self.entities = EntityStore()
+        self._table_key: tuple | None = None
         self.entity_of_body: dict[int, int] = {}
         for i, obj in enumerate(self.scene.objects):
             if i in body_of:
@@ -112,6 +113,16 @@ class Game:
             del self.entity_of_body[e.motion.body]
         self.sections.forget(f"tick:{e.id}")
         self.sections.forget(f"draw:{e.id}")
+
+    def entity_table(self) -> EntityTable:
+        """The live entities with their centres and reaches as arrays; built once per tick."""
+        key = (self.tick, self.entities.version)
+        if self._table_key != key:
+            ents = list(self.entities)
+            centers = np.array([e.center(self) for e in ents], dtype=np.float64).reshape(-1, 4)
+            self._table = EntityTable(ents, centers, np.array([e.radius for e in ents], dtype=np.float64))
+            self._table_key = key
+        return self._table
 
     def colliders_at(self, w: float) -> np.ndarray:
         """Boxes ``(k, 2, 3)`` solid in the slice at ``w``: the 3D world, the

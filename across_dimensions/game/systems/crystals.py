@@ -64,7 +64,11 @@ def touching(game, entity) -> bool:
 def step(game, actions) -> None:
     while game.regrowing and game.regrowing[0][0] <= game.tick:
         spawn(game, game.regrowing.pop(0)[1])
-    for e in game.entities.of_kind("crystal"):
+    table = game.entity_table()
+    p = game.player.position
+    # One vectorised test for every entity, then the full test for the crystals within reach.
+    near = np.abs(table.centers - p).max(axis=1) <= table.radii + 2.0 + REACH
+    for e in [e for e, n in zip(table.entities, near) if n and e.kind == "crystal"]:
         if touching(game, e):
             gained = game.energy.gain(e.data.milli) if game.energy is not None else 0
             game.emit(CrystalCollected(e.id, e.data.milli, gained))

@@ -18,21 +18,22 @@ def draw(game, frame, alpha) -> None:
     settings = game.radar_settings
     if settings is None:
         return
-    p = game.player
-    eye = frame.camera.position
+    table = game.entity_table()
+    tracked = [i for i, e in enumerate(table.entities) if e.radar is not None]
+    if not tracked:
+        frame.radar = Radar(settings.range, settings.w_scale, [])
+        return
+    c = table.centers[tracked]
     yaw = frame.camera.yaw
-    fwd = np.array([np.sin(yaw), np.cos(yaw)])  # x, z of "ahead"
-    right = np.array([np.cos(yaw), -np.sin(yaw)])
-    w = float(p.position[3])
+    rel = c[:, [0, 2]] - frame.camera.position[[0, 2]]
+    # Into the player's frame: x to the right, z ahead, in disc radii.
+    x = (rel[:, 0] * np.cos(yaw) - rel[:, 1] * np.sin(yaw)) / settings.range
+    z = (rel[:, 0] * np.sin(yaw) + rel[:, 1] * np.cos(yaw)) / settings.range
+    height = (c[:, 3] - float(game.player.position[3])) * settings.w_scale
+    inside = x * x + z * z <= 1.0
     pins = []
-    for e in game.entities:
-        if e.radar is None:
-            continue
-        c = e.center(game)
-        rel = np.array([c[0] - eye[0], c[2] - eye[2]])
-        if rel @ rel > settings.range ** 2:
-            continue
-        bounds = game.sections.bounds(f"draw:{e.id}")  # the sections system sliced it this frame
-        pins.append(RadarPin(e.radar, float(rel @ right) / settings.range, float(rel @ fwd) / settings.range,
-                             (float(c[3]) - w) * settings.w_scale, not np.isnan(bounds).any()))
+    for k in np.flatnonzero(inside):
+        e = table.entities[tracked[k]]
+        visible = game.sections.has_section(f"draw:{e.id}")  # the sections system sliced it this frame
+        pins.append(RadarPin(e.radar, float(x[k]), float(z[k]), float(height[k]), visible))
     frame.radar = Radar(settings.range, settings.w_scale, pins)

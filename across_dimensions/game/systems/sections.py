@@ -11,12 +11,8 @@ from ..frame import Drawable
 
 def draw(game, frame, alpha) -> None:
     w = float(game.player.position[3])
-    for e in game.entities:
-        if e.mesh is None:
-            continue
-        key = f"draw:{e.id}"
-        if not e.reaches_slice(game, w):  # nothing to slice: skip the kernel
-            game.sections.forget(key)
-            continue
-        tri, rev = game.sections.section(key, e.mesh, e.model(game, alpha), w)
+    shown = game.entity_table().reaching(w)
+    game.sections.keep("draw:", {f"draw:{e.id}" for e in shown})  # the rest left the slice
+    for e in shown:
+        tri, rev = game.sections.section(f"draw:{e.id}", e.mesh, e.model(game, alpha), w)
         frame.drawables.append(Drawable(f"entity:{e.id}", rev, tri, style=e.style))
