@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import io
+import sys
 import time
 from pathlib import Path
 
@@ -18,7 +20,9 @@ from across_dimensions.core.lift import (
     profile_scales,
     tet_volumes3,
 )
+from across_dimensions.core.fileio import FileProblem
 from across_dimensions.world import bake
+from across_dimensions.world.assets import bake_cache
 from across_dimensions.world.bake import AssetError, lift_asset, lift_to_file, load_surface
 
 ASSETS = Path(__file__).resolve().parents[1] / "assets" / "meshes"
@@ -34,6 +38,12 @@ def slice_at(mesh: TetMesh4, w: float):
 
 def unit_cube():
     return box_solid([0.5, 0.5, 0.5], 1.0)
+
+
+def signed_volume(vertices, faces) -> float:
+    """Volume enclosed by a closed surface (negative when wound inward)."""
+    p = np.asarray(vertices, np.float64)[np.asarray(faces)]
+    return float(np.einsum("ij,ij->i", p[:, 0], np.cross(p[:, 1], p[:, 2])).sum() / 6.0)
 
 
 # ----------------------------------------------------------------------- extrude
@@ -77,7 +87,8 @@ def test_tips_close_the_solid():
 
 @pytest.mark.parametrize(
     "layers, scales",
-    [([0.0], None), ([0.0, 0.0], None), ([1.0, 0.0], None), ([0, 1, 2], [1, 0, 1]), ([0, 1], [1, -1]), ([0, 1], [0, 0])],
+    [([0.0], None), ([0.0, 0.0], None), ([1.0, 0.0], None), ([0, 1, 2], [1, 0, 1]), ([0, 1], [1, -1]),
+     ([0, 1], [0, 0])],
 )
 def test_extrude_rejects_bad_layers(layers, scales):
     v, t = unit_cube()
@@ -166,7 +177,7 @@ def test_assets_are_watertight_as_shipped():
     for path in sorted(ASSETS.glob("*.obj")):
         v, f = load_surface(path)
         assert len(f) <= 600, path.name
-        assert bake.signed_volume(v, f) > 0
+        assert signed_volume(v, f) > 0
 
 
 def test_small_hole_and_flipped_faces_are_repaired(tmp_path):
@@ -176,13 +187,13 @@ def test_small_hole_and_flipped_faces_are_repaired(tmp_path):
     f = np.delete(f, [0, 6], axis=0)  # a missing quad: a 4-edge hole
     rv, rf = load_surface(write_obj(tmp_path / "holey.obj", v, f))
     assert len(rf) == 12
-    assert bake.signed_volume(rv, rf) == pytest.approx(1.0)
+    assert signed_volume(rv, rf) == pytest.approx(1.0)
 
 
 def test_inside_out_surface_is_turned_outward(tmp_path):
     v, f = cube_surface()
     rv, rf = load_surface(write_obj(tmp_path / "inverted.obj", v, f[:, ::-1]))
-    assert bake.signed_volume(rv, rf) == pytest.approx(1.0)
+    assert signed_volume(rv, rf) == pytest.approx(1.0)
 
 
 def test_open_mesh_raises_asset_error_naming_the_file(tmp_path):
@@ -230,7 +241,7 @@ def test_glb_scene_is_flattened_with_transforms(tmp_path):
     v, f = load_surface(path)
     assert v.min(axis=0) == pytest.approx([-3.5, -0.5, -0.5])
     assert v.max(axis=0) == pytest.approx([3.5, 0.5, 0.5])
-    assert bake.signed_volume(v, f) == pytest.approx(2.0)
+    assert signed_volume(v, f) == pytest.approx(2.0)
 
 
 # -------------------------------------------------------------- cache (no tetwild)
@@ -248,14 +259,21 @@ def fake_tetwild(monkeypatch):
     return calls
 
 
-def test_cache_hit_is_silent_and_skips_tetrahedralization(tmp_path, fake_tetwild, capsys):
+class Terminal(io.StringIO):
+    def isatty(self):
+        return True
+
+
+def test_cache_hit_is_silent_and_skips_tetrahedralization(tmp_path, fake_tetwild, monkeypatch):
     asset = ASSETS / "crate.obj"
+    monkeypatch.setattr(sys, "stderr", Terminal())
     first = lift_asset(asset, 2.0, cache_dir=tmp_path)
-    err = capsys.readouterr().err
+    err = sys.stderr.getvalue()
     assert "tetrahedralize" in err and "crate.obj" in err
     assert len(list(tmp_path.glob("crate-*.npz"))) == 1
+    monkeypatch.setattr(sys, "stderr", Terminal())
     second = lift_asset(asset, 2.0, cache_dir=tmp_path)
-    assert capsys.readouterr().err == ""
+    assert sys.stderr.getvalue() == ""
     assert len(fake_tetwild) == 1
     np.testing.assert_array_equal(first.tets, second.tets)
     # Depth, position and profile do not need a new bake; resolution does.
@@ -273,7 +291,7 @@ def test_corrupt_cache_file_is_rebuilt(tmp_path, fake_tetwild):
     mesh = lift_asset(asset, 1.0, cache_dir=tmp_path, progress=False)
     assert len(fake_tetwild) == 2
     assert mesh.hypervolume() == pytest.approx(1.0)  # the crate's 1 m bounding box, 1 deep
-    assert bake._load_cached(cached) is not None
+    assert bake_cache.load_entry(cached) is not None
     assert not list(tmp_path.glob("*.tmp"))
 
 
@@ -288,9 +306,17 @@ def test_changed_file_bytes_miss_the_cache(tmp_path, fake_tetwild):
 
 
 def test_lift_to_file_writes_a_loadable_npz(tmp_path, fake_tetwild):
-    out = lift_to_file(ASSETS / "pillar.obj", 2.0, tmp_path / "out" / "pillar.npz", cache_dir=tmp_path, progress=False)
+    out = lift_to_file(ASSETS / "pillar.obj", 2.0, tmp_path / "pillar.npz", cache_dir=tmp_path, progress=False)
+    assert out == tmp_path / "pillar.npz"
     mesh = TetMesh4.load(out)
     assert mesh.hypervolume() == pytest.approx(0.8 * 0.8 * 3.0 * 2.0)
+
+
+def test_lift_to_file_refuses_a_missing_folder(tmp_path, fake_tetwild):
+    with pytest.raises(FileProblem, match=r"nowhere.*does not exist"):
+        lift_to_file(ASSETS / "pillar.obj", 2.0, tmp_path / "nowhere" / "pillar.npz", cache_dir=tmp_path)
+    assert not (tmp_path / "nowhere").exists()
+    assert not fake_tetwild  # refused before any work
 
 
 # --------------------------------------------------------------- real pytetwild
@@ -326,7 +352,8 @@ def test_lifted_pillar_cache_hit(pillar_bake, monkeypatch):
 
     monkeypatch.setattr(bake, "tetrahedralize", no_tetwild)
     t0 = time.perf_counter()
-    again = lift_asset(ASSETS / "pillar.obj", 2.0, w_center=1.0, cache_dir=cache, edge_length_fac=COARSE, progress=False)
+    again = lift_asset(ASSETS / "pillar.obj", 2.0, w_center=1.0, cache_dir=cache, edge_length_fac=COARSE,
+                       progress=False)
     hit_seconds = time.perf_counter() - t0
     np.testing.assert_array_equal(again.tets, mesh.tets)
     assert hit_seconds * 10 < bake_seconds
@@ -338,5 +365,5 @@ def test_tetrahedralize_orients_pytetwild_output_positively():
     tv, tt = bake.tetrahedralize(v, f, COARSE)
     vol = tet_volumes3(tv, tt)
     assert (vol > 0).all()
-    assert vol.sum() == pytest.approx(bake.signed_volume(v, f), rel=0.01)
+    assert vol.sum() == pytest.approx(signed_volume(v, f), rel=0.01)
     assert len(np.unique(tt)) == len(tv)  # no unreferenced vertices

@@ -4,7 +4,7 @@
 
     play [LEVEL] [--record FILE]       play a level in a window
     demo [--screenshots DIR]           the headless demo (no window needed)
-    replay LEVEL REPLAY [--screenshots DIR --every N]
+    replay LEVEL REPLAY [--json] [--screenshots DIR --every N]
     check-level FILE...                check level files, report every problem
     slice SHAPE|FILE [--rotate xw=30 ...] [--translate w=0.3 ...] [--mode section|frustum] -o OUT
     shape NAME [--param k=v ...] -o OUT.npz
@@ -54,6 +54,8 @@ def _parser() -> argparse.ArgumentParser:
     rp.add_argument("--every", type=int, default=30, metavar="N", help="one screenshot every N ticks (30)")
     rp.add_argument("--size", default="640x360", metavar="WxH", help="screenshot size (640x360)")
     rp.add_argument("--no-check", action="store_true", help="do not compare state hashes")
+    rp.add_argument("--json", action="store_true",
+                    help="print one JSON object (outcome, ticks, hash, events, energy, position, ...) and nothing else")
 
     ck = sub.add_parser("check-level", help="check level files and list every problem")
     ck.add_argument("files", nargs="+", metavar="FILE")
@@ -144,6 +146,11 @@ def _dispatch(args) -> int:
 
 def _play(args) -> int:
     from .display import display_problem
+
+    if args.record:  # refused before anything else, display or not: folders are never created for it
+        from ..core.fileio import check_folder
+
+        check_folder(args.record)
 
     problem = display_problem()
     if problem:

@@ -47,21 +47,40 @@ def _load_game(level_arg: str, seed: int):
 
 
 def replay(args) -> int:
-    from ..game.replay import Replay, play
+    """Play a replay headless; print the outcome and final hash, or with
+    ``--json`` exactly one JSON object on stdout (see ``game.replay.summary``).
+    Exit status 3 when the run diverges from the recorded hashes."""
+    import json
 
+    from ..game.replay import EventCounter, Replay, play, summary
     from .warmup import warm_up
 
+    as_json = getattr(args, "json", False)
     rep = Replay.load(args.replay)
+    if rep.recovered:
+        print(f"{PROG}: note: {args.replay} is a recording that was cut short ({len(rep.actions)} ticks kept); "
+              "it has no final hash to check", file=sys.stderr)
     game = _load_game(args.level, rep.seed)
     warm_up()
     shooter = _screenshotter(args, game) if args.screenshots else None
-    result = play(rep, game, on_tick=shooter, check=not args.no_check)
+    counter = EventCounter()
+
+    def on_tick(g):
+        counter(g)
+        if shooter is not None:
+            shooter(g)
+
+    result = play(rep, game, on_tick=on_tick, check=not args.no_check)
+    say = (lambda msg: print(msg, file=sys.stderr, flush=True)) if as_json else _out  # stdout is the JSON's alone
     if shooter is not None:
         shooter.close()
-        _out(f"screenshots: {shooter.count} PNG files in {args.screenshots}")
-    outcome = result.outcome or "not finished"
-    _out(f"level '{game.level.name}': {outcome} after {result.ticks} ticks ({result.ticks / 60:.2f} s)")
-    _out(f"final state hash: {result.final_hash}")
+        say(f"screenshots: {shooter.count} PNG files in {args.screenshots}")
+    if as_json:
+        _out(json.dumps(summary(game, result, counter.counts), allow_nan=False))
+    else:
+        outcome = result.outcome or "not finished"
+        _out(f"level '{game.level.name}': {outcome} after {result.ticks} ticks ({result.ticks / 60:.2f} s)")
+        _out(f"final state hash: {result.final_hash}")
     if result.divergence:
         print(f"{PROG}: {result.divergence}", file=sys.stderr)
         return 3
@@ -74,6 +93,7 @@ def demo(args) -> int:
     args.level = "01_first_steps"
     args.replay = str(levels_dir() / "replays" / "01_first_steps.json")
     args.no_check = False
+    args.json = False
     _out("Across Dimensions headless demo: a recorded play-through of the first level.")
     return replay(args)
 
@@ -128,7 +148,7 @@ def shape(args) -> int:
     return 0
 
 
-def slice(args) -> int:  # noqa: A001 - the subcommand's name
+def slice(args) -> int:
     from ..core import cross_section, frustum_project
     from ..core.mesh import TetMesh4
     from ..core.transform import angles_to_rotation, parse_axis_assignments, translation

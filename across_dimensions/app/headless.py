@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..core.fileio import FileProblem
 from ..render.context import Offscreen, create_offscreen_context
 from ..render.renderer import Renderer
 
@@ -19,7 +20,8 @@ class Screenshotter:
     ----------
     game : Game
     folder : Path
-        Created if missing.
+        Created if missing, but not its parents: a typo must not scatter
+        folders over the disk.
     size : (int, int)
         Width and height in pixels.
     every : int
@@ -27,8 +29,7 @@ class Screenshotter:
     """
 
     def __init__(self, game, folder: Path, size: tuple[int, int], every: int):
-        self.folder = Path(folder)
-        self.folder.mkdir(parents=True, exist_ok=True)
+        self.folder = ensure_folder(folder)
         self.ctx = create_offscreen_context()
         self.target = Offscreen(self.ctx, *size)
         self.renderer = Renderer(self.ctx)
@@ -51,3 +52,25 @@ class Screenshotter:
         self.renderer.release()
         self.target.release()
         self.ctx.release()
+
+
+def ensure_folder(folder) -> Path:
+    """``folder``, created if missing when its parent exists.
+
+    Raises
+    ------
+    FileProblem
+        The parent is missing, or ``folder`` is a file, or cannot be created.
+    """
+    folder = Path(folder)
+    if folder.is_dir():
+        return folder
+    if folder.exists():
+        raise FileProblem(f"{folder}: is a file (expected a folder for the screenshots)")
+    if not folder.parent.is_dir():
+        raise FileProblem(f"{folder}: the folder {folder.parent} does not exist (only {folder.name} is created)")
+    try:
+        folder.mkdir()
+    except OSError as e:
+        raise FileProblem(f"{folder}: cannot create it ({e.strerror or e})") from None
+    return folder

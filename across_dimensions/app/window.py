@@ -8,12 +8,16 @@ does not spiral; the frame is drawn interpolated by the remainder.
 
 from __future__ import annotations
 
+import contextlib
+import os
+import signal
 import sys
 import time
 from pathlib import Path
 
 import pyglet
 
+from ..core.fileio import FileProblem, check_folder
 from ..game.actions import Actions
 from ..game.replay import Recorder
 from ..game.sim import DT, Game
@@ -65,6 +69,7 @@ class GameWindow(pyglet.window.Window):
         self.quit_after = quit_after
         self.wall_time = 0.0
         self.finished_for = 0.0
+        self.terminated_by: int | None = None
         self.load(level_path)
         if record:
             self.start_recording()
@@ -95,21 +100,50 @@ class GameWindow(pyglet.window.Window):
 
     # -------------------------------------------------------------- recording
     def start_recording(self) -> None:
-        """Recording restarts the level: a replay always starts at the spawn."""
+        """Recording restarts the level: a replay always starts at the spawn.
+
+        The replay file is written from the start and grows every simulated
+        second (see :class:`~across_dimensions.game.replay.Recorder`), so a
+        crash loses at most the last second. Without ``--record`` it goes to
+        the game's own replay folder, named by level and time.
+        """
         self.load(self.level_path)
-        self.recorder = Recorder(self.game, self.level_path.stem)
+        try:
+            if self.record_path:
+                path = Path(self.record_path)
+            else:
+                folder = _replay_folder()
+                folder.mkdir(parents=True, exist_ok=True)  # the game's own folder: ours to create
+                path = _unused(folder / f"{self.level_path.stem}_{time.strftime('%Y%m%d-%H%M%S')}.json")
+            self.recorder = Recorder(self.game, self.level_path.stem, path)
+        except (FileProblem, OSError) as e:
+            self.recorder = None
+            self._recording_failed(f"Cannot record: {e}")
+            return
         self.say("Recording (level restarted)")
 
     def stop_recording(self) -> None:
+        """Finish the recording in progress, if any, and save it over its journal."""
         if self.recorder is None:
             return
-        replay = self.recorder.finish()
-        self.recorder = None
-        path = Path(self.record_path) if self.record_path else _replay_folder() / f"{self.level_path.stem}_{time.strftime('%Y%m%d-%H%M%S')}.json"
-        self.record_path = None
-        replay.save(path)
-        self.say(f"Replay saved: {path}")
-        print(f"replay saved: {path}", flush=True)
+        recorder, self.recorder = self.recorder, None
+        self.record_path = None  # the next F9 recording goes to the replay folder
+        try:
+            recorder.finish()
+        except FileProblem as e:  # the journal written so far stays, and still loads
+            self._recording_failed(f"Replay not saved: {e}")
+            return
+        self.say(f"Replay saved: {recorder.path}")
+        print(f"replay saved: {recorder.path}", flush=True)
+
+    def _recording_failed(self, message: str) -> None:
+        self.say(message, 8.0)
+        print(f"warning: {message}", file=sys.stderr, flush=True)
+
+    def terminate(self, signum: int) -> None:
+        """A SIGTERM or SIGHUP arrived: leave the main loop; the recording is saved on the way out."""
+        self.terminated_by = signum
+        pyglet.app.exit()
 
     # ------------------------------------------------------------------ input
     def held(self, action: str) -> bool:
@@ -129,11 +163,13 @@ class GameWindow(pyglet.window.Window):
         dyaw, dpitch = self.look
         self.look = [0.0, 0.0]
         axis = lambda pos, neg: float(self.held(pos)) - float(self.held(neg))  # noqa: E731
+        # clamped(): a replay stores exactly these frames, and Replay.load
+        # refuses non-finite or out-of-bound rows (a huge mouse jump, a driver's NaN).
         return Actions(forward=axis("move_forward", "move_back"), right=axis("strafe_right", "strafe_left"),
                        yaw=dyaw, pitch=dpitch, w=axis("w_ana", "w_kata"), jump=self.held("jump"),
                        fire=self.held("fire"), alt_fire=self.held("alt_fire"),
                        switch_camera=self.held("switch_camera"), manipulate=self.held("manipulate"),
-                       next_weapon=self.held("next_weapon"))
+                       next_weapon=self.held("next_weapon")).clamped()
 
     def on_mouse_motion(self, x, y, dx, dy):
         if not self.paused:
@@ -208,7 +244,13 @@ class GameWindow(pyglet.window.Window):
             actions = self.read_actions()
             self.game.step(actions)
             if self.recorder:
-                self.recorder.record(actions)
+                try:
+                    self.recorder.record(actions)
+                except FileProblem as e:  # e.g. the disk is full: keep playing, say so
+                    with contextlib.suppress(FileProblem):
+                        self.recorder.close()
+                    self.recorder = None
+                    self._recording_failed(f"Recording stopped: {e}")
             self.accumulator -= DT
             steps += 1
         if steps == MAX_CATCH_UP:
@@ -293,6 +335,30 @@ def _replay_folder() -> Path:
     return Path(platformdirs.user_data_dir("across-dimensions")) / "replays"
 
 
+def _unused(path: Path) -> Path:
+    """``path``, or ``name-2.json``, ``name-3.json``... if it exists (two recordings in one second)."""
+    n = 1
+    candidate = path
+    while candidate.exists():
+        n += 1
+        candidate = path.with_name(f"{path.stem}-{n}{path.suffix}")
+    return candidate
+
+
+def check_record_path(path) -> None:
+    """Refuse ``--record FILE`` before a window opens when FILE cannot be written.
+
+    Raises
+    ------
+    FileProblem
+        The folder is missing (folders are never created for it), is not a
+        folder, or is not writable; or FILE is a folder.
+    """
+    path = check_folder(path)
+    if not os.access(path.parent, os.W_OK | os.X_OK):
+        raise FileProblem(f"{path}: cannot write in the folder {path.parent} (permission denied)")
+
+
 def run_window(args) -> int:
     """Open the window and play until it closes. Returns the exit status."""
     settings, warnings = load_settings(args.settings)
@@ -307,15 +373,29 @@ def run_window(args) -> int:
         settings.fullscreen = True
     path = resolve_level(args.level) if args.level else level_files()[0]
     load_level(path)  # a broken level is reported before a window opens
+    if args.record:
+        check_record_path(args.record)
     warm_up()
     try:
         window = GameWindow(settings, path, seed=args.seed, record=args.record, warnings=warnings,
-                   screenshot_after=args.screenshot_after, quit_after=args.quit_after)
+                            screenshot_after=args.screenshot_after, quit_after=args.quit_after)
     except (pyglet.window.NoSuchConfigException, pyglet.gl.ContextException, RenderError) as e:
         print(f"across-dimensions: cannot open an OpenGL 3.3 window here ({e}); "
               f"try the headless demo: across-dimensions demo --screenshots out/", file=sys.stderr)
         return 1
-    pyglet.app.run(1 / 120)  # redraw up to 120 Hz; vsync, when on, paces it to the display
-    window.stop_recording()
-    window.close()
-    return 0
+    # SIGTERM (and SIGHUP, a closed terminal) would end the process on the spot
+    # and lose the recording's last second; instead leave the loop and save.
+    # Python runs the handler in the main thread between bytecodes, and the
+    # loop wakes at least every 1/120 s, so it runs promptly.
+    signums = [s for s in (getattr(signal, "SIGTERM", None), getattr(signal, "SIGHUP", None)) if s is not None]
+    previous = {s: signal.signal(s, lambda signum, _frame: window.terminate(signum)) for s in signums}
+    try:
+        pyglet.app.run(1 / 120)  # redraw up to 120 Hz; vsync, when on, paces it to the display
+    finally:
+        try:
+            window.stop_recording()  # also on a crash in the loop: the replay so far is kept
+        finally:
+            for s, handler in previous.items():
+                signal.signal(s, handler)
+            window.close()
+    return 128 + window.terminated_by if window.terminated_by else 0

@@ -7,11 +7,21 @@ frames, so rebinding keys or changing mouse settings never breaks a replay.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+import math
+from dataclasses import dataclass, fields, replace
 
 # Button actions packed into one integer per tick in replays. Append only:
 # a bit's meaning must never change once replays exist.
 BUTTONS = ("jump", "fire", "alt_fire", "switch_camera", "manipulate", "next_weapon")
+#: Largest look change in one tick, radians, for yaw and for pitch alike. Half a
+#: turn per tick is far beyond any mouse (a flick of 180 degrees in 1/60 s), and
+#: a bound keeps a hand-edited replay from feeding the simulation 1e300 radians.
+MAX_LOOK = math.pi
+_AXES = ("forward", "right", "yaw", "pitch", "w")
+_AXIS_LIMIT = {"forward": 1.0, "right": 1.0, "yaw": MAX_LOOK, "pitch": MAX_LOOK, "w": 1.0}
+_NUMBER = (int, float)  # compared with type(): bool is an int subclass, and no axis value
+#: The button flags for each packed ``buttons`` value, in BUTTONS order.
+_BUTTON_SETS = tuple(tuple(bool(bits >> i & 1) for i in range(len(BUTTONS))) for bits in range(1 << len(BUTTONS)))
 
 
 @dataclass(frozen=True)
@@ -24,11 +34,15 @@ class Actions:
         Walking input in [-1, 1] (forward along the view, right strafes).
     yaw, pitch : float
         Look change this tick, radians (positive yaw turns right, positive
-        pitch looks up).
+        pitch looks up), each within ``[-MAX_LOOK, MAX_LOOK]``.
     w : float
         Motion along the fourth axis in [-1, 1] (+1 is ana, +w).
     jump, fire, alt_fire, switch_camera, manipulate, next_weapon : bool
         Buttons; true on the ticks they are held.
+
+    Every field is finite and within its bound when the frame comes from a
+    replay (:meth:`from_row` refuses anything else) or from the window
+    (:meth:`clamped`).
     """
 
     forward: float = 0.0
@@ -52,17 +66,68 @@ class Actions:
         return [self.forward, self.right, self.yaw, self.pitch, self.w, bits]
 
     @classmethod
-    def from_row(cls, row) -> "Actions":
-        """Inverse of :meth:`to_row`; raises ValueError on a malformed row."""
-        if not isinstance(row, (list, tuple)) or len(row) != 6:
-            raise ValueError(f"expected [forward, right, yaw, pitch, w, buttons], got {row!r}")
-        *axes, bits = row
-        if not all(isinstance(a, (int, float)) and not isinstance(a, bool) for a in axes) or not isinstance(bits, int):
-            raise ValueError(f"expected five numbers and an integer, got {row!r}")
-        if any(abs(a) > 1.0 for a in (axes[0], axes[1], axes[4])):
-            raise ValueError(f"forward, right and w must lie in [-1, 1], got {row!r}")
-        buttons = {name: bool(bits >> i & 1) for i, name in enumerate(BUTTONS)}
-        return cls(float(axes[0]), float(axes[1]), float(axes[2]), float(axes[3]), float(axes[4]), **buttons)
+    def from_row(cls, row) -> Actions:
+        """Inverse of :meth:`to_row`; raises ValueError on a malformed row.
+
+        The five axes must be finite numbers (not booleans) within their
+        bounds: forward, right and w in [-1, 1], yaw and pitch in
+        [-MAX_LOOK, MAX_LOOK]. ``buttons`` is a whole number whose set bits are
+        all known buttons (``0 <= buttons < 2 ** len(BUTTONS)``).
+        """
+        if type(row) not in (list, tuple) or len(row) != 6:
+            raise ValueError(f"expected [forward, right, yaw, pitch, w, buttons], got {short_repr(row)}")
+        f, r, y, p, w, bits = row
+        # One expression for the common case (a replay has up to 432,000 rows);
+        # type() is not isinstance(), so True is not a number here. Comparing
+        # before converting: float() of a huge int overflows, and int/float
+        # comparison is exact at any size. Comparisons are false for NaN.
+        if (type(f) in _NUMBER and type(r) in _NUMBER and type(y) in _NUMBER and type(p) in _NUMBER
+                and type(w) in _NUMBER and type(bits) is int and -1.0 <= f <= 1.0 and -1.0 <= r <= 1.0
+                and -MAX_LOOK <= y <= MAX_LOOK and -MAX_LOOK <= p <= MAX_LOOK and -1.0 <= w <= 1.0
+                and 0 <= bits < len(_BUTTON_SETS)):
+            return cls(float(f), float(r), float(y), float(p), float(w), *_BUTTON_SETS[bits])
+        for name, v in zip(_AXES, row):
+            limit = _AXIS_LIMIT[name]
+            if type(v) not in _NUMBER or not -limit <= v <= limit:
+                raise ValueError(f"{name}: expected a finite number in [{-limit:.6g}, {limit:.6g}], "
+                                 f"got {short_repr(v)}")
+        raise ValueError(f"buttons: expected a whole number from 0 to {len(_BUTTON_SETS) - 1}, "
+                         f"got {short_repr(bits)}")
+
+    def clamped(self) -> Actions:
+        """This frame made safe to simulate and record: each axis clamped to its
+        bound, a non-finite axis set to 0, ``-0.0`` written as ``0.0`` (so equal
+        frames have equal replay rows)."""
+        changes = {}
+        for name in _AXES:
+            v = getattr(self, name)
+            limit = _AXIS_LIMIT[name]
+            try:
+                f = float(v)
+            except OverflowError:  # an int too large for a float: past the bound anyway
+                f = limit if v > 0 else -limit
+            safe = min(max(f, -limit), limit) + 0.0 if math.isfinite(f) else 0.0
+            if safe != v or math.copysign(1.0, safe) != math.copysign(1.0, v) or type(v) is not float:
+                changes[name] = safe
+        return replace(self, **changes) if changes else self
+
+    def same_row(self, other: Actions) -> bool:
+        """True when both frames have the same replay row, signs of zeros included
+        (``0.0 == -0.0`` in Python, but the simulation can tell them apart)."""
+        if self != other:
+            return False
+        return all(math.copysign(1.0, getattr(self, n)) == math.copysign(1.0, getattr(other, n)) for n in _AXES)
+
+
+def short_repr(value, limit: int = 40) -> str:
+    """A short repr for messages: a hostile file must not make a message long."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10 ** limit:
+        try:
+            return f"a number of {len(str(abs(value)))} digits"
+        except ValueError:  # beyond Python's int-to-text limit (4300 digits)
+            return f"a number of about {int(value.bit_length() * 0.30103) + 1} digits"
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 IDLE = Actions()

@@ -13,6 +13,12 @@ Layout (pixels, origin top-left, ``W x H`` the viewport):
 * w indicator: a vertical track on the right, ``w_max`` at the top, with a tick
   at ``w = 0``, a fill from 0 to ``w``, a marker at ``w`` (red when ``w`` is
   outside the range), the label ``w`` above and the value below;
+* energy bar (when ``hud.energy`` is not None): bottom-left, a horizontal track whose fill is
+  ``value / maximum`` of its inner width, ``ENERGY`` above its left end and the value (``73/100``)
+  above its right end; a crystal's ``flash`` brightens the fill and puts a fading glow round the
+  bar; when ``empty`` the outline, track and label turn red and the label reads ``NO ENERGY``;
+* radar (drawn by :mod:`.radar`, not here): the rectangle :meth:`HudMetrics.radar_rect`,
+  bottom-right but left of the w indicator;
 * FPS (when not None): top-left;
 * message: centred horizontally, a third of the way down, on a dark band
   (wrapped to fit);
@@ -28,7 +34,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from ..game.frame import Hud
+from ..game.frame import EnergyGauge, Hud, Radar
 from .font import CELL_H, CELL_W, GLYPH_H, GLYPH_W, SOLID_CELL, build_atlas, cell_origin, glyph_index
 
 CROSSHAIR_COLOR = (0.95, 0.95, 0.95, 1.0)
@@ -43,6 +49,15 @@ TEXT_COLOR = (0.92, 0.94, 1.0, 1.0)
 FPS_COLOR = (0.7, 1.0, 0.7, 0.9)
 PAUSE_DIM_COLOR = (0.0, 0.0, 0.0, 0.55)
 BAND_COLOR = (0.0, 0.0, 0.0, 0.45)
+ENERGY_TRACK_COLOR = (0.55, 0.85, 1.0, 0.16)
+ENERGY_FILL_COLOR = (0.25, 0.9, 1.0, 0.9)
+ENERGY_FLASH_COLOR = (0.85, 1.0, 1.0, 1.0)
+ENERGY_EMPTY_COLOR = (1.0, 0.18, 0.15, 1.0)
+ENERGY_EMPTY_TRACK_COLOR = (1.0, 0.15, 0.1, 0.28)
+ENERGY_LABEL_COLOR = (0.75, 0.95, 1.0, 1.0)
+RADAR_LABEL_COLOR = (0.6, 0.9, 1.0, 0.85)
+#: Width over height of the radar's rectangle (the radar view fits itself to it).
+RADAR_ASPECT = 0.95
 
 #: Floats per HUD quad: rect x, y, w, h (px) | atlas u0, v0, u1, v1 (texels) | r, g, b, a.
 QUAD_FLOATS = 12
@@ -78,6 +93,26 @@ class HudMetrics:
         y1 = int(round(self.height * 0.78))
         x0 = self.width - self.margin - bar_w
         return x0, y0, bar_w, max(1, y1 - y0)
+
+    def energy_bar(self) -> tuple[int, int, int, int]:
+        """The energy bar's track as ``(x, y, w, h)`` pixels, origin top-left (bottom-left of the view)."""
+        bar_h = max(5, self.height // 45)
+        bar_w = max(40, int(round(self.width * 0.24)))
+        return self.margin, self.height - self.margin - bar_h, bar_w, bar_h
+
+    def radar_rect(self) -> tuple[int, int, int, int]:
+        """The radar's rectangle as ``(x, y, w, h)`` pixels, origin top-left.
+
+        Bottom-right, sized from the viewport height (46%, up to 50% on small screens), left of the
+        w indicator and its value.
+        """
+        h = max(24, int(round(max(self.height * 0.46, min(220, self.height * 0.5)))))
+        w = max(24, int(round(h * RADAR_ASPECT)))
+        tx = self.w_track()[0]
+        # The w value under the track is centred on it and spills about 3 glyph cells left.
+        right = tx - 3 * CELL_W * self.text_scale - self.margin // 2
+        bottom = self.height - self.margin // 2
+        return right - w, bottom - h, w, h
 
     def w_marker_y(self, hud: Hud) -> tuple[int, bool]:
         """Pixel row (top-left origin) of the w marker's centre, and whether w is in range."""
@@ -147,8 +182,12 @@ def _wrap(message: str, max_chars: int) -> list[str]:
     return lines
 
 
-def hud_quads(hud: Hud, width: int, height: int) -> np.ndarray:
+def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> np.ndarray:
     """Lay out the HUD for a ``width x height`` viewport.
+
+    With ``radar``, also the radar's labels round its rectangle (the radar itself is drawn by
+    :class:`~across_dimensions.render.radar.RadarRenderer`): ``+w`` at the top left, ``-w`` at the
+    bottom left (pins stand above for ana, hang below for kata) and the range at the bottom right.
 
     Returns
     -------
@@ -183,6 +222,18 @@ def hud_quads(hud: Hud, width: int, height: int) -> np.ndarray:
     val = f"{hud.w:+.2f}"
     vx = min(x0 + bw // 2 - text_width(val, s) // 2, W - text_width(val, s) - 2 * s)
     q.text(val, vx, y0 + th + 3 * s + 1, s, TEXT_COLOR)
+
+    # --- energy bar (bottom-left)
+    if hud.energy is not None:
+        _energy_bar(q, hud.energy, m)
+
+    # --- radar labels
+    if radar is not None:
+        rx, ry, rw, rh = m.radar_rect()
+        q.text("+w", rx + s, ry + s, s, RADAR_LABEL_COLOR)
+        q.text("-w", rx + s, ry + rh - GLYPH_H * s - s, s, RADAR_LABEL_COLOR)
+        rng = f"{radar.range:.0f} m"
+        q.text(rng, rx + rw - text_width(rng, s) - s, ry + rh - GLYPH_H * s - s, s, RADAR_LABEL_COLOR)
 
     # --- FPS (top-left)
     if hud.fps is not None:
@@ -221,6 +272,46 @@ def hud_quads(hud: Hud, width: int, height: int) -> np.ndarray:
         for i, ln in enumerate(lines):
             q.text(ln, (W - text_width(ln, scale)) // 2, ytop + i * line_h, scale, TEXT_COLOR)
     return q.array()
+
+
+def energy_text(gauge: EnergyGauge) -> str:
+    """The number shown by the energy bar: ``value/maximum``, whole numbers unless the maximum is small."""
+    if gauge.maximum >= 10:
+        return f"{int(np.floor(gauge.value + 1e-9)):d}/{int(round(gauge.maximum)):d}"
+    return f"{gauge.value:.1f}/{gauge.maximum:.1f}"
+
+
+def energy_fill_width(gauge: EnergyGauge, inner_w: int) -> int:
+    """Pixels of the fill in a track ``inner_w`` pixels wide: ``value / maximum`` of it, clamped to [0, 1]."""
+    frac = gauge.value / gauge.maximum if gauge.maximum > 0 else 0.0
+    return int(round(inner_w * min(max(frac, 0.0), 1.0)))
+
+
+def _mix(a, b, t):
+    return tuple(x + (y - x) * t for x, y in zip(a, b))
+
+
+def _energy_bar(q: _QuadList, gauge: EnergyGauge, m: HudMetrics) -> None:
+    s = m.text_scale
+    x, y, w, h = m.energy_bar()
+    flash = min(max(float(gauge.flash), 0.0), 1.0)
+    if flash > 0:
+        # A glow round the bar that fades with the flash.
+        g = max(2, h // 3)
+        q.rect(x - g, y - g, w + 2 * g, h + 2 * g, ENERGY_FLASH_COLOR[:3] + (0.55 * flash,))
+    outline = (ENERGY_EMPTY_COLOR[:3] + (0.9,)) if gauge.empty else _mix(OUTLINE_COLOR, ENERGY_FLASH_COLOR, flash)
+    q.rect(x - 1, y - 1, w + 2, h + 2, outline)
+    q.rect(x, y, w, h, OUTLINE_COLOR)  # a dark backing inside the (possibly bright) outline keeps the fill readable
+    q.rect(x, y, w, h, ENERGY_EMPTY_TRACK_COLOR if gauge.empty else ENERGY_TRACK_COLOR)
+    pad = max(1, h // 6)
+    inner_w = w - 2 * pad
+    fill = ENERGY_EMPTY_COLOR if gauge.empty else _mix(ENERGY_FILL_COLOR, ENERGY_FLASH_COLOR, 0.8 * flash)
+    q.rect(x + pad, y + pad, energy_fill_width(gauge, inner_w), h - 2 * pad, fill)
+    label_y = y - GLYPH_H * s - 3 * s - 1
+    label, color = ("NO ENERGY", ENERGY_EMPTY_COLOR) if gauge.empty else ("ENERGY", ENERGY_LABEL_COLOR)
+    q.text(label, x, label_y, s, color)
+    val = energy_text(gauge)
+    q.text(val, x + w - text_width(val, s), label_y, s, _mix(TEXT_COLOR, ENERGY_FLASH_COLOR, flash))
 
 
 _HUD_VS = """
@@ -289,10 +380,13 @@ class HudRenderer:
             ],
         )
 
-    def draw(self, hud: Hud, viewport: tuple[int, int, int, int]) -> None:
-        """Draw over whatever is in ``viewport`` (``(x, y, w, h)``, GL convention) of the bound framebuffer."""
+    def draw(self, hud: Hud, viewport: tuple[int, int, int, int], radar: Radar | None = None) -> None:
+        """Draw over whatever is in ``viewport`` (``(x, y, w, h)``, GL convention) of the bound framebuffer.
+
+        ``radar`` adds the radar's labels (see :func:`hud_quads`).
+        """
         _, _, w, h = (int(v) for v in viewport)
-        quads = hud_quads(hud, w, h)
+        quads = hud_quads(hud, w, h, radar)
         self.last_quads = quads
         if len(quads) == 0:
             return

@@ -37,10 +37,12 @@ from dataclasses import dataclass, field
 import moderngl
 import numpy as np
 
+from ..core.edges import feature_edges
 from ..core.mesh import TriMesh3
 from ..game.frame import Drawable, Frame
 from .context import RenderError
 from .hud import HudRenderer
+from .radar import RadarRenderer
 from .shaders import program_source
 
 STYLES = ("solid", "floor", "wire", "ghost", "glow")
@@ -58,7 +60,7 @@ class RenderStats:
     """
 
     uploads: int = 0  #: mesh uploads (first sight of a key, or a new revision)
-    releases: int = 0  #: cached meshes freed because their key disappeared
+    releases: int = 0  #: cached meshes freed because no view uses their key any more
     edge_builds: int = 0  #: wire edge lists derived (per upload, only for wire drawables)
     frames: int = 0
     draw_calls: int = 0
@@ -68,59 +70,6 @@ class RenderStats:
     cached: int = 0  #: keys with GPU buffers after the last frame
     upload_bytes: int = 0  #: bytes sent by the last frame's uploads
     by_key: dict = field(default_factory=dict)  #: uploads per key (lifetime)
-
-
-def feature_edges(vertices: np.ndarray, faces: np.ndarray, angle_tol: float = 1e-3, weld_tol: float = 1e-5) -> np.ndarray:
-    """The edges to draw for a wireframe.
-
-    Triangle soups (each triangle with its own vertices, as cross-sections are)
-    are welded by position so shared edges are found, and edges whose two
-    triangles are coplanar (a quad's diagonal) are dropped.
-
-    Parameters
-    ----------
-    vertices : (k, 3) float32
-    faces : (f, 3) uint32
-    angle_tol : float
-        Radians; neighbours within this angle count as coplanar.
-    weld_tol : float
-        Positions closer than this (per axis, after rounding) are one vertex.
-
-    Returns
-    -------
-    (e, 2) uint32
-        Indices into ``vertices``.
-    """
-    if len(faces) == 0:
-        return np.zeros((0, 2), np.uint32)
-    v = vertices.astype(np.float64)
-    q = np.round(v / weld_tol).astype(np.int64)
-    _, inverse = np.unique(q, axis=0, return_inverse=True)
-    welded = inverse.reshape(-1)[faces.astype(np.int64)]  # (f, 3)
-    # All three edges of every triangle, in original and welded indices.
-    orig = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
-    wedge = np.sort(welded[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-    keep_nondegenerate = wedge[:, 0] != wedge[:, 1]
-    p = v[faces.astype(np.int64)]
-    n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-    face_of = np.repeat(np.arange(len(faces)), 3)
-    key = wedge[:, 0] * (int(wedge.max()) + 1) + wedge[:, 1]
-    order = np.argsort(key, kind="stable")
-    ks = key[order]
-    starts = np.flatnonzero(np.r_[True, ks[1:] != ks[:-1]])
-    counts = np.diff(np.r_[starts, len(ks)])
-    first = order[starts]
-    keep = np.ones(len(starts), bool)
-    # An edge shared by exactly two triangles is a crease only if their planes differ
-    # (abs: triangle soups need not be consistently wound).
-    two = counts == 2
-    a = face_of[order[starts[two]]]
-    b = face_of[order[starts[two] + 1]]
-    coplanar = np.abs(np.einsum("ij,ij->i", n[a], n[b])) > np.cos(angle_tol)
-    keep[np.flatnonzero(two)[coplanar]] = False
-    keep &= keep_nondegenerate[first]
-    return np.ascontiguousarray(orig[first[keep]], dtype=np.uint32)
 
 
 class _GpuMesh:
@@ -229,7 +178,18 @@ class Renderer:
     ----------
     stats : RenderStats
     hud : HudRenderer
+    radar : RadarRenderer
+
+    Notes
+    -----
+    Several views can be drawn in one frame (a split screen, a mirror): give each its own
+    ``view`` name in :meth:`draw`. A mesh is released when no view's latest draw used its key, so
+    one view never evicts another's meshes; a view not drawn for :attr:`VIEW_TTL` draws is
+    forgotten (or call :meth:`forget_view`). Keys name one mesh across all views.
     """
+
+    #: Draws (of any view) after which a view that was not drawn again stops holding its meshes.
+    VIEW_TTL = 16
 
     def __init__(self, ctx: moderngl.Context, fog_density: float = 0.018, ghost_alpha: float = 0.35):
         self.ctx = ctx
@@ -245,6 +205,8 @@ class Renderer:
             except Exception as e:  # compile/link errors carry the driver's log
                 raise RenderError(f"shader for style {style!r} failed to build: {e}") from e
         self.hud = HudRenderer(ctx)
+        self.radar = RadarRenderer(ctx)
+        self._views: dict[str, tuple[int, set[str]]] = {}  # view -> (draw number, keys it used)
 
     # ----------------------------------------------------------------- caching
     def cached_keys(self) -> list[str]:
@@ -326,9 +288,16 @@ class Renderer:
             p.release()
         self._programs.clear()
         self.hud.release()
+        self.radar.release()
+
+    def forget_view(self, view: str) -> None:
+        """Stop holding the meshes only ``view`` used (they are released at the next draw)."""
+        self._views.pop(view, None)
 
     # ----------------------------------------------------------------- drawing
-    def draw(self, frame: Frame, viewport: tuple[int, int, int, int] | None = None, hud: bool = True) -> None:
+    def draw(
+        self, frame: Frame, viewport: tuple[int, int, int, int] | None = None, hud: bool = True, view: str = "main"
+    ) -> None:
         """Draw ``frame`` into the currently bound framebuffer.
 
         Parameters
@@ -339,7 +308,9 @@ class Renderer:
             Pixels, OpenGL convention (origin bottom-left). Defaults to the
             whole bound framebuffer. Only this rectangle is cleared and drawn.
         hud : bool
-            Also draw ``frame.hud`` on top.
+            Also draw ``frame.hud`` on top, and ``frame.radar`` (when not None) in its corner.
+        view : str
+            Which view this is; meshes used by other views' latest draws stay cached.
 
         Raises
         ------
@@ -367,8 +338,7 @@ class Renderer:
         ctx.clear(sky[0], sky[1], sky[2], 1.0, depth=1.0, viewport=viewport)
 
         cam = frame.camera
-        view = cam.view_matrix()
-        view_proj = cam.projection_matrix(w / h) @ view
+        view_proj = cam.projection_matrix(w / h) @ cam.view_matrix()
         eye = np.asarray(cam.position, np.float64)
         light = np.asarray(frame.light_dir, np.float64)
         light = light / max(np.linalg.norm(light), 1e-12)
@@ -403,8 +373,12 @@ class Renderer:
             else:
                 opaque.append((dist2, d, gm, model))
 
-        # Release meshes whose key left the world.
-        for key in [k for k in self._meshes if k not in seen]:
+        # Release meshes whose key left every view.
+        self._views[view] = (st.frames, seen)
+        for name in [v for v, (n, _) in self._views.items() if st.frames - n > self.VIEW_TTL]:
+            del self._views[name]
+        used = set().union(*(keys for _, keys in self._views.values()))
+        for key in [k for k in self._meshes if k not in used]:
             self._meshes.pop(key).release()
             st.releases += 1
         st.cached = len(self._meshes)
@@ -445,7 +419,10 @@ class Renderer:
             ctx.disable(moderngl.BLEND)
 
         if hud:
-            self.hud.draw(frame.hud, viewport)
+            if frame.radar is not None:
+                self.radar.draw(frame.radar, viewport)
+                st.draw_calls += self.radar.draw_calls
+            self.hud.draw(frame.hud, viewport, frame.radar)
 
     def _draw_mesh(self, style: str, gm: _GpuMesh, model: np.ndarray, mode: int, count: int) -> None:
         prog = self._programs[style]

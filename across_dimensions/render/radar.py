@@ -1,0 +1,680 @@
+"""The holographic 3D radar: a small 3D view of a translucent disc with pins.
+
+The paper's radar (Cavallo 2021, section 5, Fig. "Across Dimensions"): a disc in the player's x-z
+plane, centred on the player and turned with the player's yaw, with every 4D entity in range as a
+pin whose altitude is its w offset from the player. A pin on the disc is in the slice now; a pin
+above (ana, +w) or below (kata, -w) needs a step along w to reach.
+
+Radar space
+-----------
+The :class:`~across_dimensions.game.frame.RadarPin` data is already in the radar's frame, in disc
+radii, so the radar's 3D scene is fixed: the disc is the unit circle in the x-z plane (x to the
+player's right, z ahead, y up), and a fixed camera looks at it from behind and above
+(:data:`PITCH_DEG` down). Because the camera never turns relative to the disc, a stem drawn as a
+flat quad in the x-y plane always faces it.
+
+Pieces
+------
+* static (uploaded once): the disc fill, range rings at 1/3, 2/3 and the rim, the two axes, the
+  player's view wedge, a forward notch at the rim and the player's chevron at the centre;
+* per pin: a foot dot on the disc, a stem from the disc to the head, and a head whose shape
+  depends on the kind (:data:`HEAD_SHAPES`), coloured by kind (:data:`KIND_COLORS`); pins whose
+  cross-section is visible get a bright ring round the foot and a glowing head; heads beyond
+  :data:`HEIGHT_CLAMP` stop there with an arrow pointing on (up or down).
+
+Drawing (:class:`RadarRenderer`): its own programs and buffers, in its own viewport (the corner
+rectangle from :meth:`~across_dimensions.render.hud.HudMetrics.radar_rect`), after the main view:
+a dark backdrop that also resets the depth in that rectangle, the opaque pins (one instanced,
+indexed draw per shape that has instances: at most 14 draw calls in all, however many pins), then
+the translucent disc with depth writes off, so pins below it show through tinted and pins above it
+stand in front. The main view's buffers are never touched. The HUD then labels the rectangle
+(``+w`` above, ``-w`` below, the range in metres).
+
+Colours are display-space RGB (no gamma), like the HUD's.
+
+:func:`radar_geometry` is the pure part (a :class:`Radar` to instance arrays) and is tested
+without OpenGL.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import moderngl
+import numpy as np
+
+from ..game.frame import RADAR_KINDS, Camera3, Radar
+from .context import RenderError
+from .hud import HudMetrics
+
+#: The disc's radius in radar space; pin heights and positions are in these units.
+RADIUS = 1.0
+#: Heads higher or lower than this many disc radii stop there, with an arrow that shows they go on.
+HEIGHT_CLAMP = 0.6
+#: The radar camera looks down at the disc by this angle, from behind.
+PITCH_DEG = 36.0
+FOV_Y_DEG = 32.0
+CAMERA_DISTANCE = 4.2
+#: A head's half-size in disc radii (bullets are smaller), and its minimum in pixels.
+HEAD_SIZE = 0.085
+HEAD_MIN_PX = 5.5
+STEM_MIN_PX = 1.6
+STEM_WIDTH = 0.014
+
+#: Head shape per pin kind: the shape alone tells the kind (colour helps, never alone).
+HEAD_SHAPES = {
+    "crystal": "octahedron",
+    "body": "cube",
+    "enemy": "star",
+    "bullet": "sphere",
+    "target": "torus",
+    "camera_focus": "cross",
+    "camera_eye": "cone",
+    "object": "cube_outline",
+}
+#: Relative head size per kind.
+KIND_SIZE = {"bullet": 0.6, "crystal": 1.1}
+#: Display-space RGB per kind.
+KIND_COLORS = {
+    "crystal": (0.25, 0.95, 1.0),
+    "body": (1.0, 0.58, 0.18),
+    "enemy": (1.0, 0.18, 0.22),
+    "bullet": (1.0, 0.95, 0.3),
+    "target": (1.0, 0.35, 0.9),
+    "camera_focus": (0.5, 1.0, 0.35),
+    "camera_eye": (0.55, 0.6, 1.0),
+    "object": (0.86, 0.86, 0.92),
+}
+#: Instanced pieces that are not heads.
+PIECES = ("stem", "foot", "seen_ring", "arrow")
+#: Every instanced mesh, in draw order.
+SHAPES = tuple(dict.fromkeys(HEAD_SHAPES.values())) + PIECES
+_HEAD_SHAPE_NAMES = tuple(dict.fromkeys(HEAD_SHAPES.values()))
+_KIND_CODE = {k: i for i, k in enumerate(RADAR_KINDS)}
+_KIND_RGB = np.array([KIND_COLORS[k] for k in RADAR_KINDS], np.float64)
+_KIND_SCALE = np.array([KIND_SIZE.get(k, 1.0) for k in RADAR_KINDS], np.float64)
+_KIND_SHAPE = np.array([SHAPES.index(HEAD_SHAPES[k]) for k in RADAR_KINDS], np.intp)
+#: Floats per instance: position xyz | scale xyz | colour rgb, emission.
+INSTANCE_FLOATS = 10
+
+DISC_FILL = (0.06, 0.22, 0.32, 0.42)
+DISC_RIM_FILL = (0.10, 0.38, 0.52, 0.55)
+RING_COLOR = (0.45, 0.85, 1.0, 0.55)
+RIM_COLOR = (0.6, 0.95, 1.0, 0.95)
+AXIS_COLOR = (0.45, 0.85, 1.0, 0.22)
+WEDGE_COLOR = (0.7, 0.95, 1.0, 0.14)
+FORWARD_COLOR = (0.85, 1.0, 1.0, 0.95)
+PLAYER_COLOR = (1.0, 1.0, 1.0, 1.0)
+BACKDROP_COLOR = (0.0, 0.02, 0.05, 0.5)
+
+
+@dataclass
+class RadarGeometry:
+    """What to draw for one :class:`Radar`, as instance arrays (no OpenGL).
+
+    Attributes
+    ----------
+    instances : dict of str to (n, 10) float32
+        Per shape in :data:`SHAPES` (only those with instances): position ``x, y, z`` and scale
+        ``sx, sy, sz`` in radar space (the unit shape is scaled, then moved), colour ``r, g, b``
+        and emission (0 dull, 1 glowing).
+    heads : (p, 3) float64
+        Each pin's head centre, in pin order.
+    shapes : list of str
+        Each pin's head shape, in pin order.
+    clamped : (p,) bool
+        Heads stopped at :data:`HEIGHT_CLAMP` (they carry an arrow).
+    """
+
+    instances: dict[str, np.ndarray] = field(default_factory=dict)
+    heads: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    shapes: list[str] = field(default_factory=list)
+    clamped: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
+
+
+def radar_geometry(radar: Radar, px_per_radius: float = 120.0) -> RadarGeometry:
+    """Lay out the pins of ``radar`` as instances of the unit shapes.
+
+    Parameters
+    ----------
+    radar : Radar
+        Read only. Pin ``x, z`` beyond the rim are pulled onto it (the game should not list them).
+    px_per_radius : float
+        Screen pixels per disc radius, so heads and stems keep a readable minimum size on small
+        screens.
+
+    Returns
+    -------
+    RadarGeometry
+
+    Raises
+    ------
+    RenderError
+        A pin's kind is not one of :data:`~across_dimensions.game.frame.RADAR_KINDS`.
+    """
+    pins = radar.pins
+    n = len(pins)
+    geo = RadarGeometry()
+    if n == 0:
+        return geo
+    try:
+        code = np.fromiter((_KIND_CODE[p.kind] for p in pins), np.intp, n)
+    except KeyError as e:
+        raise RenderError(f"radar pin kind {e.args[0]!r} is not one of {', '.join(RADAR_KINDS)}") from None
+    x = np.fromiter((p.x for p in pins), np.float64, n)
+    z = np.fromiter((p.z for p in pins), np.float64, n)
+    h = np.fromiter((p.height for p in pins), np.float64, n)
+    seen = np.fromiter((p.visible for p in pins), bool, n)
+    r = np.hypot(x, z)
+    pull = np.where(r > 1.0, 1.0 / np.maximum(r, 1e-12), 1.0)
+    x, z = x * pull * RADIUS, z * pull * RADIUS
+    clamped = np.abs(h) > HEIGHT_CLAMP
+    y = np.clip(h, -HEIGHT_CLAMP, HEIGHT_CLAMP) * RADIUS
+    px = 1.0 / max(float(px_per_radius), 1e-6)  # disc radii per pixel
+
+    color = _KIND_RGB[code]
+    size = _KIND_SCALE[code] * max(HEAD_SIZE, HEAD_MIN_PX * px)
+    emission = np.where(seen, 0.8, 0.0)
+    ones = np.ones(n)
+
+    def rows(pos, scale, rgb, em):
+        out = np.empty((len(rgb), INSTANCE_FLOATS), np.float32)
+        out[:, 0:3] = pos
+        out[:, 3:6] = scale
+        out[:, 6:9] = rgb
+        out[:, 9] = em
+        return out
+
+    inst: dict[str, np.ndarray] = {}
+    heads = np.stack([x, y, z], axis=1)
+    head_rows = rows(heads, size[:, None], color, emission)
+    # Group the heads by shape with one stable sort (pins of one kind keep their order).
+    shape_code = _KIND_SHAPE[code]
+    order = np.argsort(shape_code, kind="stable")
+    bounds = np.searchsorted(shape_code[order], np.arange(len(SHAPES) + 1))
+    for i, name in enumerate(SHAPES[:len(_HEAD_SHAPE_NAMES)]):
+        if bounds[i + 1] > bounds[i]:
+            inst[name] = head_rows[order[bounds[i]:bounds[i + 1]]]
+    # Stems: a unit quad (x in [-0.5, 0.5], y in [0, 1]) stretched from the disc to the head; a
+    # minimum height keeps the scale invertible for the normal.
+    stem_w = max(STEM_WIDTH, STEM_MIN_PX * px)
+    sy = np.where(np.abs(y) < 1e-4, 1e-4, y)
+    disc = np.stack([x, 0 * x, z], 1)
+    inst["stem"] = rows(disc, np.stack([stem_w * ones, sy, ones], 1), 0.75 * color, 0.3 * emission)
+    # Feet lie just above the disc so the disc (drawn after, depth-tested) never covers them.
+    foot = max(0.028, 2.2 * px)
+    inst["foot"] = rows(disc + [0.0, 0.004, 0.0], np.stack([foot * ones, ones, foot * ones], 1), color, emission)
+    if seen.any():
+        # Wider than the head, so the ring shows round a head sitting on the disc.
+        ring = np.repeat(np.maximum(1.7 * size[seen], 6.0 * px)[:, None], 3, axis=1)
+        ring_rgb = 0.3 * color[seen] + 0.7
+        inst["seen_ring"] = rows(np.stack([x[seen], 0.006 + 0 * x[seen], z[seen]], 1), ring, ring_rgb, 1.0)
+    if clamped.any():
+        sgn = np.sign(h[clamped])
+        ay = y[clamped] + sgn * size[clamped] * 1.45
+        asz = size[clamped] * 0.9
+        arrow_rgb = 0.4 * color[clamped] + 0.6  # lighter than the head, so it reads as a sign, not a second head
+        pos = np.stack([x[clamped], ay, z[clamped]], 1)
+        inst["arrow"] = rows(pos, np.stack([asz, sgn * asz * 1.2, asz], 1), arrow_rgb, 0.0)
+    geo.instances = inst
+    geo.heads, geo.clamped = heads, clamped
+    geo.shapes = [SHAPES[c] for c in shape_code]
+    return geo
+
+
+# ----------------------------------------------------------------- unit meshes
+def _soup(verts, faces) -> np.ndarray:
+    """Triangle soup ``(3 f, 6) float32`` (position, flat normal) from indexed triangles."""
+    v = np.asarray(verts, np.float64)[np.asarray(faces, np.int64)]  # (f, 3, 3)
+    n = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
+    out = np.empty((len(v), 3, 6), np.float32)
+    out[:, :, :3] = v
+    out[:, :, 3:] = n[:, None, :]
+    return out.reshape(-1, 6)
+
+
+def _hull_faces(verts) -> list[tuple[int, int, int]]:
+    """Triangles of a small convex point set (brute force; winding does not matter here)."""
+    v = np.asarray(verts, np.float64)
+    faces = []
+    m = len(v)
+    for i in range(m):
+        for j in range(i + 1, m):
+            for k in range(j + 1, m):
+                n = np.cross(v[j] - v[i], v[k] - v[i])
+                if np.linalg.norm(n) < 1e-9:
+                    continue
+                d = (v - v[i]) @ n
+                if (d <= 1e-9).all() or (d >= -1e-9).all():
+                    faces.append((i, j, k))
+    return faces
+
+
+def _box(center, half) -> np.ndarray:
+    c, h = np.asarray(center, float), np.asarray(half, float)
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], float) * h + c
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    return _soup(corners, [t for a, b, c_, d in quads for t in ((a, b, c_), (a, c_, d))])
+
+
+def _revolve(profile, axis: int, segments: int) -> np.ndarray:
+    """Surface of revolution of ``(r, t)`` profile points round the coordinate ``axis``."""
+    ang = np.linspace(0, 2 * np.pi, segments + 1)[:-1]
+    p = np.asarray(profile, float)
+    a, b = [i for i in range(3) if i != axis]
+    verts = np.zeros((len(p) * segments, 3))
+    for i, (r, t) in enumerate(p):
+        sl = slice(i * segments, (i + 1) * segments)
+        verts[sl, axis] = t
+        verts[sl, a] = r * np.cos(ang)
+        verts[sl, b] = r * np.sin(ang)
+    faces = []
+    for i in range(len(p) - 1):
+        for s in range(segments):
+            q0, q1 = i * segments + s, i * segments + (s + 1) % segments
+            faces += [(q0, q1, q1 + segments), (q0, q1 + segments, q0 + segments)]
+    soup = _soup(verts, faces)
+    # Drop degenerate triangles at the tips (radius 0).
+    tri = soup.reshape(-1, 3, 6)
+    keep = np.abs(tri[:, :, 3:]).sum(axis=(1, 2)) > 0
+    return tri[keep].reshape(-1, 6)
+
+
+def _sphere(subdiv: int = 1) -> np.ndarray:
+    t = (1 + 5**0.5) / 2
+    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+         (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    v = [np.array(p, float) / np.linalg.norm(p) for p in v]
+    f = _hull_faces(v)
+    for _ in range(subdiv):
+        nf, cache = [], {}
+
+        def mid(i, j, cache=cache):
+            key = (min(i, j), max(i, j))
+            if key not in cache:
+                m = v[i] + v[j]
+                v.append(m / np.linalg.norm(m))
+                cache[key] = len(v) - 1
+            return cache[key]
+
+        for a, b, c in f:
+            ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
+            nf += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        f = nf
+    return _soup(v, f)
+
+
+def weld(soup: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Indexed form of a triangle soup: unique ``(k, 6) float32`` rows and ``(3 f,) uint32`` indices.
+
+    Indexed draws let llvmpipe shade each shared vertex once per instance instead of once per
+    triangle corner (it runs vertex shaders on the CPU).
+    """
+    q = np.round(np.asarray(soup, np.float64) * 1e5).astype(np.int64)
+    _, first, inverse = np.unique(q, axis=0, return_index=True, return_inverse=True)
+    return np.ascontiguousarray(soup[first], np.float32), inverse.reshape(-1).astype(np.uint32)
+
+
+def unit_shapes() -> dict[str, np.ndarray]:
+    """Every instanced shape as a triangle soup ``(k, 6) float32`` (position, normal), about unit size.
+
+    Heads fit in ``[-1, 1]^3``; ``stem`` is the quad ``x in [-0.5, 0.5], y in [0, 1]`` facing -z;
+    ``foot`` a flat unit disc and ``seen_ring`` a flat annulus (r 0.75 to 1) in the x-z plane;
+    ``arrow`` a cone with its tip at ``y = 1`` and its base at ``y = 0``.
+    """
+    s: dict[str, np.ndarray] = {}
+    octa = [(0.75, 0, 0), (-0.75, 0, 0), (0, 1.25, 0), (0, -1.25, 0), (0, 0, 0.75), (0, 0, -0.75)]
+    s["octahedron"] = _soup(octa, _hull_faces(octa))
+    s["cube"] = _box((0, 0, 0), (0.75, 0.75, 0.75))
+    tet = np.array([(1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1)], float) * 0.8
+    # Stella octangula: two interpenetrating tetrahedra, all spikes.
+    s["star"] = np.concatenate([_soup(tet, _hull_faces(tet)), _soup(-tet, _hull_faces(-tet))])
+    sphere = _sphere(0)  # an icosahedron with smooth normals: bullets are a few pixels wide
+    sphere[:, 3:] = sphere[:, :3]
+    s["sphere"] = sphere
+    # Torus standing in the x-y plane (a ring facing the radar camera): revolve a circle about z,
+    # built as rings of quads.
+    # Few segments: llvmpipe transforms every vertex of every instance on the CPU.
+    seg, tube, big, small = 10, 4, 0.72, 0.27
+    u = np.linspace(0, 2 * np.pi, seg + 1)[:-1]
+    w = np.linspace(0, 2 * np.pi, tube + 1)[:-1]
+    U, Wt = np.meshgrid(u, w, indexing="ij")
+    ring_r = big + small * np.cos(Wt)
+    tv = np.stack([ring_r * np.cos(U), ring_r * np.sin(U), small * np.sin(Wt)], -1).reshape(-1, 3)
+    tf = []
+    for i in range(seg):
+        for j in range(tube):
+            a, b = i * tube + j, ((i + 1) % seg) * tube + j
+            c, d = ((i + 1) % seg) * tube + (j + 1) % tube, i * tube + (j + 1) % tube
+            tf += [(a, b, c), (a, c, d)]
+    torus = _soup(tv, tf).reshape(-1, 6)
+    # Smooth normals (from the tube's centre line), so the welded mesh shares every vertex.
+    p = torus[:, :3].astype(np.float64)
+    centre = p.copy()
+    centre[:, 2] = 0.0
+    centre *= big / np.maximum(np.linalg.norm(centre, axis=1, keepdims=True), 1e-12)
+    nrm = p - centre
+    torus[:, 3:] = nrm / np.linalg.norm(nrm, axis=1, keepdims=True)
+    s["torus"] = torus
+    bar = 0.22
+    s["cross"] = np.concatenate([_box((0, 0, 0), half) for half in ((1.0, bar, bar), (bar, 1.0, bar), (bar, bar, 1.0))])
+    # Camera eye: a cone lying on its side, tip to the right (reads as a projector or eye beam).
+    s["cone"] = _revolve([(0.0, 1.0), (0.7, -0.8), (0.0, -0.8)], axis=0, segments=10)
+    # Object: a hollow cube, each face a square frame (eight triangles), so its edges read as an outline.
+    e, t = 0.8, 0.55
+    frames = []
+    for axis in range(3):
+        a, b = [i for i in range(3) if i != axis]
+        for side in (-e, e):
+            outer = [(-e, -e), (e, -e), (e, e), (-e, e)]
+            pts = []
+            for u, v in outer + [(t * u, t * v) for u, v in outer]:
+                p = np.zeros(3)
+                p[axis], p[a], p[b] = side, u, v
+                pts.append(p)
+            tris = [t_ for i in range(4) for t_ in ((i, (i + 1) % 4, 4 + (i + 1) % 4), (i, 4 + (i + 1) % 4, 4 + i))]
+            frames.append(_soup(pts, tris))
+    s["cube_outline"] = np.concatenate(frames)
+    s["stem"] = _soup([(-0.5, 0, 0), (0.5, 0, 0), (0.5, 1, 0), (-0.5, 1, 0)], [(0, 1, 2), (0, 2, 3)])
+    k = 8
+    ang = np.linspace(0, 2 * np.pi, k + 1)[:-1]
+    circle = np.stack([np.cos(ang), 0 * ang, np.sin(ang)], 1)
+    s["foot"] = _soup(np.vstack([[0, 0, 0], circle]), [(0, 1 + i, 1 + (i + 1) % k) for i in range(k)])
+    k = 12
+    ang = np.linspace(0, 2 * np.pi, k + 1)[:-1]
+    circle = np.stack([np.cos(ang), 0 * ang, np.sin(ang)], 1)
+    ring = np.vstack([circle, 0.72 * circle])
+    quads = [((i, (i + 1) % k, k + (i + 1) % k), (i, k + (i + 1) % k, k + i)) for i in range(k)]
+    s["seen_ring"] = _soup(ring, [t for q in quads for t in q])
+    s["arrow"] = _revolve([(0.0, 1.0), (1.0, 0.0), (0.0, 0.0)], axis=1, segments=8)
+    return s
+
+
+def _annulus(r0, r1, color, segments=64, y=0.0, a0=0.0, a1=2 * np.pi) -> np.ndarray:
+    ang = np.linspace(a0, a1, segments + 1)
+    c0, s0 = np.cos(ang[:-1]), np.sin(ang[:-1])
+    c1, s1 = np.cos(ang[1:]), np.sin(ang[1:])
+    # Angle 0 is +x, angles grow towards +z.
+    def p(r, c, s):
+        return np.stack([r * c, np.full_like(c, y), r * s], -1)
+
+    a, b, c, d = p(r0, c0, s0), p(r1, c0, s0), p(r1, c1, s1), p(r0, c1, s1)
+    tris = np.stack([a, b, c, a, c, d], 1).reshape(-1, 3)
+    return _colored(tris, color)
+
+
+def _colored(points, color) -> np.ndarray:
+    out = np.empty((len(points), 7), np.float32)
+    out[:, :3] = points
+    out[:, 3:] = color
+    return out
+
+
+def disc_vertices() -> np.ndarray:
+    """The static disc as a translucent triangle list ``(k, 7) float32`` (position, RGBA), back to front layers."""
+    parts = [
+        _annulus(0.0, 0.66, DISC_FILL),
+        _annulus(0.66, 1.0, DISC_RIM_FILL),
+    ]
+    # The player's view wedge (about a 75 degree field of view, centred on +z).
+    half = np.radians(37.5)
+    parts.append(_annulus(0.0, 1.0, WEDGE_COLOR, segments=16, a0=np.pi / 2 - half, a1=np.pi / 2 + half))
+    for r in (1 / 3, 2 / 3):
+        parts.append(_annulus(r - 0.007, r + 0.007, RING_COLOR))
+    parts.append(_annulus(0.985, 1.015, RIM_COLOR))
+    w = 0.006
+    for tri in (((-1, -w), (1, -w), (1, w)), ((-1, -w), (1, w), (-1, w))):
+        parts.append(_colored(np.array([(x, 0.0, z) for x, z in tri]), AXIS_COLOR))  # x axis
+        parts.append(_colored(np.array([(z, 0.0, x) for x, z in tri]), AXIS_COLOR))  # z axis
+    # Forward notch outside the rim, and the player's chevron at the centre, both pointing +z.
+    parts.append(_colored(np.array([(-0.09, 0.0, 1.03), (0.09, 0.0, 1.03), (0.0, 0.0, 1.17)]), FORWARD_COLOR))
+    chev = np.array([(-0.06, 0.0, -0.05), (0.0, 0.0, 0.09), (0.0, 0.0, -0.01),
+                     (0.06, 0.0, -0.05), (0.0, 0.0, -0.01), (0.0, 0.0, 0.09)])
+    chev[:, 1] = 0.007
+    parts.append(_colored(chev, PLAYER_COLOR))
+    return np.concatenate(parts).astype(np.float32)
+
+
+def radar_view_proj(aspect: float) -> tuple[np.ndarray, float]:
+    """The radar camera's view-projection ``(4, 4) float64`` for a viewport of ``aspect = w / h``.
+
+    The view is zoomed and centred so the disc, and pins up to the clamp height with their arrows,
+    just fit. Also returns the disc radius in NDC x units (half-viewport widths), for sizing in pixels.
+    """
+    p = np.radians(PITCH_DEG)
+    eye = CAMERA_DISTANCE * np.array([0.0, np.sin(p), -np.cos(p)])
+    cam = Camera3(position=eye, yaw=0.0, pitch=-p, fov_y_deg=FOV_Y_DEG, near=0.1, far=20.0)
+    vp = cam.projection_matrix(aspect) @ cam.view_matrix()
+    ang = np.linspace(0, 2 * np.pi, 48, endpoint=False)
+    top = HEIGHT_CLAMP * RADIUS + 3.2 * HEAD_SIZE
+    pts = [np.stack([1.02 * np.cos(ang), np.full_like(ang, y), 1.02 * np.sin(ang)], 1) for y in (-top, 0.0, top)]
+    pts.append(np.array([[0.0, 0.0, 1.17]]))  # the forward notch
+    pts = np.concatenate(pts)
+    clip = np.c_[pts, np.ones(len(pts))] @ vp.T
+    ndc = clip[:, :2] / clip[:, 3:4]
+    lo, hi = ndc.min(axis=0), ndc.max(axis=0)
+    s = float(min(1.96 / (hi[0] - lo[0]), 1.96 / (hi[1] - lo[1])))
+    c = 0.5 * (lo + hi)
+    fit = np.eye(4)
+    fit[0, 0] = fit[1, 1] = s
+    fit[0, 3], fit[1, 3] = -s * c[0], -s * c[1]  # applied to clip coordinates: offsets scale with w
+    vp = fit @ vp
+    o = vp @ np.array([0.0, 0.0, 0.0, 1.0])
+    x1 = vp @ np.array([RADIUS, 0.0, 0.0, 1.0])
+    return vp, float(x1[0] / x1[3] - o[0] / o[3])
+
+
+_SHAPE_VS = """
+#version 330
+uniform mat4 u_view_proj;
+in vec3 in_pos;
+in vec3 in_normal;
+in vec3 i_pos;
+in vec3 i_scale;
+in vec4 i_color;
+out vec3 v_normal;
+out vec4 v_color;
+void main() {
+    v_normal = in_normal / i_scale;  // inverse transpose of a diagonal scale
+    v_color = i_color;
+    gl_Position = u_view_proj * vec4(i_pos + in_pos * i_scale, 1.0);
+}
+"""
+
+_SHAPE_FS = """
+#version 330
+uniform vec3 u_light;
+uniform vec3 u_to_eye;
+in vec3 v_normal;
+in vec4 v_color;
+out vec4 f_color;
+void main() {
+    vec3 n = normalize(v_normal);
+    if (dot(n, u_to_eye) < 0.0) n = -n;  // two-sided: scales may mirror a shape
+    float d = max(dot(n, u_light), 0.0);
+    vec3 base = v_color.rgb * (0.38 + 0.62 * d);
+    // Emission (alpha channel): visible pins glow towards a lighter tint of their colour.
+    vec3 glow = mix(v_color.rgb, vec3(1.0), 0.35) * (0.75 + 0.25 * d);
+    f_color = vec4(mix(base, glow, v_color.a), 1.0);
+}
+"""
+
+_FLAT_VS = """
+#version 330
+uniform mat4 u_view_proj;
+in vec3 in_pos;
+in vec4 in_color;
+out vec4 v_color;
+void main() {
+    v_color = in_color;
+    gl_Position = u_view_proj * vec4(in_pos, 1.0);
+}
+"""
+
+_FLAT_FS = """
+#version 330
+in vec4 v_color;
+out vec4 f_color;
+void main() { f_color = v_color; }
+"""
+
+
+def _mat4_bytes(m: np.ndarray) -> bytes:
+    return np.ascontiguousarray(np.asarray(m, np.float64).T, np.float32).tobytes()
+
+
+_IDENTITY = _mat4_bytes(np.eye(4))
+
+
+def radar_rect_gl(viewport: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
+    """The radar's rectangle inside ``viewport`` (both ``(x, y, w, h)``, OpenGL origin bottom-left)."""
+    vx, vy, vw, vh = (int(v) for v in viewport)
+    x, y, w, h = HudMetrics(vw, vh).radar_rect()
+    return vx + x, vy + vh - (y + h), w, h
+
+
+class RadarRenderer:
+    """Draws a :class:`Radar` in a corner of a viewport with its own programs and buffers.
+
+    Parameters
+    ----------
+    ctx : moderngl.Context
+
+    Attributes
+    ----------
+    draw_calls : int
+        Draw calls of the last :meth:`draw`.
+    instance_writes : int
+        Instance buffer writes over the renderer's life (the radar's only per-frame uploads).
+    driver_seconds : float
+        Time spent inside the draw calls of the last :meth:`draw` (on llvmpipe this includes the
+        vertex shading and triangle setup that a GPU would do), for the benchmark.
+    last_geometry : RadarGeometry or None
+    """
+
+    def __init__(self, ctx: moderngl.Context):
+        self.ctx = ctx
+        try:
+            self.shape_prog = ctx.program(vertex_shader=_SHAPE_VS, fragment_shader=_SHAPE_FS)
+            self.flat_prog = ctx.program(vertex_shader=_FLAT_VS, fragment_shader=_FLAT_FS)
+        except Exception as e:
+            raise RenderError(f"radar shaders failed to build: {e}") from e
+        self._objects: list = [self.shape_prog, self.flat_prog]
+        self._shapes: dict[str, tuple[moderngl.Buffer, moderngl.VertexArray, int]] = {}
+        for name, soup in unit_shapes().items():
+            verts, idx = weld(soup)
+            vbo = ctx.buffer(verts.tobytes())
+            ibo = ctx.buffer(idx.tobytes())
+            inst = ctx.buffer(reserve=64 * INSTANCE_FLOATS * 4, dynamic=True)
+            vao = ctx.vertex_array(
+                self.shape_prog,
+                [(vbo, "3f 3f", "in_pos", "in_normal"), (inst, "3f 3f 4f/i", "i_pos", "i_scale", "i_color")],
+                index_buffer=ibo,
+                index_element_size=4,
+            )
+            self._shapes[name] = (inst, vao, len(idx))
+            self._objects += [vao, vbo, ibo, inst]
+        disc = disc_vertices()
+        self._disc_vbo = ctx.buffer(disc.tobytes())
+        self._disc_vao = ctx.vertex_array(self.flat_prog, [(self._disc_vbo, "3f 4f", "in_pos", "in_color")])
+        self._disc_n = len(disc)
+        # Backdrop, in clip space at the far plane: first a quad over the whole rectangle with alpha
+        # 0 (drawn with depth test "always", it resets the depth there without changing a pixel;
+        # a masked glClear would do the same but moderngl's clear leaves the colour mask behind),
+        # then a dark glow, densest in the middle and fading out towards the corners.
+        far = 0.99999
+        quad = [(-1, -1), (1, -1), (1, 1), (-1, -1), (1, 1), (-1, 1)]
+        back = [(x, y, far, 0.0, 0.0, 0.0, 0.0) for x, y in quad]
+        ang = np.linspace(0, 2 * np.pi, 33)
+        glow, edge = BACKDROP_COLOR, BACKDROP_COLOR[:3] + (0.0,)
+        for i in range(32):
+            back += [(0.0, 0.0, far, *glow), (1.05 * np.cos(ang[i]), 1.05 * np.sin(ang[i]), far, *edge),
+                     (1.05 * np.cos(ang[i + 1]), 1.05 * np.sin(ang[i + 1]), far, *edge)]
+        back = np.array(back, np.float32)
+        self._back_vbo = ctx.buffer(back.tobytes())
+        self._back_vao = ctx.vertex_array(self.flat_prog, [(self._back_vbo, "3f 4f", "in_pos", "in_color")])
+        self._back_n = len(back)
+        self._objects += [self._disc_vao, self._disc_vbo, self._back_vao, self._back_vbo]
+        self._vp_cache: dict[float, tuple[bytes, float]] = {}
+        light = np.array([-0.35, 1.0, -0.55])
+        self.shape_prog["u_light"].value = tuple(light / np.linalg.norm(light))
+        p = np.radians(PITCH_DEG)
+        self.shape_prog["u_to_eye"].value = (0.0, float(np.sin(p)), float(-np.cos(p)))
+        self.draw_calls = 0
+        self.instance_writes = 0
+        self.driver_seconds = 0.0
+        self.last_geometry: RadarGeometry | None = None
+
+    def _view_proj(self, aspect: float) -> tuple[bytes, float]:
+        key = round(aspect, 4)
+        hit = self._vp_cache.get(key)
+        if hit is None:
+            vp, ndc_r = radar_view_proj(aspect)
+            hit = self._vp_cache[key] = (_mat4_bytes(vp), ndc_r)
+        return hit
+
+    def draw(self, radar: Radar, viewport: tuple[int, int, int, int]) -> None:
+        """Draw ``radar`` into its corner of ``viewport`` (``(x, y, w, h)``, GL convention) of the bound framebuffer."""
+        ctx = self.ctx
+        fbo = ctx.fbo
+        rect = radar_rect_gl(viewport)
+        rw, rh = rect[2], rect[3]
+        self.draw_calls = 0
+        self.driver_seconds = 0.0
+        if rw <= 0 or rh <= 0 or fbo is None:
+            return
+        clock = time.perf_counter
+        vp_bytes, ndc_r = self._view_proj(rw / rh)
+        geo = radar_geometry(radar, px_per_radius=ndc_r * rw / 2)
+        self.last_geometry = geo
+
+        ctx.viewport = rect
+        # The backdrop resets the depth in the rectangle (to the far plane) and darkens it; the
+        # scene's colour stays behind.
+        fbo.depth_mask = True
+        ctx.disable(moderngl.CULL_FACE)
+        ctx.enable(moderngl.BLEND | moderngl.DEPTH_TEST)
+        ctx.depth_func = "1"
+        # Destination alpha stays 1 so screenshots stay opaque.
+        ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
+        self.flat_prog["u_view_proj"].write(_IDENTITY)
+        t0 = clock()
+        self._back_vao.render(moderngl.TRIANGLES, vertices=self._back_n)
+        spent = clock() - t0
+        ctx.disable(moderngl.BLEND)
+        ctx.depth_func = "<"
+        self.draw_calls = 1
+
+        self.shape_prog["u_view_proj"].write(vp_bytes)
+        for name in SHAPES:
+            rows = geo.instances.get(name)
+            if rows is None or len(rows) == 0:
+                continue
+            inst, vao, n_vert = self._shapes[name]
+            data = rows.tobytes()
+            if len(data) > inst.size:
+                inst.orphan(len(data) * 2)
+            inst.write(data)
+            self.instance_writes += 1
+            t0 = clock()
+            vao.render(moderngl.TRIANGLES, vertices=n_vert, instances=len(rows))
+            spent += clock() - t0
+            self.draw_calls += 1
+
+        ctx.enable(moderngl.BLEND)
+        fbo.depth_mask = False
+        self.flat_prog["u_view_proj"].write(vp_bytes)
+        t0 = clock()
+        self._disc_vao.render(moderngl.TRIANGLES, vertices=self._disc_n)
+        self.driver_seconds = spent + clock() - t0
+        self.draw_calls += 1
+        fbo.depth_mask = True
+        ctx.disable(moderngl.BLEND)
+        ctx.viewport = tuple(int(v) for v in viewport)
+
+    def release(self) -> None:
+        for obj in self._objects:
+            obj.release()
+        self._objects.clear()

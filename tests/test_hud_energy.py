@@ -1,0 +1,155 @@
+"""The energy bar on the HUD: layout (pure numpy) and its pixels (offscreen GL)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from across_dimensions.game.frame import Camera3, EnergyGauge, Frame, Hud
+from across_dimensions.render.font import GLYPH_H, GLYPH_W, cell_origin, glyph_index
+from across_dimensions.render.hud import (
+    ENERGY_EMPTY_COLOR,
+    ENERGY_FILL_COLOR,
+    ENERGY_FLASH_COLOR,
+    HudMetrics,
+    energy_text,
+    hud_quads,
+)
+
+SIZES = [(1280, 720), (800, 450), (160, 90)]
+
+
+def rows_with_color(quads: np.ndarray, color) -> np.ndarray:
+    return quads[np.all(np.isclose(quads[:, 8:12], np.float32(color), atol=1e-6), axis=1)]
+
+
+def glyph_uvs(quads: np.ndarray) -> list[tuple[float, float]]:
+    """Atlas origins of the glyph quads (solid rectangles excluded), in draw order."""
+    out = []
+    for q in quads:
+        if q[6] - q[4] == GLYPH_W and q[7] - q[5] == GLYPH_H:
+            out.append((float(q[4]), float(q[5])))
+    return out
+
+
+def shows_text(quads: np.ndarray, text: str) -> bool:
+    """True when the glyphs of ``text`` (spaces skipped) are drawn in order somewhere."""
+    want = [tuple(float(c) for c in cell_origin(glyph_index(ch))) for ch in text if ch != " "]
+    have = glyph_uvs(quads)
+    return any(have[i:i + len(want)] == want for i in range(len(have) - len(want) + 1))
+
+
+def fill_rect(hud: Hud, w: int, h: int) -> np.ndarray:
+    rows = rows_with_color(hud_quads(hud, w, h), ENERGY_FILL_COLOR)
+    assert len(rows) <= 1
+    return rows[0, :4] if len(rows) else None
+
+
+@pytest.mark.parametrize("size", SIZES)
+def test_fill_width_is_proportional_to_value_over_maximum(size):
+    w, h = size
+    bx, by, bw, bh = HudMetrics(w, h).energy_bar()
+    widths = {}
+    for value in (10.0, 25.0, 50.0, 75.0, 100.0):
+        r = fill_rect(Hud(energy=EnergyGauge(value, 100.0)), w, h)
+        widths[value] = r[2]
+        # The fill starts at the bar's left end and stays inside it.
+        assert bx <= r[0] < bx + bw and by <= r[1] and r[1] + r[3] <= by + bh
+    inner = widths[100.0]
+    assert inner >= bw - 6
+    for value, width in widths.items():
+        assert abs(width - inner * value / 100.0) <= 0.5 + 1e-6, (value, width, inner)
+    # Same fraction, other maximum: same width.
+    assert fill_rect(Hud(energy=EnergyGauge(2.5, 5.0)), w, h)[2] == widths[50.0]
+    # Nothing to fill at zero; never wider than the track when over-full.
+    assert fill_rect(Hud(energy=EnergyGauge(0.0, 100.0)), w, h) is None
+    assert fill_rect(Hud(energy=EnergyGauge(150.0, 100.0)), w, h)[2] == inner
+
+
+def test_value_is_shown_as_a_number():
+    quads = hud_quads(Hud(energy=EnergyGauge(64.0, 100.0)), 1280, 720)
+    assert energy_text(EnergyGauge(64.0, 100.0)) == "64/100"
+    assert shows_text(quads, "64/100") and shows_text(quads, "ENERGY")
+    assert energy_text(EnergyGauge(2.5, 5.0)) == "2.5/5.0"
+    assert not shows_text(quads, "NO ENERGY")
+
+
+@pytest.mark.parametrize("size", SIZES)
+def test_empty_bar_reads_no_energy_in_red(size):
+    w, h = size
+    empty = hud_quads(Hud(energy=EnergyGauge(0.0, 100.0, empty=True)), w, h)
+    assert shows_text(empty, "NO ENERGY")
+    assert len(rows_with_color(empty, ENERGY_EMPTY_COLOR)) >= len("NOENERGY")
+    full = hud_quads(Hud(energy=EnergyGauge(0.0, 100.0, empty=False)), w, h)
+    assert not shows_text(full, "NO ENERGY") and len(rows_with_color(full, ENERGY_EMPTY_COLOR)) == 0
+
+
+def test_flash_glows_and_fades():
+    def glow_alpha(flash):
+        quads = hud_quads(Hud(energy=EnergyGauge(50.0, 100.0, flash=flash)), 1280, 720)
+        rows = quads[np.all(np.isclose(quads[:, 8:11], np.float32(ENERGY_FLASH_COLOR[:3])), axis=1)]
+        return rows[:, 11].max() if len(rows) else 0.0
+
+    assert glow_alpha(0.0) == 0.0
+    assert 0.0 < glow_alpha(0.3) < glow_alpha(1.0)
+    # The fill brightens with the flash.
+    bright = hud_quads(Hud(energy=EnergyGauge(50.0, 100.0, flash=1.0)), 1280, 720)
+    assert len(rows_with_color(bright, ENERGY_FILL_COLOR)) == 0
+
+
+def test_no_bar_without_energy():
+    plain = hud_quads(Hud(), 1280, 720)
+    assert not shows_text(plain, "ENERGY")
+    assert len(rows_with_color(plain, ENERGY_FILL_COLOR)) == 0
+
+
+@pytest.mark.parametrize("size", SIZES)
+def test_bar_keeps_clear_of_crosshair_w_indicator_and_radar(size):
+    w, h = size
+    m = HudMetrics(w, h)
+
+    def overlap(a, b):
+        return a[0] < b[0] + b[2] and b[0] < a[0] + a[2] and a[1] < b[1] + b[3] and b[1] < a[1] + a[3]
+
+    bar = m.energy_bar()
+    label_h = (GLYPH_H + 4) * m.text_scale + 1
+    bar_and_label = (bar[0], bar[1] - label_h, bar[2], bar[3] + label_h)
+    tx, ty, _, th = m.w_track()
+    w_column = (tx - 3 * 6 * m.text_scale, ty - label_h, w - (tx - 3 * 6 * m.text_scale), th + 2 * label_h)
+    cross = (w // 2 - m.arm - 1, h // 2 - m.arm - 1, 2 * m.arm + 3, 2 * m.arm + 3)
+    radar = m.radar_rect()
+    bar_l = bar_and_label
+    pairs = ((bar_l, w_column), (bar_l, cross), (bar_l, radar), (radar, w_column), (radar, cross))
+    for a, b in pairs:
+        assert not overlap(a, b), (a, b)
+    assert 0 <= radar[0] and radar[1] >= 0 and radar[1] + radar[3] <= h and bar[1] + bar[3] <= h
+
+
+@pytest.mark.gl
+def test_energy_bar_pixels(gl_ctx):
+    from across_dimensions.render.context import Offscreen
+    from across_dimensions.render.renderer import Renderer
+
+    sky = (0.05, 0.06, 0.10)
+    r = Renderer(gl_ctx)
+    try:
+        with Offscreen(gl_ctx, 320, 180) as t:
+            t.use()
+
+            def shot(energy):
+                r.draw(Frame(Camera3(position=np.zeros(3)), hud=Hud(crosshair=False, energy=energy), sky_color=sky))
+                return t.read_rgb().astype(int)
+
+            none, half, empty = shot(None), shot(EnergyGauge(50.0, 100.0)), shot(EnergyGauge(0.0, 100.0, empty=True))
+            x, y, bw, bh = HudMetrics(320, 180).energy_bar()
+            row = y + bh // 2
+            # Left half of the bar is filled cyan, the right half is not; without a gauge nothing is drawn there.
+            left, right = half[row, x + bw // 4], half[row, x + 3 * bw // 4]
+            assert left[2] > 150 and left[1] > 150 and left[0] < 120
+            assert right[2] < 120
+            assert np.abs(none[row, x:x + bw] - none[row, x + bw + 20]).max() <= 2
+            mid = empty[row, x + bw // 2]
+            assert mid[0] > mid[1] + 60 and mid[0] > mid[2] + 60, "the empty bar is red"
+        assert gl_ctx.error == "GL_NO_ERROR"
+    finally:
+        r.release()
