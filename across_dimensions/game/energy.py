@@ -43,6 +43,12 @@ class EnergyBar:
     maximum_milli: int
     flash: int = 0
     _announced_empty: bool = False
+    low_milli: int = -1  # lowest and highest value so far (the replay summary reports them)
+    high_milli: int = -1
+
+    def __post_init__(self):
+        if self.low_milli < 0:
+            self.low_milli = self.high_milli = self.milli
 
     @classmethod
     def of(cls, start: float, maximum: float) -> "EnergyBar":
@@ -65,6 +71,7 @@ class EnergyBar:
         """Add up to ``milli`` (capped at the maximum); returns what was added."""
         added = max(0, min(milli, self.maximum_milli - self.milli))
         self.milli += added
+        self.high_milli = max(self.high_milli, self.milli)
         if added > 0:
             self._announced_empty = False
         self.flash = FLASH_TICKS
@@ -88,6 +95,7 @@ class EnergyBar:
 
     def _pay(self, game, milli: int, reason: str) -> None:
         self.milli -= milli
+        self.low_milli = min(self.low_milli, self.milli)
         game.emit(EnergySpent(milli, reason))
         if self.milli == 0 and not self._announced_empty:
             self._announced_empty = True

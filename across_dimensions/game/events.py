@@ -25,6 +25,16 @@ class Event:
     kind: ClassVar[str] = "event"
 
 
+def event_kinds() -> list[str]:
+    """Every event kind defined so far (subclasses of :class:`Event` anywhere), sorted."""
+    found, todo = set(), [Event]
+    while todo:
+        for sub in todo.pop().__subclasses__():
+            found.add(sub.kind)
+            todo.append(sub)
+    return sorted(found)
+
+
 @dataclass(frozen=True)
 class CrystalCollected(Event):
     """The player touched a crystal's cross-section and took it.

@@ -69,8 +69,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..core.fileio import FileProblem, MiB, atomic_write, read_text
-from ..physics.events import ContactEvent
 from .actions import Actions, short_repr
+from .energy import MILLI
+from .events import event_kinds
 from .sim import TICK_RATE, Game
 
 FORMAT = "across-dimensions-replay"
@@ -619,46 +620,22 @@ def play(replay: Replay, game: Game, on_tick=None, check: bool = True) -> PlayRe
 
 
 # ----------------------------------------------------------------- summary
-#: Event kinds always present in a summary, with 0 when none happened: every
-#: touching pair of bodies (or a body and the static world) gives one contact
-#: event per tick, ``contact_began`` on the first tick of a touch and
-#: ``contact_persisted`` on the following ones (see physics/events.py).
-EVENT_KINDS = ("contact_began", "contact_persisted")
-
-
-def event_kind(event) -> str:
-    """The snake_case kind of a game event: its ``kind`` attribute when it has
-    one (game events), else derived from its type (physics contacts)."""
-    kind = getattr(event, "kind", None)
-    if isinstance(kind, str):
-        return kind
-    if isinstance(event, ContactEvent):
-        return "contact_began" if event.began else "contact_persisted"
-    return re.sub(r"(?<!^)(?=[A-Z])", "_", type(event).__name__).lower()
-
-
-class EventCounter:
-    """An ``on_tick`` hook for :func:`play` counting the game's events by kind."""
-
-    def __init__(self):
-        self.counts = dict.fromkeys(EVENT_KINDS, 0)
-
-    def __call__(self, game: Game) -> None:
-        for e in game.events:
-            k = event_kind(e)
-            self.counts[k] = self.counts.get(k, 0) + 1
-
-
-def summary(game: Game, result: PlayResult, counts: dict) -> dict:
+def summary(game: Game, result: PlayResult) -> dict:
     """What ``replay --json`` prints: one JSON object for tools.
 
     Keys: ``level`` (the level's name), ``outcome`` (null when not finished),
-    ``ticks``, ``hash`` (the final state hash), ``events`` (a count per event
-    kind), ``energy`` (null until the game has an energy bar; it then becomes
-    ``{"min", "max", "end"}``), ``position`` (the player's final
-    ``[x, y, z, w]``), ``respawns`` and ``divergence`` (null, or the message).
+    ``ticks``, ``hash`` (the final state hash), ``events`` (a count for every
+    event kind the game defines, 0 for those that did not happen; see
+    ``game.events``), ``energy`` (``{"min", "max", "end"}`` in energy units over
+    the run, or null when the level has no energy bar), ``position`` (the
+    player's final ``[x, y, z, w]``), ``respawns`` and ``divergence`` (null, or
+    the message).
     """
     position = [float(v) if math.isfinite(v) else None for v in game.player.position]
+    bar = game.energy
+    energy = None if bar is None else {"min": bar.low_milli / MILLI, "max": bar.high_milli / MILLI,
+                                       "end": bar.milli / MILLI}
+    events = {kind: game.event_counts.get(kind, 0) for kind in event_kinds()}
     return {"level": game.level.name, "outcome": result.outcome, "ticks": result.ticks, "hash": result.final_hash,
-            "events": dict(counts), "energy": None, "position": position, "respawns": game.respawns,
+            "events": events, "energy": energy, "position": position, "respawns": game.respawns,
             "divergence": result.divergence}
