@@ -115,3 +115,29 @@ def test_cannot_step_along_w_into_a_body(level2):
     game.player.position[:3] = [0.0, 0.0, 3.0]
     walk(game, 2 * TICK_RATE, w=-1.0)
     assert game.player.position[3] > 0.35, "stepped along w into the stack"
+
+
+@pytest.mark.slow
+def test_bodies_stay_in_the_w_range_and_sleep_after_twenty_minutes(level2):
+    """Issue 7.10: two hyperspheres used to roll out along w (|w| = 217 after
+    20 minutes) and never sleep. Walls at the w_range ends and the level's
+    rolling resistance keep them in and bring them to rest."""
+    game = Game(level2)
+    physics = game.physics
+    lo, hi = level2.w_range
+    # A hypersphere's whole extent must stay inside; for a box, its centre.
+    reach = {}
+    for e in game.entities.of_kind("body"):
+        sphere = next(o for o in game.scene.objects if o.name == e.name).body == "hypersphere"
+        reach[e.motion.body] = e.radius if sphere else 0.0
+    assert sum(r > 0 for r in reach.values()) >= 2  # the two rolling hyperspheres are among them
+    for tick in range(20 * 60 * TICK_RATE):
+        game.step(Actions())
+        if tick % TICK_RATE == 0:
+            for b, r in reach.items():
+                w = physics.body_position(b)[3]
+                # 0.03: contacts are soft, a body may sink that far into a wall.
+                assert lo - 0.03 <= w - r and w + r <= hi + 0.03, (tick, b, w)
+    awake = [e.name for e in game.entities.of_kind("body") if not physics.is_sleeping(e.motion.body)]
+    assert not awake, f"awake after 20 minutes: {awake}"
+    assert level2.rolling_resistance > 0.0

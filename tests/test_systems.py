@@ -11,7 +11,7 @@ from across_dimensions.game.events import CrystalCollected, EnergyEmpty, EnergyS
 from across_dimensions.game.sim import TICK_RATE, Game
 from across_dimensions.world.level import load_level
 
-DATA = Path(__file__).parent / "data" / "levels"
+DATA = Path(__file__).parent / "data"
 
 
 @pytest.fixture(scope="module")

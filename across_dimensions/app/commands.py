@@ -16,7 +16,13 @@ def _out(msg: str = "") -> None:
 
 # ------------------------------------------------------------------ levels
 def check_level(args) -> int:
+    """Check level files: ``ok`` lines on stdout, problems on stderr (exit 2).
+
+    A level that loads but will likely not keep 60 Hz gets a warning on
+    stderr and still exits 0 (the estimate is rough; see world/limits.py).
+    """
     from ..world.level import LevelError, load_level
+    from ..world.limits import FRAME_MS
 
     bad = 0
     for f in args.files:
@@ -27,9 +33,15 @@ def check_level(args) -> int:
             print(f"{f}: {len(e.problems)} problem(s)", file=sys.stderr)
             for p in e.problems:
                 print(f"  {p}", file=sys.stderr)
-        else:
-            _out(f"{f}: ok - '{level.name}', {len(level.boxes)} boxes, {len(level.worlds)} worlds, "
-                 f"{len(level.objects)} 4D objects, w in {list(level.w_range)}")
+            continue
+        _out(f"{f}: ok - '{level.name}', {len(level.boxes)} boxes, {len(level.worlds)} worlds, "
+             f"{len(level.objects)} 4D objects, w in {list(level.w_range)}")
+        cost = level.frame_cost_ms()
+        if cost > FRAME_MS:
+            print(f"{f}: warning: will likely not keep 60 Hz on a typical 2-core machine: about {cost:.0f} ms "
+                  f"per frame while moving along w ({FRAME_MS:.1f} ms allowed) for {level.tets:,} tetrahedra in "
+                  f"{len(level.worlds) + len(level.objects)} 4D objects and worlds and {level.bodies} rigid bodies",
+                  file=sys.stderr)
     return 2 if bad else 0
 
 

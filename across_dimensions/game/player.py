@@ -13,8 +13,8 @@ which replays rely on. Rebuilding a 2D pymunk space per w step would cost more
 and still leave y to this code; so the project does not depend on pymunk.
 
 Motion is resolved one axis at a time (x, z, then y): a move that would enter
-a box stops flush against it. A per-tick step is below the smallest wall
-thickness the levels use at walking speed, so nothing tunnels. Moving along w
+a box, anywhere along the way, stops flush against it, so nothing tunnels
+however fast the player falls. Moving along w
 changes which 4D walls exist; a w step that would put the player inside one is
 refused (you cannot phase into a wall).
 """
@@ -93,10 +93,14 @@ def move_axis(pos: np.ndarray, axis: int, delta: float, boxes: np.ndarray) -> tu
     """Move along one axis, stopping flush at the first box entered."""
     if delta == 0.0:
         return pos, False
-    before = overlapping(*player_box(pos), boxes)
+    lo0, hi0 = player_box(pos)
+    before = overlapping(lo0, hi0, boxes)
     new = pos.copy()
     new[axis] += delta
-    hit = overlapping(*player_box(new), boxes) & ~before
+    # Test the box swept over the whole move, not just where it ends: a fast
+    # fall (strong gravity, a long drop) must not skip over a thin floor.
+    lo1, hi1 = player_box(new)
+    hit = overlapping(np.minimum(lo0, lo1), np.maximum(hi0, hi1), boxes) & ~before
     if not hit.any():
         return new, False
     lo_off = 0.0 if axis == 1 else -HALF_WIDTH

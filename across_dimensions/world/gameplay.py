@@ -1,11 +1,10 @@
-"""Level tables for the game's systems (level format 2): crystals, energy, radar.
+"""Level tables of the game's systems (level format 2): crystals, energy, radar.
 
-Each table is one small model: a dataclass with the defaults a level gets when
-it leaves the table out, and a ``read`` function that checks the table and
-reports every problem through the level loader's reader (naming the file, the
-entry and the field). :func:`across_dimensions.world.level.load_level` calls
-them; format-1 levels have none of these tables and get the defaults (no
-energy bar, moving along w is free; a radar with the default range).
+Each table is a model of :class:`~.fields.Field` s (read and checked by the
+level loader like every other table, and exported to the JSON Schema) and a
+spec dataclass with the defaults a level gets when it leaves the table out.
+Format-1 levels have none of these tables: no energy bar (moving along w is
+free) and a radar with the default range.
 """
 
 from __future__ import annotations
@@ -14,19 +13,44 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .fields import Field
+from .limits import COORD, CRYSTAL_SIZE, ENERGY, MAX_NAME_CHARS, RADAR_RANGE, RADAR_W_SCALE, RESPAWN, SPIN, Range
+
 CRYSTAL_SHAPES = ("16-cell", "24-cell", "5-cell", "tesseract", "600-cell")
 CRYSTAL_COLOR = (0.35, 1.0, 0.85, 1.0)
 CRYSTAL_SPIN = {"xw": 50.0, "yw": 35.0, "zw": 65.0}  # degrees/s: turning in the three w planes
-MILLI = 1000
-MAX_ENERGY = 1e6
-MAX_CRYSTALS = 1000
+MILLI = 1000  # energy is counted in thousandths (see game.energy)
+
+ENERGY_TABLE = {
+    "start": Field("number", default=0.0, range=ENERGY, sign="nonnegative"),
+    "max": Field("number", default=100.0, range=ENERGY, sign="positive"),
+    "w_cost": Field("number", default=0.0, range=ENERGY, sign="nonnegative"),
+}
+RADAR_TABLE = {
+    "range": Field("number", default=20.0, range=RADAR_RANGE, sign="positive"),
+    "w_scale": Field("number", default=0.5, range=RADAR_W_SCALE, sign="positive"),
+}
+CRYSTAL_TABLE = {
+    "name": Field("text", default=None, range=Range(0, MAX_NAME_CHARS)),
+    "position": Field("vector", 4, range=COORD),
+    "energy": Field("number", default=10.0, range=ENERGY, sign="positive"),
+    "shape": Field("string", default="16-cell", choices=CRYSTAL_SHAPES),
+    "size": Field("number", default=0.35, range=CRYSTAL_SIZE, sign="positive"),
+    "color": Field("color", default=CRYSTAL_COLOR),
+    "spin": Field("angles", default=None, range=SPIN),
+    "respawn": Field("number", default=0.0, range=RESPAWN, sign="nonnegative"),
+}
+#: The tables format 2 adds, by top-level key.
+MODELS = {"energy": ENERGY_TABLE, "radar": RADAR_TABLE, "crystal": CRYSTAL_TABLE}
 
 
 @dataclass
 class CrystalSpec:
     """A ``[[crystal]]``: energy waiting at a 4D position.
 
-    ``position (4,) float64``; ``size`` is the crystal's radius in metres.
+    ``position (4,) float64``; ``size`` is the crystal's radius in metres;
+    ``milli`` its energy in thousandths; ``respawn`` the seconds until it grows
+    back after being taken (0: never).
     """
 
     name: str
@@ -36,7 +60,7 @@ class CrystalSpec:
     size: float = 0.35
     color: tuple = CRYSTAL_COLOR
     spin_deg: dict = field(default_factory=lambda: dict(CRYSTAL_SPIN))
-    respawn: float = 0.0  # seconds until it grows back after being taken; 0: never
+    respawn: float = 0.0
 
 
 @dataclass
@@ -62,46 +86,40 @@ class RadarSpec:
 
 
 def read_energy(r, data) -> EnergySpec:
-    t = r.table(data, "energy", "[energy]")
+    """The ``[energy]`` table (``r`` is the level loader's reader)."""
     if "energy" not in data:
         return EnergySpec()
-    r.unknown(t, {"start", "max", "w_cost"}, "[energy]")
-    maximum = r.number(t, "max", "[energy]", default=100.0, lo=0.001, hi=MAX_ENERGY)
-    start = r.number(t, "start", "[energy]", default=0.0, lo=0.0, hi=MAX_ENERGY)
-    if start > maximum:
-        r.problem("[energy]", f"field 'start': {start:g} is more than 'max' ({maximum:g})")
-    w_cost = r.number(t, "w_cost", "[energy]", default=0.0, lo=0.0, hi=MAX_ENERGY)
-    return EnergySpec(True, min(start, maximum), maximum, w_cost)
+    t = r.table(data, "energy", "[energy]")
+    r.unknown(t, ENERGY_TABLE, "[energy]")
+    v = r.read(t, ENERGY_TABLE, "[energy]")
+    if v["start"] > v["max"]:
+        r.problem("[energy]", f"field 'start': {v['start']:g} is more than 'max' ({v['max']:g})")
+    return EnergySpec(True, min(v["start"], v["max"]), v["max"], v["w_cost"])
 
 
 def read_radar(r, data) -> RadarSpec:
+    """The ``[radar]`` table."""
     t = r.table(data, "radar", "[radar]")
-    r.unknown(t, {"range", "w_scale"}, "[radar]")
-    return RadarSpec(r.number(t, "range", "[radar]", default=20.0, lo=0.0, hi=1e4, lo_open=True),
-                     r.number(t, "w_scale", "[radar]", default=0.5, lo=0.0, hi=100.0, lo_open=True))
+    r.unknown(t, RADAR_TABLE, "[radar]")
+    v = r.read(t, RADAR_TABLE, "[radar]")
+    return RadarSpec(v["range"], v["w_scale"])
 
 
 def read_crystals(r, data, w_range) -> list[CrystalSpec]:
+    """The ``[[crystal]]`` tables; ``w_range`` is the level's, or None when it is broken."""
     out = []
-    tables = r.array_of_tables(data, "crystal", "top level")
-    if len(tables) > MAX_CRYSTALS:
-        r.problem("top level", f"{len(tables)} [[crystal]] entries; a level may have at most {MAX_CRYSTALS}")
-        return out
-    for i, t in enumerate(tables, 1):
+    for i, t in enumerate(r.entries(data, "crystal", "top level", lambda k: f"[[crystal]] #{k}"), 1):
         where = f"[[crystal]] #{i}"
-        r.unknown(t, {"name", "position", "energy", "shape", "size", "color", "spin", "respawn"}, where)
-        name = r.string(t, "name", where, default=f"crystal{i}")
+        r.unknown(t, CRYSTAL_TABLE, where)
+        name = r.read(t, CRYSTAL_TABLE, where, keys=("name",), name=f"crystal{i}")["name"]
         where = f"[[crystal]] #{i} '{name}'"
         n = len(r.problems)
-        position = r.vector(t, "position", where, 4)
-        if len(r.problems) == n and w_range is not None and not w_range[0] <= position[3] <= w_range[1]:
-            r.problem(where, f"field 'position': w = {position[3]:g} is outside the level's w_range "
-                             f"{list(w_range)}, so the crystal can never be reached")
-        energy = r.number(t, "energy", where, default=10.0, lo=0.0, hi=MAX_ENERGY, lo_open=True)
-        shape = r.string(t, "shape", where, default="16-cell", choices=CRYSTAL_SHAPES)
-        size = r.number(t, "size", where, default=0.35, lo=0.05, hi=5.0)
-        spin = r.angles(t, "spin", where) if "spin" in t else dict(CRYSTAL_SPIN)
-        respawn = r.number(t, "respawn", where, default=0.0, lo=0.0, hi=3600.0)
-        out.append(CrystalSpec(name, position, int(round(energy * MILLI)), shape, size, r.color(t, where, CRYSTAL_COLOR),
-                               spin, respawn))
+        v = r.read(t, CRYSTAL_TABLE, where, keys=[k for k in CRYSTAL_TABLE if k != "name"],
+                   spin=dict(CRYSTAL_SPIN))
+        w = v["position"][3]
+        if len(r.problems) == n and w_range is not None and not w_range[0] <= w <= w_range[1]:
+            r.problem(where, f"field 'position': w = {w:g} is outside the level's w_range {list(w_range)}, "
+                             "so the crystal can never be reached")
+        out.append(CrystalSpec(name, v["position"], int(round(v["energy"] * MILLI)), v["shape"], v["size"],
+                               v["color"], v["spin"] if "spin" in t else dict(CRYSTAL_SPIN), v["respawn"]))
     return out

@@ -164,11 +164,37 @@ def _build_object(spec) -> Object4:
                    dict(spec.spin_deg), spec.solid, spec.body, spec.mass, spec.velocity.copy())
 
 
+BOUNDS_MARGIN = 20.0  # metres between everything in a level and the walls that keep bodies in
+
+
+def level_bounds(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds ``(lo (3,), hi (3,)) float64`` of everything in the level: boxes,
+    meshes, worlds' parts, 4D objects (a ball through their farthest point),
+    the spawn point and the goal."""
+    level = scene.level
+    los = [level.spawn[:3], level.goal.center - level.goal.size / 2]
+    his = [level.spawn[:3] + [0.0, 2.0, 0.0], level.goal.center + level.goal.size / 2]
+    if len(scene.static_boxes):
+        los.append(scene.static_boxes[:, 0].min(axis=0))
+        his.append(scene.static_boxes[:, 1].max(axis=0))
+    for wd in scene.worlds:
+        if len(wd.centers):
+            los.append((wd.centers - wd.halves).min(axis=0))
+            his.append((wd.centers + wd.halves).max(axis=0))
+    for o in scene.objects:
+        r = float(np.linalg.norm(o.mesh.vertices, axis=1).max() * o.scale.max()) if len(o.mesh.vertices) else 0.0
+        los.append(o.position[:3] - r)
+        his.append(o.position[:3] + r)
+    return np.min(los, axis=0).astype(np.float64), np.max(his, axis=0).astype(np.float64)
+
+
 def build_physics(scene: Scene, tick_dt: float):
     """The rigid-body world of a scene, or ``(None, {})`` when nothing in it moves.
 
     Bodies collide with the 3D geometry present at every w (as boxes
-    extending over all w), with each extended world's parts over the w interval
+    extending over all w), with walls in w at both ends of the level's
+    ``w_range`` and walls in x, y and z ``BOUNDS_MARGIN`` beyond everything
+    in the level (:func:`level_bounds`), with each extended world's parts over the w interval
     where they are at least half their full size, and with each other. A body
     object's collider is its mesh's bounding box (``hypercube``) or bounding
     hypersphere, scaled; its ``spin`` becomes its initial angular velocity.
@@ -187,7 +213,24 @@ def build_physics(scene: Scene, tick_dt: float):
 
     level = scene.level
     world = PhysicsWorld(gravity=level.gravity, inverse_cube_G=level.inverse_cube_g, ground=False,
-                         tick_dt=tick_dt)
+                         tick_dt=tick_dt, rolling_resistance=level.rolling_resistance)
+    # Walls at both ends of the level's w range: the player cannot leave it, so
+    # a body that rolled out along w would never be seen again (and, rolling
+    # on forever, never sleep). A body's whole extent stays inside.
+    lo, hi = level.w_range
+    world.add_half_space((0.0, 0.0, 0.0, -1.0), -hi)  # solid where w >= hi
+    world.add_half_space((0.0, 0.0, 0.0, 1.0), lo)  # solid where w <= lo
+    # And an invisible box BOUNDS_MARGIN beyond everything in the level: a body
+    # that falls off an edge, or through a thin floor at speed, lands on its
+    # floor (a half-space: solid all the way down, so nothing tunnels through
+    # it) instead of falling and speeding up for ever. Random stress scenes at
+    # the level format's limits blew up (NaN) without it, none with it.
+    lo3, hi3 = level_bounds(scene)
+    for axis in range(3):
+        n = np.zeros(4)
+        n[axis] = 1.0
+        world.add_half_space(n, lo3[axis] - BOUNDS_MARGIN)  # solid below the lowest point
+        world.add_half_space(-n, -(hi3[axis] + BOUNDS_MARGIN))  # solid above the highest
     world.set_static_boxes([(0.5 * (lo + hi), 0.5 * (hi - lo)) for lo, hi in scene.static_boxes])
     for wd in scene.worlds:
         ws = np.linspace(wd.layers_w[0], wd.layers_w[-1], 257)
