@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from across_dimensions.core import transform
-from across_dimensions.physics import PhysicsWorld
+from across_dimensions.physics import BodyDef, PhysicsWorld
 
 G = 9.81
 
@@ -21,8 +21,8 @@ def _kinetic(world, ids):
 # ---------------------------------------------------------------- free motion
 def test_free_fall_matches_g():
     world = PhysicsWorld(ground=False)
-    b = world.add_body("hypersphere", radius=0.3, position=(1.0, 50.0, -2.0, 0.5),
-                       velocity=(0.5, 0.0, 0.0, 0.25))
+    b = world.add_body(BodyDef("hypersphere", radius=0.3, position=(1.0, 50.0, -2.0, 0.5),
+                               velocity=(0.5, 0.0, 0.0, 0.25)))
     ticks = 90
     for _ in range(ticks):
         world.step(1 / 60)
@@ -43,7 +43,7 @@ def test_free_fall_matches_g():
 
 def test_gravity_is_settable_per_level():
     world = PhysicsWorld(gravity=(0.0, 0.0, 0.0, -2.0), ground=False)
-    b = world.add_body("hypercube", size=0.5)
+    b = world.add_body(BodyDef("hypercube", size=0.5))
     for _ in range(60):
         world.step(1 / 60)
     v, _ = world.body_velocity(b)
@@ -55,8 +55,8 @@ def test_gravity_is_settable_per_level():
 def test_inverse_cube_attraction():
     gc = 0.5
     world = PhysicsWorld(gravity=(0, 0, 0, 0), inverse_cube_G=gc, ground=False, softening=0.0)
-    a = world.add_body("hypersphere", radius=0.1, position=(0, 0, 0, 0), mass=3.0)
-    b = world.add_body("hypersphere", radius=0.1, position=(0, 0, 0, 2.0), mass=5.0)
+    a = world.add_body(BodyDef("hypersphere", radius=0.1, position=(0, 0, 0, 0), mass=3.0))
+    b = world.add_body(BodyDef("hypersphere", radius=0.1, position=(0, 0, 0, 2.0), mass=5.0))
     world.step(1 / 60)
     r = 2.0
     va, _ = world.body_velocity(a)
@@ -68,8 +68,8 @@ def test_inverse_cube_attraction():
     np.testing.assert_allclose(3.0 * va + 5.0 * vb, 0.0, atol=1e-15)
     # Doubling the distance divides the pull by eight (not four as in 3D).
     world2 = PhysicsWorld(gravity=(0, 0, 0, 0), inverse_cube_G=gc, ground=False, softening=0.0)
-    world2.add_body("hypersphere", radius=0.1, position=(0, 0, 0, 0), mass=3.0)
-    b2 = world2.add_body("hypersphere", radius=0.1, position=(0, 0, 0, 4.0), mass=5.0)
+    world2.add_body(BodyDef("hypersphere", radius=0.1, position=(0, 0, 0, 0), mass=3.0))
+    b2 = world2.add_body(BodyDef("hypersphere", radius=0.1, position=(0, 0, 0, 4.0), mass=5.0))
     world2.step(1 / 60)
     assert world2.body_velocity(b2)[0][3] == pytest.approx(vb[3] / 8, rel=1e-3)
 
@@ -78,9 +78,9 @@ def test_free_tumbling_box_conserves_angular_momentum_and_energy():
     # A box with four different sides has an anisotropic inertia on bivectors, so
     # omega precesses while L = I_world omega must stay fixed in the world frame.
     world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
-    b = world.add_body("hypercube", size=(0.4, 1.0, 0.7, 1.6), position=(0, 5, 0, 0),
-                       angles={"xy": 0.3, "zw": -0.5, "yw": 0.2},
-                       angular_velocity=(1.0, -2.0, 0.5, 3.0, -1.5, 2.5), mass=2.0)
+    b = world.add_body(BodyDef("hypercube", size=(0.4, 1.0, 0.7, 1.6), position=(0, 5, 0, 0),
+                               angles={"xy": 0.3, "zw": -0.5, "yw": 0.2},
+                               angular_velocity=(1.0, -2.0, 0.5, 3.0, -1.5, 2.5), mass=2.0))
     _, w0 = world.body_velocity(b)
     l0 = world.body_inertia(b) @ w0
     e0 = _kinetic(world, [b])
@@ -98,7 +98,7 @@ def test_free_tumbling_box_conserves_angular_momentum_and_energy():
 def test_free_hypercube_spin_is_steady():
     world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
     w0 = np.array([0.2, 0.0, -1.0, 1.5, 0.7, -0.3])
-    b = world.add_body("hypercube", size=1.0, angular_velocity=w0)
+    b = world.add_body(BodyDef("hypercube", size=1.0, angular_velocity=w0))
     for _ in range(60):
         world.step(1 / 60)
     # Isotropic inertia: omega is constant and R(t) = expm(t skew(w0)).
@@ -111,10 +111,10 @@ def test_free_hypercube_spin_is_steady():
 @pytest.mark.parametrize("m2", [1.0, 3.0])
 def test_elastic_head_on_collision_conserves_momentum_and_energy(m2):
     world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
-    a = world.add_body("hypersphere", radius=0.5, position=(-2, 1, 0, 0.3), velocity=(3, 0, 0, 0),
-                       mass=1.0, restitution=1.0, friction=0.5)
-    b = world.add_body("hypersphere", radius=0.5, position=(2, 1, 0, 0.3), velocity=(-1, 0, 0, 0),
-                       mass=m2, restitution=1.0, friction=0.5)
+    a = world.add_body(BodyDef("hypersphere", radius=0.5, position=(-2, 1, 0, 0.3), velocity=(3, 0, 0, 0),
+                               mass=1.0, restitution=1.0, friction=0.5))
+    b = world.add_body(BodyDef("hypersphere", radius=0.5, position=(2, 1, 0, 0.3), velocity=(-1, 0, 0, 0),
+                               mass=m2, restitution=1.0, friction=0.5))
     p0 = 1.0 * world.body_velocity(a)[0] + m2 * world.body_velocity(b)[0]
     e0 = _kinetic(world, [a, b])
     for _ in range(120):
@@ -132,7 +132,7 @@ def test_elastic_head_on_collision_conserves_momentum_and_energy(m2):
 def test_restitution_sets_the_bounce_speed(e):
     world = PhysicsWorld()
     r = 0.25
-    b = world.add_body("hypersphere", radius=r, position=(0, 2 + r, 0, 0.4), restitution=e)
+    b = world.add_body(BodyDef("hypersphere", radius=r, position=(0, 2 + r, 0, 0.4), restitution=e))
     before = after = None
     for _ in range(60):
         v0 = world.body_velocity(b)[0][1]
@@ -154,8 +154,8 @@ def test_hypersphere_slides_into_rolling_with_four_d_inertia():
     r = 0.4
     d = np.array([1.0, 0.0, 0.0, 1.0]) / np.sqrt(2)
     v0 = 4.0
-    b = world.add_body("hypersphere", radius=r, position=(0, r, 0, 0), velocity=v0 * d,
-                       friction=0.6)
+    b = world.add_body(BodyDef("hypersphere", radius=r, position=(0, r, 0, 0), velocity=v0 * d,
+                               friction=0.6))
     for _ in range(120):
         world.step(1 / 60)
     v, w = world.body_velocity(b)
@@ -172,13 +172,13 @@ def test_spin_friction_and_rolling_resistance_stop_a_ball():
     # the contact patch; rolling only by the optional rolling resistance.
     world = PhysicsWorld(rolling_resistance=0.05)
     r = 0.3
-    spinner = world.add_body("hypersphere", radius=r, position=(0, r, 0, 0),
-                             angular_velocity={"xz": 5.0, "zw": -3.0})
-    roller = world.add_body("hypersphere", radius=r, position=(3, r, 0, 0),
-                            velocity=(0, 0, 0, 2.0), angular_velocity={"yw": 2.0 / r})
+    spinner = world.add_body(BodyDef("hypersphere", radius=r, position=(0, r, 0, 0),
+                                     angular_velocity={"xz": 5.0, "zw": -3.0}))
+    roller = world.add_body(BodyDef("hypersphere", radius=r, position=(3, r, 0, 0),
+                                    velocity=(0, 0, 0, 2.0), angular_velocity={"yw": 2.0 / r}))
     ideal = PhysicsWorld()
-    free = ideal.add_body("hypersphere", radius=r, position=(0, r, 0, 0), velocity=(0, 0, 0, 2.0),
-                          angular_velocity={"yw": 2.0 / r})
+    free = ideal.add_body(BodyDef("hypersphere", radius=r, position=(0, r, 0, 0), velocity=(0, 0, 0, 2.0),
+                                  angular_velocity={"yw": 2.0 / r}))
     for _ in range(600):
         world.step(1 / 60)
         ideal.step(1 / 60)
@@ -195,7 +195,7 @@ def test_hypersphere_rolls_down_a_slope_without_slipping():
     n = np.array([np.sin(theta), np.cos(theta), 0.0, 0.0])
     world.add_half_space(n, 0.0)
     r = 0.5
-    b = world.add_body("hypersphere", radius=r, position=r * n, friction=0.8)
+    b = world.add_body(BodyDef("hypersphere", radius=r, position=r * n, friction=0.8))
     down = np.array([np.cos(theta), -np.sin(theta), 0.0, 0.0])
     speeds = []
     for _ in range(90):
@@ -214,10 +214,10 @@ def test_hypersphere_rolls_down_a_slope_without_slipping():
 
 def test_off_centre_hit_tumbles_a_hypercube_through_w_planes():
     world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
-    cube = world.add_body("hypercube", size=1.0, position=(0, 0, 0, 0),
-                          angles={"xy": 0.2, "zw": 0.3, "xw": 0.25, "yz": -0.15}, mass=1.0)
-    ball = world.add_body("hypersphere", radius=0.2, position=(-2.0, 0.3, -0.25, 0.35),
-                          velocity=(4.0, 0.0, 0.0, 0.0), mass=0.5)
+    cube = world.add_body(BodyDef("hypercube", size=1.0, position=(0, 0, 0, 0),
+                                  angles={"xy": 0.2, "zw": 0.3, "xw": 0.25, "yz": -0.15}, mass=1.0))
+    ball = world.add_body(BodyDef("hypersphere", radius=0.2, position=(-2.0, 0.3, -0.25, 0.35),
+                                  velocity=(4.0, 0.0, 0.0, 0.0), mass=0.5))
     for _ in range(60):
         world.step(1 / 60)
     _, w = world.body_velocity(cube)
@@ -230,7 +230,7 @@ def test_off_centre_hit_tumbles_a_hypercube_through_w_planes():
 
 def test_push_at_a_point_spins_the_body():
     world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
-    b = world.add_body("hypercube", size=1.0, mass=2.0)
+    b = world.add_body(BodyDef("hypercube", size=1.0, mass=2.0))
     world.push(b, (0, 0, 0, 1.0), point=(0.5, 0, 0, 0))
     v, w = world.body_velocity(b)
     np.testing.assert_allclose(v, [0, 0, 0, 0.5])
@@ -241,8 +241,8 @@ def test_push_at_a_point_spins_the_body():
 # ---------------------------------------------------------------- resting
 def _stack(allow_sleep):
     world = PhysicsWorld(allow_sleep=allow_sleep)
-    ids = [world.add_body("hypercube", size=1.0, position=(0.02 * k, 0.5 + 1.0 * k + 0.01 * k, 0, -0.01 * k),
-                          friction=0.6)
+    ids = [world.add_body(BodyDef("hypercube", size=1.0, position=(0.02 * k, 0.5 + 1.0 * k + 0.01 * k, 0, -0.01 * k),
+                                  friction=0.6))
            for k in range(3)]
     return world, ids
 
@@ -278,7 +278,7 @@ def test_stack_sleeps_and_wakes_when_touched():
         np.testing.assert_array_equal(world.body_pose(i), pose)
         assert not np.any(np.concatenate(world.body_velocity(i)))
     # A ball dropped on top wakes the whole stack (one island), not just the top.
-    ball = world.add_body("hypersphere", radius=0.3, position=(0.0, 4.0, 0.0, 0.0))
+    ball = world.add_body(BodyDef("hypersphere", radius=0.3, position=(0.0, 4.0, 0.0, 0.0)))
     woke = False
     for _ in range(60):
         world.step(1 / 60)

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from across_dimensions.core import transform
-from across_dimensions.physics import ContactEvent, PhysicsWorld
+from across_dimensions.game.player_bodies import player_collide
+from across_dimensions.physics import BodyDef, ContactEvent, PhysicsWorld
 from across_dimensions.physics.bench import bench_physics, build_pile
 
 
@@ -16,12 +17,12 @@ def _scene(seed=3, n=24):
         p = np.array([rng.uniform(-1.5, 1.5), 0.6 + 0.7 * k, rng.uniform(-1.5, 1.5),
                       rng.uniform(-0.5, 0.5)])
         if k % 2:
-            world.add_body("hypercube", size=rng.uniform(0.4, 0.8), position=p,
-                           angles={"xw": rng.uniform(-1, 1), "yz": rng.uniform(-1, 1)},
-                           angular_velocity=rng.normal(size=6))
+            world.add_body(BodyDef("hypercube", size=rng.uniform(0.4, 0.8), position=p,
+                                   angles={"xw": rng.uniform(-1, 1), "yz": rng.uniform(-1, 1)},
+                                   angular_velocity=rng.normal(size=6)))
         else:
-            world.add_body("hypersphere", radius=rng.uniform(0.2, 0.4), position=p,
-                           velocity=rng.normal(size=4), restitution=0.4)
+            world.add_body(BodyDef("hypersphere", radius=rng.uniform(0.2, 0.4), position=p,
+                                   velocity=rng.normal(size=4), restitution=0.4))
     return world
 
 
@@ -78,11 +79,11 @@ def test_replay_in_a_fresh_process_is_bit_identical():
 def test_sleeping_bodies_cost_no_contacts():
     world = PhysicsWorld()
     for k in range(6):
-        world.add_body("hypercube", size=0.5, position=(0.6 * k, 0.25, 0, 0.3 * k))
-        world.add_body("hypercube", size=0.5, position=(0.6 * k, 0.76, 0, 0.3 * k))
+        world.add_body(BodyDef("hypercube", size=0.5, position=(0.6 * k, 0.25, 0, 0.3 * k)))
+        world.add_body(BodyDef("hypercube", size=0.5, position=(0.6 * k, 0.76, 0, 0.3 * k)))
     for _ in range(120):
         world.step(1 / 60)
-    assert not world.awake[:12].any()
+    assert not world.bodies.awake[:12].any()
     world.step(1 / 60)
     assert world.last_contact_count == 0
 
@@ -95,14 +96,14 @@ def test_step_runs_fixed_ticks_whatever_the_frame_time():
     for dt in [1 / 120] * 40 + [1 / 30] * 20:
         ran += b.step(dt)
     assert ran == 60
-    assert a.state_bytes() != b"" and np.array_equal(a.pos, b.pos)
+    assert a.state_bytes() != b"" and np.array_equal(a.bodies.position, b.bodies.position)
     assert a.step(0.0) == 0
 
 
 # ---------------------------------------------------------------- bodies & API
 def test_body_pose_is_a_model_matrix():
     world = PhysicsWorld(ground=False, gravity=(0, 0, 0, 0))
-    b = world.add_body("hypercube", size=(1, 2, 3, 4), position=(1, 2, 3, 4), angles={"xw": 0.4})
+    b = world.add_body(BodyDef("hypercube", size=(1, 2, 3, 4), position=(1, 2, 3, 4), angles={"xw": 0.4}))
     pose = world.body_pose(b)
     assert pose.shape == (5, 5)
     np.testing.assert_allclose(pose, transform.pose((1, 2, 3, 4), {"xw": 0.4}), atol=1e-15)
@@ -110,16 +111,16 @@ def test_body_pose_is_a_model_matrix():
     np.testing.assert_allclose(transform.apply(pose, corner),
                                transform.rotation4("xw", 0.4) @ corner + [1, 2, 3, 4])
     with pytest.raises(ValueError):
-        world.add_body("cylinder")
+        world.add_body(BodyDef("cylinder"))
     with pytest.raises(ValueError):
-        world.add_body("hypersphere", radius=-1)
+        world.add_body(BodyDef("hypersphere", radius=-1))
     with pytest.raises(ValueError):
-        world.add_body("hypercube", kind="floating")
+        world.add_body(BodyDef("hypercube", kind="floating"))
 
 
 def test_pose_interpolates_between_ticks():
     world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
-    b = world.add_body("hypercube", size=1.0, velocity=(0, 0, 0, 6.0), angular_velocity={"xw": 3.0})
+    b = world.add_body(BodyDef("hypercube", size=1.0, velocity=(0, 0, 0, 6.0), angular_velocity={"xw": 3.0}))
     world.step(1 / 60)
     world.step(1 / 120)
     assert world.tick_fraction == pytest.approx(0.5)
@@ -132,16 +133,16 @@ def test_pose_interpolates_between_ticks():
 
 def test_static_and_kinematic_bodies():
     world = PhysicsWorld()
-    floor = world.add_body("hypercube", size=(4, 0.2, 4, 4), position=(0, 1.0, 0, 0), kind="static")
-    ball = world.add_body("hypersphere", radius=0.25, position=(0, 2.0, 0, 0.5))
+    floor = world.add_body(BodyDef("hypercube", size=(4, 0.2, 4, 4), position=(0, 1.0, 0, 0), kind="static"))
+    ball = world.add_body(BodyDef("hypersphere", radius=0.25, position=(0, 2.0, 0, 0.5)))
     for _ in range(90):
         world.step(1 / 60)
     # The static 4D slab holds the ball up (it never moves itself).
     assert world.body_position(ball)[1] == pytest.approx(1.35, abs=0.01)
     np.testing.assert_array_equal(world.body_position(floor), [0, 1.0, 0, 0])
     # A kinematic paddle moves at its set speed and shoves the ball along w.
-    paddle = world.add_body("hypercube", size=(0.5, 0.5, 0.5, 0.2), position=(0, 1.35, 0, -0.5),
-                            kind="kinematic")
+    paddle = world.add_body(BodyDef("hypercube", size=(0.5, 0.5, 0.5, 0.2), position=(0, 1.35, 0, -0.5),
+                                    kind="kinematic"))
     world.set_velocity(paddle, (0, 0, 0, 1.0))
     for _ in range(60):
         world.step(1 / 60)
@@ -155,15 +156,15 @@ def test_static_and_kinematic_bodies():
 def test_world_boxes_extend_along_w():
     world = PhysicsWorld()
     world.set_static_boxes([((0.0, 0.5, 0.0), (1.0, 0.5, 1.0))])
-    balls = [world.add_body("hypersphere", radius=0.2, position=(0, 2.0, 0, w)) for w in (-5.0, 0.0, 7.5)]
-    cube = world.add_body("hypercube", size=0.4, position=(0.3, 2.0, -0.2, 3.0))
+    balls = [world.add_body(BodyDef("hypersphere", radius=0.2, position=(0, 2.0, 0, w))) for w in (-5.0, 0.0, 7.5)]
+    cube = world.add_body(BodyDef("hypercube", size=0.4, position=(0.3, 2.0, -0.2, 3.0)))
     for _ in range(90):
         world.step(1 / 60)
     for b in balls:
         assert world.body_position(b)[1] == pytest.approx(1.2, abs=0.01)
     assert world.body_position(cube)[1] == pytest.approx(1.2, abs=0.01)
     # Off the box, things fall to the ground.
-    side = world.add_body("hypersphere", radius=0.2, position=(2.0, 2.0, 0, 0))
+    side = world.add_body(BodyDef("hypersphere", radius=0.2, position=(2.0, 2.0, 0, 0)))
     for _ in range(90):
         world.step(1 / 60)
     assert world.body_position(side)[1] == pytest.approx(0.2, abs=0.01)
@@ -172,8 +173,8 @@ def test_world_boxes_extend_along_w():
 def test_box_wall_stops_a_sliding_hypercube():
     world = PhysicsWorld()
     world.set_static_boxes([((3.0, 1.0, 0.0), (0.5, 1.0, 2.0))])
-    b = world.add_body("hypercube", size=0.5, position=(0, 0.25, 0, 1.0), velocity=(6, 0, 0, 0),
-                       friction=0.1)
+    b = world.add_body(BodyDef("hypercube", size=0.5, position=(0, 0.25, 0, 1.0), velocity=(6, 0, 0, 0),
+                               friction=0.1))
     for _ in range(120):
         world.step(1 / 60)
     assert world.body_position(b)[0] <= 2.5 - 0.25 + 0.01
@@ -182,8 +183,8 @@ def test_box_wall_stops_a_sliding_hypercube():
 # ---------------------------------------------------------------- events
 def test_contact_events_report_touches():
     world = PhysicsWorld()
-    ball = world.add_body("hypersphere", radius=0.5, position=(0, 1.0, 0, 0.2), velocity=(0, -3, 0, 0),
-                          restitution=0.0)
+    ball = world.add_body(BodyDef("hypersphere", radius=0.5, position=(0, 1.0, 0, 0.2), velocity=(0, -3, 0, 0),
+                                  restitution=0.0))
     seen = []
     for _ in range(30):
         v0 = world.body_velocity(ball)[0]
@@ -209,8 +210,8 @@ def test_contact_events_report_touches():
 
 def test_body_body_events_name_both_bodies():
     world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
-    a = world.add_body("hypercube", size=1.0, position=(0, 0, 0, 0))
-    b = world.add_body("hypersphere", radius=0.3, position=(0, 0, 0, 1.2), velocity=(0, 0, 0, -2))
+    a = world.add_body(BodyDef("hypercube", size=1.0, position=(0, 0, 0, 0)))
+    b = world.add_body(BodyDef("hypersphere", radius=0.3, position=(0, 0, 0, 1.2), velocity=(0, 0, 0, -2)))
     began = []
     for _ in range(30):
         world.step(1 / 60)
@@ -225,42 +226,42 @@ def test_body_body_events_name_both_bodies():
 # ---------------------------------------------------------------- player
 def test_player_is_blocked_only_by_bodies_in_its_slice():
     world = PhysicsWorld(gravity=(0, 0, 0, 0))
-    near = world.add_body("hypercube", size=1.0, position=(1.0, 0.5, 0.0, 0.0))
-    far = world.add_body("hypercube", size=1.0, position=(-1.0, 0.5, 0.0, 0.8))
+    near = world.add_body(BodyDef("hypercube", size=1.0, position=(1.0, 0.5, 0.0, 0.0)))
+    far = world.add_body(BodyDef("hypercube", size=1.0, position=(-1.0, 0.5, 0.0, 0.8)))
     # Player of radius 0.3 at x = 0.3: overlaps `near` (its face at x = 0.5) by 0.1.
-    corr, touched = world.player_collide((0.3, 0.0, 0.0, 0.0), radius=0.3, height=1.8)
+    corr, touched = player_collide(world, (0.3, 0.0, 0.0, 0.0), radius=0.3, height=1.8)
     assert touched == [near]
     np.testing.assert_allclose(corr, [-0.1, 0.0, 0.0], atol=1e-12)
     # The far cube overlaps in x, y, z but sits at w = 0.8: invisible, not blocking.
-    corr, touched = world.player_collide((-0.6, 0.0, 0.0, 0.0), radius=0.3, height=1.8)
+    corr, touched = player_collide(world, (-0.6, 0.0, 0.0, 0.0), radius=0.3, height=1.8)
     assert touched == [] and not np.any(corr)
     # Step into its slice and it blocks.
-    corr, touched = world.player_collide((-0.6, 0.0, 0.0, 0.8), radius=0.3, height=1.8)
+    corr, touched = player_collide(world, (-0.6, 0.0, 0.0, 0.8), radius=0.3, height=1.8)
     assert touched == [far]
     np.testing.assert_allclose(corr, [0.4, 0.0, 0.0], atol=1e-12)
     # Ignored once its 4D extent leaves the player's thin w slab.
-    corr, touched = world.player_collide((-0.6, 0.0, 0.0, 1.36), radius=0.3, height=1.8)
+    corr, touched = player_collide(world, (-0.6, 0.0, 0.0, 1.36), radius=0.3, height=1.8)
     assert touched == []
 
 
 def test_player_sees_the_cross_section_of_a_hypersphere():
     world = PhysicsWorld(gravity=(0, 0, 0, 0))
-    s = world.add_body("hypersphere", radius=1.0, position=(0.0, 1.0, 0.0, 0.0))
+    s = world.add_body(BodyDef("hypersphere", radius=1.0, position=(0.0, 1.0, 0.0, 0.0)))
     # At w = 0.6 (slab edge 0.55) the section has radius sqrt(1 - 0.55^2).
     r3 = np.sqrt(1 - 0.55**2)
-    corr, touched = world.player_collide((r3 + 0.2, 0.0, 0.0, 0.6), radius=0.25, height=2.0)
+    corr, touched = player_collide(world, (r3 + 0.2, 0.0, 0.0, 0.6), radius=0.25, height=2.0)
     assert touched == [s]
     assert corr[0] == pytest.approx(0.05, abs=1e-9)
-    corr, touched = world.player_collide((r3 + 0.3, 0.0, 0.0, 0.6), radius=0.25, height=2.0)
+    corr, touched = player_collide(world, (r3 + 0.3, 0.0, 0.0, 0.6), radius=0.25, height=2.0)
     assert touched == []
 
 
 def test_player_push_moves_touched_dynamic_bodies():
     world = PhysicsWorld()
-    box = world.add_body("hypercube", size=0.6, position=(0.5, 0.3, 0.0, 0.0), friction=0.3)
+    box = world.add_body(BodyDef("hypercube", size=0.6, position=(0.5, 0.3, 0.0, 0.0), friction=0.3))
     for _ in range(10):
         world.step(1 / 60)
-    corr, touched = world.player_collide((0.0, 0.0, 0.0, 0.0), radius=0.3, height=1.8)
+    corr, touched = player_collide(world, (0.0, 0.0, 0.0, 0.0), radius=0.3, height=1.8)
     assert touched == [box] and corr[0] < 0
     for i in touched:
         world.push(i, world.body_mass(i) * np.array([1.5, 0.0, 0.0, 0.0]))
@@ -269,27 +270,27 @@ def test_player_push_moves_touched_dynamic_bodies():
     assert world.body_position(box)[0] > 0.7
     # Walking into it with a velocity pushes it along (and not backwards).
     before = world.body_velocity(box)[0]
-    world.player_collide(world.body_position(box) - (0.5, 0.3, 0.0, 0.0), radius=0.3, height=1.8,
+    player_collide(world, world.body_position(box) - (0.5, 0.3, 0.0, 0.0), radius=0.3, height=1.8,
                          velocity=(2.0, 0.0, 0.0))
     assert world.body_velocity(box)[0][0] == pytest.approx(max(2.0, before[0]))
-    world.player_collide(world.body_position(box) + (0.5, -0.3, 0.0, 0.0), radius=0.3, height=1.8,
+    player_collide(world, world.body_position(box) + (0.5, -0.3, 0.0, 0.0), radius=0.3, height=1.8,
                          velocity=(2.0, 0.0, 0.0))
     assert world.body_velocity(box)[0][0] == pytest.approx(max(2.0, before[0]))
     # A rotated hypercube still blocks, and the correction separates.
-    cube = world.add_body("hypercube", size=1.0, position=(0, 0.5, 3.0, 0.0),
-                          angles={"xz": 0.5, "zw": 0.4}, kind="static")
+    cube = world.add_body(BodyDef("hypercube", size=1.0, position=(0, 0.5, 3.0, 0.0),
+                                  angles={"xz": 0.5, "zw": 0.4}, kind="static"))
     feet = np.array([0.0, 0.0, 2.3, 0.0])
-    corr, touched = world.player_collide(feet, radius=0.3, height=1.8)
+    corr, touched = player_collide(world, feet, radius=0.3, height=1.8)
     assert cube in touched and corr[2] < 0
-    corr2, touched2 = world.player_collide(feet + np.append(corr, 0.0), radius=0.3, height=1.8)
+    corr2, touched2 = player_collide(world, feet + np.append(corr, 0.0), radius=0.3, height=1.8)
     assert cube not in touched2 or np.linalg.norm(corr2) < 1e-9
 
 
 # ---------------------------------------------------------------- ray casts
 def test_raycast_hits_the_nearest_body():
     world = PhysicsWorld(gravity=(0, 0, 0, 0))
-    s = world.add_body("hypersphere", radius=0.5, position=(5, 1, 0, 0))
-    c = world.add_body("hypercube", size=1.4, position=(8, 1, 0, 0))
+    s = world.add_body(BodyDef("hypersphere", radius=0.5, position=(5, 1, 0, 0)))
+    c = world.add_body(BodyDef("hypercube", size=1.4, position=(8, 1, 0, 0)))
     hit = world.raycast((0, 1, 0, 0), (1, 0, 0, 0), 100)
     assert hit[0] == s
     assert hit[1] == pytest.approx(4.5)
@@ -311,7 +312,7 @@ def test_raycast_hits_the_nearest_body():
 def test_raycast_into_a_rotated_hypercube_and_world_box():
     world = PhysicsWorld(gravity=(0, 0, 0, 0))
     rot = transform.angles_to_rotation({"xw": 0.3})
-    c = world.add_body("hypercube", size=1.0, position=(0, 5, 0, 0), rotation=rot)
+    c = world.add_body(BodyDef("hypercube", size=1.0, position=(0, 5, 0, 0), rotation=rot))
     hit = world.raycast((0, 5, -3, 0), (0, 0, 1, 0), 10)
     assert hit[0] == c and hit[1] == pytest.approx(2.5)
     np.testing.assert_allclose(hit[3], [0, 0, -1, 0], atol=1e-12)
@@ -337,16 +338,16 @@ def test_bench_pile_stays_inside_the_arena():
     world = build_pile(200)
     for _ in range(240):
         world.step(1 / 60)
-    p = world.pos[:200]
+    p = world.bodies.position[:200]
     assert p[:, 1].min() > 0.1 and p[:, 1].max() < 3.0
     assert np.abs(p[:, [0, 2, 3]]).max() < 1.5
-    speed = np.linalg.norm(world.vel[:200], axis=1)
+    speed = np.linalg.norm(world.bodies.velocity[:200], axis=1)
     assert speed.max() < 1.0
 
 
 def test_events_cover_exactly_the_ticks_of_the_last_step():
     world = PhysicsWorld()
-    world.add_body("hypercube", size=0.5, position=(0, 0.25, 0, 0))
+    world.add_body(BodyDef("hypercube", size=0.5, position=(0, 0.25, 0, 0)))
     world.step(1 / 60)
     assert len(world.events) == 1
     world.step(0.001)  # no tick ran: nothing new happened
@@ -369,22 +370,42 @@ def test_random_scenes_stay_sane():
         for k in range(60):
             p = np.array([rng.uniform(-2, 2), 1.5 + 0.4 * k, rng.uniform(-2, 2), rng.uniform(-1.8, 1.8)])
             if rng.random() < 0.5:
-                world.add_body("hypersphere", radius=rng.uniform(0.1, 0.5), position=p,
-                               velocity=rng.normal(size=4) * 3, restitution=rng.uniform(0, 0.9))
+                world.add_body(BodyDef("hypersphere", radius=rng.uniform(0.1, 0.5), position=p,
+                                       velocity=rng.normal(size=4) * 3, restitution=rng.uniform(0, 0.9)))
             else:
                 size = rng.uniform(0.2, 1.0, 4) if rng.random() < 0.3 else rng.uniform(0.2, 1.0)
-                world.add_body("hypercube", size=size, position=p, mass=rng.uniform(0.2, 20),
-                               angles={pl: rng.uniform(-3, 3) for pl in ("xy", "xw", "zw")},
-                               angular_velocity=rng.normal(size=6) * 3)
+                world.add_body(BodyDef("hypercube", size=size, position=p, mass=rng.uniform(0.2, 20),
+                                       angles={pl: rng.uniform(-3, 3) for pl in ("xy", "xw", "zw")},
+                                       angular_velocity=rng.normal(size=6) * 3))
         for _ in range(600):
             world.step(1 / 60)
-        pos = world.pos[:60]
-        assert np.isfinite(pos).all() and np.isfinite(world.vel[:60]).all()
-        lowest = np.array([world.half[i].min() if world.shape[i] == 0 else 0.0 for i in range(60)])
+        pos = world.bodies.position[:60]
+        assert np.isfinite(pos).all() and np.isfinite(world.bodies.velocity[:60]).all()
+        b = world.bodies
+        lowest = np.array([b.half_extents[i].min() if b.shape[i] == 0 else 0.0 for i in range(60)])
         assert (pos[:, 1] >= lowest - 0.02).all()
         assert (np.abs(pos[:, 3]) <= 2.0).all()
         for i in range(60):
-            r = world.rot[i]
+            r = world.bodies.rotation[i]
             assert transform.orthonormality_error(r) < 1e-12
         # No energy from nowhere: nothing outruns a fall from the top (25 m).
-        assert np.linalg.norm(world.vel[:60], axis=1).max() < np.sqrt(2 * 9.81 * 26) + 3
+        assert np.linalg.norm(world.bodies.velocity[:60], axis=1).max() < np.sqrt(2 * 9.81 * 26) + 3
+
+
+def test_add_body_takes_a_body_def_with_defaults():
+    world = PhysicsWorld()
+    with pytest.raises(TypeError, match="BodyDef"):
+        world.add_body("hypersphere")
+    d = BodyDef()
+    ball = world.add_body(d)
+    assert world.body_kind(ball) == "dynamic" and not world.is_sleeping(ball)
+    np.testing.assert_array_equal(world.body_position(ball), 0.0)
+    # Diameter 1 by default: the hypervolume of a unit-density 4-ball of radius 1/2.
+    assert world.body_mass(ball) == pytest.approx(np.pi ** 2 / 2 * 0.5 ** 4)
+    # One definition makes many bodies; a failed add takes no slot.
+    crate = BodyDef("hypercube", size=(1, 2, 1, 1), kind="static", position=(3, 1, 0, 0))
+    ids = [world.add_body(crate) for _ in range(2)]
+    assert ids == [1, 2] and world.body_kind(ids[0]) == "static"
+    with pytest.raises(ValueError, match="position"):
+        world.add_body(BodyDef(position=(1, 2, 3)))
+    assert world.body_ids == [0, 1, 2]

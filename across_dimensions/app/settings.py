@@ -90,6 +90,7 @@ ACTION_DESCRIPTIONS: dict[str, str] = {
     "record": "Start or stop recording a replay",
     "screenshot": "Save a screenshot",
     "toggle_fps": "Show or hide the frame-rate counter",
+    "debug_draw": "Show or hide the physics debug overlay (colliders, contacts, sleeping bodies)",
     "toggle_fullscreen": "Switch between windowed and fullscreen",
     "pause": "Pause the game and open the menu",
 }
@@ -127,6 +128,7 @@ _COMMON = {
     "record": ("F9",),
     "screenshot": ("F12",),
     "toggle_fps": ("F3",),
+    "debug_draw": ("F4",),
     "toggle_fullscreen": ("F11",),
     "pause": ("ESCAPE",),
 }

@@ -18,7 +18,7 @@ def warm_up() -> None:
     """Run each kernel the game uses once on a tiny input."""
     from ..core import cross_section, frustum_project, shapes
     from ..core.transform import translation
-    from ..physics import PhysicsWorld
+    from ..physics import BodyDef, PhysicsWorld
 
     notice = threading.Timer(NOTICE_AFTER, lambda: print(
         "Compiling the 4D kernels (first run only, about a minute)...", file=sys.stderr, flush=True))
@@ -30,10 +30,10 @@ def warm_up() -> None:
         frustum_project(mesh, translation((0.0, 0.0, 0.0, -3.0)))
         world = PhysicsWorld(ground=False)
         world.set_static_boxes([((0.0, -0.5, 0.0), (5.0, 0.5, 5.0))])
-        world.add_body("hypersphere", radius=0.5, position=(0.0, 0.5, 0.0, 0.0))
-        world.add_body("hypercube", size=1.0, position=(0.2, 1.6, 0.0, 0.0))
+        world.add_body(BodyDef("hypersphere", radius=0.5, position=(0.0, 0.5, 0.0, 0.0)))
+        world.add_body(BodyDef("hypercube", size=1.0, position=(0.2, 1.6, 0.0, 0.0)))
         world.tick()
-        world.player_collide((0.0, 0.0, 0.0, 0.0), 0.3, 1.75)
+        world.push_box_out((0.0, 0.875, 0.0, 0.0), (0.3, 0.875, 0.3, 0.05))
         world.raycast((0.0, 3.0, 0.0, 0.0), (0.0, -1.0, 0.0, 0.0))
     finally:
         notice.cancel()

@@ -22,6 +22,7 @@ from ..game.actions import Actions
 from ..game.replay import Recorder
 from ..game.sim import DT, Game
 from ..render.context import Offscreen, RenderError, wrap_current_context
+from ..render.debug_draw import DebugOverlay
 from ..render.renderer import Renderer
 from ..world.level import load_level
 from ..world.resources import level_files, resolve_level
@@ -60,6 +61,8 @@ class GameWindow(pyglet.window.Window):
         self.record_path = record
         self.recorder: Recorder | None = None
         self.show_fps = settings.show_fps
+        self.debug_overlay: DebugOverlay | None = None  # made on first use, drawn while on
+        self.show_debug_draw = False
         self.fps = 0.0
         self.notice = ("; ".join(warnings), 8.0) if warnings else ("", 0.0)
         self.look = [0.0, 0.0]
@@ -197,6 +200,8 @@ class GameWindow(pyglet.window.Window):
             self.set_fullscreen(not self.fullscreen)
         elif action == "toggle_fps":
             self.show_fps = not self.show_fps
+        elif action == "debug_draw":
+            self.show_debug_draw = not self.show_debug_draw
         elif action == "screenshot":
             self.screenshot()
         elif action == "record":
@@ -297,6 +302,9 @@ class GameWindow(pyglet.window.Window):
         fw, fh = self.get_framebuffer_size()
         self.ctx.screen.use()
         self.renderer.draw(frame, (0, 0, fw, fh))
+        if self.show_debug_draw:
+            self.debug_overlay = self.debug_overlay or DebugOverlay(self.ctx)
+            self.debug_overlay.draw_game(self.game, frame.camera, (0, 0, fw, fh))
         if getattr(self, "_pending_shot", False):
             self._pending_shot = False
             self.screenshot()
@@ -314,7 +322,10 @@ class GameWindow(pyglet.window.Window):
         path = folder / f"shot_{len(list(folder.glob('shot_*.png'))):04d}.png"
         with Offscreen(self.ctx, fw, fh) as target:
             target.use()
-            self.renderer.draw(self.current_frame(), target.viewport)
+            frame = self.current_frame()
+            self.renderer.draw(frame, target.viewport)
+            if self.show_debug_draw and self.debug_overlay is not None:
+                self.debug_overlay.draw_game(self.game, frame.camera, target.viewport)
             target.save_png(path)
         self.ctx.screen.use()
         print(f"screenshot saved: {path}", flush=True)

@@ -24,8 +24,13 @@ from typing import Mapping
 
 import numpy as np
 
+from ._jit import njit
+
 AXES = "xyzw"
 PLANES = ("xy", "xz", "yz", "xw", "yw", "zw")
+#: First and second axis of each plane, in PLANES order (for compiled code).
+PLANE_I = np.array([0, 0, 1, 0, 1, 2], dtype=np.int64)
+PLANE_J = np.array([1, 2, 2, 3, 3, 3], dtype=np.int64)
 #: Order in which pose angles compose (leftmost applied last to points).
 ANGLE_ORDER = ("xw", "xz", "xy", "yw", "yz", "zw")
 
@@ -267,22 +272,88 @@ def bivector_rotation(omega, dt: float = 1.0) -> np.ndarray:
     Returns
     -------
     (4, 4) float64
-        ``expm(dt * A)`` where A is the skew matrix of ``omega``.
+        ``expm(dt * A)`` where A is the skew matrix of ``omega``, computed by
+        :func:`expm_skew`: the one implementation, which the physics runs compiled.
     """
-    a = skew(np.asarray(omega, dtype=np.float64) * dt)
-    # expm of a 4x4 skew matrix via its eigen-decomposition would need complex
-    # arithmetic; scaling and squaring of a Taylor series is exact to rounding here.
-    norm = np.abs(a).sum()
-    k = max(0, int(np.ceil(np.log2(norm + 1e-300))) + 1) if norm > 0.5 else 0
-    a = a / (2.0**k)
-    term = np.eye(4)
-    out = np.eye(4)
-    for n in range(1, 13):
-        term = term @ a / n
-        out = out + term
-    for _ in range(k):
-        out = out @ out
+    w = np.asarray(omega, dtype=np.float64).reshape(6)
+    out = np.empty((4, 4))
+    # The same source run as plain Python: no compile wait for a one-off call.
+    expm_skew.py_func(w, float(dt), out, np.empty((3, 4, 4)))
     return out
+
+
+@njit(cache=True)
+def expm_skew(w, h, out, wk):
+    """Rotation ``expm(h * skew(w))`` by scaling and squaring a Taylor series.
+
+    Parameters
+    ----------
+    w : (6,) float64
+    h : float
+    out : (4, 4) float64
+        Overwritten with a rotation (orthogonal to rounding).
+    wk : (3, 4, 4) float64
+        Scratch (this runs for every moving body every substep, so it does
+        not allocate).
+    """
+    a = wk[0]
+    term = wk[1]
+    tmp = wk[2]
+    for i in range(4):
+        for j in range(4):
+            a[i, j] = 0.0
+    for k in range(6):
+        i = PLANE_I[k]
+        j = PLANE_J[k]
+        a[j, i] = w[k] * h
+        a[i, j] = -w[k] * h
+    norm = 0.0
+    for i in range(4):
+        s = 0.0
+        for j in range(4):
+            s += abs(a[i, j])
+        norm = max(norm, s)
+    # Halve until the series converges to rounding in ten terms (|A| <= 1/4).
+    squarings = 0
+    while norm > 0.25:
+        norm *= 0.5
+        squarings += 1
+    scale = 1.0 / (2.0**squarings)
+    for i in range(4):
+        for j in range(4):
+            a[i, j] *= scale
+            term[i, j] = 1.0 if i == j else 0.0
+            out[i, j] = term[i, j]
+    if norm == 0.0:
+        return
+    for n in range(1, 11):
+        inv_n = 1.0 / n
+        big = 0.0
+        for i in range(4):
+            for j in range(4):
+                s = 0.0
+                for k in range(4):
+                    s += term[i, k] * a[k, j]
+                tmp[i, j] = s * inv_n
+                big = max(big, abs(tmp[i, j]))
+        for i in range(4):
+            for j in range(4):
+                term[i, j] = tmp[i, j]
+                out[i, j] += tmp[i, j]
+        # Slow spins (the usual case) converge in a handful of terms.
+        if big < 1e-18:
+            break
+    for _ in range(squarings):
+        for i in range(4):
+            for j in range(4):
+                s = 0.0
+                for k in range(4):
+                    s += out[i, k] * out[k, j]
+                tmp[i, j] = s
+        for i in range(4):
+            for j in range(4):
+                out[i, j] = tmp[i, j]
+
 
 
 def skew(omega) -> np.ndarray:

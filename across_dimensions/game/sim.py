@@ -28,6 +28,7 @@ from .entities import EntityStore, EntityTable, Rigid, Scripted, reach
 from .events import Event
 from .frame import Camera3, Frame, Hud
 from .player import HALF_WIDTH, HEIGHT, Player
+from .player_bodies import bodies_block
 from .systems import SYSTEMS, crystals
 
 TICK_RATE = 60
@@ -142,11 +143,7 @@ class Game:
 
     def bodies_block_w(self, position, w: float) -> bool:
         """Would stepping to ``w`` put the player inside a rigid body?"""
-        moved = np.array(position, dtype=np.float64)
-        moved[3] = w
-        here, _ = self.physics.player_collide(position, HALF_WIDTH, HEIGHT)
-        there, _ = self.physics.player_collide(moved, HALF_WIDTH, HEIGHT)
-        return bool(np.linalg.norm(there) > np.linalg.norm(here) + 1e-4)
+        return bodies_block(self.physics, position, w, HALF_WIDTH, HEIGHT)
 
     def step(self, actions: Actions) -> None:
         """Advance one tick: every system's ``step``, in order."""

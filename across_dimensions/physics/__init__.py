@@ -3,12 +3,12 @@
 Depends on numpy, numba and :mod:`across_dimensions.core` only; no wall clock
 and no global random state, so a replay of the same calls is bit-identical.
 
->>> from across_dimensions.physics import PhysicsWorld
+>>> from across_dimensions.physics import BodyDef, PhysicsWorld
 >>> world = PhysicsWorld(gravity=(0, -9.81, 0, 0), inverse_cube_G=0.0)
 >>> world.set_static_boxes([((0, 0.5, 3), (1, 0.5, 1))])   # 3D boxes, all of w
->>> ball = world.add_body("hypersphere", radius=0.3, position=(0, 2, 0, 0.2))
->>> cube = world.add_body("hypercube", size=0.8, position=(1, 1, 0, 0),
-...                       angles={"xw": 0.4}, restitution=0.2, friction=0.6)
+>>> ball = world.add_body(BodyDef("hypersphere", radius=0.3, position=(0, 2, 0, 0.2)))
+>>> cube = world.add_body(BodyDef("hypercube", size=0.8, position=(1, 1, 0, 0),
+...                               angles={"xw": 0.4}, restitution=0.2, friction=0.6))
 >>> world.step(1 / 60)                                    # fixed ticks inside
 1
 >>> model = world.body_pose(cube)                         # (5, 5) model matrix
@@ -16,21 +16,23 @@ and no global random state, so a replay of the same calls is bit-identical.
 Game-facing API of :class:`PhysicsWorld`:
 
 * bodies: ``add_body``, ``remove_body``, ``body_pose``, ``body_position``,
-  ``body_rotation``, ``body_velocity``, ``body_mass``, ``body_inertia``,
+  ``body_rotation``, ``body_velocity``, ``body_mass``, ``body_inertia``, ``body_kind``,
   ``set_velocity``, ``set_pose``, ``push``, ``wake``, ``is_sleeping``,
   ``body_ids``;
 * static world: ground ``y <= 0`` (``ground=True``), ``set_static_boxes``,
   ``add_half_space`` (slopes, walls in w);
 * time: ``step(dt)`` runs whole ticks of ``tick_dt`` (default 1/60 s, four
   substeps each); ``tick()`` runs exactly one;
-* queries: ``player_collide``, ``raycast``, ``events`` (:class:`ContactEvent`);
+* queries: ``push_box_out`` (the player's collider), ``raycast``, ``events``
+  (:class:`ContactEvent`), ``debug_draw`` (see :mod:`.debug_draw`);
 * determinism: ``state_bytes``, ``state_hash``;
 * level settings: ``gravity``, ``inverse_cube_G``, ``allow_sleep``.
 
 Modules: :mod:`.bivector` (rotation maths on bivectors), :mod:`.mass`
 (hypervolumes and inertia), :mod:`.collide` (narrowphase), :mod:`.solver`
-(contact impulses), :mod:`.pipeline` (one compiled tick), :mod:`.queries`
-(ray casts, player), :mod:`.events`, :mod:`.world`, :mod:`.bench`.
+(contact impulses), :mod:`.state` (the named bundles a tick works on),
+:mod:`.pipeline` (one compiled tick), :mod:`.queries` (ray casts, box push-out),
+:mod:`.body_def`, :mod:`.events`, :mod:`.debug_draw`, :mod:`.world`, :mod:`.bench`.
 """
 
 from ._cache import drop_stale_kernels
@@ -38,7 +40,9 @@ from ._cache import drop_stale_kernels
 # Before any kernel is loaded from the on-disk cache (see _cache for why).
 drop_stale_kernels()
 
+from .body_def import BodyDef  # noqa: E402
+from .debug_draw import DebugDrawer, DebugDrawOptions  # noqa: E402
 from .events import ContactEvent  # noqa: E402
 from .world import PhysicsWorld  # noqa: E402
 
-__all__ = ["ContactEvent", "PhysicsWorld"]
+__all__ = ["BodyDef", "ContactEvent", "DebugDrawer", "DebugDrawOptions", "PhysicsWorld"]

@@ -40,12 +40,15 @@ def sources_digest() -> str:
     """SHA-256 over the physics modules that define kernels, and the numba version.
 
     Plain-Python modules (the world API, the benchmark) do not take part, so
-    editing them does not force a recompile.
+    editing them does not force a recompile. The core's transform module
+    takes part (the physics compiles its :func:`expm_skew` in), and so does
+    :mod:`.state` (the kernels' argument types).
     """
     h = hashlib.sha256(numba.__version__.encode())
-    for path in sorted(_HERE.glob("*.py")):
+    paths = sorted(_HERE.glob("*.py")) + [_HERE.parent / "core" / "transform.py"]
+    for path in paths:
         text = path.read_bytes()
-        if b"@njit" not in text:
+        if b"@njit" not in text and path.name != "state.py":
             continue
         h.update(path.name.encode())
         h.update(text)

@@ -11,6 +11,7 @@ import time
 
 import numpy as np
 
+from .body_def import BodyDef
 from .world import PhysicsWorld
 
 
@@ -47,12 +48,12 @@ def build_pile(n_bodies: int = 200, seed: int = 0, allow_sleep: bool = False,
                         break
                     p = np.array([x, 0.4 + 0.65 * layer, z, w]) + rng.uniform(-0.05, 0.05, 4)
                     if i % 2 == 0:
-                        world.add_body("hypersphere", radius=0.25, position=p,
-                                       velocity=rng.uniform(-0.5, 0.5, 4) * [1, 0, 1, 1])
+                        world.add_body(BodyDef("hypersphere", radius=0.25, position=p,
+                                               velocity=rng.uniform(-0.5, 0.5, 4) * [1, 0, 1, 1]))
                     else:
                         ang = {pl: float(v) for pl, v in
                                zip(("xy", "xz", "xw", "yw"), rng.uniform(-0.6, 0.6, 4))}
-                        world.add_body("hypercube", size=0.45, position=p, angles=ang)
+                        world.add_body(BodyDef("hypercube", size=0.45, position=p, angles=ang))
                     i += 1
         layer += 1
     return world

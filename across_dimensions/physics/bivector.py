@@ -20,10 +20,10 @@ from __future__ import annotations
 import numpy as np
 
 from across_dimensions.core._jit import njit
+from across_dimensions.core.transform import PLANE_I, PLANE_J, expm_skew
 
-#: First and second axis of each plane, in PLANES order.
-PLANE_I = np.array([0, 0, 1, 0, 1, 2], dtype=np.int64)
-PLANE_J = np.array([1, 2, 2, 3, 3, 3], dtype=np.int64)
+__all__ = ["PLANE_I", "PLANE_J", "compound", "expm_skew", "gram_schmidt", "mat6_vec", "rotate_by",
+           "spin_velocity", "tangent_basis", "wedge", "world_inverse_inertia"]
 
 
 @njit(cache=True)
@@ -125,79 +125,6 @@ def mat6_vec(m, v, out):
         for l in range(6):
             s += m[k, l] * v[l]
         out[k] = s
-
-
-@njit(cache=True)
-def expm_skew(w, h, out, wk):
-    """Rotation ``expm(h * skew(w))`` by scaling and squaring a Taylor series.
-
-    Parameters
-    ----------
-    w : (6,) float64
-    h : float
-    out : (4, 4) float64
-        Overwritten with a rotation (orthogonal to rounding).
-    wk : (3, 4, 4) float64
-        Scratch (this runs for every moving body every substep, so it does
-        not allocate).
-    """
-    a = wk[0]
-    term = wk[1]
-    tmp = wk[2]
-    for i in range(4):
-        for j in range(4):
-            a[i, j] = 0.0
-    for k in range(6):
-        i = PLANE_I[k]
-        j = PLANE_J[k]
-        a[j, i] = w[k] * h
-        a[i, j] = -w[k] * h
-    norm = 0.0
-    for i in range(4):
-        s = 0.0
-        for j in range(4):
-            s += abs(a[i, j])
-        norm = max(norm, s)
-    # Halve until the series converges to rounding in ten terms (|A| <= 1/4).
-    squarings = 0
-    while norm > 0.25:
-        norm *= 0.5
-        squarings += 1
-    scale = 1.0 / (2.0**squarings)
-    for i in range(4):
-        for j in range(4):
-            a[i, j] *= scale
-            term[i, j] = 1.0 if i == j else 0.0
-            out[i, j] = term[i, j]
-    if norm == 0.0:
-        return
-    for n in range(1, 11):
-        inv_n = 1.0 / n
-        big = 0.0
-        for i in range(4):
-            for j in range(4):
-                s = 0.0
-                for k in range(4):
-                    s += term[i, k] * a[k, j]
-                tmp[i, j] = s * inv_n
-                big = max(big, abs(tmp[i, j]))
-        for i in range(4):
-            for j in range(4):
-                term[i, j] = tmp[i, j]
-                out[i, j] += tmp[i, j]
-        # Slow spins (the usual case) converge in a handful of terms.
-        if big < 1e-18:
-            break
-    for _ in range(squarings):
-        for i in range(4):
-            for j in range(4):
-                s = 0.0
-                for k in range(4):
-                    s += out[i, k] * out[k, j]
-                tmp[i, j] = s
-        for i in range(4):
-            for j in range(4):
-                out[i, j] = tmp[i, j]
 
 
 @njit(cache=True)

@@ -402,6 +402,74 @@ def _emit(tx, trot, pl, m, sup, margin, cp, cd, cnt, fk, fm, fh):
 
 
 @njit(cache=True)
+def _face_edge_axes(c, swap, h_face, h_edge, d_face, r_face, margin, best, normal):
+    """Separating axes of the 2-faces of one box against the edges of the other.
+
+    The 2-face of the face box spanning the axes other than ``p, q`` and the
+    edge of the other box along its axis ``k`` have one axis orthogonal to both;
+    it lies in the face box's ``(p, q)`` plane.
+
+    Parameters
+    ----------
+    c : (4, 4) float64
+        ``c[i, j] = A_i . B_j``, the axes of box A against those of box B.
+    swap : bool
+        False when the face box is A, True when it is B (``c`` is then read
+        transposed).
+    h_face, h_edge : (4,) float64
+        Half extents of the face box and the edge box.
+    d_face : (4,) float64
+        Centre offset (edge box minus face box, or the reverse when swapped)
+        in the face box's frame.
+    r_face : (4, 4) float64
+        Face box rotation (columns are its axes).
+    margin : float
+    best : float
+        Smallest overlap found so far on such axes.
+    normal : (4,) float64
+        Overwritten with the axis of a new smallest overlap, pointing along ``d_face``.
+
+    Returns
+    -------
+    separated : bool
+        True if an axis separates the boxes by more than ``margin``.
+    best : float
+    """
+    for pq in range(6):
+        p = PLANE_I[pq]
+        q = PLANE_J[pq]
+        for kk in range(4):
+            if swap:
+                u = c[kk, q]
+                w = -c[kk, p]
+            else:
+                u = c[q, kk]
+                w = -c[p, kk]
+            ln2 = u * u + w * w
+            if ln2 < 1e-6:
+                continue
+            inv = 1.0 / np.sqrt(ln2)
+            u *= inv
+            w *= inv
+            rr = h_face[p] * abs(u) + h_face[q] * abs(w)
+            for m in range(4):
+                if swap:
+                    rr += h_edge[m] * abs(u * c[m, p] + w * c[m, q])
+                else:
+                    rr += h_edge[m] * abs(u * c[p, m] + w * c[q, m])
+            dist = u * d_face[p] + w * d_face[q]
+            o = rr - abs(dist)
+            if o < -margin:
+                return True, best
+            if o < best:
+                best = o
+                sg = 1.0 if dist >= 0.0 else -1.0
+                for m in range(4):
+                    normal[m] = sg * (r_face[m, p] * u + r_face[m, q] * w)
+    return False, best
+
+
+@njit(cache=True)
 def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, wk, out_p, out_n, out_d, k):
     """Contact manifold of two 4D boxes (normal from a to b).
 
@@ -473,59 +541,15 @@ def box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, wk, out_p, out_n, out_d, k):
             sg = 1.0 if db[kk] >= 0.0 else -1.0
             for m in range(4):
                 n[m] = sg * rb[m, kk]
-    best_cross = np.inf
     ncross = wk[7]
-    # 2-faces of A (spanning the axes other than p, q) against edges of B: the
-    # axis orthogonal to both lies in the (p, q) plane of A.
-    for pq in range(6):
-        p = PLANE_I[pq]
-        q = PLANE_J[pq]
-        for kk in range(4):
-            u = c[q, kk]
-            w = -c[p, kk]
-            ln2 = u * u + w * w
-            if ln2 < 1e-6:
-                continue
-            inv = 1.0 / np.sqrt(ln2)
-            u *= inv
-            w *= inv
-            rr = ha[p] * abs(u) + ha[q] * abs(w)
-            for m in range(4):
-                rr += hb[m] * abs(u * c[p, m] + w * c[q, m])
-            dist = u * da[p] + w * da[q]
-            o = rr - abs(dist)
-            if o < -margin:
-                return 0
-            if o < best_cross:
-                best_cross = o
-                sg = 1.0 if dist >= 0.0 else -1.0
-                for m in range(4):
-                    ncross[m] = sg * (ra[m, p] * u + ra[m, q] * w)
-    # 2-faces of B against edges of A.
-    for pq in range(6):
-        p = PLANE_I[pq]
-        q = PLANE_J[pq]
-        for i in range(4):
-            u = c[i, q]
-            w = -c[i, p]
-            ln2 = u * u + w * w
-            if ln2 < 1e-6:
-                continue
-            inv = 1.0 / np.sqrt(ln2)
-            u *= inv
-            w *= inv
-            rr = hb[p] * abs(u) + hb[q] * abs(w)
-            for m in range(4):
-                rr += ha[m] * abs(u * c[m, p] + w * c[m, q])
-            dist = u * db[p] + w * db[q]
-            o = rr - abs(dist)
-            if o < -margin:
-                return 0
-            if o < best_cross:
-                best_cross = o
-                sg = 1.0 if dist >= 0.0 else -1.0
-                for m in range(4):
-                    ncross[m] = sg * (rb[m, p] * u + rb[m, q] * w)
+    # 2-faces of A (spanning the axes other than p, q) against edges of B, then
+    # the same with the boxes' roles swapped (c read transposed).
+    separated, best_cross = _face_edge_axes(c, False, ha, hb, da, ra, margin, np.inf, ncross)
+    if separated:
+        return 0
+    separated, best_cross = _face_edge_axes(c, True, hb, ha, db, rb, margin, best_cross, ncross)
+    if separated:
+        return 0
     # Prefer face normals unless an edge axis is clearly shallower: face normals
     # are stable from step to step, which keeps warm starting effective.
     if best_cross + 0.002 + 0.05 * abs(best_face) < best_face:

@@ -43,7 +43,7 @@ class ContactEvent(NamedTuple):
 
 
 @njit(cache=True)
-def manifold_events(nc, ci, cp, cn, cd, imp_pt, touch_tol):
+def manifold_events(nc, contacts, touch_tol):
     """Summarise the tick's contacts per pair; pairs not yet touching are dropped.
 
     Returns
@@ -53,6 +53,13 @@ def manifold_events(nc, ci, cp, cn, cd, imp_pt, touch_tol):
     pts, nrm : (E, 4) float64
     imp : (E,) float64
     """
+    key = contacts.key
+    cp = contacts.point
+    cd = contacts.depth
+    imp_pt = contacts.normal_impulse
+    body_a = contacts.body_a
+    body_b = contacts.body_b
+    normal = contacts.normal
     keys = np.empty(nc, dtype=np.int64)
     ab = np.empty((nc, 2), dtype=np.int64)
     pts = np.zeros((nc, 4))
@@ -66,7 +73,7 @@ def manifold_events(nc, ci, cp, cn, cd, imp_pt, touch_tol):
         tot = 0.0
         for m in range(4):
             pts[ne, m] = 0.0
-        while e < nc and ci[e, 2] == ci[c, 2]:
+        while e < nc and key[e] == key[c]:
             deepest = max(deepest, cd[e])
             tot += imp_pt[e]
             e += 1
@@ -76,11 +83,11 @@ def manifold_events(nc, ci, cp, cn, cd, imp_pt, touch_tol):
                 wgt = imp_pt[q] / tot if tot > 0.0 else 1.0 / (e - c)
                 for m in range(4):
                     pts[ne, m] += wgt * cp[q, m]
-            keys[ne] = ci[c, 2]
-            ab[ne, 0] = ci[c, 0]
-            ab[ne, 1] = ci[c, 1]
+            keys[ne] = key[c]
+            ab[ne, 0] = body_a[c]
+            ab[ne, 1] = body_b[c]
             for m in range(4):
-                nrm[ne, m] = cn[c, m]
+                nrm[ne, m] = normal[c, m]
             imp[ne] = tot
             ne += 1
         c = e
@@ -88,24 +95,27 @@ def manifold_events(nc, ci, cp, cn, cd, imp_pt, touch_tol):
 
 
 @njit(cache=True)
-def touching_keys(nc, ci, cd, imp_pt, touch_tol, out):
+def touching_keys(nc, contacts, touch_tol, out):
     """Write the keys of the pairs that touch this tick into ``out``; return the count.
 
     This is all the bookkeeping a tick needs for ``began`` flags; the full
     events are only built (by :func:`manifold_events`) when someone reads them.
     """
+    key = contacts.key
+    cd = contacts.depth
+    imp_pt = contacts.normal_impulse
     n = 0
     c = 0
     while c < nc:
         e = c
         deepest = -np.inf
         tot = 0.0
-        while e < nc and ci[e, 2] == ci[c, 2]:
+        while e < nc and key[e] == key[c]:
             deepest = max(deepest, cd[e])
             tot += imp_pt[e]
             e += 1
         if deepest >= -touch_tol or tot > 0.0:
-            out[n] = ci[c, 2]
+            out[n] = key[c]
             n += 1
         c = e
     return n

@@ -14,7 +14,9 @@ on the inputs, never on timing or hashing):
 6. islands (from the broadphase pairs) and sleeping.
 
 The kernel checks buffer capacity before it changes any body, so the caller can
-grow the buffers and call it again when it reports an overflow.
+grow the buffers and call it again when it reports an overflow. Its arguments
+are the named bundles of :mod:`.state` (bodies, static world, parameters,
+contacts, warm start, solver rows, scratch).
 """
 
 from __future__ import annotations
@@ -53,30 +55,6 @@ DYNAMIC = 2
 #: Pair-key offset for static world colliders (body indices stay below it).
 STATIC_KEY = 1 << 30
 
-# Indices into the float64 parameter vector.
-P_DT = 0  # tick length (contacts are found once per tick)
-P_G = 1  # 1..4 gravity
-P_INVCUBE = 5
-P_SOFTEN = 6
-P_MARGIN = 7
-P_SUBSTEPS = 8
-P_HERTZ = 9
-P_ZETA = 10
-P_MAXPUSH = 11
-P_RESTTHR = 12
-P_SLEEPLIN = 13
-P_SLEEPANG = 14
-P_SLEEPTIME = 15
-P_ALLOWSLEEP = 16
-P_ITERS = 17
-P_RELAX = 18
-P_WORLDMU = 19
-P_WORLDE = 20
-P_LINDAMP = 21
-P_ANGDAMP = 22
-P_SPINR = 23
-P_ROLL = 24
-N_PARAMS = 25
 
 
 @njit(cache=True)
@@ -118,12 +96,17 @@ def _wake_island(j, nb, alive, kind, awake, timer, island):
 
 
 @njit(cache=True)
-def find_pairs(nb, alive, kind, shape, half, pos, rot, vel, omg, awake, timer, island,
-               hs, wb, h, base_margin, pairs, marg):
+def find_pairs(bodies, static, h, base_margin, pairs, marg):
     """Broadphase: candidate pairs that need a narrowphase test.
 
     Parameters
     ----------
+    bodies : Bodies
+        Sleeping islands touched by moving bodies are woken.
+    static : StaticWorld
+    h : float
+        Tick length: the margin covers the motion of one tick.
+    base_margin : float
     pairs : (P, 2) int64
         Output: body a and body b (``b >= 0``) or ``-1 - s`` for static world
         collider ``s`` (half-spaces first, then world boxes).
@@ -135,6 +118,20 @@ def find_pairs(nb, alive, kind, shape, half, pos, rot, vel, omg, awake, timer, i
     int
         Number of pairs, or ``-(needed)`` if ``pairs`` is too small.
     """
+    nb = bodies.count
+    alive = bodies.alive
+    kind = bodies.kind
+    shape = bodies.shape
+    half = bodies.half_extents
+    pos = bodies.position
+    rot = bodies.rotation
+    vel = bodies.velocity
+    omg = bodies.angular_velocity
+    awake = bodies.awake
+    timer = bodies.sleep_timer
+    island = bodies.island
+    hs = static.half_spaces
+    wb = static.boxes
     lo = np.empty((nb, 4))
     hi = np.empty((nb, 4))
     key = np.empty(nb)
@@ -253,16 +250,34 @@ def find_pairs(nb, alive, kind, shape, half, pos, rot, vel, omg, awake, timer, i
 
 
 @njit(cache=True)
-def narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p, scratch_d,
-                ci, cp, cn, cd):
-    """Contacts of all candidate pairs in pair-key order.
+def narrowphase(npairs, bodies, static, scratch, contacts):
+    """Contacts of all candidate pairs (``scratch.pairs[:npairs]``) in pair-key order.
 
     Returns
     -------
     int
-        Number of contacts, or ``-(needed)`` when ``ci`` cannot hold the worst case.
+        Number of contacts written to ``contacts``, or ``-(needed)`` when it
+        cannot hold the worst case.
     """
-    if npairs * MAX_POINTS > ci.shape[0]:
+    pairs = scratch.pairs
+    marg = scratch.margin
+    scratch_p = scratch.points
+    scratch_d = scratch.point_depths
+    shape = bodies.shape
+    half = bodies.half_extents
+    pos = bodies.position
+    rot = bodies.rotation
+    hs = static.half_spaces
+    wb = static.boxes
+    # Arrays are taken out of the bundles once: reading a bundle's field inside
+    # a loop costs a reference-count update per iteration.
+    cp = contacts.point
+    cn = contacts.normal
+    cd = contacts.depth
+    body_a = contacts.body_a
+    body_b = contacts.body_b
+    pair_key = contacts.key
+    if npairs * MAX_POINTS > cp.shape[0]:
         return -npairs * MAX_POINTS
     keys = np.empty(npairs, dtype=np.int64)
     for p in range(npairs):
@@ -328,21 +343,30 @@ def narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p, s
                     got = box_box(pos[a], rot[a], half[a], vx, vr, vh, m,
                                   scratch_p, scratch_d, wk, cp, cn, cd, k)
         for q in range(got):
-            ci[k + q, 0] = a
-            ci[k + q, 1] = b
-            ci[k + q, 2] = keys[p]
+            body_a[k + q] = a
+            body_b[k + q] = b
+            pair_key[k + q] = keys[p]
         k += got
     return k
 
 
 @njit(cache=True)
-def apply_forces(nb, alive, kind, awake, pos, vel, omg, mass, params, h):
+def apply_forces(bodies, prm, h):
     """Gravity, optional inverse-cube attraction and damping for awake dynamic bodies
-    over a substep of ``h`` seconds."""
-    G = params[P_INVCUBE]
-    eps2 = params[P_SOFTEN] * params[P_SOFTEN]
-    lin = 1.0 / (1.0 + h * params[P_LINDAMP])
-    ang = 1.0 / (1.0 + h * params[P_ANGDAMP])
+    over a substep of ``h`` seconds (``prm``: a record of ``PARAMS_DTYPE``)."""
+    nb = bodies.count
+    alive = bodies.alive
+    kind = bodies.kind
+    awake = bodies.awake
+    pos = bodies.position
+    vel = bodies.velocity
+    omg = bodies.angular_velocity
+    mass = bodies.mass
+    gravity = prm.gravity
+    G = prm.inverse_cube_G
+    eps2 = prm.softening * prm.softening
+    lin = 1.0 / (1.0 + h * prm.linear_damping)
+    ang = 1.0 / (1.0 + h * prm.angular_damping)
     acc = np.zeros((nb, 4))
     if G != 0.0:
         # Gauss's law in 4D: |F| = G m1 m2 / r^3, so a_i = G m_j d / r^4.
@@ -363,14 +387,14 @@ def apply_forces(nb, alive, kind, awake, pos, vel, omg, mass, params, h):
         if not (alive[i] and kind[i] == DYNAMIC and awake[i]):
             continue
         for m in range(4):
-            vel[i, m] = (vel[i, m] + h * (params[P_G + m] + acc[i, m])) * lin
+            vel[i, m] = (vel[i, m] + h * (gravity[m] + acc[i, m])) * lin
         if ang != 1.0:
             for k in range(6):
                 omg[i, k] *= ang
 
 
 @njit(cache=True)
-def integrate_positions(nb, alive, kind, awake, pos, rot, vel, omg, inv_inertia, h):
+def integrate_positions(bodies, h):
     """Move awake dynamic and kinematic bodies by one substep.
 
     Bodies with an isotropic inertia (hyperspheres, hypercubes) keep their
@@ -379,6 +403,15 @@ def integrate_positions(nb, alive, kind, awake, pos, rot, vel, omg, inv_inertia,
     the midpoint rate recomputed from ``L`` and ``omega`` is re-derived from
     ``L`` afterwards (second order, and ``L`` is kept exactly).
     """
+    nb = bodies.count
+    alive = bodies.alive
+    kind = bodies.kind
+    awake = bodies.awake
+    pos = bodies.position
+    rot = bodies.rotation
+    vel = bodies.velocity
+    omg = bodies.angular_velocity
+    inv_inertia = bodies.inv_inertia
     wk = np.empty((5, 4, 4))
     M = np.empty((6, 6))
     lw = np.empty(6)
@@ -444,7 +477,7 @@ def _find(parent, i):
 
 
 @njit(cache=True)
-def update_sleep(nb, alive, kind, awake, vel, omg, timer, island, npairs, pairs, params):
+def update_sleep(bodies, npairs, pairs, prm):
     """Islands by union-find over the broadphase pairs; whole islands sleep.
 
     A body is calm when its speed and spin stay under the thresholds; an island
@@ -455,7 +488,15 @@ def update_sleep(nb, alive, kind, awake, vel, omg, timer, island, npairs, pairs,
     that wakes sleepers: joining only bodies in actual contact would let two
     neighbours fall asleep at different times and wake each other forever.
     """
-    h = params[P_DT]
+    nb = bodies.count
+    alive = bodies.alive
+    kind = bodies.kind
+    awake = bodies.awake
+    vel = bodies.velocity
+    omg = bodies.angular_velocity
+    timer = bodies.sleep_timer
+    island = bodies.island
+    h = prm.tick_dt
     parent = np.arange(nb)
     stir = np.zeros(nb, dtype=np.bool_)
     for c in range(npairs):
@@ -476,8 +517,8 @@ def update_sleep(nb, alive, kind, awake, vel, omg, timer, island, npairs, pairs,
             stir[b] = True
         elif kind[b] == KINEMATIC and _moving(b, kind, awake, vel, omg):
             stir[a] = True
-    lin2 = params[P_SLEEPLIN] ** 2
-    ang2 = params[P_SLEEPANG] ** 2
+    lin2 = prm.sleep_linear ** 2
+    ang2 = prm.sleep_angular ** 2
     mint = np.full(nb, np.inf)
     for i in range(nb):
         if not (alive[i] and kind[i] == DYNAMIC and awake[i]):
@@ -495,13 +536,13 @@ def update_sleep(nb, alive, kind, awake, vel, omg, timer, island, npairs, pairs,
         r = _find(parent, i)
         if timer[i] < mint[r]:
             mint[r] = timer[i]
-    if params[P_ALLOWSLEEP] == 0.0:
+    if prm.allow_sleep == 0.0:
         return
     for i in range(nb):
         if not (alive[i] and kind[i] == DYNAMIC and awake[i]):
             continue
         r = _find(parent, i)
-        if mint[r] >= params[P_SLEEPTIME]:
+        if mint[r] >= prm.sleep_time:
             awake[i] = False
             island[i] = r
             for m in range(4):
@@ -510,75 +551,51 @@ def update_sleep(nb, alive, kind, awake, vel, omg, timer, island, npairs, pairs,
                 omg[i, k] = 0.0
 
 
-def solver_work(cap):
-    """Per-contact solver scratch for :func:`tick`, for ``cap`` contacts.
-
-    Returns
-    -------
-    tuple of float64 arrays
-        rows ``(cap, 4, 4)``; anchors ``ra``, ``rb`` ``(cap, 4)``; Jacobians
-        ``ja``, ``jb``, ``ija``, ``ijb`` ``(cap, 4, 6)``; effective masses
-        ``(cap, 4)``; local points ``(cap, 4)``; then ``vn0``, ``maxlam``, ``mu``,
-        ``e`` and ``sep``, each ``(cap,)``.
-    """
-    f = np.float64
-    spin = (np.zeros((cap, 2), f), np.zeros((cap, 6, 6), f), np.zeros((cap, 6, 6), f),
-            np.zeros((cap, 6, 6), f), np.zeros((cap, 6), f), np.zeros((cap, 6), f))
-    return (np.zeros((cap, 4, 4), f), np.zeros((cap, 4), f), np.zeros((cap, 4), f),
-            np.zeros((cap, 4, 6), f), np.zeros((cap, 4, 6), f), np.zeros((cap, 4, 6), f),
-            np.zeros((cap, 4, 6), f), np.zeros((cap, 4), f), np.zeros((cap, 4), f),
-            np.zeros(cap, f), np.zeros(cap, f), np.zeros(cap, f), np.zeros(cap, f),
-            np.zeros(cap, f), spin)
-
-
 @njit(cache=True)
-def tick(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass,
-         inv_inertia, mu, rest, awake, timer, island, hs, wb, params,
-         pairs, marg, scratch_p, scratch_d, ci, cp, cn, cd, clam, ctot,
-         ok, oloc, olam, oft, ocnt_arr, work):
-    """Advance the world by one tick ``params[P_DT]`` of ``params[P_SUBSTEPS]`` substeps.
+def tick(bodies, static, params, contacts, warm, rows, scratch):
+    """Advance the world by one tick of ``tick_dt`` in ``substeps`` substeps.
 
     Parameters
     ----------
-    nb : int
-        Number of body slots in use.
-    alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass,
-    inv_inertia, mu, rest, awake, timer, island : body arrays (see
-        :class:`~across_dimensions.physics.world.PhysicsWorld`); the state ones
-        are updated in place.
-    hs : (K, 5) float64
-        Static half-spaces ``n . x <= offset`` as rows ``(n, offset)``.
-    wb : (M, 6) float64
-        Static 3D world boxes ``(center, half)`` spanning all of w.
-    params : (N_PARAMS,) float64
-    pairs, marg, scratch_p, scratch_d : scratch arrays
-    ci, cp, cn, cd, clam : contact arrays, filled with this tick's contacts
-    ctot : (C,) float64
-        Output: each contact's normal impulse summed over the substeps.
-    ok, oloc, olam, oft, ocnt_arr : warm-start cache, replaced by this tick's
-    work : tuple
-        Solver scratch sized like the contact arrays (see :func:`solver_work`);
-        kept between ticks so that no large array is allocated per tick.
+    bodies : Bodies
+        Updated in place.
+    static : StaticWorld
+    params : (1,) PARAMS_DTYPE record array
+    contacts : Contacts
+        Output: this tick's contacts (the first ``n``, ``n`` returned).
+    warm : WarmStart
+        Last tick's impulses; replaced by this tick's.
+    rows : SolverRows
+        Solver scratch sized like ``contacts``.
+    scratch : Scratch
 
     Returns
     -------
     int
-        Number of contacts solved; ``-1`` if ``pairs`` overflowed and ``-2`` if
-        the contact arrays did (``ocnt_arr[1]`` then holds the size needed). No
-        body has moved in those cases; only sleeping islands may have woken.
+        Number of contacts solved; ``-1`` if ``scratch.pairs`` overflowed and
+        ``-2`` if the contact arrays did (``scratch.needed[0]`` then holds the
+        size needed). No body has moved in those cases; only sleeping islands
+        may have woken.
     """
-    dt = params[P_DT]
-    ns = int(params[P_SUBSTEPS])
+    prm = params[0]
+    nb = bodies.count
+    alive = bodies.alive
+    kind = bodies.kind
+    shape = bodies.shape
+    pos = bodies.position
+    rot = bodies.rotation
+    inv_inertia = bodies.inv_inertia
+    awake = bodies.awake
+    dt = prm.tick_dt
+    ns = int(prm.substeps)
     h = dt / ns
-    npairs = find_pairs(nb, alive, kind, shape, half, pos, rot, vel, omg, awake, timer,
-                        island, hs, wb, dt, params[P_MARGIN], pairs, marg)
+    npairs = find_pairs(bodies, static, dt, prm.margin, scratch.pairs, scratch.margin)
     if npairs < 0:
-        ocnt_arr[1] = -npairs
+        scratch.needed[0] = -npairs
         return -1
-    nc = narrowphase(npairs, pairs, shape, half, pos, rot, marg, hs, wb, scratch_p,
-                     scratch_d, ci, cp, cn, cd)
+    nc = narrowphase(npairs, bodies, static, scratch, contacts)
     if nc < 0:
-        ocnt_arr[1] = -nc
+        scratch.needed[0] = -nc
         return -2
     iinv = np.zeros((nb, 6, 6))
     # Isotropic inverse inertia per body (balls, hypercubes, non-dynamic
@@ -591,12 +608,7 @@ def tick(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass
             for k in range(1, 6):
                 if inv_inertia[i, k] != inv_inertia[i, 0]:
                     iso[i] = -1.0
-    rows, ra, rb, ja, jb, ija, ijb, rmass, cloc, vn0, maxlam, cmu, ce, sep = work[:14]
-    spin = work[14]
-    prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, rest,
-            params[P_WORLDMU], params[P_WORLDE], ok, oloc, olam, oft, ocnt_arr[0], rows, ra,
-            rb, ja, jb, ija, ijb, rmass, clam, cmu, ce, vn0, maxlam, cloc, shape,
-            params[P_SPINR], params[P_ROLL], spin)
+    prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows)
     x0 = pos[:nb].copy()
     r0 = rot[:nb].copy()
     dpos = np.zeros((nb, 4))
@@ -605,21 +617,22 @@ def tick(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass
         for m in range(4):
             drot[i, m, m] = 1.0
     # Stiffness no faster than a quarter of the substep rate stays stable.
-    hz = min(params[P_HERTZ], 0.25 / h)
-    bias_rate, mass_scale, impulse_scale = soft_params(hz, params[P_ZETA], h)
+    hz = min(prm.contact_hertz, 0.25 / h)
+    bias_rate, mass_scale, impulse_scale = soft_params(hz, prm.damping_ratio, h)
     inv_h = 1.0 / h
-    iters = int(params[P_ITERS])
-    relax = int(params[P_RELAX])
+    iters = int(prm.iterations)
+    relax = int(prm.relax_iterations)
+    total = contacts.normal_impulse
+    lam = rows.impulse
     for c in range(nc):
-        ctot[c] = 0.0
+        total[c] = 0.0
     for _ in range(ns):
-        apply_forces(nb, alive, kind, awake, pos, vel, omg, mass, params, h)
-        warm_start(nc, ci, clam, rows, ja, jb, ija, ijb, vel, omg, inv_mass, iso, spin)
-        current_separation(nc, ci, cd, rows, ra, rb, dpos, drot, sep)
-        solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg,
-              inv_mass, iso, inv_h, True, bias_rate, mass_scale, impulse_scale,
-              params[P_MAXPUSH], iters, spin)
-        integrate_positions(nb, alive, kind, awake, pos, rot, vel, omg, inv_inertia, h)
+        apply_forces(bodies, prm, h)
+        warm_start(nc, contacts, rows, bodies, iso)
+        current_separation(nc, contacts, rows, dpos, drot)
+        solve(nc, contacts, rows, bodies, iso, inv_h, True, bias_rate, mass_scale, impulse_scale,
+              prm.max_push, iters)
+        integrate_positions(bodies, h)
         for i in range(nb):
             if not alive[i] or kind[i] == STATIC:
                 continue
@@ -636,18 +649,16 @@ def tick(nb, alive, kind, shape, half, bound, pos, rot, vel, omg, mass, inv_mass
                     for k in range(4):
                         s += rot[i, m, k] * r0[i, q, k]
                     drot[i, m, q] = s
-        current_separation(nc, ci, cd, rows, ra, rb, dpos, drot, sep)
-        solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg,
-              inv_mass, iso, inv_h, False, bias_rate, mass_scale, impulse_scale,
-              params[P_MAXPUSH], relax, spin)
+        current_separation(nc, contacts, rows, dpos, drot)
+        solve(nc, contacts, rows, bodies, iso, inv_h, False, bias_rate, mass_scale, impulse_scale,
+              prm.max_push, relax)
         for c in range(nc):
-            ctot[c] += clam[c, 0]
+            total[c] += lam[c, 0]
     for c in range(nc):
-        ctot[c] -= clam[c, 0]
-    restitution(nc, ci, clam, ce, rows, ja, jb, ija, ijb, rmass, vn0, maxlam, vel, omg,
-                inv_mass, iso, params[P_RESTTHR])
+        total[c] -= lam[c, 0]
+    restitution(nc, contacts, rows, bodies, iso, prm.restitution_threshold)
     for c in range(nc):
-        ctot[c] += clam[c, 0]
-    ocnt_arr[0] = store(nc, ci, clam, rows, cloc, ok, oloc, olam, oft)
-    update_sleep(nb, alive, kind, awake, vel, omg, timer, island, npairs, pairs, params)
+        total[c] += lam[c, 0]
+    store(nc, contacts, rows, warm)
+    update_sleep(bodies, npairs, scratch.pairs, prm)
     return nc

@@ -1,11 +1,11 @@
-"""Ray casts and the player's slab collider (compiled kernels).
+"""Ray casts and pushing an upright box out of the bodies (compiled kernels).
 
-The player lives in the 3D slice ``w = w0`` and only moves in x, y, z. Its
-collider is the axis-aligned 4D box ``[x +- r] x [y, y + height] x [z +- r] x
-[w0 +- w_half]``: anything whose 4D shape misses that thin slab is invisible to
-the player and does not block it.
+The box push-out serves anything that lives in a 3D slice ``w = w0`` and only
+moves in x, y, z, such as the player (see :mod:`across_dimensions.game.player_bodies`):
+its collider is an axis-aligned 4D box, thin in w, and anything whose 4D shape
+misses that slab is invisible to it and does not block it.
 
-The push-out is the shortest move *in xyz* that separates the player from a
+The push-out is the shortest move *in xyz* that separates the box from a
 body. For two convex shapes whose Minkowski difference ``D`` contains the
 origin, that move is the distance from the origin to the boundary of the 3D
 section of ``D`` at ``w = 0``. Every facet of that section lies on a facet of
@@ -57,7 +57,7 @@ def _slab_hit(o, d, lo, hi, ndim):
 
 
 @njit(cache=True)
-def raycast_kernel(nb, alive, shape, half, pos, rot, hs, wb, o, d, max_t, use_world, normal):
+def raycast_kernel(bodies, static, o, d, max_t, use_world, normal):
     """Nearest hit of the ray ``o + t d`` (``d`` unit, ``0 <= t <= max_t``).
 
     Shapes that contain the origin are skipped, so a shot fired from inside a
@@ -72,6 +72,14 @@ def raycast_kernel(nb, alive, shape, half, pos, rot, hs, wb, o, d, max_t, use_wo
     normal : (4,) float64
         Written with the outward surface normal at the hit.
     """
+    nb = bodies.count
+    alive = bodies.alive
+    shape = bodies.shape
+    half = bodies.half_extents
+    pos = bodies.position
+    rot = bodies.rotation
+    hs = static.half_spaces
+    wb = static.boxes
     best_t = max_t
     best = -(1 << 62)
     ol = np.empty(4)
@@ -146,7 +154,7 @@ def raycast_kernel(nb, alive, shape, half, pos, rot, hs, wb, o, d, max_t, use_wo
 
 
 @njit(cache=True)
-def _player_box_push(pc, ph, x, rot, h, out):
+def _box_out_of_box(pc, ph, x, rot, h, out):
     """Shortest xyz move of the player box (centre ``pc``, half ``ph``, axis
     aligned) out of the box body; returns False when they do not overlap."""
     d = np.empty(4)
@@ -224,7 +232,7 @@ def _player_box_push(pc, ph, x, rot, h, out):
 
 
 @njit(cache=True)
-def _player_sphere_push(pc, ph, c, r, out):
+def _box_out_of_sphere(pc, ph, c, r, out):
     """Shortest xyz move of the player box out of a hypersphere."""
     dw = abs(c[3] - pc[3]) - ph[3]
     if dw < 0.0:
@@ -268,34 +276,36 @@ def _player_sphere_push(pc, ph, c, r, out):
 
 
 @njit(cache=True)
-def player_kernel(nb, alive, shape, half, pos, rot, feet, radius, height, w_half, passes, touched):
-    """Push the player box out of every body it overlaps in its w slab.
+def box_push_out_kernel(bodies, center, half, passes, touched):
+    """Push an upright 4D box out of every body it overlaps.
 
     Parameters
     ----------
-    feet : (4,) float64
-        Bottom centre of the player.
+    bodies : Bodies
+    center, half : (4,) float64
+        The box: axis-aligned, moved only in x, y and z (its w is fixed).
     passes : int
         Gauss-Seidel passes over the bodies (corners between two bodies need
         more than one).
     touched : (N,) bool
-        Output: bodies the player overlapped.
+        Output: bodies the box overlapped.
 
     Returns
     -------
     (3,) float64
         Total xyz correction.
     """
+    nb = bodies.count
+    alive = bodies.alive
+    shape = bodies.shape
+    pos = bodies.position
+    rot = bodies.rotation
+    half_extents = bodies.half_extents
     pc = np.empty(4)
     ph = np.empty(4)
-    pc[0] = feet[0]
-    pc[1] = feet[1] + 0.5 * height
-    pc[2] = feet[2]
-    pc[3] = feet[3]
-    ph[0] = radius
-    ph[1] = 0.5 * height
-    ph[2] = radius
-    ph[3] = w_half
+    for m in range(4):
+        pc[m] = center[m]
+        ph[m] = half[m]
     total = np.zeros(3)
     out = np.zeros(3)
     for i in range(nb):
@@ -306,9 +316,9 @@ def player_kernel(nb, alive, shape, half, pos, rot, feet, radius, height, w_half
             if not alive[i]:
                 continue
             if shape[i] == SPHERE:
-                hit = _player_sphere_push(pc, ph, pos[i], half[i, 0], out)
+                hit = _box_out_of_sphere(pc, ph, pos[i], half_extents[i, 0], out)
             else:
-                hit = _player_box_push(pc, ph, pos[i], rot[i], half[i], out)
+                hit = _box_out_of_box(pc, ph, pos[i], rot[i], half_extents[i], out)
             if hit:
                 touched[i] = True
                 moved = True

@@ -52,65 +52,70 @@ def soft_params(hertz, zeta, h):
 
 
 @njit(cache=True)
-def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, rest,
-            world_mu, world_e, ok, oloc, olam, oft, ocnt, rows, ra_, rb_, ja, jb, ija, ijb,
-            rmass, clam, cmu, ce, vn0, maxlam, cloc, shape, spin_radius, rolling, spin):
+def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
     """Build the solver rows of every contact and warm start them from the last tick.
 
     Parameters
     ----------
     nc : int
-        Number of contacts.
-    ci : (C, 3) int64
-        Body a, body b (or ``-1 - static``), pair key; sorted by key.
-    cp, cn : (C, 4) float64
-        Contact points and unit normals (a to b).
-    pos, rot, vel, omg : body arrays ``(N, 4)``, ``(N, 4, 4)``, ``(N, 4)``, ``(N, 6)``
-    inv_mass : (N,) float64
+        Number of contacts (sorted by pair key).
+    contacts : Contacts
+    bodies : Bodies
     iinv : (N, 6, 6) float64
         World-frame inverse inertias (zero for non-dynamic bodies).
     iso : (N,) float64
         The scalar inverse inertia where ``iinv`` is a multiple of the
         identity, else -1.
-    bound : (N,) float64
-        Bounding radii; scale the distance within which an old contact counts
-        as the same contact.
-    mu, rest : (N,) float64
-        Friction and restitution per body.
-    world_mu, world_e : float
-        Material of static world colliders.
-    ok, oloc, olam, oft : (C,) int64, (C, 4), (C,), (C, 4) float64
+    prm : record of PARAMS_DTYPE
+        Uses ``world_friction``, ``world_restitution`` (material of static
+        world colliders), ``spin_friction`` and ``rolling_resistance``.
+    warm : WarmStart
         Last tick's contacts: keys (sorted), points in body a's frame, normal
-        impulses, friction impulse vectors.
-    ocnt : int
-    rows : (C, 4, 4) float64
-        Output: row directions (normal, three tangents).
-    ra_, rb_ : (C, 4) float64
-        Output: anchors relative to the body centres.
-    ja, jb, ija, ijb : (C, 4, 6) float64
-        Output: angular Jacobians ``r ^ d`` and their images under ``I^-1``
-        (the latter only for bodies with ``iso < 0``).
-    rmass : (C, 4) float64
-        Output: effective masses.
-    clam : (C, 4) float64
-        Output: accumulated impulses, warm-started.
-    cmu, ce : (C,) float64
-        Output: friction and restitution of the pair (geometric mean, max).
-    vn0 : (C,) float64
-        Output: normal relative velocity now (for restitution).
-    maxlam : (C,) float64
-        Output: zeroed; largest normal impulse while solving.
-    cloc : (C, 4) float64
-        Output: contact points in body a's frame (for next tick's matching).
-    shape : (N,) int8
-        Body shapes (0 for hyperspheres).
-    spin_radius : float
-        Radius of the contact patch of a ball, as a fraction of its radius.
-    rolling : float
-        Rolling-resistance coefficient of balls.
-    spin : tuple
-        Output: spin-friction rows (see :func:`_prepare_spin`).
+        impulses, friction impulse vectors. An old contact counts as the same
+        contact within a tenth of body a's bounding radius.
+    rows_out : SolverRows
+        Output: every field but ``separation`` (see :class:`SolverRows`);
+        impulses warm-started; friction of the pair is the geometric mean,
+        restitution the max.
     """
+    body_a = contacts.body_a
+    body_b = contacts.body_b
+    point = contacts.point
+    normal = contacts.normal
+    pos = bodies.position
+    rot = bodies.rotation
+    vel = bodies.velocity
+    omg = bodies.angular_velocity
+    inv_mass = bodies.inv_mass
+    bound = bodies.bound
+    mu = bodies.friction
+    rest = bodies.restitution
+    shape = bodies.shape
+    keys = contacts.key
+    world_mu = prm.world_friction
+    world_e = prm.world_restitution
+    spin_radius = prm.spin_friction
+    rolling = prm.rolling_resistance
+    spin = rows_out.spin
+    old_key = warm.key
+    old_point = warm.local_point
+    old_normal = warm.normal_impulse
+    old_friction = warm.friction_impulse
+    old_count = warm.count[0]
+    rows = rows_out.direction
+    ra_ = rows_out.anchor_a
+    rb_ = rows_out.anchor_b
+    ja = rows_out.jac_a
+    jb = rows_out.jac_b
+    ija = rows_out.inv_i_jac_a
+    ijb = rows_out.inv_i_jac_b
+    rmass = rows_out.eff_mass
+    lam = rows_out.impulse
+    cmu = rows_out.friction
+    ce = rows_out.restitution
+    vn0 = rows_out.approach_speed
+    maxlam = rows_out.max_normal_impulse
+    cloc = rows_out.local_point
     ra = np.empty(4)
     rb = np.empty(4)
     tb = np.empty((4, 4))
@@ -120,15 +125,15 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
     ia = np.empty(6)
     ib = np.empty(6)
     for c in range(nc):
-        a = ci[c, 0]
-        b = ci[c, 1]
+        a = body_a[c]
+        b = body_b[c]
         for m in range(4):
-            ra[m] = cp[c, m] - pos[a, m]
+            ra[m] = point[c, m] - pos[a, m]
             ra_[c, m] = ra[m]
-            tb[0, m] = cn[c, m]
+            tb[0, m] = normal[c, m]
         if b >= 0:
             for m in range(4):
-                rb[m] = cp[c, m] - pos[b, m]
+                rb[m] = point[c, m] - pos[b, m]
                 rb_[c, m] = rb[m]
             cmu[c] = np.sqrt(mu[a] * mu[b])
             ce[c] = max(rest[a], rest[b])
@@ -193,33 +198,33 @@ def prepare(nc, ci, cp, cn, pos, rot, vel, omg, inv_mass, iinv, iso, bound, mu, 
                 s += rot[a, q, m] * ra[q]
             cloc[c, m] = s
         for r in range(4):
-            clam[c, r] = 0.0
+            lam[c, r] = 0.0
         # Warm start from the nearest old contact of the same pair. Both
         # lists are sorted by key, so the search position only moves forward.
-        key = ci[c, 2]
-        while olo < ocnt and ok[olo] < key:
+        key = keys[c]
+        while olo < old_count and old_key[olo] < key:
             olo += 1
         lo = olo
         tol = 0.1 * bound[a]
         best = tol * tol
         pick = -1
         j = lo
-        while j < ocnt and ok[j] == key:
+        while j < old_count and old_key[j] == key:
             d2 = 0.0
             for m in range(4):
-                t = oloc[j, m] - cloc[c, m]
+                t = old_point[j, m] - cloc[c, m]
                 d2 += t * t
             if d2 < best:
                 best = d2
                 pick = j
             j += 1
         if pick >= 0:
-            clam[c, 0] = olam[pick]
+            lam[c, 0] = old_normal[pick]
             for r in range(3):
                 s = 0.0
                 for m in range(4):
-                    s += oft[pick, m] * tb[r + 1, m]
-                clam[c, r + 1] = s
+                    s += old_friction[pick, m] * tb[r + 1, m]
+                lam[c, r + 1] = s
 
 
 @njit(cache=True)
@@ -234,12 +239,16 @@ def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, rolling
     by at most ``rolling * N * r``. Rows: the unit bivectors acting on the
     relative angular velocity, three per group.
 
-    ``spin`` holds ``(limits (C, 2), B (C, 6, 6), IA^-1 B, IB^-1 B (C, 6, 6),
-    mass (C, 6), impulse (C, 6))``; the limits are 0 for contacts without a
-    ball, and ``I^-1 B`` is only stored for anisotropic bodies (as in
-    :func:`prepare`).
+    ``spin`` is the :class:`~.state.SpinRows` to fill; the limits are 0 for
+    contacts without a ball, and ``I^-1 B`` is only stored for anisotropic
+    bodies (as in :func:`prepare`).
     """
-    lim, bv, sia, sib, smass, slam = spin
+    lim = spin.limits
+    bv = spin.planes
+    sia = spin.inv_i_planes_a
+    sib = spin.inv_i_planes_b
+    smass = spin.eff_mass
+    slam = spin.impulse
     r = np.inf
     if shape[a] == 0:
         r = bound[a]
@@ -262,28 +271,30 @@ def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, rolling
                 pi = PLANE_I[q]
                 pj = PLANE_J[q]
                 bv[c, row, q] = tb[i, pi] * tb[j, pj] - tb[i, pj] * tb[j, pi]
-            kk = 0.0
-            if iso[a] >= 0.0:
-                kk += iso[a]
-            else:
-                for q in range(6):
-                    s = 0.0
-                    for l in range(6):
-                        s += iinv[a, q, l] * bv[c, row, l]
-                    sia[c, row, q] = s
-                    kk += bv[c, row, q] * s
+            kk = _add_spin_inv_mass(0.0, c, row, a, iinv, iso, bv, sia)
             if b >= 0:
-                if iso[b] >= 0.0:
-                    kk += iso[b]
-                else:
-                    for q in range(6):
-                        s = 0.0
-                        for l in range(6):
-                            s += iinv[b, q, l] * bv[c, row, l]
-                        sib[c, row, q] = s
-                        kk += bv[c, row, q] * s
+                kk = _add_spin_inv_mass(kk, c, row, b, iinv, iso, bv, sib)
             smass[c, row] = 1.0 / kk if kk > 0.0 else 0.0
             slam[c, row] = 0.0
+
+
+@njit(cache=True)
+def _add_spin_inv_mass(kk, c, row, body, iinv, iso, planes, inv_i_planes):
+    """``kk`` plus the inverse angular mass ``B . I^-1 B`` of ``body`` on spin row ``row``.
+
+    ``I^-1 B`` is stored in ``inv_i_planes`` for an anisotropic body only.
+    The terms are added to ``kk`` one by one (not summed apart first) so the
+    rounding is that of one running sum over both bodies.
+    """
+    if iso[body] >= 0.0:
+        return kk + iso[body]
+    for q in range(6):
+        s = 0.0
+        for l in range(6):
+            s += iinv[body, q, l] * planes[c, row, l]
+        inv_i_planes[c, row, q] = s
+        kk += planes[c, row, q] * s
+    return kk
 
 
 @njit(cache=True)
@@ -338,23 +349,34 @@ def _apply(c, r, a, b, lam, rows, ja, jb, ija, ijb, vel, omg, inv_mass, iso):
 
 
 @njit(cache=True)
-def warm_start(nc, ci, clam, rows, ja, jb, ija, ijb, vel, omg, inv_mass, iso, spin):
+def warm_start(nc, contacts, rows_in, bodies, iso):
     """Apply the accumulated impulses so the iterations start near the answer.
 
     Spin friction is not warm started: it only damps, so it restarts from zero
     each substep.
     """
-    slam = spin[5]
+    body_a = contacts.body_a
+    body_b = contacts.body_b
+    lam = rows_in.impulse
+    rows = rows_in.direction
+    ja = rows_in.jac_a
+    jb = rows_in.jac_b
+    ija = rows_in.inv_i_jac_a
+    ijb = rows_in.inv_i_jac_b
+    vel = bodies.velocity
+    omg = bodies.angular_velocity
+    inv_mass = bodies.inv_mass
+    slam = rows_in.spin.impulse
     p = np.empty(4)
     for c in range(nc):
         for k in range(6):
             slam[c, k] = 0.0
-        a = ci[c, 0]
-        b = ci[c, 1]
+        a = body_a[c]
+        b = body_b[c]
         for m in range(4):
             s = 0.0
             for r in range(4):
-                s += clam[c, r] * rows[c, r, m]
+                s += lam[c, r] * rows[c, r, m]
             p[m] = s
         for m in range(4):
             vel[a, m] -= inv_mass[a] * p[m]
@@ -363,7 +385,7 @@ def warm_start(nc, ci, clam, rows, ja, jb, ija, ijb, vel, omg, inv_mass, iso, sp
         for k in range(6):
             s = 0.0
             for r in range(4):
-                s += clam[c, r] * ia[c, r, k]
+                s += lam[c, r] * ia[c, r, k]
             omg[a, k] -= fa * s
         if b >= 0:
             for m in range(4):
@@ -373,12 +395,12 @@ def warm_start(nc, ci, clam, rows, ja, jb, ija, ijb, vel, omg, inv_mass, iso, sp
             for k in range(6):
                 s = 0.0
                 for r in range(4):
-                    s += clam[c, r] * ib[c, r, k]
+                    s += lam[c, r] * ib[c, r, k]
                 omg[b, k] += fb * s
 
 
 @njit(cache=True)
-def current_separation(nc, ci, cd, rows, ra_, rb_, dpos, drot, sep):
+def current_separation(nc, contacts, rows_in, dpos, drot):
     """Separation of each contact after the bodies moved by ``dpos``, ``drot``.
 
     ``s = -depth + n . ((dB + dRB rB - rB) - (dA + dRA rA - rA))``: the anchors
@@ -390,12 +412,19 @@ def current_separation(nc, ci, cd, rows, ra_, rb_, dpos, drot, sep):
         Displacement of each body since the contacts were found.
     drot : (N, 4, 4) float64
         Rotation of each body since then (``R_now @ R_then.T``).
-    sep : (C,) float64
-        Output.
+
+    The result goes to ``rows_in.separation``.
     """
+    body_a = contacts.body_a
+    body_b = contacts.body_b
+    cd = contacts.depth
+    rows = rows_in.direction
+    ra_ = rows_in.anchor_a
+    rb_ = rows_in.anchor_b
+    sep = rows_in.separation
     for c in range(nc):
-        a = ci[c, 0]
-        b = ci[c, 1]
+        a = body_a[c]
+        b = body_b[c]
         s = -cd[c]
         for m in range(4):
             move = -dpos[a, m] + ra_[c, m]
@@ -410,25 +439,52 @@ def current_separation(nc, ci, cd, rows, ra_, rb_, dpos, drot, sep):
 
 
 @njit(cache=True)
-def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, omg,
-          inv_mass, iso, inv_h, use_bias, bias_rate, mass_scale, impulse_scale, max_push,
-          iterations, spin):
+def solve(nc, contacts, rows_in, bodies, iso, inv_h, use_bias, bias_rate, mass_scale,
+          impulse_scale, max_push, iterations):
     """Gauss-Seidel sweeps over all contacts: normal, then friction.
 
     Parameters
     ----------
-    sep : (C,) float64
-        Current separations (negative when overlapping).
+    nc : int
+    contacts : Contacts
+    rows_in : SolverRows
+        Rows from :func:`prepare`, ``separation`` from :func:`current_separation`
+        (negative when overlapping); the impulses are updated.
+    bodies : Bodies
+        Velocities updated in place.
+    iso : (N,) float64
+        Scalar inverse inertia, or -1 (see :func:`prepare`).
+    inv_h : float
+        One over the substep.
     use_bias : bool
         True for the solve pass (soft push-out of overlap at most ``max_push``
         m/s), False for the relax pass.
     bias_rate, mass_scale, impulse_scale : float
         From :func:`soft_params`.
     iterations : int
-    spin : tuple
-        Spin-friction rows (see :func:`_prepare_spin`).
     """
-    slim, sbv, sia, sib, smass, slam = spin
+    body_a = contacts.body_a
+    body_b = contacts.body_b
+    sep = rows_in.separation
+    lam = rows_in.impulse
+    cmu = rows_in.friction
+    rows = rows_in.direction
+    ja = rows_in.jac_a
+    jb = rows_in.jac_b
+    ija = rows_in.inv_i_jac_a
+    ijb = rows_in.inv_i_jac_b
+    rmass = rows_in.eff_mass
+    maxlam = rows_in.max_normal_impulse
+    vel = bodies.velocity
+    omg = bodies.angular_velocity
+    inv_mass = bodies.inv_mass
+    spin = rows_in.spin
+    slim = spin.limits
+    sbv = spin.planes
+    sia = spin.inv_i_planes_a
+    sib = spin.inv_i_planes_b
+    smass = spin.eff_mass
+    slam = spin.impulse
     # The two bodies' velocities live in small local arrays while a contact is
     # solved: writing straight into vel/omg would make the compiler reload
     # every Jacobian after each store (it cannot rule out aliasing), which
@@ -440,8 +496,8 @@ def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, om
     dl = np.empty(3)
     for _ in range(iterations):
         for c in range(nc):
-            a = ci[c, 0]
-            b = ci[c, 1]
+            a = body_a[c]
+            b = body_b[c]
             for m in range(4):
                 va[m] = vel[a, m]
             for k in range(6):
@@ -495,12 +551,12 @@ def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, om
                 isc = impulse_scale
             else:
                 bias = 0.0
-            old = clam[c, 0]
+            old = lam[c, 0]
             new = old - rmass[c, 0] * ms * (vn + bias) - isc * old
             if new < 0.0:
                 new = 0.0
             d = new - old
-            clam[c, 0] = new
+            lam[c, 0] = new
             if new > maxlam[c]:
                 maxlam[c] = new
             for m in range(4):
@@ -509,7 +565,7 @@ def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, om
             for k in range(6):
                 wa[k] -= d * fa * IA[0, k]
                 wb[k] += d * fb * IB[0, k]
-            # Friction: one vector impulse clamped to the friction ball.
+            # Friction: one vector impulse lamped to the friction ball.
             limit = cmu[c] * new
             s2 = 0.0
             for r in range(3):
@@ -518,15 +574,15 @@ def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, om
                     v += R[r + 1, m] * (vb[m] - va[m])
                 for k in range(6):
                     v += JB[r + 1, k] * wb[k] - JA[r + 1, k] * wa[k]
-                dl[r] = clam[c, r + 1] - rmass[c, r + 1] * v
+                dl[r] = lam[c, r + 1] - rmass[c, r + 1] * v
                 s2 += dl[r] * dl[r]
             if s2 > limit * limit:
                 sc = limit / np.sqrt(s2) if s2 > 0.0 else 0.0
                 for r in range(3):
                     dl[r] *= sc
             for r in range(3):
-                d = dl[r] - clam[c, r + 1]
-                clam[c, r + 1] = dl[r]
+                d = dl[r] - lam[c, r + 1]
+                lam[c, r + 1] = dl[r]
                 for m in range(4):
                     va[m] -= ima * d * R[r + 1, m]
                     vb[m] += imb * d * R[r + 1, m]
@@ -568,45 +624,61 @@ def solve(nc, ci, sep, clam, cmu, rows, ja, jb, ija, ijb, rmass, maxlam, vel, om
 
 
 @njit(cache=True)
-def restitution(nc, ci, clam, ce, rows, ja, jb, ija, ijb, rmass, vn0, maxlam, vel, omg,
-                inv_mass, iso, threshold):
+def restitution(nc, contacts, rows_in, bodies, iso, threshold):
     """Bounce: drive the normal velocity to ``-e * vn0`` for contacts that were hit.
 
     Only contacts approaching faster than ``threshold`` and that actually pushed
     (a speculative contact that never engaged must not bounce early).
     """
+    body_a = contacts.body_a
+    body_b = contacts.body_b
+    impulse = rows_in.impulse
+    ce = rows_in.restitution
+    rows = rows_in.direction
+    ja = rows_in.jac_a
+    jb = rows_in.jac_b
+    ija = rows_in.inv_i_jac_a
+    ijb = rows_in.inv_i_jac_b
+    rmass = rows_in.eff_mass
+    vn0 = rows_in.approach_speed
+    maxlam = rows_in.max_normal_impulse
+    vel = bodies.velocity
+    omg = bodies.angular_velocity
+    inv_mass = bodies.inv_mass
     for c in range(nc):
         if ce[c] == 0.0 or vn0[c] > -threshold or maxlam[c] == 0.0:
             continue
-        a = ci[c, 0]
-        b = ci[c, 1]
+        a = body_a[c]
+        b = body_b[c]
         vn = _rel_vel(c, 0, a, b, rows, ja, jb, vel, omg)
         lam = -rmass[c, 0] * (vn + ce[c] * vn0[c])
-        new = clam[c, 0] + lam
+        new = impulse[c, 0] + lam
         if new < 0.0:
             new = 0.0
-        d = new - clam[c, 0]
-        clam[c, 0] = new
+        d = new - impulse[c, 0]
+        impulse[c, 0] = new
         if d != 0.0:
             _apply(c, 0, a, b, d, rows, ja, jb, ija, ijb, vel, omg, inv_mass, iso)
 
 
 @njit(cache=True)
-def store(nc, ci, clam, rows, cloc, ok, oloc, olam, oft):
-    """Keep this tick's impulses, keyed by pair, for the next warm start.
-
-    Returns
-    -------
-    int
-        Number of stored contacts (``nc``).
-    """
+def store(nc, contacts, rows_in, warm):
+    """Keep this tick's impulses, keyed by pair, in ``warm`` for the next warm start."""
+    lam = rows_in.impulse
+    rows = rows_in.direction
+    local_point = rows_in.local_point
+    keys = contacts.key
+    old_key = warm.key
+    old_normal = warm.normal_impulse
+    old_point = warm.local_point
+    old_friction = warm.friction_impulse
     for c in range(nc):
-        ok[c] = ci[c, 2]
-        olam[c] = clam[c, 0]
+        old_key[c] = keys[c]
+        old_normal[c] = lam[c, 0]
         for m in range(4):
-            oloc[c, m] = cloc[c, m]
+            old_point[c, m] = local_point[c, m]
             s = 0.0
             for r in range(3):
-                s += clam[c, r + 1] * rows[c, r + 1, m]
-            oft[c, m] = s
-    return nc
+                s += lam[c, r + 1] * rows[c, r + 1, m]
+            old_friction[c, m] = s
+    warm.count[0] = nc

@@ -1,10 +1,10 @@
 """The game-facing 4D rigid-body world.
 
->>> from across_dimensions.physics import PhysicsWorld
+>>> from across_dimensions.physics import BodyDef, PhysicsWorld
 >>> world = PhysicsWorld(gravity=(0, -9.81, 0, 0))          # ground plane y = 0
->>> ball = world.add_body("hypersphere", radius=0.5, position=(0, 2, 0, 0.3))
->>> box = world.add_body("hypercube", size=1.0, position=(2, 0.5, 0, 0),
-...                      angles={"xw": 0.3})
+>>> ball = world.add_body(BodyDef("hypersphere", radius=0.5, position=(0, 2, 0, 0.3)))
+>>> box = world.add_body(BodyDef("hypercube", size=1.0, position=(2, 0.5, 0, 0),
+...                               angles={"xw": 0.3}))
 >>> world.step(1 / 60)                                      # one fixed tick
 1
 >>> model = world.body_pose(ball)                           # (5, 5) model matrix
@@ -27,10 +27,21 @@ from across_dimensions.core import transform
 
 from . import pipeline as pl
 from .bivector import world_inverse_inertia
+from .body_def import BodyDef
 from .collide import BOX, SCRATCH_POINTS, SPHERE
+from .debug_draw import DebugDrawer, DebugDrawOptions, debug_draw
 from .events import ContactEvent, manifold_events, touching_keys
 from .mass import box_inertia, box_volume, hypersphere_inertia, hypersphere_volume
-from .queries import player_kernel, raycast_kernel
+from .queries import box_push_out_kernel, raycast_kernel
+from .state import (
+    Bodies,
+    Scratch,
+    StaticWorld,
+    new_contacts,
+    new_params,
+    new_solver_rows,
+    new_warm_start,
+)
 
 #: Pairs closer than this (metres) count as touching for events.
 _TOUCH_TOL = 1e-3
@@ -117,6 +128,19 @@ class PhysicsWorld:
         times the normal force times the radius. 0 (the default) rolls on
         ideally, as the physics tests expect; a level may want about 0.02 so
         balls come to rest and sleep.
+
+    Attributes
+    ----------
+    bodies : Bodies
+        Every body slot (see :mod:`.state`); read it, change bodies through the methods.
+    static : StaticWorld
+        Half-spaces and 3D world boxes.
+    params : (1,) PARAMS_DTYPE record array
+        The tuning values above, by name (``params["max_push"]``).
+    contacts : Contacts
+        The last tick's contacts; the first :attr:`last_contact_count` are valid.
+    warm : WarmStart
+        The impulses the next tick starts from.
     """
 
     def __init__(self, gravity=(0.0, -9.81, 0.0, 0.0), inverse_cube_G: float = 0.0, *,
@@ -127,44 +151,41 @@ class PhysicsWorld:
                  softening: float = 0.05, contact_hertz: float = 30.0,
                  damping_ratio: float = 10.0, max_push: float = 3.0,
                  spin_friction: float = 0.1, rolling_resistance: float = 0.0):
-        self.params = np.zeros(pl.N_PARAMS)
         if not tick_dt > 0 or int(substeps) < 1:
             raise ValueError("tick_dt must be positive and substeps at least 1")
+        self.params = new_params()
         self.tick_dt = float(tick_dt)
         self.substeps = int(substeps)
         self.gravity = gravity
         self.inverse_cube_G = inverse_cube_G
         p = self.params
-        p[pl.P_DT] = self.tick_dt
-        p[pl.P_SUBSTEPS] = self.substeps
-        p[pl.P_SOFTEN] = softening
-        p[pl.P_MARGIN] = 0.02
-        p[pl.P_HERTZ] = contact_hertz
-        p[pl.P_ZETA] = damping_ratio
-        p[pl.P_MAXPUSH] = max_push
-        p[pl.P_RESTTHR] = 0.5
-        p[pl.P_SPINR] = spin_friction
-        p[pl.P_ROLL] = rolling_resistance
-        p[pl.P_SLEEPLIN] = 0.05
-        p[pl.P_SLEEPANG] = 0.1
-        p[pl.P_SLEEPTIME] = sleep_time
-        p[pl.P_ITERS] = iterations
-        p[pl.P_RELAX] = relax_iterations
-        p[pl.P_WORLDMU] = world_friction
-        p[pl.P_WORLDE] = world_restitution
+        p["tick_dt"] = self.tick_dt
+        p["substeps"] = self.substeps
+        p["softening"] = softening
+        p["margin"] = 0.02
+        p["contact_hertz"] = contact_hertz
+        p["damping_ratio"] = damping_ratio
+        p["max_push"] = max_push
+        p["restitution_threshold"] = 0.5
+        p["spin_friction"] = spin_friction
+        p["rolling_resistance"] = rolling_resistance
+        p["sleep_linear"] = 0.05
+        p["sleep_angular"] = 0.1
+        p["sleep_time"] = sleep_time
+        p["iterations"] = iterations
+        p["relax_iterations"] = relax_iterations
+        p["world_friction"] = world_friction
+        p["world_restitution"] = world_restitution
         self.allow_sleep = allow_sleep
         self.max_ticks = int(max_ticks)
         self.time = 0.0
         self._acc = 0.0
-        self._n = 0
         self._alloc_bodies(16)
-        self._half_spaces = np.zeros((0, 5))
-        self._boxes = np.zeros((0, 6))
+        self.static = StaticWorld(np.zeros((0, 5)), np.zeros((0, 6)))
         if ground:
             self.add_half_space((0.0, 1.0, 0.0, 0.0), 0.0)
+        self.warm = new_warm_start(256)
         self._alloc_contacts(256, 256)
-        self._scratch_p = np.zeros((SCRATCH_POINTS, 4))
-        self._scratch_d = np.zeros(SCRATCH_POINTS)
         self._touch_keys = np.zeros(0, dtype=np.int64)
         self._touch_prev = np.zeros(0, dtype=np.int64)
         self._events_cache: list[ContactEvent] | None = []
@@ -175,129 +196,105 @@ class PhysicsWorld:
     @property
     def gravity(self) -> np.ndarray:
         """Gravity ``(4,) float64`` (a copy); assign to change it per level."""
-        return self.params[pl.P_G:pl.P_G + 4].copy()
+        return self.params["gravity"][0].copy()
 
     @gravity.setter
     def gravity(self, value) -> None:
-        self.params[pl.P_G:pl.P_G + 4] = _vec4(value, "gravity")
+        self.params["gravity"] = _vec4(value, "gravity")
         self._wake_all()  # sleepers must feel the new pull
 
     @property
     def inverse_cube_G(self) -> float:
         """Strength ``G`` of the mutual ``G m1 m2 / r^3`` attraction (0 = off)."""
-        return float(self.params[pl.P_INVCUBE])
+        return float(self.params["inverse_cube_G"][0])
 
     @inverse_cube_G.setter
     def inverse_cube_G(self, value: float) -> None:
-        self.params[pl.P_INVCUBE] = float(value)
+        self.params["inverse_cube_G"] = float(value)
         self._wake_all()
 
     @property
     def allow_sleep(self) -> bool:
-        return bool(self.params[pl.P_ALLOWSLEEP])
+        return bool(self.params["allow_sleep"][0])
 
     @allow_sleep.setter
     def allow_sleep(self, value: bool) -> None:
-        self.params[pl.P_ALLOWSLEEP] = 1.0 if value else 0.0
-        if not value and hasattr(self, "awake"):
-            self.awake[: self._n] = True
+        self.params["allow_sleep"] = 1.0 if value else 0.0
+        if not value and hasattr(self, "bodies"):
+            self.bodies.awake[: self._n] = True
 
     # ------------------------------------------------------------------ storage
     def _alloc_bodies(self, cap: int) -> None:
-        old = getattr(self, "alive", None)
+        old = getattr(self, "bodies", None)
+        n = old.count if old is not None else 0
         fields = {
             "alive": ((), bool), "kind": ((), np.int8), "shape": ((), np.int8),
-            "half": ((4,), np.float64), "bound": ((), np.float64),
-            "pos": ((4,), np.float64), "rot": ((4, 4), np.float64),
-            "vel": ((4,), np.float64), "omg": ((6,), np.float64),
+            "half_extents": ((4,), np.float64), "bound": ((), np.float64),
+            "position": ((4,), np.float64), "rotation": ((4, 4), np.float64),
+            "velocity": ((4,), np.float64), "angular_velocity": ((6,), np.float64),
             "mass": ((), np.float64), "inv_mass": ((), np.float64),
-            "inv_inertia": ((6,), np.float64), "mu": ((), np.float64),
-            "rest": ((), np.float64), "awake": ((), bool), "timer": ((), np.float64),
+            "inv_inertia": ((6,), np.float64), "friction": ((), np.float64),
+            "restitution": ((), np.float64), "awake": ((), bool), "sleep_timer": ((), np.float64),
             "island": ((), np.int64),
-            # Poses at the start of the last tick, for render interpolation.
-            "prev_pos": ((4,), np.float64), "prev_rot": ((4, 4), np.float64),
         }
+        arrays = {}
         for name, (shape, dtype) in fields.items():
             arr = np.zeros((cap,) + shape, dtype=dtype)
             if old is not None:
-                arr[: self._n] = getattr(self, name)[: self._n]
-            setattr(self, name, arr)
-        self._marg = np.zeros(cap)
+                arr[:n] = getattr(old, name)[:n]
+            arrays[name] = arr
+        self.bodies = Bodies(count=n, **arrays)
+        # Poses at the start of the last tick, for render interpolation.
+        prev = (getattr(self, "_prev_position", None), getattr(self, "_prev_rotation", None))
+        self._prev_position = np.zeros((cap, 4))
+        self._prev_rotation = np.zeros((cap, 4, 4))
+        if old is not None:
+            self._prev_position[:n] = prev[0][:n]
+            self._prev_rotation[:n] = prev[1][:n]
+
+    @property
+    def _n(self) -> int:
+        return self.bodies.count
 
     def _alloc_contacts(self, pair_cap: int, contact_cap: int) -> None:
-        self._pairs = np.zeros((pair_cap, 2), dtype=np.int64)
-        old = getattr(self, "_ok", None)
-        cnt = int(self._ocnt[0]) if old is not None else 0
-        self._ci = np.zeros((contact_cap, 3), dtype=np.int64)
-        self._cp = np.zeros((contact_cap, 4))
-        self._cn = np.zeros((contact_cap, 4))
-        self._cd = np.zeros(contact_cap)
-        self._clam = np.zeros((contact_cap, 4))
-        self._ctot = np.zeros(contact_cap)
-        self._work = pl.solver_work(contact_cap)
+        """Size the per-tick buffers; the warm-start entries are kept."""
+        self._scratch = Scratch(np.zeros((pair_cap, 2), dtype=np.int64), np.zeros(self.bodies.alive.shape[0]),
+                                np.zeros((SCRATCH_POINTS, 4)), np.zeros(SCRATCH_POINTS), np.zeros(1, np.int64))
+        self.contacts = new_contacts(contact_cap)
+        self._rows = new_solver_rows(contact_cap)
         self._touch_buf = np.zeros(contact_cap, dtype=np.int64)
-        ok = np.zeros(contact_cap, dtype=np.int64)
-        oloc = np.zeros((contact_cap, 4))
-        olam = np.zeros(contact_cap)
-        oft = np.zeros((contact_cap, 4))
-        if old is not None:
-            ok[:cnt] = self._ok[:cnt]
-            oloc[:cnt] = self._oloc[:cnt]
-            olam[:cnt] = self._olam[:cnt]
-            oft[:cnt] = self._oft[:cnt]
-        self._ok, self._oloc, self._olam, self._oft = ok, oloc, olam, oft
-        self._ocnt = np.array([cnt, 0], dtype=np.int64)
+        if self.warm.key.shape[0] != contact_cap:
+            self.warm = new_warm_start(contact_cap, self.warm)
 
     def _check(self, body_id: int) -> int:
         i = int(body_id)
-        if not (0 <= i < self._n) or not self.alive[i]:
+        if not (0 <= i < self._n) or not self.bodies.alive[i]:
             raise KeyError(f"no body with id {body_id}")
         return i
 
     # ------------------------------------------------------------------ bodies
-    def add_body(self, shape: str = "hypersphere", size=None, *, radius: float | None = None,
-                 position=(0.0, 0.0, 0.0, 0.0), rotation=None,
-                 angles: Mapping[str, float] | None = None, velocity=None,
-                 angular_velocity=None, mass: float | None = None, density: float = 1.0,
-                 kind: str = "dynamic", restitution: float = 0.1,
-                 friction: float = 0.5) -> int:
+    def add_body(self, body_def: BodyDef) -> int:
         """Add a body and return its id.
 
         Parameters
         ----------
-        shape : {"hypersphere", "hypercube"}
-            ``"box"`` and ``"tesseract"`` are accepted for "hypercube".
-        size : float or (4,) array_like, optional
-            Hypercube: edge length, or the four edge lengths of a box (its
-            inertia is then anisotropic). Hypersphere: diameter, if ``radius``
-            is not given. Default 1.
-        radius : float, optional
-            Hypersphere radius.
-        position : (4,) array_like
-            Centre, metres.
-        rotation : (4, 4) array_like or mapping of plane to angle, optional
-        angles : mapping of plane name to radians, optional
-            Alternative to ``rotation`` (see :func:`transform.angles_to_rotation`).
-        velocity : (4,) array_like, optional
-        angular_velocity : (6,) array_like or mapping of plane to rad/s, optional
-            Bivector in ``xy xz yz xw yw zw`` order.
-        mass : float, optional
-            Overrides ``density * hypervolume``.
-        density : float
-            kg per m^4.
-        kind : {"dynamic", "kinematic", "static"}
-            Kinematic bodies move with the velocity you set and push others
-            without being pushed; static ones never move.
-        restitution : float
-            Bounciness in [0, 1]; a pair uses the larger of its two values.
-        friction : float
-            Coulomb coefficient; a pair uses the geometric mean.
+        body_def : BodyDef
+            Shape, pose, motion and material (see :class:`BodyDef` for the defaults).
 
         Returns
         -------
         int
             The body id, stable until :meth:`remove_body`.
+
+        Raises
+        ------
+        ValueError
+            Unknown shape or kind, a non-positive size, radius or mass.
         """
+        if not isinstance(body_def, BodyDef):
+            raise TypeError(f"add_body takes a BodyDef, got {type(body_def).__name__}")
+        d = body_def
+        shape, size, radius, kind = d.shape, d.size, d.radius, d.kind
         if shape not in _SHAPES:
             raise ValueError(f"unknown shape {shape!r}; use 'hypersphere' or 'hypercube'")
         if kind not in _KINDS:
@@ -315,56 +312,62 @@ class PhysicsWorld:
                 raise ValueError("size must be positive")
             half = 0.5 * s
             volume = box_volume(half)
-        m = float(mass) if mass is not None else float(density) * volume
+        m = float(d.mass) if d.mass is not None else float(d.density) * volume
         if not m > 0:
             raise ValueError("mass must be positive")
         inertia = hypersphere_inertia(m, half[0]) if sh == SPHERE else box_inertia(m, half)
-        if self._n == self.alive.shape[0]:
-            self._alloc_bodies(2 * self.alive.shape[0])
-        i = self._n
-        self._n += 1
         k = _KINDS[kind]
-        self.alive[i] = True
-        self.kind[i] = k
-        self.shape[i] = sh
-        self.half[i] = half
-        self.bound[i] = half[0] if sh == SPHERE else float(np.linalg.norm(half))
-        self.pos[i] = _vec4(position, "position")
-        self.rot[i] = _rotation(rotation, angles)
-        self.vel[i] = _vec4(velocity, "velocity") if k != pl.STATIC else 0.0
-        self.omg[i] = _bivector(angular_velocity) if k != pl.STATIC else 0.0
-        self.mass[i] = m
-        self.inv_mass[i] = 1.0 / m if k == pl.DYNAMIC else 0.0
-        self.inv_inertia[i] = 1.0 / inertia if k == pl.DYNAMIC else 0.0
-        self.mu[i] = friction
-        self.rest[i] = restitution
-        self.awake[i] = True
-        self.timer[i] = 0.0
-        self.island[i] = i
-        self.prev_pos[i] = self.pos[i]
-        self.prev_rot[i] = self.rot[i]
+        # Everything that can fail is checked before the slot is taken.
+        position = _vec4(d.position, "position")
+        rotation = _rotation(d.rotation, d.angles)
+        velocity = _vec4(d.velocity, "velocity") if k != pl.STATIC else 0.0
+        angular_velocity = _bivector(d.angular_velocity) if k != pl.STATIC else 0.0
+        if self._n == self.bodies.alive.shape[0]:
+            self._alloc_bodies(2 * self.bodies.alive.shape[0])
+            self._scratch = self._scratch._replace(margin=np.zeros(self.bodies.alive.shape[0]))
+        i = self._n
+        self.bodies = self.bodies._replace(count=i + 1)
+        self.bodies.alive[i] = True
+        self.bodies.kind[i] = k
+        self.bodies.shape[i] = sh
+        self.bodies.half_extents[i] = half
+        self.bodies.bound[i] = half[0] if sh == SPHERE else float(np.linalg.norm(half))
+        self.bodies.position[i] = position
+        self.bodies.rotation[i] = rotation
+        self.bodies.velocity[i] = velocity
+        self.bodies.angular_velocity[i] = angular_velocity
+        self.bodies.mass[i] = m
+        self.bodies.inv_mass[i] = 1.0 / m if k == pl.DYNAMIC else 0.0
+        self.bodies.inv_inertia[i] = 1.0 / inertia if k == pl.DYNAMIC else 0.0
+        self.bodies.friction[i] = d.friction
+        self.bodies.restitution[i] = d.restitution
+        self.bodies.awake[i] = True
+        self.bodies.sleep_timer[i] = 0.0
+        self.bodies.island[i] = i
+        self._prev_position[i] = self.bodies.position[i]
+        self._prev_rotation[i] = self.bodies.rotation[i]
         return i
 
     def remove_body(self, body_id: int) -> None:
         """Delete a body; sleeping bodies near it wake (they may have rested on it)."""
         i = self._check(body_id)
         self._wake_near(i)
-        self.alive[i] = False
-        self.awake[i] = False
-        self.vel[i] = 0.0
-        self.omg[i] = 0.0
+        self.bodies.alive[i] = False
+        self.bodies.awake[i] = False
+        self.bodies.velocity[i] = 0.0
+        self.bodies.angular_velocity[i] = 0.0
 
     def _wake_near(self, i: int) -> None:
         n = self._n
-        d = np.linalg.norm(self.pos[:n] - self.pos[i], axis=1)
-        near = d <= self.bound[:n] + self.bound[i] + 4 * self.params[pl.P_MARGIN]
-        for j in np.flatnonzero(near & self.alive[:n] & ~self.awake[:n]):
+        d = np.linalg.norm(self.bodies.position[:n] - self.bodies.position[i], axis=1)
+        near = d <= self.bodies.bound[:n] + self.bodies.bound[i] + 4 * self.params["margin"][0]
+        for j in np.flatnonzero(near & self.bodies.alive[:n] & ~self.bodies.awake[:n]):
             self.wake(int(j))
 
     @property
     def body_ids(self) -> list[int]:
         """Ids of the bodies that exist."""
-        return [int(i) for i in np.flatnonzero(self.alive[: self._n])]
+        return [int(i) for i in np.flatnonzero(self.bodies.alive[: self._n])]
 
     def body_pose(self, body_id: int, alpha: float | None = None) -> np.ndarray:
         """Model matrix of a body: ``(5, 5) float64`` homogeneous ``[[R, x], [0, 1]]``.
@@ -381,12 +384,12 @@ class PhysicsWorld:
         i = self._check(body_id)
         m = np.eye(5)
         if alpha is None or alpha >= 1.0:
-            m[:4, :4] = self.rot[i]
-            m[:4, 4] = self.pos[i]
+            m[:4, :4] = self.bodies.rotation[i]
+            m[:4, 4] = self.bodies.position[i]
         else:
             a = max(0.0, float(alpha))
-            m[:4, :4] = transform.orthonormalize((1 - a) * self.prev_rot[i] + a * self.rot[i])
-            m[:4, 4] = (1 - a) * self.prev_pos[i] + a * self.pos[i]
+            m[:4, :4] = transform.orthonormalize((1 - a) * self._prev_rotation[i] + a * self.bodies.rotation[i])
+            m[:4, 4] = (1 - a) * self._prev_position[i] + a * self.bodies.position[i]
         return m
 
     @property
@@ -396,47 +399,47 @@ class PhysicsWorld:
 
     def body_position(self, body_id: int) -> np.ndarray:
         """Centre ``(4,) float64`` (a copy)."""
-        return self.pos[self._check(body_id)].copy()
+        return self.bodies.position[self._check(body_id)].copy()
 
     def body_rotation(self, body_id: int) -> np.ndarray:
         """Rotation ``(4, 4) float64`` (a copy)."""
-        return self.rot[self._check(body_id)].copy()
+        return self.bodies.rotation[self._check(body_id)].copy()
 
     def body_velocity(self, body_id: int) -> tuple[np.ndarray, np.ndarray]:
         """Linear ``(4,)`` and angular ``(6,)`` velocity (copies)."""
         i = self._check(body_id)
-        return self.vel[i].copy(), self.omg[i].copy()
+        return self.bodies.velocity[i].copy(), self.bodies.angular_velocity[i].copy()
 
     def body_mass(self, body_id: int) -> float:
-        return float(self.mass[self._check(body_id)])
+        return float(self.bodies.mass[self._check(body_id)])
 
     def body_inertia(self, body_id: int) -> np.ndarray:
         """World-frame inertia ``(6, 6) float64`` on bivectors (dynamic bodies)."""
         i = self._check(body_id)
         inv = np.zeros((6, 6))
-        world_inverse_inertia(self.rot[i], self.inv_inertia[i], inv)
+        world_inverse_inertia(self.bodies.rotation[i], self.bodies.inv_inertia[i], inv)
         return np.linalg.inv(inv)
 
     def set_velocity(self, body_id: int, velocity=None, angular_velocity=None) -> None:
         """Set linear ``(4,)`` and/or angular ``(6,)`` velocity and wake the body."""
         i = self._check(body_id)
-        if self.kind[i] == pl.STATIC:
+        if self.bodies.kind[i] == pl.STATIC:
             raise ValueError("static bodies cannot move; use kind='kinematic'")
         if velocity is not None:
-            self.vel[i] = _vec4(velocity, "velocity")
+            self.bodies.velocity[i] = _vec4(velocity, "velocity")
         if angular_velocity is not None:
-            self.omg[i] = _bivector(angular_velocity)
+            self.bodies.angular_velocity[i] = _bivector(angular_velocity)
         self.wake(i)
 
     def set_pose(self, body_id: int, position=None, rotation=None) -> None:
         """Teleport a body (typically a kinematic one) and wake whatever it now touches."""
         i = self._check(body_id)
         if position is not None:
-            self.pos[i] = _vec4(position, "position")
+            self.bodies.position[i] = _vec4(position, "position")
         if rotation is not None:
-            self.rot[i] = _rotation(rotation)
+            self.bodies.rotation[i] = _rotation(rotation)
         self._wake_near(i)
-        if self.kind[i] == pl.DYNAMIC:
+        if self.bodies.kind[i] == pl.DYNAMIC:
             self.wake(i)
 
     def push(self, body_id: int, impulse, point=None) -> None:
@@ -446,36 +449,41 @@ class PhysicsWorld:
         Static and kinematic bodies ignore pushes.
         """
         i = self._check(body_id)
-        if self.kind[i] != pl.DYNAMIC:
+        if self.bodies.kind[i] != pl.DYNAMIC:
             return
         p = _vec4(impulse, "impulse")
         self.wake(i)
-        self.vel[i] += p * self.inv_mass[i]
+        self.bodies.velocity[i] += p * self.bodies.inv_mass[i]
         if point is not None:
-            r = _vec4(point, "point") - self.pos[i]
+            r = _vec4(point, "point") - self.bodies.position[i]
             tau = np.array([r[a] * p[b] - r[b] * p[a]
                             for a, b in ((0, 1), (0, 2), (1, 2), (0, 3), (1, 3), (2, 3))])
             inv = np.zeros((6, 6))
-            world_inverse_inertia(self.rot[i], self.inv_inertia[i], inv)
-            self.omg[i] += inv @ tau
+            world_inverse_inertia(self.bodies.rotation[i], self.bodies.inv_inertia[i], inv)
+            self.bodies.angular_velocity[i] += inv @ tau
 
     def wake(self, body_id: int) -> None:
         """Wake a body and the sleeping island it belongs to."""
         i = self._check(body_id)
-        if self.kind[i] != pl.DYNAMIC:
+        if self.bodies.kind[i] != pl.DYNAMIC:
             return
-        if not self.awake[i]:
+        if not self.bodies.awake[i]:
             n = self._n
-            group = self.alive[:n] & ~self.awake[:n] & (self.island[:n] == self.island[i])
-            group &= self.kind[:n] == pl.DYNAMIC
-            self.awake[:n][group] = True
-            self.timer[:n][group] = 0.0
-        self.awake[i] = True
-        self.timer[i] = 0.0
+            group = self.bodies.alive[:n] & ~self.bodies.awake[:n] & (self.bodies.island[:n] == self.bodies.island[i])
+            group &= self.bodies.kind[:n] == pl.DYNAMIC
+            self.bodies.awake[:n][group] = True
+            self.bodies.sleep_timer[:n][group] = 0.0
+        self.bodies.awake[i] = True
+        self.bodies.sleep_timer[i] = 0.0
+
+    def body_kind(self, body_id: int) -> str:
+        """``"dynamic"``, ``"kinematic"`` or ``"static"``."""
+        k = self.bodies.kind[self._check(body_id)]
+        return next(name for name, code in _KINDS.items() if code == k)
 
     def is_sleeping(self, body_id: int) -> bool:
         i = self._check(body_id)
-        return bool(self.kind[i] == pl.DYNAMIC and not self.awake[i])
+        return bool(self.bodies.kind[i] == pl.DYNAMIC and not self.bodies.awake[i])
 
     # ------------------------------------------------------------------ static world
     def add_half_space(self, normal, offset: float = 0.0) -> int:
@@ -489,9 +497,9 @@ class PhysicsWorld:
         if ln == 0:
             raise ValueError("normal must be non-zero")
         row = np.append(n / ln, float(offset) / ln)
-        self._half_spaces = np.vstack([self._half_spaces, row[None]])
+        self.static = self.static._replace(half_spaces=np.vstack([self.static.half_spaces, row[None]]))
         self._wake_all()
-        return self._half_spaces.shape[0] - 1
+        return self.static.half_spaces.shape[0] - 1
 
     def set_static_boxes(self, boxes: Iterable[tuple[Sequence[float], Sequence[float]]]) -> None:
         """Replace the 3D world boxes: ``(center (3,), half_extents (3,))`` each,
@@ -503,15 +511,15 @@ class PhysicsWorld:
             if np.any(h <= 0):
                 raise ValueError("world box half extents must be positive")
             rows.append(np.concatenate([c, h]))
-        self._boxes = np.array(rows, dtype=np.float64).reshape(-1, 6)
+        self.static = self.static._replace(boxes=np.array(rows, dtype=np.float64).reshape(-1, 6))
         self._wake_all()
 
     def _wake_all(self) -> None:
-        if hasattr(self, "awake"):
+        if hasattr(self, "bodies"):
             n = self._n
-            dyn = self.alive[:n] & (self.kind[:n] == pl.DYNAMIC)
-            self.awake[:n][dyn] = True
-            self.timer[:n][dyn] = 0.0
+            dyn = self.bodies.alive[:n] & (self.bodies.kind[:n] == pl.DYNAMIC)
+            self.bodies.awake[:n][dyn] = True
+            self.bodies.sleep_timer[:n][dyn] = 0.0
 
     # ------------------------------------------------------------------ stepping
     def step(self, dt: float) -> int:
@@ -557,30 +565,25 @@ class PhysicsWorld:
         int
             Number of contact points solved.
         """
-        p = self.params
+        params = self.params
         if self.inverse_cube_G != 0.0:
-            p = p.copy()
-            p[pl.P_ALLOWSLEEP] = 0.0
+            params = params.copy()
+            params["allow_sleep"] = 0.0
         n = self._n
-        self.prev_pos[:n] = self.pos[:n]
-        self.prev_rot[:n] = self.rot[:n]
+        self._prev_position[:n] = self.bodies.position[:n]
+        self._prev_rotation[:n] = self.bodies.rotation[:n]
         while True:
-            nc = pl.tick(self._n, self.alive, self.kind, self.shape, self.half, self.bound,
-                         self.pos, self.rot, self.vel, self.omg, self.mass, self.inv_mass,
-                         self.inv_inertia, self.mu, self.rest, self.awake, self.timer,
-                         self.island, self._half_spaces, self._boxes, p, self._pairs,
-                         self._marg, self._scratch_p, self._scratch_d, self._ci, self._cp,
-                         self._cn, self._cd, self._clam, self._ctot, self._ok, self._oloc, self._olam,
-                         self._oft, self._ocnt, self._work)
+            nc = pl.tick(self.bodies, self.static, params, self.contacts, self.warm, self._rows,
+                         self._scratch)
             if nc == -1:
-                self._alloc_contacts(2 * int(self._ocnt[1]), self._ci.shape[0])
+                self._alloc_contacts(2 * int(self._scratch.needed[0]), self.contacts.key.shape[0])
             elif nc == -2:
-                self._alloc_contacts(self._pairs.shape[0], 2 * int(self._ocnt[1]))
+                self._alloc_contacts(self._scratch.pairs.shape[0], 2 * int(self._scratch.needed[0]))
             else:
                 break
         self.last_contact_count = nc
         self.time += self.tick_dt
-        nt = touching_keys(nc, self._ci, self._cd, self._ctot, _TOUCH_TOL, self._touch_buf)
+        nt = touching_keys(nc, self.contacts, _TOUCH_TOL, self._touch_buf)
         self._touch_prev = self._touch_keys
         self._touch_keys = self._touch_buf[:nt].copy()
         self._events_cache = None
@@ -601,8 +604,7 @@ class PhysicsWorld:
     def _last_tick_events(self) -> list[ContactEvent]:
         if self._events_cache is None:
             nc = self.last_contact_count
-            keys, ab, pts, nrm, imp = manifold_events(nc, self._ci, self._cp, self._cn,
-                                                      self._cd, self._ctot, _TOUCH_TOL)
+            keys, ab, pts, nrm, imp = manifold_events(nc, self.contacts, _TOUCH_TOL)
             began = ~np.isin(keys, self._touch_prev)
             self._events_cache = [
                 ContactEvent(int(ab[e, 0]), int(ab[e, 1]) if ab[e, 1] >= 0 else "world",
@@ -615,13 +617,17 @@ class PhysicsWorld:
     def state_bytes(self) -> bytes:
         """Everything that determines the future: bodies, sleep state, warm-start cache."""
         n = self._n
-        parts = [np.array([n, self._ocnt[0]], dtype=np.int64), np.array([self.time, self._acc])]
-        for name in ("alive", "kind", "shape", "half", "pos", "rot", "vel", "omg", "mass",
-                     "inv_mass", "inv_inertia", "mu", "rest", "awake", "timer", "island"):
-            parts.append(getattr(self, name)[:n])
-        c = int(self._ocnt[0])
-        parts += [self._ok[:c], self._oloc[:c], self._olam[:c], self._oft[:c],
-                  self._half_spaces, self._boxes, self.params]
+        warm = self.warm
+        c = int(warm.count[0])
+        parts = [np.array([n, c], dtype=np.int64), np.array([self.time, self._acc])]
+        b = self.bodies
+        for name in ("alive", "kind", "shape", "half_extents", "position", "rotation", "velocity",
+                     "angular_velocity", "mass", "inv_mass", "inv_inertia", "friction", "restitution",
+                     "awake", "sleep_timer", "island"):
+            parts.append(getattr(b, name)[:n])
+        # The params record's bytes are those of its 25 float64 fields in order.
+        parts += [warm.key[:c], warm.local_point[:c], warm.normal_impulse[:c], warm.friction_impulse[:c],
+                  self.static.half_spaces, self.static.boxes, self.params]
         return b"".join(np.ascontiguousarray(a).tobytes() for a in parts)
 
     def state_hash(self) -> str:
@@ -654,57 +660,43 @@ class PhysicsWorld:
             raise ValueError("direction must be non-zero")
         d /= ln
         normal = np.zeros(4)
-        hit, t = raycast_kernel(self._n, self.alive, self.shape, self.half, self.pos, self.rot,
-                                self._half_spaces, self._boxes, o, d, float(max_dist),
-                                include_world, normal)
+        hit, t = raycast_kernel(self.bodies, self.static, o, d, float(max_dist), include_world, normal)
         if hit == -(1 << 62):
             return None
         who = int(hit) if hit >= 0 else "world"
         return who, float(t), o + t * d, normal
 
-    def player_collide(self, position, radius: float, height: float, w_half: float = 0.05,
-                       velocity=None):
-        """Push a player out of the bodies in its w slab.
+    def push_box_out(self, center, half_extents):
+        """Shortest xyz move that takes an upright 4D box out of the bodies it overlaps.
 
-        The player is the upright box ``[x +- radius] x [y, y + height] x
-        [z +- radius] x [w +- w_half]`` with ``position = (x, y, z, w)`` its feet.
-        Bodies whose 4D shape does not reach into the slab are ignored.
+        The box is axis-aligned and moves only in x, y and z: a thing that lives
+        in the 3D slice at its w (the player, see
+        :func:`across_dimensions.game.player_bodies.player_collide`). Bodies whose
+        4D shape does not reach into its w slab are ignored.
 
         Parameters
         ----------
-        position : (4,) array_like
-        radius, height, w_half : float
-        velocity : (3,) or (4,) array_like, optional
-            The player's velocity. If given, touched dynamic bodies that the
-            player walks into get the impulse that makes them move at least
-            as fast as the player along its direction of motion (pushing).
+        center, half_extents : (4,) array_like
 
         Returns
         -------
         correction : (3,) float64
-            xyz offset to add to the player's position.
+            xyz offset to add to the box's position.
         touched : list of int
-            Ids of the bodies in contact (push the dynamic ones with :meth:`push`).
+            Ids of the bodies it overlapped, in id order.
         """
-        feet = _vec4(position, "position")
+        c = _vec4(center, "center")
+        h = _vec4(half_extents, "half_extents")
         touched = np.zeros(self._n, dtype=bool)
-        corr = player_kernel(self._n, self.alive, self.shape, self.half, self.pos, self.rot,
-                             feet, float(radius), float(height), float(w_half), 4, touched)
-        ids = [int(i) for i in np.flatnonzero(touched)]
-        if velocity is not None:
-            v = np.zeros(4)
-            vv = np.asarray(velocity, dtype=np.float64).reshape(-1)
-            v[: vv.shape[0]] = vv
-            speed = np.linalg.norm(v)
-            if speed > 0:
-                d = v / speed
-                for i in ids:
-                    if self.kind[i] != pl.DYNAMIC:
-                        continue
-                    # Only bodies ahead of the player: behind ones are not pushed.
-                    if (self.pos[i] - feet) @ d <= 0:
-                        continue
-                    lag = speed - self.vel[i] @ d
-                    if lag > 0:
-                        self.push(i, self.mass[i] * lag * d)
-        return corr, ids
+        corr = box_push_out_kernel(self.bodies, c, h, 4, touched)
+        return corr, [int(i) for i in np.flatnonzero(touched)]
+
+    # ------------------------------------------------------------------ debug drawing
+    def debug_draw(self, drawer: DebugDrawer, w: float, options: DebugDrawOptions | None = None,
+                   boxes=()) -> None:
+        """Report colliders, contacts and query ``boxes`` in the 3D slice at ``w`` to ``drawer``.
+
+        See :func:`~across_dimensions.physics.debug_draw.debug_draw`; the world
+        does not change.
+        """
+        debug_draw(self, drawer, w, options, boxes)

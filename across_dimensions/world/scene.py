@@ -209,7 +209,7 @@ def build_physics(scene: Scene, tick_dt: float):
     if not movers:
         return None, {}
     from ..core.transform import PLANES
-    from ..physics import PhysicsWorld
+    from ..physics import BodyDef, PhysicsWorld
 
     level = scene.level
     world = PhysicsWorld(gravity=level.gravity, inverse_cube_G=level.inverse_cube_g, ground=False,
@@ -238,8 +238,8 @@ def build_physics(scene: Scene, tick_dt: float):
         if len(inside) == 0:
             continue
         for c, h in zip(wd.centers, wd.halves):
-            world.add_body("hypercube", size=np.append(2 * h, inside[-1] - inside[0]), kind="static",
-                           position=np.append(c, 0.5 * (inside[0] + inside[-1])))
+            world.add_body(BodyDef("hypercube", size=np.append(2 * h, inside[-1] - inside[0]), kind="static",
+                                   position=np.append(c, 0.5 * (inside[0] + inside[-1]))))
     body_of = {}
     for i in movers:
         o = scene.objects[i]
@@ -248,10 +248,10 @@ def build_physics(scene: Scene, tick_dt: float):
                       velocity=o.velocity, mass=o.mass,
                       angular_velocity=[np.radians(o.spin_deg.get(p, 0.0)) for p in PLANES])
         if o.body == "hypersphere":
-            body_of[i] = world.add_body("hypersphere", radius=float(np.linalg.norm(v, axis=1).max() * o.scale.max()),
-                                        **common)
+            radius = float(np.linalg.norm(v, axis=1).max() * o.scale.max())
+            body_of[i] = world.add_body(BodyDef("hypersphere", radius=radius, **common))
         else:
-            body_of[i] = world.add_body("hypercube", size=np.ptp(v, axis=0) * o.scale, **common)
+            body_of[i] = world.add_body(BodyDef("hypercube", size=np.ptp(v, axis=0) * o.scale, **common))
     return world, body_of
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..player import HALF_WIDTH, HEIGHT, move_axis
+from ..player_bodies import player_collide
 
 PUSH = 0.5  # share of the player's velocity into a body given to it per tick of contact
 
@@ -13,7 +14,7 @@ def step(game, actions) -> None:
     if game.physics is None:
         return
     p = game.player
-    corr, touched = game.physics.player_collide(p.position, HALF_WIDTH, HEIGHT)
+    corr, touched = player_collide(game.physics, p.position, HALF_WIDTH, HEIGHT)
     n = np.linalg.norm(corr)
     if n == 0.0:
         return
