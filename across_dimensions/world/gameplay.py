@@ -3,8 +3,9 @@
 Each table is a model of :class:`~.fields.Field` s (read and checked by the
 level loader like every other table, and exported to the JSON Schema) and a
 spec dataclass with the defaults a level gets when it leaves the table out.
-Format-1 levels have none of these tables: no energy bar (moving along w is
-free) and a radar with the default range.
+A level without ``[energy]`` has no energy bar (moving along w is free); one
+without ``[radar]`` has no radar: the first level looks like an ordinary 3D game,
+and the 4D tools appear as the campaign introduces them.
 """
 
 from __future__ import annotations
@@ -97,8 +98,10 @@ def read_energy(r, data) -> EnergySpec:
     return EnergySpec(True, min(v["start"], v["max"]), v["max"], v["w_cost"])
 
 
-def read_radar(r, data) -> RadarSpec:
-    """The ``[radar]`` table."""
+def read_radar(r, data) -> RadarSpec | None:
+    """The ``[radar]`` table, or None when the level has none (no radar on screen)."""
+    if "radar" not in data:
+        return None
     t = r.table(data, "radar", "[radar]")
     r.unknown(t, RADAR_TABLE, "[radar]")
     v = r.read(t, RADAR_TABLE, "[radar]")

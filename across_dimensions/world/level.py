@@ -271,7 +271,7 @@ class Level:
     hints: list[str] = field(default_factory=list)
     crystals: list[gameplay.CrystalSpec] = field(default_factory=list)
     energy: gameplay.EnergySpec = field(default_factory=gameplay.EnergySpec)
-    radar: gameplay.RadarSpec = field(default_factory=gameplay.RadarSpec)
+    radar: gameplay.RadarSpec | None = None
     rolling_resistance: float = 0.0
     tets: int = 0  # estimated tetrahedra of the 4D content (objects and worlds)
 
