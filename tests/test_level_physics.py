@@ -1,4 +1,4 @@
-"""Level 2: 4D rigid bodies in the game, through its recorded replay and scripted runs."""
+"""Level 3: 4D rigid bodies in the game, through its recorded replay and scripted runs."""
 
 import numpy as np
 import pytest
@@ -9,8 +9,8 @@ from across_dimensions.game.sim import TICK_RATE, Game
 from across_dimensions.world.level import load_level
 from across_dimensions.world.resources import levels_dir
 
-LEVEL2 = levels_dir() / "02_tumbling_hall.toml"
-REPLAY2 = levels_dir() / "replays" / "02_tumbling_hall.json"
+LEVEL2 = levels_dir() / "03_tumbling_hall.toml"
+REPLAY2 = levels_dir() / "replays" / "03_tumbling_hall.json"
 
 
 @pytest.fixture(scope="module")
