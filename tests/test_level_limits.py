@@ -417,7 +417,7 @@ def _play_random(game, ticks: int, seed: int) -> None:
         p = game.player
         assert np.isfinite(p.position).all() and np.isfinite(p.velocity).all(), (t, p.position, p.velocity)
         if game.physics is not None:
-            for b in game.body_of.values():
+            for b in (e.motion.body for e in game.entities.of_kind("body")):
                 assert np.isfinite(game.physics.body_position(b)).all(), (t, b)
                 assert np.isfinite(game.physics.body_velocity(b)[0]).all(), (t, b)
 
@@ -471,7 +471,7 @@ def test_a_body_thrown_off_the_level_is_caught(tmp_path):
                       velocity="[40.0, 10.0, 0.0, 0.0]")
     game = Game(load_level(write(tmp_path, text.replace("[level]", "[physics]\nrolling_resistance = 0.05\n\n[level]"))))
     lo, hi = level_bounds(game.scene)
-    (b,) = game.body_of.values()
+    (b,) = (e.motion.body for e in game.entities.of_kind("body"))
     farthest = 0.0
     for _ in range(40 * 60):
         game.step(Actions())

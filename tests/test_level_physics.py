@@ -1,4 +1,4 @@
-"""Level 2: 4D rigid bodies in the game, through its recorded replay and scripted runs."""
+"""Level 3: 4D rigid bodies in the game, through its recorded replay and scripted runs."""
 
 import numpy as np
 import pytest
@@ -9,8 +9,8 @@ from across_dimensions.game.sim import TICK_RATE, Game
 from across_dimensions.world.level import load_level
 from across_dimensions.world.resources import levels_dir
 
-LEVEL2 = levels_dir() / "02_tumbling_hall.toml"
-REPLAY2 = levels_dir() / "replays" / "02_tumbling_hall.json"
+LEVEL2 = levels_dir() / "03_tumbling_hall.toml"
+REPLAY2 = levels_dir() / "replays" / "03_tumbling_hall.json"
 
 
 @pytest.fixture(scope="module")
@@ -19,14 +19,14 @@ def level2():
 
 
 def body(game, name):
-    index = next(i for i, o in enumerate(game.scene.objects) if o.name == name)
-    return index, game.body_of[index]
+    entity = game.entities.named(name)
+    return entity, entity.motion.body
 
 
-def in_slice(game, index) -> bool:
-    """Does the object's cross-section at the player's w have any triangles?"""
+def in_slice(game, entity) -> bool:
+    """Does the entity's cross-section at the player's w have any triangles?"""
     w = float(game.player.position[3])
-    tri, _ = game.sections.section(f"object:{index}", game.scene.objects[index].mesh, game.object_model(index), w)
+    tri, _ = game.sections.section(f"test:{entity.id}", entity.mesh, entity.model(game), w)
     return not tri.is_empty
 
 
@@ -41,15 +41,15 @@ def test_replay_finishes_and_is_deterministic(level2):
 def test_bodies_enter_and_leave_the_slice_during_the_replay(level2):
     replay = Replay.load(REPLAY2)
     game = Game(level2)
-    indices = [i for i in game.body_of]
-    seen = {i: [] for i in indices}
+    bodies = game.entities.of_kind("body")
+    seen = {e.name: [] for e in bodies}
 
     def record(g):
-        for i in indices:
-            seen[i].append(in_slice(g, i))
+        for e in bodies:
+            seen[e.name].append(in_slice(g, e))
 
     play(replay, game, on_tick=record)
-    changes = {game.scene.objects[i].name: int(np.sum(np.diff(np.array(v, int)) != 0)) for i, v in seen.items()}
+    changes = {name: int(np.sum(np.diff(np.array(v, int)) != 0)) for name, v in seen.items()}
     # Something leaves the slice and something arrives (the drifter, the
     # visitor, the stack and the hidden one as the player steps along w).
     assert sum(changes.values()) >= 4, changes
@@ -127,10 +127,9 @@ def test_bodies_stay_in_the_w_range_and_sleep_after_twenty_minutes(level2):
     lo, hi = level2.w_range
     # A hypersphere's whole extent must stay inside; for a box, its centre.
     reach = {}
-    for i, b in game.body_of.items():
-        obj = game.scene.objects[i]
-        sphere = obj.body == "hypersphere"
-        reach[b] = float(np.linalg.norm(obj.mesh.vertices, axis=1).max() * obj.scale.max()) if sphere else 0.0
+    for e in game.entities.of_kind("body"):
+        sphere = next(o for o in game.scene.objects if o.name == e.name).body == "hypersphere"
+        reach[e.motion.body] = e.radius if sphere else 0.0
     assert sum(r > 0 for r in reach.values()) >= 2  # the two rolling hyperspheres are among them
     for tick in range(20 * 60 * TICK_RATE):
         game.step(Actions())
@@ -139,6 +138,6 @@ def test_bodies_stay_in_the_w_range_and_sleep_after_twenty_minutes(level2):
                 w = physics.body_position(b)[3]
                 # 0.03: contacts are soft, a body may sink that far into a wall.
                 assert lo - 0.03 <= w - r and w + r <= hi + 0.03, (tick, b, w)
-    awake = [game.scene.objects[i].name for i, b in game.body_of.items() if not physics.is_sleeping(b)]
+    awake = [e.name for e in game.entities.of_kind("body") if not physics.is_sleeping(e.motion.body)]
     assert not awake, f"awake after 20 minutes: {awake}"
     assert level2.rolling_resistance > 0.0

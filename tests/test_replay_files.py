@@ -30,7 +30,7 @@ ROW = [1.0, 0.0, 0.0, 0.0, 0.0, 0]
 def valid() -> dict:
     """A short valid replay of level 1: walk, strafe and turn, move along w, jump."""
     return {
-        "format": FORMAT, "version": 1, "level": "01_first_steps",
+        "format": FORMAT, "version": 2, "level": "01_first_steps",
         "level_hash": hashlib.sha256(LEVEL1.read_bytes()).hexdigest(),
         "seed": 0, "tick_rate": 60, "hash_every": 60,
         "actions": [[45, ROW], [30, [0.5, 0.3, 0.02, -0.01, 0.5, 0]], [45, [1.0, 0.0, 0.0, 0.0, -1.0, 1]]],
@@ -90,7 +90,7 @@ def test_valid_replay_loads_and_plays(tmp_path):
 
 
 def test_shipped_replays_load_and_round_trip(tmp_path):
-    for name in ("01_first_steps", "02_tumbling_hall"):
+    for name in ("01_first_steps", "03_tumbling_hall"):
         original = levels_dir() / "replays" / f"{name}.json"
         rep = Replay.load(original)
         rep.save(tmp_path / f"{name}.json")
@@ -153,7 +153,8 @@ def test_action_runs_keep_signed_zeros_apart():
     ([0.0, "0", 0.0, 0.0, 0.0, 0], "right"),
     ([0.0, 0.0, None, 0.0, 0.0, 0], "yaw"),
     ([0.0, 0.0, 0.0, 0.0, 0], "expected [forward"),
-    ([0.0, 0.0, 0.0, 0.0, 0.0, 0, 0], "expected [forward"),
+    ([0.0, 0.0, 0.0, 0.0, 0.0, 0, 0], "presses: expected a table"),
+    ([0.0, 0.0, 0.0, 0.0, 0.0, 0, {}, 0], "expected [forward"),
     ({"forward": 1}, "expected [forward"),
 ])
 def test_bad_rows_name_the_run_and_the_axis(tmp_path, row, needle):

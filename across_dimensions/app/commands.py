@@ -71,7 +71,7 @@ def replay(args) -> int:
     Exit status 3 when the run diverges from the recorded hashes."""
     import json
 
-    from ..game.replay import EventCounter, Replay, play, summary
+    from ..game.replay import Replay, play, summary
     from .warmup import warm_up
 
     as_json = getattr(args, "json", False)
@@ -82,20 +82,13 @@ def replay(args) -> int:
     game = _load_game(args.level, rep.seed)
     warm_up()
     shooter = _screenshotter(args, game) if args.screenshots else None
-    counter = EventCounter()
-
-    def on_tick(g):
-        counter(g)
-        if shooter is not None:
-            shooter(g)
-
-    result = play(rep, game, on_tick=on_tick, check=not args.no_check)
+    result = play(rep, game, on_tick=shooter, check=not args.no_check)
     say = (lambda msg: print(msg, file=sys.stderr, flush=True)) if as_json else _out  # stdout is the JSON's alone
     if shooter is not None:
         shooter.close()
         say(f"screenshots: {shooter.count} PNG files in {args.screenshots}")
     if as_json:
-        _out(json.dumps(summary(game, result, counter.counts), allow_nan=False))
+        _out(json.dumps(summary(game, result), allow_nan=False))
     else:
         outcome = result.outcome or "not finished"
         _out(f"level '{game.level.name}': {outcome} after {result.ticks} ticks ({result.ticks / 60:.2f} s)")

@@ -84,6 +84,10 @@ ACTION_DESCRIPTIONS: dict[str, str] = {
     "fire": "Fire the current weapon",
     "alt_fire": "Alternate fire of the current weapon",
     "next_weapon": "Switch to the next weapon",
+    "previous_weapon": "Switch to the previous weapon",
+    "weapon_1": "Take the first weapon",
+    "weapon_2": "Take the second weapon",
+    "weapon_3": "Take the third weapon",
     "switch_camera": "Switch between the 3D and 4D cameras",
     "manipulate": "Grab, rotate or release the object in front of you",
     "record": "Start or stop recording a replay",
@@ -97,8 +101,11 @@ ACTION_DESCRIPTIONS: dict[str, str] = {
 #: The bindable action names, in menu order.
 ACTIONS: tuple[str, ...] = tuple(ACTION_DESCRIPTIONS)
 
-#: Mouse buttons, named like keys so one binding can mix both.
-MOUSE_BUTTONS: tuple[str, ...] = ("MOUSE_LEFT", "MOUSE_MIDDLE", "MOUSE_RIGHT")
+#: Mouse buttons and the wheel, named like keys so one binding can mix both. A
+#: wheel notch is a press of a one-shot action (next weapon), or holds any
+#: other action for one tick.
+MOUSE_BUTTONS: tuple[str, ...] = ("MOUSE_LEFT", "MOUSE_MIDDLE", "MOUSE_RIGHT", "MOUSE_4", "MOUSE_5",
+                                  "MOUSE_WHEEL_UP", "MOUSE_WHEEL_DOWN")
 
 #: Every accepted key name: a subset of pyglet's ``pyglet.window.key`` symbol
 #: names (a test checks that) plus :data:`MOUSE_BUTTONS`. A closed list lets a
@@ -121,7 +128,11 @@ _COMMON = {
     "jump": ("SPACE",),
     "fire": ("MOUSE_LEFT",),
     "alt_fire": ("MOUSE_RIGHT",),
-    "next_weapon": ("R",),
+    "next_weapon": ("R", "MOUSE_WHEEL_DOWN"),
+    "previous_weapon": ("MOUSE_WHEEL_UP",),
+    "weapon_1": ("_1",),
+    "weapon_2": ("_2",),
+    "weapon_3": ("_3",),
     "switch_camera": ("TAB",),
     "manipulate": ("F",),
     "record": ("F9",),
@@ -164,7 +175,8 @@ _FILE_NAME = "settings.toml"
 
 _KEYS_EXPECTED = ("a list of key names such as [\"SPACE\"] (pyglet symbol names: "
                   "'A'..'Z', '_0'..'_9', 'F1'..'F12', 'SPACE', 'LSHIFT', 'UP', ..., "
-                  "or 'MOUSE_LEFT', 'MOUSE_MIDDLE', 'MOUSE_RIGHT')")
+                  "or 'MOUSE_LEFT', 'MOUSE_MIDDLE', 'MOUSE_RIGHT', 'MOUSE_4', 'MOUSE_5', "
+                  "'MOUSE_WHEEL_UP', 'MOUSE_WHEEL_DOWN')")
 
 # --------------------------------------------------------------------------
 # Validation rules for the scalar settings

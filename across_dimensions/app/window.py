@@ -19,7 +19,7 @@ import pyglet
 
 from ..core.errors import InputError
 from ..core.fileio import FileProblem, check_folder
-from ..game.actions import Actions
+from ..game.actions import MAX_PRESSES, PRESSES, Actions
 from ..game.replay import Recorder
 from ..game.sim import DT, Game
 from ..render.context import Offscreen, RenderError, wrap_current_context
@@ -35,10 +35,16 @@ HINT_SECONDS = 7.0
 NEXT_LEVEL_DELAY = 3.0
 
 
+_MOUSE = {"MOUSE_LEFT": "LEFT", "MOUSE_MIDDLE": "MIDDLE", "MOUSE_RIGHT": "RIGHT", "MOUSE_4": "MOUSE4",
+          "MOUSE_5": "MOUSE5"}
+
+
 def _key_code(name: str):
-    """pyglet code for a settings key name: ('key', code) or ('mouse', button)."""
+    """pyglet code for a settings key name: ('key', code), ('mouse', button) or ('wheel', +1 | -1)."""
+    if name in ("MOUSE_WHEEL_UP", "MOUSE_WHEEL_DOWN"):
+        return "wheel", 1 if name.endswith("UP") else -1
     if name.startswith("MOUSE_"):
-        return "mouse", getattr(pyglet.window.mouse, name[6:])
+        return "mouse", getattr(pyglet.window.mouse, _MOUSE[name])
     return "key", getattr(pyglet.window.key, name)
 
 
@@ -57,6 +63,10 @@ class GameWindow(pyglet.window.Window):
         self.keys = pyglet.window.key.KeyStateHandler()
         self.push_handlers(self.keys)
         self.mouse_buttons: set = set()
+        # One-shot presses since the last tick, by action (delivered with the next tick's actions),
+        # and actions held for one tick by a wheel notch.
+        self.presses: dict[str, int] = {}
+        self.wheel_held: set = set()
         self.bindings = {a: [_key_code(k) for k in settings.keys_for(a)] for a in settings.bindings}
         self.seed = seed
         self.record_path = record
@@ -151,6 +161,8 @@ class GameWindow(pyglet.window.Window):
 
     # ------------------------------------------------------------------ input
     def held(self, action: str) -> bool:
+        if action in self.wheel_held:
+            return True
         for kind, code in self.bindings.get(action, ()):
             if (kind == "key" and self.keys[code]) or (kind == "mouse" and code in self.mouse_buttons):
                 return True
@@ -162,6 +174,17 @@ class GameWindow(pyglet.window.Window):
                 return action
         return None
 
+    def count_press(self, kind: str, code, times: int = 1) -> None:
+        """A key, button or wheel notch went down: count it for every one-shot action bound to it."""
+        if self.paused:
+            return
+        for action, codes in self.bindings.items():
+            if (kind, code) in codes:
+                if action in PRESSES:
+                    self.presses[action] = min(self.presses.get(action, 0) + times, MAX_PRESSES)
+                elif kind == "wheel":
+                    self.wheel_held.add(action)
+
     def read_actions(self) -> Actions:
         """This tick's actions; the mouse motion since the last tick goes to it."""
         dyaw, dpitch = self.look
@@ -169,11 +192,15 @@ class GameWindow(pyglet.window.Window):
         axis = lambda pos, neg: float(self.held(pos)) - float(self.held(neg))  # noqa: E731
         # clamped(): a replay stores exactly these frames, and Replay.load
         # refuses non-finite or out-of-bound rows (a huge mouse jump, a driver's NaN).
-        return Actions(forward=axis("move_forward", "move_back"), right=axis("strafe_right", "strafe_left"),
-                       yaw=dyaw, pitch=dpitch, w=axis("w_ana", "w_kata"), jump=self.held("jump"),
-                       fire=self.held("fire"), alt_fire=self.held("alt_fire"),
-                       switch_camera=self.held("switch_camera"), manipulate=self.held("manipulate"),
-                       next_weapon=self.held("next_weapon")).clamped()
+        actions = Actions(forward=axis("move_forward", "move_back"), right=axis("strafe_right", "strafe_left"),
+                          yaw=dyaw, pitch=dpitch, w=axis("w_ana", "w_kata"), jump=self.held("jump"),
+                          fire=self.held("fire"), alt_fire=self.held("alt_fire"),
+                          switch_camera=self.held("switch_camera"), manipulate=self.held("manipulate"),
+                          next_weapon=self.held("next_weapon"),
+                          presses=Actions.count_presses(self.presses)).clamped()
+        self.presses.clear()
+        self.wheel_held.clear()
+        return actions
 
     def on_mouse_motion(self, x, y, dx, dy):
         if not self.paused:
@@ -189,11 +216,18 @@ class GameWindow(pyglet.window.Window):
             self.set_paused(False)
             return
         self.mouse_buttons.add(button)
+        self.count_press("mouse", button)
 
     def on_mouse_release(self, x, y, button, modifiers):
         self.mouse_buttons.discard(button)
 
+    def on_mouse_scroll(self, x, y, scroll_x, scroll_y):
+        if scroll_y:
+            notches = max(1, round(abs(scroll_y)))
+            self.count_press("wheel", 1 if scroll_y > 0 else -1, notches)
+
     def on_key_press(self, symbol, modifiers):
+        self.count_press("key", symbol)
         action = self.pressed_action("key", symbol)
         if action == "pause":
             self.set_paused(not self.paused)
@@ -222,6 +256,8 @@ class GameWindow(pyglet.window.Window):
         self.paused = paused
         self.set_exclusive_mouse(not paused)
         self.mouse_buttons.clear()
+        self.presses.clear()
+        self.wheel_held.clear()
         self.look = [0.0, 0.0]
 
     def on_close(self):

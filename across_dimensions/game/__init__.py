@@ -1,0 +1,20 @@
+"""The game: a pure simulation stepped at a fixed 60 Hz, and what each frame shows.
+
+- :mod:`.sim` -- :class:`~.sim.Game`: ``step(actions)`` runs the systems in
+  order; ``frame(alpha)`` asks them what to draw.
+- :mod:`.systems` -- one module per system (player, push, rigid bodies,
+  crystals, energy, outcome, scenery, sections, radar), each with ``step``
+  and/or ``draw``. Add a system: one module and one line in
+  :data:`.systems.SYSTEMS`.
+- :mod:`.entities` -- everything that lives in 4D is an entity with a stable
+  id; add a kind by spawning it with a new ``kind`` and writing its system.
+- :mod:`.events` -- typed per-tick events (``crystal_collected``,
+  ``energy_empty``, ``w_blocked``, ...) read by the HUD, tests and the replay
+  summary.
+- :mod:`.energy` -- the energy bar, the one account every 4D action pays from.
+- :mod:`.actions`, :mod:`.replay` -- per-tick player intent, and replays of it.
+- :mod:`.frame` -- plain data for the renderer: camera, drawables, HUD, radar.
+
+Nothing here imports a window or GL library or reads the wall clock; see
+``CONVENTIONS.md`` at the repository's top level.
+"""

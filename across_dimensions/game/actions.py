@@ -3,6 +3,13 @@
 The window turns keys and mouse motion into one :class:`Actions` per tick
 (after key bindings, sensitivity and inversion), and replays store exactly these
 frames, so rebinding keys or changing mouse settings never breaks a replay.
+
+Two kinds of buttons:
+
+- **held** (:data:`BUTTONS`): true on every tick the button is down (jump).
+- **presses** (:data:`PRESSES`): one-shot actions (fire, switch weapon, switch
+  camera, manipulate, ...) counted between two ticks and delivered on the next
+  one, so a tap shorter than a tick is never lost and two quick taps are two.
 """
 
 from __future__ import annotations
@@ -17,6 +24,12 @@ BUTTONS = ("jump", "fire", "alt_fire", "switch_camera", "manipulate", "next_weap
 #: turn per tick is far beyond any mouse (a flick of 180 degrees in 1/60 s), and
 #: a bound keeps a hand-edited replay from feeding the simulation 1e300 radians.
 MAX_LOOK = math.pi
+#: One-shot actions, counted per tick. Append only: replays name them.
+PRESSES = ("fire", "alt_fire", "next_weapon", "previous_weapon", "switch_camera", "manipulate",
+           "weapon_1", "weapon_2", "weapon_3")
+#: Most presses of one action in one tick that a replay may carry (a key repeat
+#: or a wheel spin gives a few; more is a corrupt file).
+MAX_PRESSES = 100
 _AXES = ("forward", "right", "yaw", "pitch", "w")
 _AXIS_LIMIT = {"forward": 1.0, "right": 1.0, "yaw": MAX_LOOK, "pitch": MAX_LOOK, "w": 1.0}
 _NUMBER = (int, float)  # compared with type(): bool is an int subclass, and no axis value
@@ -39,6 +52,10 @@ class Actions:
         Motion along the fourth axis in [-1, 1] (+1 is ana, +w).
     jump, fire, alt_fire, switch_camera, manipulate, next_weapon : bool
         Buttons; true on the ticks they are held.
+    presses : tuple of (str, int)
+        One-shot actions pressed since the last tick and how often, in
+        :data:`PRESSES` order (build it with :meth:`count_presses`; read it
+        with :meth:`pressed`).
 
     Every field is finite and within its bound when the frame comes from a
     replay (:meth:`from_row` refuses anything else) or from the window
@@ -56,14 +73,31 @@ class Actions:
     switch_camera: bool = False
     manipulate: bool = False
     next_weapon: bool = False
+    presses: tuple = ()
+
+    def pressed(self, action: str) -> int:
+        """How many times the one-shot ``action`` (one of :data:`PRESSES`) was pressed since the last tick."""
+        for name, count in self.presses:
+            if name == action:
+                return count
+        return 0
 
     def to_row(self) -> list:
-        """Compact replay form ``[forward, right, yaw, pitch, w, buttons]``."""
+        """Compact replay form ``[forward, right, yaw, pitch, w, buttons]``, plus
+        ``{action: count}`` of the presses when there were any."""
         bits = 0
         for i, name in enumerate(BUTTONS):
             if getattr(self, name):
                 bits |= 1 << i
-        return [self.forward, self.right, self.yaw, self.pitch, self.w, bits]
+        row = [self.forward, self.right, self.yaw, self.pitch, self.w, bits]
+        if self.presses:
+            row.append(dict(self.presses))
+        return row
+
+    @staticmethod
+    def count_presses(counts: dict) -> tuple:
+        """``presses`` from ``{action: count}``: known actions only, in :data:`PRESSES` order, zeros dropped."""
+        return tuple((name, int(counts[name])) for name in PRESSES if counts.get(name))
 
     @classmethod
     def from_row(cls, row) -> Actions:
@@ -74,8 +108,11 @@ class Actions:
         [-MAX_LOOK, MAX_LOOK]. ``buttons`` is a whole number whose set bits are
         all known buttons (``0 <= buttons < 2 ** len(BUTTONS)``).
         """
-        if type(row) not in (list, tuple) or len(row) != 6:
-            raise ValueError(f"expected [forward, right, yaw, pitch, w, buttons], got {short_repr(row)}")
+        if type(row) not in (list, tuple) or len(row) not in (6, 7):
+            raise ValueError(f"expected [forward, right, yaw, pitch, w, buttons] or the same with "
+                             f"{{action: presses}} after it, got {short_repr(row)}")
+        if len(row) == 7:
+            return replace(cls.from_row(row[:6]), presses=_presses(row[6]))
         f, r, y, p, w, bits = row
         # One expression for the common case (a replay has up to 432,000 rows);
         # type() is not isinstance(), so True is not a number here. Comparing
@@ -119,6 +156,19 @@ class Actions:
         return all(math.copysign(1.0, getattr(self, n)) == math.copysign(1.0, getattr(other, n)) for n in _AXES)
 
 
+def _presses(value) -> tuple:
+    """Check a replay row's ``{action: count}``."""
+    if type(value) is not dict or not value:
+        raise ValueError(f"presses: expected a table of action = count, got {short_repr(value)}")
+    for name, count in value.items():
+        if name not in PRESSES:
+            raise ValueError(f"presses: unknown action {short_repr(name)} (expected one of {', '.join(PRESSES)})")
+        if type(count) is not int or not 1 <= count <= MAX_PRESSES:
+            raise ValueError(f"presses: '{name}': expected a whole number from 1 to {MAX_PRESSES}, "
+                             f"got {short_repr(count)}")
+    return Actions.count_presses(value)
+
+
 def short_repr(value, limit: int = 40) -> str:
     """A short repr for messages: a hostile file must not make a message long."""
     if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10 ** limit:
@@ -132,4 +182,4 @@ def short_repr(value, limit: int = 40) -> str:
 
 IDLE = Actions()
 
-assert [f.name for f in fields(Actions)][5:] == list(BUTTONS)
+assert [f.name for f in fields(Actions)][5:-1] == list(BUTTONS)

@@ -92,7 +92,7 @@ class Drawable:
         Mesh-to-world transform.
     style : str
         ``"solid"`` lit opaque, ``"ghost"`` translucent (previews, frustum
-        views), ``"wire"`` edges only.
+        views), ``"wire"`` edges only, ``"glow"`` emissive (crystals).
     """
 
     key: str

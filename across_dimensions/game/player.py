@@ -131,7 +131,7 @@ def _move_horizontal(pos, dx: float, dz: float, boxes, on_ground: bool) -> np.nd
 
 
 def step_player(player: Player, actions: Actions, dt: float, gravity_y: float, w_range: tuple[float, float],
-                colliders_at, blocked_w=None) -> None:
+                colliders_at, blocked_w=None, w_budget: float = np.inf) -> str | None:
     """Advance the player one tick.
 
     Parameters
@@ -150,6 +150,17 @@ def step_player(player: Player, actions: Actions, dt: float, gravity_y: float, w
     blocked_w : callable, optional
         ``blocked_w(position, w) -> bool``: something other than those boxes
         (a rigid body) would overlap the player moved to ``w``.
+    w_budget : float
+        The farthest the player may move along w this tick (what the energy
+        bar can pay for); unlimited by default.
+
+    Returns
+    -------
+    str or None
+        Why the player's w motion was cut short this tick: ``"range"`` (the end
+        of the level's w range), ``"energy"`` (the budget), ``"wall"`` (a wall
+        would appear around the player) or ``"body"`` (a rigid body is there);
+        None when it moved freely.
     """
     player.yaw = float((player.yaw + actions.yaw + np.pi) % (2 * np.pi) - np.pi)
     player.pitch = float(np.clip(player.pitch + actions.pitch, -MAX_PITCH, MAX_PITCH))
@@ -180,13 +191,17 @@ def step_player(player: Player, actions: Actions, dt: float, gravity_y: float, w
     pos = player.position
     w_target = pos[3] + v[3] * dt
     w_new = float(np.clip(w_target, *w_range))
+    cut = "range" if w_new != w_target else None
+    if abs(w_new - pos[3]) > w_budget:
+        w_new = float(pos[3] + np.copysign(w_budget, w_new - pos[3]))
+        cut = "energy"
     if w_new != pos[3]:
         lo, hi = player_box(pos)
         if (overlapping(lo, hi, colliders_at(w_new)) & ~overlapping(lo, hi, colliders_at(pos[3]))).any():
-            w_new = float(pos[3])
+            w_new, cut = float(pos[3]), "wall"
         elif blocked_w is not None and blocked_w(pos, w_new):
-            w_new = float(pos[3])
-    if w_new != w_target:  # stopped by the range's end or by a wall appearing
+            w_new, cut = float(pos[3]), "body"
+    if w_new != w_target:  # stopped by the range's end, the energy or a wall appearing
         v[3] = 0.0
     pos[3] = w_new
 
@@ -201,3 +216,4 @@ def step_player(player: Player, actions: Actions, dt: float, gravity_y: float, w
     if hit_y:
         v[1] = 0.0
     player.position = pos_new
+    return cut

@@ -4,18 +4,21 @@ File format (JSON, UTF-8, strict: no NaN or Infinity)::
 
     {
       "format": "across-dimensions-replay",
-      "version": 1,
+      "version": 2,
       "level": "01_first_steps",        # shipped level name or path
       "level_hash": "<sha256 of the level file: 64 lowercase hex digits>",
       "seed": 0,                         # 0 <= seed < 2**64
       "tick_rate": 60,
       "hash_every": 60,
-      "actions": [[count, [forward, right, yaw, pitch, w, buttons]], ...],
+      "actions": [[count, [forward, right, yaw, pitch, w, buttons, {action: presses}?]], ...],
       "hashes": {"60": "<state hash after tick 60>", ...},
       "final": {"ticks": 930, "hash": "...", "outcome": "complete"}
     }
 
-``actions`` is run-length encoded: held keys repeat the same row. Floats are
+``actions`` is run-length encoded: held keys repeat the same row. A row ends
+with ``{action: presses}`` on the ticks that one-shot actions were pressed
+(:data:`.actions.PRESSES`, version 2); version-1 replays, which have none, still
+play. Floats are
 written with Python's shortest round-trip repr, so a replay read back is
 bit-identical to the one recorded. The runs stay runs in memory
 (:class:`ActionRuns`): a replay costs memory in proportion to its number of
@@ -32,8 +35,8 @@ the entry):
   checked on the sum of the run lengths as they are read, before anything
   is built;
 - rows hold finite numbers: forward, right and w in [-1, 1], yaw and pitch in
-  [-pi, pi] radians per tick (see :data:`.actions.MAX_LOOK`), and known button
-  bits; NaN, Infinity and numbers too large for a float are refused;
+  [-pi, pi] radians per tick (see :data:`.actions.MAX_LOOK`), known button
+  bits, and presses of known actions from 1 to :data:`.actions.MAX_PRESSES`; NaN, Infinity and numbers too large for a float are refused;
 - whole numbers have at most 20 digits (the seed needs 20);
 - ``hashes`` keys are tick numbers (multiples of ``hash_every`` up to the
   replay's length) and values 8 to 64 lowercase hex digits;
@@ -43,7 +46,7 @@ the entry):
 Recording survives a crash. While a recording is in progress, its file holds a
 *journal* (JSON Lines, append-only) that grows once per simulated second::
 
-    {"format": "across-dimensions-replay-journal", "version": 1, "level": ..., "level_hash": ...,
+    {"format": "across-dimensions-replay-journal", "version": 2, "level": ..., "level_hash": ...,
      "seed": 0, "tick_rate": 60, "hash_every": 60}
     [count, [forward, right, yaw, pitch, w, buttons]]       # runs, in order
     {"tick": 60, "hash": "..."}                             # state hashes, in order
@@ -70,13 +73,15 @@ from pathlib import Path
 
 from ..core.errors import InputError
 from ..core.fileio import FileProblem, MiB, atomic_write, read_text
-from ..physics.events import ContactEvent
 from .actions import Actions, short_repr
+from .energy import MILLI
+from .events import event_kinds
 from .sim import TICK_RATE, Game
 
 FORMAT = "across-dimensions-replay"
 JOURNAL_FORMAT = "across-dimensions-replay-journal"
-VERSION = 1
+VERSION = 2  # written; 2 added one-shot presses to action rows
+READS = (1, 2)  # versions this game plays
 HASH_EVERY = 60
 #: Longest replay, in ticks: two hours at 60 Hz.
 MAX_TICKS = 2 * 3600 * TICK_RATE
@@ -326,9 +331,9 @@ class _Checker:
         version = data.get("version")
         if not _is_int(version):
             self.fail("entry 'version'", f"expected a whole number, got {short_repr(version)}")
-        if version != VERSION:
+        if version not in READS:
             raise ReplayError(f"{self.path}: replay format version {short_repr(version)}; "
-                              f"this game reads version {VERSION}")
+                              f"this game reads versions {' and '.join(map(str, READS))}")
         for key in data:
             if key not in keys:
                 self.fail(f"entry {short_repr(key)}", f"unknown entry (expected only {', '.join(sorted(keys))})")
@@ -620,46 +625,22 @@ def play(replay: Replay, game: Game, on_tick=None, check: bool = True) -> PlayRe
 
 
 # ----------------------------------------------------------------- summary
-#: Event kinds always present in a summary, with 0 when none happened: every
-#: touching pair of bodies (or a body and the static world) gives one contact
-#: event per tick, ``contact_began`` on the first tick of a touch and
-#: ``contact_persisted`` on the following ones (see physics/events.py).
-EVENT_KINDS = ("contact_began", "contact_persisted")
-
-
-def event_kind(event) -> str:
-    """The snake_case kind of a game event: its ``kind`` attribute when it has
-    one (game events), else derived from its type (physics contacts)."""
-    kind = getattr(event, "kind", None)
-    if isinstance(kind, str):
-        return kind
-    if isinstance(event, ContactEvent):
-        return "contact_began" if event.began else "contact_persisted"
-    return re.sub(r"(?<!^)(?=[A-Z])", "_", type(event).__name__).lower()
-
-
-class EventCounter:
-    """An ``on_tick`` hook for :func:`play` counting the game's events by kind."""
-
-    def __init__(self):
-        self.counts = dict.fromkeys(EVENT_KINDS, 0)
-
-    def __call__(self, game: Game) -> None:
-        for e in game.events:
-            k = event_kind(e)
-            self.counts[k] = self.counts.get(k, 0) + 1
-
-
-def summary(game: Game, result: PlayResult, counts: dict) -> dict:
+def summary(game: Game, result: PlayResult) -> dict:
     """What ``replay --json`` prints: one JSON object for tools.
 
     Keys: ``level`` (the level's name), ``outcome`` (null when not finished),
-    ``ticks``, ``hash`` (the final state hash), ``events`` (a count per event
-    kind), ``energy`` (null until the game has an energy bar; it then becomes
-    ``{"min", "max", "end"}``), ``position`` (the player's final
-    ``[x, y, z, w]``), ``respawns`` and ``divergence`` (null, or the message).
+    ``ticks``, ``hash`` (the final state hash), ``events`` (a count for every
+    event kind the game defines, 0 for those that did not happen; see
+    ``game.events``), ``energy`` (``{"min", "max", "end"}`` in energy units over
+    the run, or null when the level has no energy bar), ``position`` (the
+    player's final ``[x, y, z, w]``), ``respawns`` and ``divergence`` (null, or
+    the message).
     """
     position = [float(v) if math.isfinite(v) else None for v in game.player.position]
+    bar = game.energy
+    energy = None if bar is None else {"min": bar.low_milli / MILLI, "max": bar.high_milli / MILLI,
+                                       "end": bar.milli / MILLI}
+    events = {kind: game.event_counts.get(kind, 0) for kind in event_kinds()}
     return {"level": game.level.name, "outcome": result.outcome, "ticks": result.ticks, "hash": result.final_hash,
-            "events": dict(counts), "energy": None, "position": position, "respawns": game.respawns,
+            "events": events, "energy": energy, "position": position, "respawns": game.respawns,
             "divergence": result.divergence}

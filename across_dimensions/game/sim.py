@@ -1,30 +1,38 @@
 """The game simulation: one fixed tick at a time, no window, no clock.
 
-``Game.step(actions)`` advances everything by ``1 / TICK_RATE`` seconds;
-``Game.frame(alpha)`` describes what to draw, interpolated ``alpha`` of the way
-from the previous tick to this one. The simulation never reads the wall clock
-and draws randomness only from its own seeded generator, so the same level,
-seed and actions always give the same states (replays rely on it).
+``Game.step(actions)`` advances everything by ``1 / TICK_RATE`` seconds by
+running the systems of :mod:`across_dimensions.game.systems` in order;
+``Game.frame(alpha)`` asks the same systems what to draw, interpolated
+``alpha`` of the way from the previous tick to this one. The simulation never
+reads the wall clock and draws randomness only from its own seeded generator,
+so the same level, seed and actions always give the same states (replays rely
+on it).
+
+What lives in the level (4D objects, rigid bodies, crystals, ...) is an entity
+in ``game.entities`` (:mod:`.entities`); what happened in the last tick is in
+``game.events`` (:mod:`.events`).
 """
 
 from __future__ import annotations
 
 import hashlib
+from collections import Counter
 
 import numpy as np
 
-from ..core.transform import scaling
 from ..world.level import Level
 from ..world.scene import Scene, SectionCache, build_physics, build_scene
 from .actions import Actions
-from .frame import Camera3, Drawable, Frame, Hud
-from .player import HALF_WIDTH, HEIGHT, Player, move_axis, step_player
-from .player_bodies import bodies_block, player_collide
+from .energy import EnergyBar
+from .entities import EntityStore, EntityTable, Rigid, Scripted, reach
+from .events import Event
+from .frame import Camera3, Frame, Hud
+from .player import HALF_WIDTH, HEIGHT, Player
+from .player_bodies import bodies_block
+from .systems import SYSTEMS, crystals
 
 TICK_RATE = 60
 DT = 1.0 / TICK_RATE
-FALL_LIMIT = -30.0  # below this y the player has fallen out of the level
-PUSH = 0.5  # share of the player's velocity into a body given to it per tick of contact
 
 
 class Game:
@@ -37,7 +45,19 @@ class Game:
         Seeds the world's random generator (``self.rng``).
     scene : Scene, optional
         Pre-built geometry (building lifts assets, which can take a while).
+
+    Attributes
+    ----------
+    entities : EntityStore
+    events : list of Event
+        What happened in the last tick, in order.
+    event_counts : collections.Counter
+        Events of each kind since the start.
+    energy : EnergyBar or None
+        None when the level has no energy rules (moving along w is free).
     """
+
+    dt = DT
 
     def __init__(self, level: Level, seed: int = 0, scene: Scene | None = None):
         self.level = level
@@ -45,12 +65,30 @@ class Game:
         self.rng = np.random.default_rng(seed)
         self.scene = scene if scene is not None else build_scene(level)
         self.sections = SectionCache()
-        self.physics, self.body_of = build_physics(self.scene, DT)
-        self.events: list = []  # contact events of the last tick (physics.ContactEvent)
+        self.physics, body_of = build_physics(self.scene, DT)
+        self.entities = EntityStore()
+        self._table_key: tuple | None = None
+        self.entity_of_body: dict[int, int] = {}
+        for i, obj in enumerate(self.scene.objects):
+            if i in body_of:
+                e = self.entities.spawn("body", obj.name, obj.mesh, Rigid(body_of[i], obj.scale), radar="body",
+                                        radius=reach(obj.mesh, obj.scale))
+                self.entity_of_body[body_of[i]] = e.id
+            else:
+                self.entities.spawn("object", obj.name, obj.mesh, Scripted(obj), solid=obj.solid, radar="object",
+                                    radius=reach(obj.mesh, obj.scale))
+        self.regrowing: list = []  # (tick, CrystalSpec) of crystals growing back, soonest first
+        for c in level.crystals:
+            crystals.spawn(self, c)
+        self.energy = EnergyBar.of(level.energy.start, level.energy.maximum) if level.energy.enabled else None
+        self.radar_settings = level.radar
+        self.events: list[Event] = []
+        self.event_counts: Counter = Counter()
         self.tick = 0
         self.outcome: str | None = None  # "complete" once the goal is reached
         self.completed_tick: int | None = None
         self.player = self._spawned()
+        self.player_w_blocked = False
         self.respawns = 0
         self._prev_eye = self.player.eye()
         self._prev_view = (self.player.yaw, self.player.pitch)
@@ -61,73 +99,62 @@ class Game:
         """Simulated seconds since the start."""
         return self.tick * DT
 
-    def object_model(self, index: int, alpha: float | None = None) -> np.ndarray:
-        """Object-to-world ``(5, 5)`` of object ``index``: its rigid body's pose,
-        or its level pose turned by its spin; ``alpha`` of the way from the
-        previous tick when given (for drawing)."""
-        obj = self.scene.objects[index]
-        body = self.body_of.get(index)
-        if body is None:
-            return obj.model_at(self.time if alpha is None else self.time - (1.0 - alpha) * DT)
-        return self.physics.body_pose(body, alpha) @ scaling(obj.scale)
+    def emit(self, event: Event) -> None:
+        """Record an event of this tick (systems call this)."""
+        self.events.append(event)
+        self.event_counts[event.kind] += 1
+
+    def remove(self, entity_id: int) -> None:
+        """Remove an entity and free what it holds (its rigid body, its cached sections)."""
+        e = self.entities.remove(entity_id)
+        if e is None:
+            return
+        if isinstance(e.motion, Rigid):
+            self.physics.remove_body(e.motion.body)
+            del self.entity_of_body[e.motion.body]
+        self.sections.forget(f"tick:{e.id}")
+        self.sections.forget(f"draw:{e.id}")
+
+    def entity_table(self) -> EntityTable:
+        """The live entities with their centres and reaches as arrays; built once per tick."""
+        key = (self.tick, self.entities.version)
+        if self._table_key != key:
+            ents = list(self.entities)
+            centers = np.array([e.center(self) for e in ents], dtype=np.float64).reshape(-1, 4)
+            self._table = EntityTable(ents, centers, np.array([e.radius for e in ents], dtype=np.float64))
+            self._table_key = key
+        return self._table
 
     def colliders_at(self, w: float) -> np.ndarray:
         """Boxes ``(k, 2, 3)`` solid in the slice at ``w``: the 3D world, the
         extended worlds and the bounds of solid 4D objects' sections. The rows
         are the same things at every w; a thing absent at ``w`` is NaN."""
         parts = [self.scene.static_boxes, self.scene.world_boxes_at(w)]
-        for i, obj in enumerate(self.scene.objects):
-            if not obj.solid or i in self.body_of:  # rigid bodies collide through physics
+        for e in self.entities:
+            if not e.solid:
                 continue
-            key = f"object:{i}"
-            self.sections.section(key, obj.mesh, self.object_model(i), w)
+            key = f"tick:{e.id}"
+            if e.reaches_slice(self, w):
+                self.sections.section(key, e.mesh, e.model(self), w)
+            else:
+                self.sections.forget(key)  # absent at w: bounds are NaN
             parts.append(self.sections.bounds(key)[None])
         return np.concatenate(parts)
 
-    def step(self, actions: Actions) -> None:
-        """Advance one tick."""
-        p = self.player
-        self._prev_eye = p.eye()
-        self._prev_view = (p.yaw, p.pitch)
-        step_player(p, actions, DT, float(self.level.gravity[1]), self.level.w_range, self.colliders_at,
-                    self._bodies_block if self.physics else None)
-        if self.physics is not None:
-            self._touch_bodies()
-            self.physics.tick()
-            self.events = self.physics.events
-        if p.position[1] < FALL_LIMIT:
-            self.respawn()
-        self.tick += 1
-        if self.outcome is None and self.in_goal():
-            self.outcome = "complete"
-            self.completed_tick = self.tick
-
-    def _bodies_block(self, position, w: float) -> bool:
+    def bodies_block_w(self, position, w: float) -> bool:
         """Would stepping to ``w`` put the player inside a rigid body?"""
         return bodies_block(self.physics, position, w, HALF_WIDTH, HEIGHT)
 
-    def _touch_bodies(self) -> None:
-        """Bodies in the player's slice block the player, and the player pushes them."""
+    def step(self, actions: Actions) -> None:
+        """Advance one tick: every system's ``step``, in order."""
         p = self.player
-        corr, touched = player_collide(self.physics, p.position, HALF_WIDTH, HEIGHT)
-        n = np.linalg.norm(corr)
-        if n == 0.0:
-            return
-        # Apply the push-out as a move, so the static world still stops it: a
-        # body never shoves the player through a floor or a wall.
-        boxes = self.colliders_at(float(p.position[3]))
-        for axis in (0, 2, 1):
-            p.position, _ = move_axis(p.position, axis, float(corr[axis]), boxes)
-        normal = corr / n
-        into = float(p.velocity[:3] @ normal)
-        if into < 0.0:  # stop moving into the body, pass the motion on to it
-            p.velocity[:3] -= into * normal
-            for b in touched:
-                mass = self.physics.body_mass(b)
-                self.physics.push(b, np.append(into * normal * mass * PUSH, 0.0))  # away from the player
-        if normal[1] > 0.7:  # standing on a body
-            p.on_ground = True
-            p.velocity[1] = max(p.velocity[1], 0.0)
+        self._prev_eye = p.eye()
+        self._prev_view = (p.yaw, p.pitch)
+        self.events = []
+        for system in SYSTEMS:
+            if hasattr(system, "step"):
+                system.step(self, actions)
+        self.tick += 1
 
     def _spawned(self) -> Player:
         return Player(self.level.spawn.astype(np.float64).copy(), yaw=float(np.radians(self.level.spawn_yaw_deg)))
@@ -137,44 +164,42 @@ class Game:
         self.player = self._spawned()
         self.respawns += 1
 
-    def in_goal(self) -> bool:
-        g = self.level.goal
-        c = self.player.center()
-        if np.any(np.abs(c - g.center) > g.size / 2):
-            return False
-        return g.w_range is None or g.w_range[0] <= self.player.position[3] <= g.w_range[1]
-
     def state_array(self) -> np.ndarray:
-        """Everything that evolves, as one ``float64`` array (for hashing)."""
-        return np.concatenate([[self.tick], self.player.state_array(), [self.respawns]])
+        """The player and the counters that evolve, as one ``float64`` array."""
+        energy = [self.energy.milli] if self.energy is not None else []
+        return np.concatenate([[self.tick], self.player.state_array(), [self.respawns], energy])
 
     def state_hash(self) -> str:
-        """A short hash of the simulation state; equal states give equal hashes."""
+        """A short hash of the whole simulation state; equal states give equal hashes.
+
+        Covers the player, the energy, every entity (id, kind and whatever its
+        motion keeps), the random generator's state and the physics world, so
+        a replay that drifts is caught at the tick it drifts.
+        """
         h = hashlib.sha256(self.state_array().astype(np.float64).tobytes())
+        for e in self.entities:
+            h.update(f"{e.id}:{e.kind};".encode())
+            h.update(np.asarray(e.motion.state(), dtype=np.float64).tobytes())
+        h.update(repr([(t, c.name) for t, c in self.regrowing]).encode())
+        h.update(repr(self.rng.bit_generator.state).encode())
         if self.physics is not None:
             h.update(self.physics.state_bytes())
         return h.hexdigest()[:16]
 
     # ------------------------------------------------------------------ frame
     def frame(self, alpha: float = 1.0, fov_y_deg: float = 75.0) -> Frame:
-        """What to draw, the camera ``alpha`` of the way from the last tick."""
+        """What to draw, the camera ``alpha`` of the way from the last tick: every system's ``draw``."""
         p = self.player
         eye = self._prev_eye + alpha * (p.eye() - self._prev_eye)
         dyaw = (p.yaw - self._prev_view[0] + np.pi) % (2 * np.pi) - np.pi
         yaw = self._prev_view[0] + alpha * dyaw
         pitch = self._prev_view[1] + alpha * (p.pitch - self._prev_view[1])
-        camera = Camera3(eye, yaw, pitch, fov_y_deg=fov_y_deg)
-        w = float(p.position[3])
-        drawables = [Drawable("static", 0, self.scene.static_mesh), Drawable("floor", 0, self.scene.floor_mesh, style="floor")]
-        for i, world in enumerate(self.scene.worlds):
-            tri, rev = self.sections.section(f"world:{i}", world.mesh, np.eye(5), w)
-            drawables.append(Drawable(f"world:{i}", rev, tri))
-        for i, obj in enumerate(self.scene.objects):
-            tri, rev = self.sections.section(f"object:{i}", obj.mesh, self.object_model(i, alpha), w)
-            drawables.append(Drawable(f"object:{i}", rev, tri))
         lo, hi = self.level.w_range
-        message = "Level complete" if self.outcome == "complete" else ""
-        return Frame(camera, drawables, Hud(w=w, w_min=lo, w_max=hi, message=message))
+        frame = Frame(Camera3(eye, yaw, pitch, fov_y_deg=fov_y_deg), hud=Hud(w=float(p.position[3]), w_min=lo, w_max=hi))
+        for system in SYSTEMS:
+            if hasattr(system, "draw"):
+                system.draw(self, frame, alpha)
+        return frame
 
 
 __all__ = ["Game", "TICK_RATE", "DT"]

@@ -21,6 +21,9 @@ Styles
 ``"wire"``
     Unlit lines along the mesh's feature edges (edges between coplanar
     triangles, e.g. quad diagonals, are dropped), derived on upload.
+``"glow"``
+    Opaque and emissive, brightest at the silhouette, lightly fogged: things
+    that are not scenery (crystals).
 
 There is no back-face culling: the world is left-handed, so the view matrix
 contains a reflection and "front" winding flips; two-sided lighting makes
@@ -42,7 +45,7 @@ from .hud import HudRenderer
 from .radar import RadarRenderer
 from .shaders import program_source
 
-STYLES = ("solid", "floor", "wire", "ghost")
+STYLES = ("solid", "floor", "wire", "ghost", "glow")
 #: Bytes per vertex in the interleaved buffer: position 3f, normal 3f, colour 4f.
 _STRIDE = 40
 _ATTRS = (("in_pos", "3f", 12), ("in_normal", "3f", 12), ("in_color", "4f", 16))

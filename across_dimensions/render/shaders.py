@@ -100,6 +100,11 @@ void main() {
     albedo = mix(albedo, albedo * 0.35 + vec3(0.10, 0.16, 0.22), max(minor * 0.55, major));
   #endif
 
+  #ifdef STYLE_GLOW
+    // Emissive (crystals): lit from within, brightest at the silhouette, and
+    // barely fogged, so it never reads as scenery under the same sun.
+    vec3 lit = albedo * (0.75 + 1.6 * pow(1.0 - ndv, 2.0)) + vec3(0.06);
+  #else
     vec3 L = u_light_dir;
     float diffuse = max(dot(N, L), 0.0);
     // Hemisphere ambient: cool from above, dark from below, so faces facing
@@ -111,11 +116,15 @@ void main() {
     // A weak light from the eye keeps faces turned away from the sun readable.
     float fill = 0.22 * ndv;
     vec3 lit = albedo * (ambient + fill + diffuse * vec3(1.0, 0.96, 0.90)) + vec3(spec) + rim * vec3(0.55, 0.65, 0.9);
+  #endif
 #endif
 
     vec3 color = to_display(lit);
     float fd = dist * u_fog_density;
     float fog = 1.0 - exp(-fd * fd);
+#ifdef STYLE_GLOW
+    fog *= 0.4;
+#endif
     color = mix(color, u_sky, fog);
 
 #ifdef STYLE_GHOST
@@ -130,6 +139,6 @@ void main() {
 
 
 def program_source(style: str) -> tuple[str, str]:
-    """Vertex and fragment source for a style (``solid``, ``ghost``, ``wire``, ``floor``)."""
+    """Vertex and fragment source for a style (``solid``, ``ghost``, ``wire``, ``floor``, ``glow``)."""
     header = f"#version 330\n#define STYLE_{style.upper()}\n"
     return header + VERTEX, header + FRAGMENT

@@ -32,7 +32,8 @@ from ..core import fileio
 from ..core.errors import InputError
 from ..core.shapes import SHAPE_PARAM_RULES
 from ..core.transform import PLANES
-from . import limits, resources
+from . import gameplay, limits, resources
+from .fields import REQUIRED, Field
 from .limits import (
     ANGLE,
     COLOR,
@@ -78,48 +79,6 @@ def _big_ints(value):
 
 
 # ====================================================================== models
-REQUIRED = object()  # a Field default: the field must be given
-
-
-@dataclass(frozen=True)
-class Field:
-    """One field of a table.
-
-    Parameters
-    ----------
-    kind : str
-        ``number``, ``vector`` (``n`` numbers), ``scale`` (a number or ``n``
-        numbers), ``string``, ``text`` (a string with a length limit),
-        ``bool``, ``color``, ``angles`` (a table of plane = degrees),
-        ``asset``, ``params`` (shape parameters), ``hints``, ``tables``
-        (an array of tables read by its own model).
-    n : int
-        Number of components of a ``vector`` or ``scale``.
-    default : object
-        Used when the field is absent; :data:`REQUIRED` makes it a problem.
-    range : Range, optional
-        Accepted values (per component for vectors, per plane for angles).
-    sign : {None, "positive", "nonnegative"}
-        Checked before the range, with the format's first messages
-        ("expected a number > 0"), which players and tests know.
-    choices : tuple of str
-        Accepted strings.
-    names : str
-        Component names for messages (``"xyzw"``, ``"ab"``).
-    length : float, optional
-        Largest Euclidean length of a ``vector`` (gravity).
-    """
-
-    kind: str
-    n: int = 1
-    default: object = REQUIRED
-    range: Range | None = None
-    sign: str | None = None
-    choices: tuple = ()
-    names: str = "xyzw"
-    length: float | None = None
-
-
 BOX = {
     "center": Field("vector", 3, range=COORD),
     "size": Field("vector", 3, range=SIZE, sign="positive"),
@@ -181,7 +140,8 @@ OBJECT = {
 #: The format, one model per table (top-level keys; ``world.box`` and
 #: ``world.mesh`` use ``box`` and ``mesh``).
 MODELS = {"level": LEVEL, "spawn": SPAWN, "goal": GOAL, "physics": PHYSICS, "box": BOX, "mesh": MESH,
-          "world": WORLD, "object": OBJECT}
+          "world": WORLD, "object": OBJECT, **gameplay.MODELS}
+FORMATS = (1, 2)  # format 2 adds the tables of gameplay.MODELS
 
 # Shape parameters: how each is checked (the builders in core/shapes.py take these names).
 # One table of rules for the core's builders and for levels (core.shapes.SHAPE_PARAM_RULES);
@@ -309,6 +269,9 @@ class Level:
     objects: list[ObjectSpec]
     source_hash: str
     hints: list[str] = field(default_factory=list)
+    crystals: list[gameplay.CrystalSpec] = field(default_factory=list)
+    energy: gameplay.EnergySpec = field(default_factory=gameplay.EnergySpec)
+    radar: gameplay.RadarSpec | None = None
     rolling_resistance: float = 0.0
     tets: int = 0  # estimated tetrahedra of the 4D content (objects and worlds)
 
@@ -580,8 +543,12 @@ def _level_table(r: _Reader, data, path: Path) -> tuple[dict, bool]:
     meta = r.table(data, "level", "[level]", required=True)
     r.unknown(meta, LEVEL, "[level]")
     v = r.read(meta, LEVEL, "[level]", keys=("name", "description", "format"), name=path.stem)
-    if v["format"] != 1:
-        r.problem("[level]", f"field 'format': this game reads format 1, the file says {v['format']:g}")
+    if v["format"] not in FORMATS:
+        r.problem("[level]", f"field 'format': this game reads formats 1 and 2, the file says {v['format']:g}")
+    elif v["format"] == 1:
+        for table in gameplay.MODELS:
+            if table in data:
+                r.problem("top level", f"'{table}' needs format 2 (set format = 2 in [level])")
     n = len(r.problems)
     w_range = r.read(meta, LEVEL, "[level]", keys=("w_range",))["w_range"]
     w_ok = len(r.problems) == n
@@ -790,6 +757,10 @@ def load_level(path) -> Level:
     objects = [_object_table(r, ot, i) for i, ot in
                enumerate(r.entries(data, "object", "top level", _entry_label("top level", "object")), 1)]
 
+    energy = gameplay.read_energy(r, data)
+    radar = gameplay.read_radar(r, data)
+    crystals = gameplay.read_crystals(r, data, w_range if w_ok else None)
+
     if r.problems:
         raise LevelError(path, r.problems)
     return Level(
@@ -797,5 +768,5 @@ def load_level(path) -> Level:
         w_range=(float(w_range[0]), float(w_range[1])), spawn=spawn, spawn_yaw_deg=spawn_yaw, goal=goal,
         gravity=phys["gravity"], inverse_cube_g=phys["inverse_cube_g"], boxes=boxes, meshes=meshes,
         worlds=worlds, objects=objects, source_hash=hashlib.sha256(raw).hexdigest(), hints=meta["hints"],
-        rolling_resistance=phys["rolling_resistance"], tets=r.tets,
+        rolling_resistance=phys["rolling_resistance"], tets=r.tets, crystals=crystals, energy=energy, radar=radar,
     )

@@ -52,6 +52,7 @@ MAX_COUNTS = {
     "world": (32, "worlds"),
     "object": (256, "4D objects"),
     "body": (200, "rigid bodies (objects with a body)"),
+    "crystal": (1000, "crystals"),
     "hints": (20, "hints"),
 }
 
@@ -97,6 +98,11 @@ GRAVITY_MAX = 100.0  # m/s^2, the magnitude of [physics] gravity (about 10 g)
 INVERSE_CUBE_G = Range(0.0, 10.0)
 ROLLING_RESISTANCE = Range(0.0, 1.0)
 COLOR = Range(0.0, 1.0)
+ENERGY = Range(0.0, 1e6)  # energy amounts: bar maximum, start, crystal energy, cost per unit of w
+RADAR_RANGE = Range(1.0, 1e3, "m")
+RADAR_W_SCALE = Range(0.01, 100.0)  # disc radii per unit of w
+CRYSTAL_SIZE = Range(0.05, 5.0, "m")
+RESPAWN = Range(0.0, 3600.0, "s")
 
 # Rigid bodies: the envelope in which the physics step stays finite, found by
 # stepping random scenes for 600 ticks (4 bodies each: random shapes, sizes,

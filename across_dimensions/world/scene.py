@@ -277,6 +277,20 @@ class SectionCache:
         self.computed += 1
         return tri, rev
 
+    def forget(self, key: str) -> None:
+        """Drop a key's entry (its entity is gone)."""
+        self._entries.pop(key, None)
+
+    def keep(self, prefix: str, keys: set) -> None:
+        """Drop every entry whose key starts with ``prefix`` and is not in ``keys``."""
+        for k in [k for k in self._entries if k.startswith(prefix) and k not in keys]:
+            del self._entries[k]
+
+    def has_section(self, key: str) -> bool:
+        """Is there a non-empty section cached for ``key``?"""
+        entry = self._entries.get(key)
+        return entry is not None and not entry[2].is_empty
+
     def bounds(self, key: str) -> np.ndarray | None:
         """Bounds ``(2, 3)`` of the last section for ``key``; NaN if it is empty."""
         entry = self._entries.get(key)

@@ -1,0 +1,18 @@
+"""Every entity with a 4D mesh, drawn as its cross-section at the player's w.
+
+Entities whose bounding radius does not reach the slice are skipped without
+slicing (most 4D things in a level are at other w most of the time).
+"""
+
+from __future__ import annotations
+
+from ..frame import Drawable
+
+
+def draw(game, frame, alpha) -> None:
+    w = float(game.player.position[3])
+    shown = game.entity_table().reaching(w)
+    game.sections.keep("draw:", {f"draw:{e.id}" for e in shown})  # the rest left the slice
+    for e in shown:
+        tri, rev = game.sections.section(f"draw:{e.id}", e.mesh, e.model(game, alpha), w)
+        frame.drawables.append(Drawable(f"entity:{e.id}", rev, tri, style=e.style))
