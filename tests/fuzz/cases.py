@@ -40,6 +40,10 @@ LEVELS = sorted((REPO / "levels").glob("*.toml"))
 REPLAYS = sorted((REPO / "levels" / "replays").glob("*.json"))
 SMALL_MESHES = [REPO / "assets" / "meshes" / "crate.obj", REPO / "assets" / "meshes" / "arch.obj"]
 
+#: Time limit of a ``lift`` step: pytetwild may take several seconds on a broken
+#: surface of 44 triangles, which is slow but bounded, not a hang.
+BAKE_TIMEOUT = 30.0
+
 #: Special files made in place of an input.
 SPECIAL_KINDS = ("fifo", "dev_zero", "dev_null", "folder", "symlink_to_folder", "dangling_symlink", "symlink_loop",
                  "empty")
@@ -278,8 +282,8 @@ def _build_level(rng, case: Case) -> None:
                     v = obj.setdefault("velocity", [0.0, 0.0, 0.0, 0.0])
                     v[3] = float(np.round(rng.uniform(-2, 2), 2))
                     speeds.append(v[3])
-            ticks, extra = 900, {"bodies_in_w": True}
-            detail = f"bodies given w velocities {speeds}, then 900 ticks"
+            ticks, extra = 480, {"bodies_in_w": True, "timeout": 30.0}  # 8 s of play; about 3 s to run
+            detail = f"bodies given w velocities {speeds}, then {ticks} ticks"
         else:
             doc, detail = _mutate_tree(rng, m, doc)
         data = toml_dumps(doc).encode("utf-8", "surrogatepass")
@@ -458,7 +462,7 @@ def _build_gltf(rng, case: Case) -> None:
     case.must_refuse = refuse
     case.names = ("mesh.gltf", uri.rsplit("/", 1)[-1] or "mesh.gltf")
     case.steps = [{"op": "cli", "argv": ["lift", "{in}/mesh.gltf", "--depth", "1", "-o", "{out}/lifted.npz"],
-                   "allowed": [0, 2]}]
+                   "allowed": [0, 2], "timeout": BAKE_TIMEOUT}]
 
 
 def _build_stl(rng, case: Case) -> None:
@@ -484,7 +488,7 @@ def _build_stl(rng, case: Case) -> None:
     case.files = {"mesh.stl": data}
     case.names = ("mesh.stl",)
     case.steps = [{"op": "cli", "argv": ["lift", "{in}/mesh.stl", "--depth", "1", "-o", "{out}/lifted.npz"],
-                   "allowed": [0, 2]}]
+                   "allowed": [0, 2], "timeout": BAKE_TIMEOUT}]
 
 
 def _build_obj(rng, case: Case) -> None:
@@ -534,7 +538,9 @@ def _build_obj(rng, case: Case) -> None:
     case.files = {"mesh.obj": data}
     case.names = ("mesh.obj",)
     case.steps = [{"op": "cli", "argv": ["lift", "{in}/mesh.obj", "--depth", depth, "--profile", profile,
-                                         "-o", "{out}/lifted.npz"], "allowed": [0, 2]}]
+                                         "-o", "{out}/lifted.npz"], "allowed": [0, 2],
+                   # a flood of 10**5 lines must be refused quickly, not baked
+                   **({} if m == "flood" else {"timeout": BAKE_TIMEOUT})}]
 
 
 # ------------------------------------------------------------------- special
@@ -679,7 +685,7 @@ def resolve(value, folder: Path):
     if isinstance(value, list):
         return [resolve(v, folder) for v in value]
     if isinstance(value, dict):
-        return {k: resolve(v, folder) for k, v in value.items()}
+        return {resolve(k, folder): resolve(v, folder) for k, v in value.items()}
     return value
 
 

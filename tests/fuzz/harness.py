@@ -49,7 +49,8 @@ CATEGORIES = {
     "harness": "the harness itself failed to set the case up",
 }
 
-_WARNING = re.compile(r"\b\w*Warning: ")
+#: How Python's warnings module prints: ``path.py:72: RuntimeWarning: message``.
+_WARNING = re.compile(r":\d+: [A-Z]\w*Warning: ")
 
 
 @dataclass
@@ -151,7 +152,7 @@ class Worker:
         except BrokenPipeError:
             self.stop()
             return {"died": "the worker had exited before the case started"}
-        line = self._readline(timeout * len(steps) + self.grace)
+        line = self._readline(sum(max(s.get("timeout", 0), timeout) for s in steps) + self.grace)
         if line is None:
             alive = self.proc.poll() is None
             code = self.proc.returncode
