@@ -622,7 +622,7 @@ def _build_args(rng, case: Case) -> None:
         if option == "--every":
             argv += ["--size", "1x1"]  # refused before anything is drawn, whatever --every says
         refuse = True
-        names = (option, option.lstrip("-"))
+        names = (option, option.lstrip("-"), "--size")  # with --every, the 1x1 --size may be named first
         detail = f"replay {option} {value}"
     elif m == "empty_section":
         suffix = pick(rng, (".obj", ".ply", ".glb"))
