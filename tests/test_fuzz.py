@@ -167,6 +167,18 @@ def test_worker_survives_hangs_and_huge_allocations(fuzz_worker):
     assert p["steps"][0]["stdout"] == "to stdout\n" and p["steps"][0]["stderr"] == "to fd 2\n"
 
 
+def test_worker_stuck_outside_python_is_killed_and_replaced(tmp_path):
+    worker = Worker(tmp_path / "worker.log", timeout=1.0, grace=1.0)
+    try:
+        stuck = worker.run([{"op": "selftest", "what": "deaf"}])
+        assert stuck.get("hang") and "killed" in stuck["died"], stuck
+        assert worker.proc is None  # stopped; the next case starts a fresh one
+        fine = worker.run([{"op": "selftest", "what": "print"}])
+        assert fine["steps"][0]["exit"] == 0 and worker.starts == 2
+    finally:
+        worker.stop()
+
+
 def test_zip_bomb_is_small_on_disk_and_huge_inside():
     import zipfile
     from io import BytesIO

@@ -225,6 +225,9 @@ def _selftest(step: dict, result: dict) -> None:
     """Misbehave on purpose, to test the harness's limits."""
     if step["what"] == "sleep":
         time.sleep(1e6)
+    elif step["what"] == "deaf":  # like C code that never returns to Python: the alarm cannot stop it
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGALRM})
+        time.sleep(1e6)
     elif step["what"] == "allocate":
         result["size"] = len(bytearray(16 * 2**30))
     elif step["what"] == "print":
