@@ -468,7 +468,7 @@ def _build_gltf(rng, case: Case) -> None:
     case.must_refuse = refuse
     case.names = ("mesh.gltf", uri.rsplit("/", 1)[-1] or "mesh.gltf")
     case.steps = [{"op": "cli", "argv": ["lift", "{in}/mesh.gltf", "--depth", "1", "-o", "{out}/lifted.npz"],
-                   "allowed": [0, 2], "timeout": BAKE_TIMEOUT}]
+                   "allowed": [0, 2], **({} if refuse else {"timeout": BAKE_TIMEOUT})}]  # refusals need no bake
 
 
 def _build_stl(rng, case: Case) -> None:
@@ -494,7 +494,7 @@ def _build_stl(rng, case: Case) -> None:
     case.files = {"mesh.stl": data}
     case.names = ("mesh.stl",)
     case.steps = [{"op": "cli", "argv": ["lift", "{in}/mesh.stl", "--depth", "1", "-o", "{out}/lifted.npz"],
-                   "allowed": [0, 2], "timeout": BAKE_TIMEOUT}]
+                   "allowed": [0, 2], **({} if refuse else {"timeout": BAKE_TIMEOUT})}]
 
 
 def _build_obj(rng, case: Case) -> None:
