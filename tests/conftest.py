@@ -55,3 +55,50 @@ def compare_golden(tmp_path):
             )
 
     return compare
+
+
+# ------------------------------------------------------------------ fuzzing
+# Options and the failure summary of tests/test_fuzz.py (the suite itself lives in tests/fuzz/).
+FUZZ_DEFAULT_CASES = 300
+FUZZ_DEFAULT_SEED = 20261201
+_FUZZ_FAILURES = pytest.StashKey[list]()
+
+
+def pytest_addoption(parser):
+    group = parser.getgroup("fuzz", "fuzzing of levels, replays, settings, meshes and options (tests/test_fuzz.py)")
+    group.addoption("--fuzz-cases", type=int, default=FUZZ_DEFAULT_CASES, metavar="N",
+                    help=f"number of fuzz cases to generate and run (default {FUZZ_DEFAULT_CASES})")
+    group.addoption("--fuzz-seed", type=int, default=FUZZ_DEFAULT_SEED, metavar="S",
+                    help=f"seed of the generated cases (default {FUZZ_DEFAULT_SEED})")
+    group.addoption("--fuzz-case", type=int, action="append", default=[], metavar="I",
+                    help="run only case I (repeatable), e.g. to rerun a reported failure")
+    group.addoption("--fuzz-timeout", type=float, default=10.0, metavar="SECONDS",
+                    help="time limit of each command run on a case (default 10)")
+    group.addoption("--fuzz-keep", default=None, metavar="DIR",
+                    help="write the failing cases' files under DIR (default: pytest's temporary folder)")
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "fuzz: generated hostile inputs run through the command line "
+                                       "(see tests/test_fuzz.py; --fuzz-cases N)")
+
+
+@pytest.fixture(scope="session")
+def fuzz_failures(request) -> list:
+    """Failures of fuzz cases as ``(label, category, message)``, summarised at the end of the run."""
+    return request.config.stash.setdefault(_FUZZ_FAILURES, [])
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config):
+    failures = config.stash.get(_FUZZ_FAILURES, [])
+    if not failures:
+        return
+    by_category: dict[str, list] = {}
+    for label, category, message in failures:
+        by_category.setdefault(category, []).append((label, message))
+    tr = terminalreporter
+    tr.section("fuzz failures by category")
+    for category, items in sorted(by_category.items(), key=lambda kv: -len(kv[1])):
+        cases = sorted({label for label, _ in items})
+        tr.write_line(f"{category}: {len(items)} in {len(cases)} case(s), e.g. {', '.join(cases[:4])}")
+        tr.write_line(f"    {items[0][1][:300]}")
