@@ -66,21 +66,48 @@ _FUZZ_FAILURES = pytest.StashKey[list]()
 
 def pytest_addoption(parser):
     group = parser.getgroup("fuzz", "fuzzing of levels, replays, settings, meshes and options (tests/test_fuzz.py)")
-    group.addoption("--fuzz-cases", type=int, default=FUZZ_DEFAULT_CASES, metavar="N",
-                    help=f"number of fuzz cases to generate and run (default {FUZZ_DEFAULT_CASES})")
-    group.addoption("--fuzz-seed", type=int, default=FUZZ_DEFAULT_SEED, metavar="S",
-                    help=f"seed of the generated cases (default {FUZZ_DEFAULT_SEED})")
-    group.addoption("--fuzz-case", type=int, action="append", default=[], metavar="I",
-                    help="run only case I (repeatable), e.g. to rerun a reported failure")
-    group.addoption("--fuzz-timeout", type=float, default=10.0, metavar="SECONDS",
-                    help="time limit of each command run on a case (default 10)")
-    group.addoption("--fuzz-keep", default=None, metavar="DIR",
-                    help="write the failing cases' files under DIR (default: pytest's temporary folder)")
+    group.addoption(
+        "--fuzz-cases",
+        type=int,
+        default=FUZZ_DEFAULT_CASES,
+        metavar="N",
+        help=f"number of fuzz cases to generate and run (default {FUZZ_DEFAULT_CASES})",
+    )
+    group.addoption(
+        "--fuzz-seed",
+        type=int,
+        default=FUZZ_DEFAULT_SEED,
+        metavar="S",
+        help=f"seed of the generated cases (default {FUZZ_DEFAULT_SEED})",
+    )
+    group.addoption(
+        "--fuzz-case",
+        type=int,
+        action="append",
+        default=[],
+        metavar="I",
+        help="run only case I (repeatable), e.g. to rerun a reported failure",
+    )
+    group.addoption(
+        "--fuzz-timeout",
+        type=float,
+        default=10.0,
+        metavar="SECONDS",
+        help="time limit of each command run on a case (default 10)",
+    )
+    group.addoption(
+        "--fuzz-keep",
+        default=None,
+        metavar="DIR",
+        help="write the failing cases' files under DIR (default: pytest's temporary folder)",
+    )
 
 
 def pytest_configure(config):
-    config.addinivalue_line("markers", "fuzz: generated hostile inputs run through the command line "
-                                       "(see tests/test_fuzz.py; --fuzz-cases N)")
+    config.addinivalue_line(
+        "markers",
+        "fuzz: generated hostile inputs run through the command line (see tests/test_fuzz.py; --fuzz-cases N)",
+    )
 
 
 @pytest.fixture(scope="session")

@@ -179,14 +179,28 @@ def test_a_gltf_in_its_folder_loads(tmp_path):
     assert len(f) == 12 and signed_volume(v, f) == pytest.approx(1.0)
 
 
-@pytest.mark.parametrize("uri", ["/etc/hostname", "../../x.bin", "../secret.bin", "sub/../../secret.bin",
-                                 "..%2Fsecret.bin", "file:///etc/hostname", "C:/Windows/x.bin", "\\\\host\\x.bin"])
+@pytest.mark.parametrize(
+    "uri",
+    [
+        "/etc/hostname",
+        "../../x.bin",
+        "../secret.bin",
+        "sub/../../secret.bin",
+        "..%2Fsecret.bin",
+        "file:///etc/hostname",
+        "C:/Windows/x.bin",
+        "\\\\host\\x.bin",
+    ],
+)
 def test_gltf_buffer_uri_outside_the_folder_is_refused(tmp_path, uri, fake_tetwild):
     (tmp_path / "secret.bin").write_bytes(b"\0" * 1024)
     gltf = write_gltf(tmp_path / "asset")
     set_uri(gltf, uri)
-    for call in (lambda: load_surface(gltf), lambda: cache_key(gltf),
-                 lambda: lift_asset(gltf, 1.0, cache_dir=tmp_path / "cache", progress=False)):
+    for call in (
+        lambda: load_surface(gltf),
+        lambda: cache_key(gltf),
+        lambda: lift_asset(gltf, 1.0, cache_dir=tmp_path / "cache", progress=False),
+    ):
         with pytest.raises(AssetError) as e:
             call()
         one_line_error(e, "box.gltf", repr(uri), "buffer 0 URI")
@@ -431,8 +445,9 @@ def test_an_oversized_or_planted_cache_entry_is_rebuilt(tmp_path, fake_tetwild):
     lift_asset(ASSETS / "crate.obj", 1.0, cache_dir=tmp_path, progress=False)
     (entry,) = tmp_path.glob("crate-*.npz")
     buf = io.BytesIO()
-    np.savez_compressed(buf, vertices=np.zeros((8, 3)), tets=np.zeros((bake.MAX_TETS + 1, 4), np.int32),
-                        bake_version=bake.BAKE_VERSION)
+    np.savez_compressed(
+        buf, vertices=np.zeros((8, 3)), tets=np.zeros((bake.MAX_TETS + 1, 4), np.int32), bake_version=bake.BAKE_VERSION
+    )
     entry.write_bytes(buf.getvalue())
     assert bake_cache.load_entry(entry) is None
     lift_asset(ASSETS / "crate.obj", 1.0, cache_dir=tmp_path, progress=False)
@@ -489,8 +504,14 @@ def lift_env(tmp_path_factory) -> dict:
 
 
 def lift_cli(env, cwd, mesh) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "across_dimensions", "lift", str(mesh), "--depth", "1",
-                           "-o", "out.npz"], capture_output=True, text=True, timeout=240, cwd=cwd, env=env)
+    return subprocess.run(
+        [sys.executable, "-m", "across_dimensions", "lift", str(mesh), "--depth", "1", "-o", "out.npz"],
+        capture_output=True,
+        text=True,
+        timeout=240,
+        cwd=cwd,
+        env=env,
+    )
 
 
 def assert_user_error(r: subprocess.CompletedProcess, *needles: str) -> None:

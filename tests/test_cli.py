@@ -46,8 +46,14 @@ def cli_env(tmp_path_factory) -> dict:
 
 
 def run_cli(env: dict, cwd: Path, *args) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "across_dimensions", *map(str, args)],
-                          capture_output=True, text=True, timeout=TIMEOUT, cwd=cwd, env=env)
+    return subprocess.run(
+        [sys.executable, "-m", "across_dimensions", *map(str, args)],
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
+        cwd=cwd,
+        env=env,
+    )
 
 
 @pytest.fixture
@@ -273,13 +279,18 @@ def test_corrupt_npz_message_does_not_advise_unpickling(corrupt_npz_run):
     assert "pickle" not in line.lower(), line
 
 
-@pytest.mark.parametrize("arrays, needle", [
-    pytest.param({"a": np.zeros(3)}, "vertices", id="missing-arrays"),
-    pytest.param({"vertices": np.zeros((5, 3)), "tets": np.zeros((2, 4), np.int64)}, "vertices", id="3d-vertices"),
-    pytest.param({"vertices": np.zeros((5, 4)), "tets": np.zeros((2, 4))}, "tets", id="float-tets"),
-    pytest.param({"vertices": np.zeros((5, 4)), "tets": np.array([[0, 1, 2, 9]])}, "index", id="index-out-of-range"),
-    pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 3]])}, "tets", id="open-mesh"),
-])
+@pytest.mark.parametrize(
+    "arrays, needle",
+    [
+        pytest.param({"a": np.zeros(3)}, "vertices", id="missing-arrays"),
+        pytest.param({"vertices": np.zeros((5, 3)), "tets": np.zeros((2, 4), np.int64)}, "vertices", id="3d-vertices"),
+        pytest.param({"vertices": np.zeros((5, 4)), "tets": np.zeros((2, 4))}, "tets", id="float-tets"),
+        pytest.param(
+            {"vertices": np.zeros((5, 4)), "tets": np.array([[0, 1, 2, 9]])}, "index", id="index-out-of-range"
+        ),
+        pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 3]])}, "tets", id="open-mesh"),
+    ],
+)
 def test_slice_npz_with_wrong_arrays(cli, tmp_path, arrays, needle):
     np.savez(tmp_path / "wrong.npz", **arrays)
     user_error(cli("slice", "wrong.npz", "-o", "a.obj"), "wrong.npz", needle)
@@ -313,8 +324,7 @@ def outcome_line(out: str) -> str:
     return m.group(0)
 
 
-@pytest.mark.skipif(not SHIPPED_REPLAY.exists(),
-                    reason="levels/replays/01_first_steps.json has not been recorded yet")
+@pytest.mark.skipif(not SHIPPED_REPLAY.exists(), reason="levels/replays/01_first_steps.json has not been recorded yet")
 def test_shipped_replay_is_deterministic(cli):
     first = ok(cli("replay", LEVEL, SHIPPED_REPLAY))
     second = ok(cli("replay", LEVEL, SHIPPED_REPLAY))
@@ -326,11 +336,18 @@ def test_shipped_replay_is_deterministic(cli):
 def synthetic_replay(path: Path, final_hash: str = "") -> Path:
     """A short hand-written replay of the first level: walk, strafe, turn, move in w, jump."""
     data = {
-        "format": "across-dimensions-replay", "version": 1, "level": "01_first_steps",
+        "format": "across-dimensions-replay",
+        "version": 1,
+        "level": "01_first_steps",
         "level_hash": hashlib.sha256(LEVEL.read_bytes()).hexdigest(),
-        "seed": 0, "tick_rate": 60, "hash_every": 60,
-        "actions": [[45, [1.0, 0.0, 0.0, 0.0, 0.0, 0]], [30, [0.5, 0.3, 0.02, 0.0, 0.5, 0]],
-                    [45, [1.0, 0.0, 0.0, 0.0, -1.0, 1]]],
+        "seed": 0,
+        "tick_rate": 60,
+        "hash_every": 60,
+        "actions": [
+            [45, [1.0, 0.0, 0.0, 0.0, 0.0, 0]],
+            [30, [0.5, 0.3, 0.02, 0.0, 0.5, 0]],
+            [45, [1.0, 0.0, 0.0, 0.0, -1.0, 1]],
+        ],
         "hashes": {},
         "final": {"ticks": 120, "hash": final_hash, "outcome": None},
     }
@@ -373,7 +390,7 @@ def test_bench_quick_prints_throughput_and_copy_baseline(cli):
     header = next((i for i, line in enumerate(lines) if "Mtets/s" in line), None)
     assert header is not None, out
     assert "copy" in lines[header], lines[header]
-    rows = [line for line in lines[header + 1:] if re.search(r"\s\d+\s+[\d.]+\s+\d+\s+[\d.]+\s+[\d.]+$", line)]
+    rows = [line for line in lines[header + 1 :] if re.search(r"\s\d+\s+[\d.]+\s+\d+\s+[\d.]+\s+[\d.]+$", line)]
     assert len(rows) >= 2, out
 
 
@@ -437,32 +454,39 @@ def test_lift_refuses_a_missing_output_folder_before_baking(cli, tmp_path):
 
 
 # -------------------------------------------------------- option limits
-@pytest.mark.parametrize("args, needles", [
-    (["--rotate", "xw=nan"], ["--rotate", "xw", "finite"]),
-    (["--rotate", "xw=inf"], ["--rotate", "finite"]),
-    (["--translate", "w=nan"], ["--translate", "w", "finite"]),
-    (["--translate", "w=-inf"], ["--translate", "finite"]),
-    (["--translate", "w=1e300"], ["--translate", "1e+06"]),
-    (["--mode", "frustum", "--fov", "0"], ["--fov", "between 0 and 180"]),
-    (["--mode", "frustum", "--fov", "180"], ["--fov", "180"]),
-    (["--mode", "frustum", "--fov", "nan"], ["--fov", "finite"]),
-    (["--mode", "frustum", "--fov", "1e-300"], ["--fov"]),
-    (["--mode", "frustum", "--distance", "0"], ["--distance", "positive"]),
-    (["--mode", "frustum", "--distance", "inf"], ["--distance", "finite"]),
-], ids=lambda v: "_".join(v) if isinstance(v, list) else None)
+@pytest.mark.parametrize(
+    "args, needles",
+    [
+        (["--rotate", "xw=nan"], ["--rotate", "xw", "finite"]),
+        (["--rotate", "xw=inf"], ["--rotate", "finite"]),
+        (["--translate", "w=nan"], ["--translate", "w", "finite"]),
+        (["--translate", "w=-inf"], ["--translate", "finite"]),
+        (["--translate", "w=1e300"], ["--translate", "1e+06"]),
+        (["--mode", "frustum", "--fov", "0"], ["--fov", "between 0 and 180"]),
+        (["--mode", "frustum", "--fov", "180"], ["--fov", "180"]),
+        (["--mode", "frustum", "--fov", "nan"], ["--fov", "finite"]),
+        (["--mode", "frustum", "--fov", "1e-300"], ["--fov"]),
+        (["--mode", "frustum", "--distance", "0"], ["--distance", "positive"]),
+        (["--mode", "frustum", "--distance", "inf"], ["--distance", "finite"]),
+    ],
+    ids=lambda v: "_".join(v) if isinstance(v, list) else None,
+)
 def test_slice_refuses_bad_numbers_naming_the_option(cli, tmp_path, args, needles):
     user_error(cli("slice", "tesseract", *args, "-o", "a.obj"), *needles)
     assert list(tmp_path.iterdir()) == []
 
 
-@pytest.mark.parametrize("param, needles", [
-    ("subdivisions=50", ["subdivisions", "0 to 3", "50"]),
-    ("subdivisions=1.5", ["subdivisions", "whole"]),
-    ("radius=inf", ["radius", "finite"]),
-    ("radius=nan", ["radius"]),
-    ("radius=0", ["radius", "0.001"]),
-    ("radius=1e9", ["radius", "1000"]),
-])
+@pytest.mark.parametrize(
+    "param, needles",
+    [
+        ("subdivisions=50", ["subdivisions", "0 to 3", "50"]),
+        ("subdivisions=1.5", ["subdivisions", "whole"]),
+        ("radius=inf", ["radius", "finite"]),
+        ("radius=nan", ["radius"]),
+        ("radius=0", ["radius", "0.001"]),
+        ("radius=1e9", ["radius", "1000"]),
+    ],
+)
 def test_shape_parameters_are_bounded_before_any_work(cli, tmp_path, param, needles):
     r = cli("shape", "hypersphere", "--param", param, "-o", "h.npz")
     user_error(r, *needles)
@@ -475,9 +499,11 @@ def test_shape_duoprism_sides_are_bounded(cli, tmp_path):
 
 def test_numpy_warnings_never_reach_the_user(cli, cli_env, tmp_path):
     env = dict(cli_env, PYTHONWARNINGS="error::RuntimeWarning")  # a warning would become an internal error
-    for args in (["slice", "tesseract", "--mode", "frustum", "--fov", "0.001", "--distance", "1e6", "-o", "a.obj"],
-                 ["slice", "24-cell", "--mode", "frustum", "--fov", "179.999", "--distance", "1e-300", "-o", "a.ply"],
-                 ["slice", "hypersphere", "--rotate", "xw=1e6", "--translate", "w=0.999", "-o", "a.glb"]):
+    for args in (
+        ["slice", "tesseract", "--mode", "frustum", "--fov", "0.001", "--distance", "1e6", "-o", "a.obj"],
+        ["slice", "24-cell", "--mode", "frustum", "--fov", "179.999", "--distance", "1e-300", "-o", "a.ply"],
+        ["slice", "hypersphere", "--rotate", "xw=1e6", "--translate", "w=0.999", "-o", "a.glb"],
+    ):
         ok(cli(*args, env=env))
 
 
@@ -534,26 +560,52 @@ def test_slice_refuses_a_header_promising_a_huge_array(cli, tmp_path):
     user_error(cli("slice", "liar.npz", "-o", "a.obj"), "liar.npz", "at most 1000000")
 
 
-@pytest.mark.parametrize("arrays, needles", [
-    pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 2**32 + 3]], np.uint64)},
-                 ["tets", "4294967299"], id="uint64-above-2^32"),
-    pytest.param({"vertices": np.array([["a"] * 4] * 5), "tets": np.array([[0, 1, 2, 3]])},
-                 ["vertices", "real numbers"], id="string-vertices"),
-    pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([["0"] * 4])}, ["tets", "integers"],
-                 id="string-tets"),
-    pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 3]]), "colors": np.float32(1)},
-                 ["colors", "shape ()"], id="scalar-colors"),
-    pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 3]]), "colors": np.ones((5, 7))},
-                 ["colors", "(5, 7)"], id="wide-colors"),
-    pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 3]]), "colors": np.ones((4, 3))},
-                 ["colors", "4 rows"], id="too-few-colors"),
-    pytest.param({"vertices": np.full((5, 4), np.inf), "tets": np.array([[0, 1, 2, 3]])}, ["vertices", "finite"],
-                 id="inf-vertices"),
-    pytest.param({"vertices": np.full((5, 4), 1e30), "tets": np.array([[0, 1, 2, 3]])}, ["vertices", "1e+06"],
-                 id="huge-vertices"),
-    pytest.param({"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, -3]])}, ["tets", "negative"],
-                 id="negative-index"),
-])
+@pytest.mark.parametrize(
+    "arrays, needles",
+    [
+        pytest.param(
+            {"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 2**32 + 3]], np.uint64)},
+            ["tets", "4294967299"],
+            id="uint64-above-2^32",
+        ),
+        pytest.param(
+            {"vertices": np.array([["a"] * 4] * 5), "tets": np.array([[0, 1, 2, 3]])},
+            ["vertices", "real numbers"],
+            id="string-vertices",
+        ),
+        pytest.param(
+            {"vertices": np.eye(5)[:, :4], "tets": np.array([["0"] * 4])}, ["tets", "integers"], id="string-tets"
+        ),
+        pytest.param(
+            {"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 3]]), "colors": np.float32(1)},
+            ["colors", "shape ()"],
+            id="scalar-colors",
+        ),
+        pytest.param(
+            {"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 3]]), "colors": np.ones((5, 7))},
+            ["colors", "(5, 7)"],
+            id="wide-colors",
+        ),
+        pytest.param(
+            {"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, 3]]), "colors": np.ones((4, 3))},
+            ["colors", "4 rows"],
+            id="too-few-colors",
+        ),
+        pytest.param(
+            {"vertices": np.full((5, 4), np.inf), "tets": np.array([[0, 1, 2, 3]])},
+            ["vertices", "finite"],
+            id="inf-vertices",
+        ),
+        pytest.param(
+            {"vertices": np.full((5, 4), 1e30), "tets": np.array([[0, 1, 2, 3]])},
+            ["vertices", "1e+06"],
+            id="huge-vertices",
+        ),
+        pytest.param(
+            {"vertices": np.eye(5)[:, :4], "tets": np.array([[0, 1, 2, -3]])}, ["tets", "negative"], id="negative-index"
+        ),
+    ],
+)
 def test_slice_npz_hostile_arrays_give_one_line(cli, tmp_path, arrays, needles):
     np.savez(tmp_path / "bad.npz", **arrays)
     user_error(cli("slice", "bad.npz", "-o", "a.obj"), "bad.npz", *needles)
@@ -573,9 +625,17 @@ def test_slice_refuses_a_nested_zip(cli, tmp_path):
 # ------------------------------------------------------ atomic writes
 def test_two_concurrent_slices_to_one_file_leave_a_whole_file(cli_env, tmp_path):
     cmd = [sys.executable, "-m", "across_dimensions", "slice"]
-    runs = [subprocess.Popen([*cmd, shape, "-o", "same.obj"], cwd=tmp_path, env=cli_env, stdout=subprocess.PIPE,
-                             stderr=subprocess.PIPE, text=True)
-            for shape in ("hypersphere", "tesseract")]
+    runs = [
+        subprocess.Popen(
+            [*cmd, shape, "-o", "same.obj"],
+            cwd=tmp_path,
+            env=cli_env,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for shape in ("hypersphere", "tesseract")
+    ]
     for p in runs:
         _, err = p.communicate(timeout=TIMEOUT)
         assert p.returncode == 0, err
@@ -606,8 +666,9 @@ def test_killed_write_leaves_no_temporary_file(cli_env, tmp_path):
         "from across_dimensions.app.cli import main\n"
         "sys.exit(main(['shape', 'tesseract', '-o', 'x.npz']))\n"
     )
-    r = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=cli_env, capture_output=True, text=True,
-                       timeout=TIMEOUT)
+    r = subprocess.run(
+        [sys.executable, "-c", script], cwd=tmp_path, env=cli_env, capture_output=True, text=True, timeout=TIMEOUT
+    )
     assert r.returncode == 128 + 15, describe(r)
     assert "Traceback" not in r.stderr, describe(r)
     assert list(tmp_path.iterdir()) == []
@@ -624,8 +685,9 @@ def test_internal_errors_are_not_reported_as_user_errors(cli_env, tmp_path):
         "from across_dimensions.app.cli import main\n"
         "sys.exit(main(['shape', 'tesseract', '-o', 'x.npz']))\n"
     )
-    r = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=cli_env, capture_output=True, text=True,
-                       timeout=TIMEOUT)
+    r = subprocess.run(
+        [sys.executable, "-c", script], cwd=tmp_path, env=cli_env, capture_output=True, text=True, timeout=TIMEOUT
+    )
     assert r.returncode == 1, describe(r)
     assert "internal error: ValueError" in r.stderr, describe(r)
 

@@ -34,8 +34,9 @@ def test_triangle_soup_is_welded_before_edges_are_found():
 
 def test_a_fold_is_kept_and_an_empty_mesh_has_no_edges():
     v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], np.float32)
-    flat = feature_edges(np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], np.float32),
-                         np.array([[0, 1, 2], [2, 1, 3]], np.uint32))
+    flat = feature_edges(
+        np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], np.float32), np.array([[0, 1, 2], [2, 1, 3]], np.uint32)
+    )
     assert len(flat) == 4  # the shared diagonal of a flat quad is dropped
     folded = feature_edges(v, np.array([[0, 1, 2], [0, 3, 1]], np.uint32))
     assert len(folded) == 5  # a 90 degree fold keeps the shared edge

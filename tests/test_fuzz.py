@@ -31,7 +31,7 @@ category. Cases are a pure function of (seed, index), so a case reruns alone.
 from __future__ import annotations
 
 import shutil
-import sys
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -39,11 +39,6 @@ import pytest
 from fuzz import cases as C
 from fuzz.emit import json_dumps, toml_dumps
 from fuzz.harness import Worker, judge, leftover_temporaries, report
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
 
 pytestmark = pytest.mark.fuzz
 
@@ -135,8 +130,17 @@ def test_judge_flags_what_a_user_must_not_see(tmp_path):
     steps = [{"op": "cli", "argv": ["check-level", str(tmp_path / "level.toml")], "allowed": [0, 2]}]
 
     def reply(code, err, **kw):
-        res = {"op": "cli", "exit": code, "stdout": "", "stderr": err, "exception": None, "traceback": None,
-               "timed_out": False, "seconds": 0.1, "problems": []}
+        res = {
+            "op": "cli",
+            "exit": code,
+            "stdout": "",
+            "stderr": err,
+            "exception": None,
+            "traceback": None,
+            "timed_out": False,
+            "seconds": 0.1,
+            "problems": [],
+        }
         res.update(kw)
         return {"steps": [res]}
 

@@ -98,8 +98,14 @@ def test_recorder_round_trip_is_bit_identical(level1, tmp_path):
     game = fresh(level1, seed=3)
     rec = Recorder(game, "01_first_steps")
     for _ in range(200):
-        a = Actions(forward=float(rng.uniform(-1, 1)), right=float(rng.uniform(-1, 1)), yaw=float(rng.normal(0, 0.02)),
-                    pitch=float(rng.normal(0, 0.01)), w=float(rng.choice([-1.0, 0.0, 1.0])), jump=bool(rng.random() < 0.05))
+        a = Actions(
+            forward=float(rng.uniform(-1, 1)),
+            right=float(rng.uniform(-1, 1)),
+            yaw=float(rng.normal(0, 0.02)),
+            pitch=float(rng.normal(0, 0.01)),
+            w=float(rng.choice([-1.0, 0.0, 1.0])),
+            jump=bool(rng.random() < 0.05),
+        )
         game.step(a)
         rec.record(a)
     replay = rec.finish()

@@ -36,7 +36,7 @@ def shows_text(quads: np.ndarray, text: str) -> bool:
     """True when the glyphs of ``text`` (spaces skipped) are drawn in order somewhere."""
     want = [tuple(float(c) for c in cell_origin(glyph_index(ch))) for ch in text if ch != " "]
     have = glyph_uvs(quads)
-    return any(have[i:i + len(want)] == want for i in range(len(have) - len(want) + 1))
+    return any(have[i : i + len(want)] == want for i in range(len(have) - len(want) + 1))
 
 
 def fill_rect(hud: Hud, w: int, h: int) -> np.ndarray:
@@ -147,7 +147,7 @@ def test_energy_bar_pixels(gl_ctx):
             left, right = half[row, x + bw // 4], half[row, x + 3 * bw // 4]
             assert left[2] > 150 and left[1] > 150 and left[0] < 120
             assert right[2] < 120
-            assert np.abs(none[row, x:x + bw] - none[row, x + bw + 20]).max() <= 2
+            assert np.abs(none[row, x : x + bw] - none[row, x + bw + 20]).max() <= 2
             mid = empty[row, x + bw // 2]
             assert mid[0] > mid[1] + 60 and mid[0] > mid[2] + 60, "the empty bar is red"
         assert gl_ctx.error == "GL_NO_ERROR"

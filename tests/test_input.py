@@ -13,7 +13,6 @@ from across_dimensions.game.actions import PRESSES, Actions
 from across_dimensions.game.replay import Replay, ReplayError
 from across_dimensions.world.resources import levels_dir
 
-
 # ---- the window's input, in a fresh process ------------------------------------
 # A headless pyglet window needs its own process: once the suite has made a
 # standalone EGL context (the GL tests), wrapping a window's context fails.
@@ -93,15 +92,19 @@ def _presses_while_paused():
 
 def _run_fresh(name: str) -> None:
     code = f"import pyglet, runpy; pyglet.options['headless'] = True; runpy.run_path({__file__!r})[{name!r}]()"
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(Path(__file__).parent.parent), os.environ.get("PYTHONPATH", "")]))
+    env = dict(
+        os.environ, PYTHONPATH=os.pathsep.join([str(Path(__file__).parent.parent), os.environ.get("PYTHONPATH", "")])
+    )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, env=env)
     if r.returncode == _NO_WINDOW:
         pytest.skip(r.stdout.strip())
     assert r.returncode == 0, r.stdout + r.stderr
 
 
-@pytest.mark.parametrize("scenario", ["_tap_shorter_than_a_tick", "_two_taps_in_one_tick", "_wheel_and_extra_buttons",
-                                      "_presses_while_paused"])
+@pytest.mark.parametrize(
+    "scenario",
+    ["_tap_shorter_than_a_tick", "_two_taps_in_one_tick", "_wheel_and_extra_buttons", "_presses_while_paused"],
+)
 def test_window_counts_every_press(scenario):
     """A tap shorter than a tick fires exactly once; two taps are two; the wheel
     and extra mouse buttons bind like keys; presses while paused are dropped."""
@@ -126,9 +129,18 @@ def test_presses_survive_a_replay_round_trip(tmp_path):
 
 
 def _v1(tmp_path, version=1, row=(0.0, 0.0, 0.0, 0.0, 0.0, 0)):
-    data = {"format": "across-dimensions-replay", "version": version, "level": "01_first_steps",
-            "level_hash": "0" * 64, "seed": 0, "tick_rate": 60, "hash_every": 60,
-            "actions": [[3, list(row)]], "hashes": {}, "final": {"ticks": 3, "hash": "", "outcome": None}}
+    data = {
+        "format": "across-dimensions-replay",
+        "version": version,
+        "level": "01_first_steps",
+        "level_hash": "0" * 64,
+        "seed": 0,
+        "tick_rate": 60,
+        "hash_every": 60,
+        "actions": [[3, list(row)]],
+        "hashes": {},
+        "final": {"ticks": 3, "hash": "", "outcome": None},
+    }
     path = tmp_path / "old.json"
     path.write_text(json.dumps(data))
     return path
@@ -142,8 +154,12 @@ def test_version_one_replays_still_load(tmp_path):
 def test_unknown_versions_and_bad_presses_are_refused_naming_the_file(tmp_path):
     with pytest.raises(ReplayError, match=r"old\.json: replay format version 3; this game reads versions 1 and 2"):
         Replay.load(_v1(tmp_path, version=3))
-    for presses, why in (({"sneeze": 1}, "unknown action"), ({"fire": 0}, "from 1 to"), ({"fire": 1.5}, "from 1 to"),
-                         ({}, "a table of action")):
+    for presses, why in (
+        ({"sneeze": 1}, "unknown action"),
+        ({"fire": 0}, "from 1 to"),
+        ({"fire": 1.5}, "from 1 to"),
+        ({}, "a table of action"),
+    ):
         with pytest.raises(ReplayError, match=why) as e:
             Replay.load(_v1(tmp_path, version=2, row=(0.0, 0.0, 0.0, 0.0, 0.0, 0, presses)))
         assert "old.json" in str(e.value)

@@ -36,23 +36,39 @@ DETERMINISTIC = ("game/", "physics/", "world/", "core/")
 # Benchmarks time the simulation from outside; nothing they measure reaches its state.
 CLOCK_ALLOWED = {"core/bench.py", "physics/bench.py", "game/bench.py"}
 CLOCK_FUNCS = {
-    "time.time", "time.time_ns", "time.perf_counter", "time.perf_counter_ns", "time.monotonic",
-    "time.monotonic_ns", "datetime.datetime.now", "datetime.datetime.utcnow", "datetime.datetime.today",
+    "time.time",
+    "time.time_ns",
+    "time.perf_counter",
+    "time.perf_counter_ns",
+    "time.monotonic",
+    "time.monotonic_ns",
+    "datetime.datetime.now",
+    "datetime.datetime.utcnow",
+    "datetime.datetime.today",
     "datetime.date.today",
 }
 #: numpy.random names that do not touch the global RandomState.
-RANDOM_ALLOWED = {"default_rng", "Generator", "SeedSequence", "BitGenerator", "PCG64", "PCG64DXSM", "Philox",
-                  "SFC64", "MT19937"}
+RANDOM_ALLOWED = {
+    "default_rng",
+    "Generator",
+    "SeedSequence",
+    "BitGenerator",
+    "PCG64",
+    "PCG64DXSM",
+    "Philox",
+    "SFC64",
+    "MT19937",
+}
 
 
 # ----------------------------------------------------------------- the checker
 @dataclass(frozen=True)
 class Import:
-    rel: str           # path under across_dimensions/, e.g. "core/mesh.py"
+    rel: str  # path under across_dimensions/, e.g. "core/mesh.py"
     line: int
-    module: str        # absolute dotted name
+    module: str  # absolute dotted name
     in_function: bool  # inside a def / lambda body (a lazy import)
-    text: str          # the statement as written
+    text: str  # the statement as written
 
     def where(self) -> str:
         return f"across_dimensions/{self.rel}:{self.line}: {self.text}"
@@ -100,9 +116,13 @@ def imports(rel: str, source: str) -> list[Import]:
                     out.append(Import(rel, node.lineno, f"{base}.{a.name}", in_fn, ast.unparse(node)))
             else:
                 out.append(Import(rel, node.lineno, base, in_fn, ast.unparse(node)))
-        elif (isinstance(node, ast.Call) and node.args and isinstance(node.args[0], ast.Constant)
-              and isinstance(node.args[0].value, str)
-              and ast.unparse(node.func) in ("importlib.import_module", "import_module", "__import__")):
+        elif (
+            isinstance(node, ast.Call)
+            and node.args
+            and isinstance(node.args[0], ast.Constant)
+            and isinstance(node.args[0].value, str)
+            and ast.unparse(node.func) in ("importlib.import_module", "import_module", "__import__")
+        ):
             out.append(Import(rel, node.lineno, node.args[0].value, in_fn, ast.unparse(node)))
     return out
 
@@ -166,16 +186,21 @@ def core_import_problems(rel: str, source: str) -> list[str]:
                 continue
             out.append(f"{imp.where()}  ({root} may be imported here only inside a function, lazily)")
             continue
-        out.append(f"{imp.where()}  (core may import only numpy, numba, the standard library "
-                   f"and across_dimensions.core; found {imp.module})")
+        out.append(
+            f"{imp.where()}  (core may import only numpy, numba, the standard library "
+            f"and across_dimensions.core; found {imp.module})"
+        )
     return out
 
 
 def exclusive_import_problems(rel: str, source: str, module: str, owner: str) -> list[str]:
     if rel.startswith(owner):
         return []
-    return [f"{imp.where()}  (only across_dimensions/{owner} may import {module})"
-            for imp in imports(rel, source) if imp.module.split(".")[0] == module]
+    return [
+        f"{imp.where()}  (only across_dimensions/{owner} may import {module})"
+        for imp in imports(rel, source)
+        if imp.module.split(".")[0] == module
+    ]
 
 
 def clock_problems(rel: str, source: str) -> list[str]:
@@ -188,16 +213,21 @@ def clock_problems(rel: str, source: str) -> list[str]:
 
 
 def random_problems(rel: str, source: str) -> list[str]:
-    out = [f"{imp.where()}  (the random module is global random state; use np.random.default_rng(seed))"
-           for imp in imports(rel, source) if imp.module.split(".")[0] == "random"]
+    out = [
+        f"{imp.where()}  (the random module is global random state; use np.random.default_rng(seed))"
+        for imp in imports(rel, source)
+        if imp.module.split(".")[0] == "random"
+    ]
     seen = set()
     for line, dotted, text in references(rel, source):
         parts = dotted.split(".")
         if parts[:2] == ["numpy", "random"] and len(parts) > 2 and parts[2] not in RANDOM_ALLOWED:
             if (line, parts[2]) not in seen:
                 seen.add((line, parts[2]))
-                out.append(f"across_dimensions/{rel}:{line}: {text}  (numpy.random.{parts[2]} uses the global "
-                           "random state; use a seeded np.random.default_rng)")
+                out.append(
+                    f"across_dimensions/{rel}:{line}: {text}  (numpy.random.{parts[2]} uses the global "
+                    "random state; use a seeded np.random.default_rng)"
+                )
     return out
 
 
@@ -245,8 +275,9 @@ def test_only_app_imports_pyglet():
 
 
 def test_no_wall_clock_in_deterministic_layers():
-    problems = [p for rel, src in _deterministic_files().items()
-                if rel not in CLOCK_ALLOWED for p in clock_problems(rel, src)]
+    problems = [
+        p for rel, src in _deterministic_files().items() if rel not in CLOCK_ALLOWED for p in clock_problems(rel, src)
+    ]
     assert not problems, _report(problems)
 
 
@@ -256,16 +287,19 @@ def test_no_global_random_state_in_deterministic_layers():
 
 
 # ------------------------------------------- the checker catches what it should
-@pytest.mark.parametrize("rel, source, expect", [
-    ("core/mesh.py", "import trimesh\n", "only numpy"),
-    ("core/mesh.py", "def f():\n    import trimesh\n", "only numpy"),
-    ("core/meshio.py", "import trimesh\n", "only inside a function"),
-    ("core/meshio.py", "def f():\n    import trimesh.exchange\n", None),
-    ("core/mesh.py", "from ..physics import world\n", "across_dimensions.physics"),
-    ("core/mesh.py", "from . import transform\nfrom .mesh import TetMesh4\nimport json, numpy as np\n", None),
-    ("core/mesh.py", "from across_dimensions.core import transform\nfrom numba import njit\n", None),
-    ("core/mesh.py", "import importlib\nm = importlib.import_module('scipy')\n", "scipy"),
-])
+@pytest.mark.parametrize(
+    "rel, source, expect",
+    [
+        ("core/mesh.py", "import trimesh\n", "only numpy"),
+        ("core/mesh.py", "def f():\n    import trimesh\n", "only numpy"),
+        ("core/meshio.py", "import trimesh\n", "only inside a function"),
+        ("core/meshio.py", "def f():\n    import trimesh.exchange\n", None),
+        ("core/mesh.py", "from ..physics import world\n", "across_dimensions.physics"),
+        ("core/mesh.py", "from . import transform\nfrom .mesh import TetMesh4\nimport json, numpy as np\n", None),
+        ("core/mesh.py", "from across_dimensions.core import transform\nfrom numba import njit\n", None),
+        ("core/mesh.py", "import importlib\nm = importlib.import_module('scipy')\n", "scipy"),
+    ],
+)
 def test_checker_core_imports(rel, source, expect):
     problems = core_import_problems(rel, source)
     if expect is None:
@@ -274,12 +308,15 @@ def test_checker_core_imports(rel, source, expect):
         assert len(problems) == 1 and expect in problems[0] and f"across_dimensions/{rel}:" in problems[0], problems
 
 
-@pytest.mark.parametrize("rel, source, bad", [
-    ("game/sim.py", "def f():\n    import moderngl\n", True),
-    ("app/window.py", "from moderngl import Context\n", True),
-    ("render/hud.py", "import moderngl as gl\n", False),
-    ("render/hud.py", "'''import moderngl'''\n# import moderngl\n", False),
-])
+@pytest.mark.parametrize(
+    "rel, source, bad",
+    [
+        ("game/sim.py", "def f():\n    import moderngl\n", True),
+        ("app/window.py", "from moderngl import Context\n", True),
+        ("render/hud.py", "import moderngl as gl\n", False),
+        ("render/hud.py", "'''import moderngl'''\n# import moderngl\n", False),
+    ],
+)
 def test_checker_moderngl(rel, source, bad):
     problems = exclusive_import_problems(rel, source, "moderngl", "render/")
     assert bool(problems) == bad, problems
@@ -287,16 +324,19 @@ def test_checker_moderngl(rel, source, bad):
         assert f"across_dimensions/{rel}:" in problems[0] and "moderngl" in problems[0]
 
 
-@pytest.mark.parametrize("source, bad", [
-    ("import time\nt = time.perf_counter()\n", True),
-    ("import time as _t\nt = _t.monotonic()\n", True),
-    ("from time import perf_counter as pc\nt = pc()\n", True),
-    ("import datetime\nd = datetime.datetime.now()\n", True),
-    ("from datetime import datetime\nd = datetime.now()\n", True),
-    ("import time\nclock = time.time\n", True),
-    ("import time\ntime.sleep(0)\n", False),
-    ("def time():\n    return 0\nx = time()\n", False),
-])
+@pytest.mark.parametrize(
+    "source, bad",
+    [
+        ("import time\nt = time.perf_counter()\n", True),
+        ("import time as _t\nt = _t.monotonic()\n", True),
+        ("from time import perf_counter as pc\nt = pc()\n", True),
+        ("import datetime\nd = datetime.datetime.now()\n", True),
+        ("from datetime import datetime\nd = datetime.now()\n", True),
+        ("import time\nclock = time.time\n", True),
+        ("import time\ntime.sleep(0)\n", False),
+        ("def time():\n    return 0\nx = time()\n", False),
+    ],
+)
 def test_checker_clock(source, bad):
     problems = clock_problems("game/x.py", source)
     assert bool(problems) == bad, problems
@@ -304,16 +344,19 @@ def test_checker_clock(source, bad):
         assert problems[0].startswith("across_dimensions/game/x.py:")
 
 
-@pytest.mark.parametrize("source, bad", [
-    ("import random\n", True),
-    ("from random import random\n", True),
-    ("import numpy as np\nx = np.random.rand(3)\n", True),
-    ("import numpy as np\nnp.random.seed(0)\n", True),
-    ("from numpy.random import uniform\n", True),
-    ("from numpy import random as npr\nx = npr.normal()\n", True),
-    ("import numpy as np\nrng = np.random.default_rng(0)\nx = rng.random(3)\n", False),
-    ("import numpy as np\ndef f(rng: np.random.Generator):\n    return rng.uniform()\n", False),
-])
+@pytest.mark.parametrize(
+    "source, bad",
+    [
+        ("import random\n", True),
+        ("from random import random\n", True),
+        ("import numpy as np\nx = np.random.rand(3)\n", True),
+        ("import numpy as np\nnp.random.seed(0)\n", True),
+        ("from numpy.random import uniform\n", True),
+        ("from numpy import random as npr\nx = npr.normal()\n", True),
+        ("import numpy as np\nrng = np.random.default_rng(0)\nx = rng.random(3)\n", False),
+        ("import numpy as np\ndef f(rng: np.random.Generator):\n    return rng.uniform()\n", False),
+    ],
+)
 def test_checker_random(source, bad):
     problems = random_problems("physics/x.py", source)
     assert bool(problems) == bad, problems
@@ -321,8 +364,11 @@ def test_checker_random(source, bad):
 
 # ------------------------------------------------------------ at import time
 def _modules_after_import(*modules: str, tmp_path) -> set[str]:
-    code = ("import json, sys\n" + "".join(f"import {m}\n" for m in modules)
-            + "print(json.dumps(sorted({m.split('.')[0] for m in sys.modules})))\n")
+    code = (
+        "import json, sys\n"
+        + "".join(f"import {m}\n" for m in modules)
+        + "print(json.dumps(sorted({m.split('.')[0] for m in sys.modules})))\n"
+    )
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba"))
     env["PYTHONPATH"] = os.pathsep.join(p for p in (str(REPO), env.get("PYTHONPATH")) if p)
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, env=env, cwd=tmp_path)

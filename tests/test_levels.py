@@ -69,8 +69,13 @@ def problems_of(path) -> list[str]:
 
 
 def check_level(*paths, cwd=None) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "across_dimensions", "check-level", *map(str, paths)],
-                          capture_output=True, text=True, timeout=120, cwd=cwd)
+    return subprocess.run(
+        [sys.executable, "-m", "across_dimensions", "check-level", *map(str, paths)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=cwd,
+    )
 
 
 # ------------------------------------------------------------ shipped levels
@@ -132,12 +137,24 @@ def example(tmp_path) -> Path:
 
 def test_readme_documents_every_table_field_and_shape():
     text = README.read_text(encoding="utf-8")
-    for table in ("[level]", "[spawn]", "[goal]", "[physics]", "[[box]]", "[[mesh]]", "[[world]]",
-                  "[[world.box]]", "[[world.mesh]]", "[[object]]"):
+    for table in (
+        "[level]",
+        "[spawn]",
+        "[goal]",
+        "[physics]",
+        "[[box]]",
+        "[[mesh]]",
+        "[[world]]",
+        "[[world.box]]",
+        "[[world.mesh]]",
+        "[[object]]",
+    ):
         assert f"`{table}`" in text, table
-    fields = ("format name description w_range hints position yaw center size color asset scale "
-              "w depth profile shape params rotation spin solid body mass gravity inverse_cube_g rolling_resistance "
-              "velocity").split()
+    fields = (
+        "format name description w_range hints position yaw center size color asset scale "
+        "w depth profile shape params rotation spin solid body mass gravity inverse_cube_g rolling_resistance "
+        "velocity"
+    ).split()
     for f in fields:
         assert f"| `{f}` |" in text, f"field {f} is not in a table of levels/README.md"
     for name in SHAPES:
@@ -188,8 +205,7 @@ def test_world_mesh_builds(tmp_path):
 def test_readme_example_passes_check_level(example):
     res = check_level(example)
     assert res.returncode == 0, res.stderr
-    assert res.stdout.strip() == (f"{example}: ok - 'The Crossing', 6 boxes, 2 worlds, 3 4D objects, "
-                                  "w in [-0.5, 2.0]")
+    assert res.stdout.strip() == (f"{example}: ok - 'The Crossing', 6 boxes, 2 worlds, 3 4D objects, w in [-0.5, 2.0]")
     # The README shows this very line.
     assert "ok - 'The Crossing', 6 boxes, 2 worlds, 3 4D objects, w in [-0.5, 2.0]" in README.read_text()
 
@@ -198,9 +214,11 @@ def test_readme_error_sample_is_real(example, tmp_path):
     """The check-level output shown in the README is what the command prints for
     the example with the three mistakes it describes."""
     text = example.read_text(encoding="utf-8")
-    edits = [("position = [0.0, 0.0, -8.0, 0.0]", "position = [0.0, 0.0, -8.0, 3.0]"),
-             ("[[box]]   # left wall\ncenter", "[[box]]   # left wall\ncentre"),
-             ("  size = [0.8, 0.8, 0.8]\n", "  size = [1.0, -2.0, 1.0]\n")]
+    edits = [
+        ("position = [0.0, 0.0, -8.0, 0.0]", "position = [0.0, 0.0, -8.0, 3.0]"),
+        ("[[box]]   # left wall\ncenter", "[[box]]   # left wall\ncentre"),
+        ("  size = [0.8, 0.8, 0.8]\n", "  size = [1.0, -2.0, 1.0]\n"),
+    ]
     for old, new in edits:
         assert text.count(old) == 1, old
         text = text.replace(old, new)
@@ -367,33 +385,66 @@ def test_missing_table_entries(tmp_path):
     assert any("missing table [goal]" in p for p in problems)
 
 
-@pytest.mark.parametrize("extra, fragments", [
-    ("[[world]]\nname = 'w'\nw = 0.0\ndepth = 1.0\n", ["[[world]] #1 'w'", "has no [[world.box]] or [[world.mesh]]"]),
-    ("[[world]]\nname = 'w'\nw = 0.0\ndepth = 1.0\nprofile = 'cube'\n[[world.box]]\ncenter = [0, 0, 0]\n"
-     "size = [1, 1, 1]\n", ["[[world]] #1 'w'", "field 'profile'", "expected one of prism, round, taper"]),
-    ("[[world]]\nname = 'w'\nw = 0.0\ndepth = 1.0\n[[world.box]]\ncenter = [0, 0, 0]\nsize = [1, 1]\n",
-     ["[[world]] #1 'w' > box #1", "field 'size'", "3 numbers"]),
-    ("[[world]]\nname = 'w'\ndepth = 1.0\n[[world.box]]\ncenter = [0, 0, 0]\nsize = [1, 1, 1]\n",
-     ["[[world]] #1 'w'", "missing field 'w'"]),
-    (OBJECT.replace("position", "scale = [1.0, 1.0, 0.0, 1.0]\nposition"), ["field 'scale'", "positive"]),
-    (OBJECT.replace("position", "solid = 'yes'\nposition"), ["field 'solid'", "true or false", "'yes'"]),
-    (OBJECT.replace("position", "body = 'sphere'\nposition"), ["field 'body'", "none, hypersphere, hypercube"]),
-    (OBJECT.replace("position", "rotation = { xy = 'ten' }\nposition"), ["field 'rotation.xy'", "degrees"]),
-    (OBJECT.replace("position", "spin = 30\nposition"), ["field 'spin'", "table of plane = degrees"]),
-    (OBJECT.replace("position", "params = [1, 2]\nposition"), ["field 'params'", "table of shape parameters"]),
-    ("[physics]\ninverse_cube_g = -1\n", ["[physics]", "field 'inverse_cube_g'", ">= 0"]),
-    ("[[box]]\ncenter = [nan, 0, 0]\nsize = [1, 1, 1]\n", ["[[box]] #2", "field 'center'", "numbers", "nan"]),
-    ("[[box]]\ncenter = [0, 0, 0]\nsize = [1, inf, 1]\n", ["[[box]] #2", "field 'size'", "numbers", "inf"]),
-    ("[[box]]\ncenter = [true, 0, 0]\nsize = [1, 1, 1]\n", ["[[box]] #2", "field 'center'", "numbers"]),
-    ("[[mesh]]\nasset = 7\n", ["[[mesh]] #1", "field 'asset'", "expected a string"]),
-    ("[[mesh]]\nasset = 'meshes/crate.obj'\nyaw = 'left'\n", ["[[mesh]] #1", "field 'yaw'", "a number"]),
-    ("[[mesh]]\nasset = 'meshes/../../README.md'\n", ["[[mesh]] #1", "leaves it"]),
-    ("[[mesh]]\nasset = 'meshes'\n", ["[[mesh]] #1", "no asset 'meshes'"]),
-    ("[bonus]\nx = 1\n", ["top level", "unknown field 'bonus'"]),
-    ("box = 3\n", ["top level", "'box' must be an array of tables ([[box]])"]),
-], ids=["world_empty", "world_profile", "world_box_size", "world_no_w", "object_scale", "object_solid",
-        "object_body", "rotation_degrees", "spin_table", "params_table", "inverse_cube_g", "nan", "inf", "bool",
-        "asset_type", "mesh_yaw", "asset_dotdot_inside", "asset_directory", "unknown_table", "box_not_array"])
+@pytest.mark.parametrize(
+    "extra, fragments",
+    [
+        (
+            "[[world]]\nname = 'w'\nw = 0.0\ndepth = 1.0\n",
+            ["[[world]] #1 'w'", "has no [[world.box]] or [[world.mesh]]"],
+        ),
+        (
+            "[[world]]\nname = 'w'\nw = 0.0\ndepth = 1.0\nprofile = 'cube'\n[[world.box]]\ncenter = [0, 0, 0]\n"
+            "size = [1, 1, 1]\n",
+            ["[[world]] #1 'w'", "field 'profile'", "expected one of prism, round, taper"],
+        ),
+        (
+            "[[world]]\nname = 'w'\nw = 0.0\ndepth = 1.0\n[[world.box]]\ncenter = [0, 0, 0]\nsize = [1, 1]\n",
+            ["[[world]] #1 'w' > box #1", "field 'size'", "3 numbers"],
+        ),
+        (
+            "[[world]]\nname = 'w'\ndepth = 1.0\n[[world.box]]\ncenter = [0, 0, 0]\nsize = [1, 1, 1]\n",
+            ["[[world]] #1 'w'", "missing field 'w'"],
+        ),
+        (OBJECT.replace("position", "scale = [1.0, 1.0, 0.0, 1.0]\nposition"), ["field 'scale'", "positive"]),
+        (OBJECT.replace("position", "solid = 'yes'\nposition"), ["field 'solid'", "true or false", "'yes'"]),
+        (OBJECT.replace("position", "body = 'sphere'\nposition"), ["field 'body'", "none, hypersphere, hypercube"]),
+        (OBJECT.replace("position", "rotation = { xy = 'ten' }\nposition"), ["field 'rotation.xy'", "degrees"]),
+        (OBJECT.replace("position", "spin = 30\nposition"), ["field 'spin'", "table of plane = degrees"]),
+        (OBJECT.replace("position", "params = [1, 2]\nposition"), ["field 'params'", "table of shape parameters"]),
+        ("[physics]\ninverse_cube_g = -1\n", ["[physics]", "field 'inverse_cube_g'", ">= 0"]),
+        ("[[box]]\ncenter = [nan, 0, 0]\nsize = [1, 1, 1]\n", ["[[box]] #2", "field 'center'", "numbers", "nan"]),
+        ("[[box]]\ncenter = [0, 0, 0]\nsize = [1, inf, 1]\n", ["[[box]] #2", "field 'size'", "numbers", "inf"]),
+        ("[[box]]\ncenter = [true, 0, 0]\nsize = [1, 1, 1]\n", ["[[box]] #2", "field 'center'", "numbers"]),
+        ("[[mesh]]\nasset = 7\n", ["[[mesh]] #1", "field 'asset'", "expected a string"]),
+        ("[[mesh]]\nasset = 'meshes/crate.obj'\nyaw = 'left'\n", ["[[mesh]] #1", "field 'yaw'", "a number"]),
+        ("[[mesh]]\nasset = 'meshes/../../README.md'\n", ["[[mesh]] #1", "leaves it"]),
+        ("[[mesh]]\nasset = 'meshes'\n", ["[[mesh]] #1", "no asset 'meshes'"]),
+        ("[bonus]\nx = 1\n", ["top level", "unknown field 'bonus'"]),
+        ("box = 3\n", ["top level", "'box' must be an array of tables ([[box]])"]),
+    ],
+    ids=[
+        "world_empty",
+        "world_profile",
+        "world_box_size",
+        "world_no_w",
+        "object_scale",
+        "object_solid",
+        "object_body",
+        "rotation_degrees",
+        "spin_table",
+        "params_table",
+        "inverse_cube_g",
+        "nan",
+        "inf",
+        "bool",
+        "asset_type",
+        "mesh_yaw",
+        "asset_dotdot_inside",
+        "asset_directory",
+        "unknown_table",
+        "box_not_array",
+    ],
+)
 def test_more_single_problems(tmp_path, extra, fragments):
     text = BASE + "\n" + extra
     if extra.startswith("box = "):  # a top-level key must come before the first table
@@ -449,15 +500,16 @@ def test_python_in_strings_is_just_text(tmp_path, monkeypatch):
 
 
 def test_python_in_numbers_is_not_evaluated(tmp_path):
-    text = BASE.replace("size = [1.0, 2.0, 1.0]", "size = \"[1.0, 2.0, 0.5 + 0.5]\"")
+    text = BASE.replace("size = [1.0, 2.0, 1.0]", 'size = "[1.0, 2.0, 0.5 + 0.5]"')
     (msg,) = problems_of(write(tmp_path, text))
     assert "[goal]: field 'size': expected a list of 3 numbers" in msg
 
 
 def test_python_in_params_is_not_evaluated(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    extra = OBJECT.replace("position", "params = { \"__class__\" = \"__import__('os').system('touch MARKER')\" }\n"
-                                       "position")
+    extra = OBJECT.replace(
+        "position", "params = { \"__class__\" = \"__import__('os').system('touch MARKER')\" }\nposition"
+    )
     (msg,) = problems_of(write(tmp_path, BASE + extra))
     assert "field 'params'" in msg and "'__class__'" in msg
     assert sorted(p.name for p in tmp_path.iterdir()) == ["level.toml"]
@@ -467,8 +519,15 @@ def test_asset_paths_stay_inside_assets(tmp_path):
     root = resources.assets_dir().resolve()
     ok = resources.resolve_asset("meshes/crate.obj")
     assert ok.is_relative_to(root) and ok.is_file()
-    for bad in ("../../etc/passwd", "/etc/passwd", "meshes/../../pyproject.toml", "C:/Windows/win.ini",
-                "C:\\Windows\\win.ini", "\\\\server\\share\\x.obj", ""):
+    for bad in (
+        "../../etc/passwd",
+        "/etc/passwd",
+        "meshes/../../pyproject.toml",
+        "C:/Windows/win.ini",
+        "C:\\Windows\\win.ini",
+        "\\\\server\\share\\x.obj",
+        "",
+    ):
         with pytest.raises(ValueError, match="inside the assets folder"):
             resources.resolve_asset(bad)
 
@@ -559,13 +618,17 @@ HUGE = "9" * 400  # a TOML integer far beyond float range (tomllib accepts any s
 HUGER = "9" * 5000  # beyond Python's int-string limit: tomllib raises a bare ValueError
 
 
-@pytest.mark.parametrize("extra", [
-    f"[[box]]\ncenter = [{HUGE}, 0, 0]\nsize = [1, 1, 1]\n",
-    OBJECT.replace("position", f"mass = {HUGE}\nposition"),
-    OBJECT.replace("position", f"scale = {HUGE}\nposition"),
-    OBJECT.replace("position", f"rotation = {{ xy = {HUGE} }}\nposition"),
-    OBJECT.replace("position", f"mass = {HUGER}\nposition"),
-], ids=["vector", "number", "scale", "angles", "5000_digits"])
+@pytest.mark.parametrize(
+    "extra",
+    [
+        f"[[box]]\ncenter = [{HUGE}, 0, 0]\nsize = [1, 1, 1]\n",
+        OBJECT.replace("position", f"mass = {HUGE}\nposition"),
+        OBJECT.replace("position", f"scale = {HUGE}\nposition"),
+        OBJECT.replace("position", f"rotation = {{ xy = {HUGE} }}\nposition"),
+        OBJECT.replace("position", f"mass = {HUGER}\nposition"),
+    ],
+    ids=["vector", "number", "scale", "angles", "5000_digits"],
+)
 def test_huge_integer_is_a_problem_not_a_crash(tmp_path, extra):
     problems = problems_of(write(tmp_path, BASE + "\n" + extra))
     assert len(problems) == 1
@@ -581,14 +644,17 @@ def test_check_level_huge_integer(tmp_path, digits):
     assert res.stdout.startswith(f"{good}: ok")
 
 
-@pytest.mark.parametrize("shape, params", [
-    ("tesseract", "{ size = -1.0 }"),
-    ("5-cell", "{ radius = \"big\" }"),
-    ("duoprism", "{ p = 2 }"),
-    ("hypersphere", "{ subdivisions = 1.5 }"),
-    ("hypersphere", "{ subdivisions = 9 }"),  # 600 * 8**9 tets: would exhaust memory
-    ("tesseract", "{ color = \"red\" }"),
-])
+@pytest.mark.parametrize(
+    "shape, params",
+    [
+        ("tesseract", "{ size = -1.0 }"),
+        ("5-cell", '{ radius = "big" }'),
+        ("duoprism", "{ p = 2 }"),
+        ("hypersphere", "{ subdivisions = 1.5 }"),
+        ("hypersphere", "{ subdivisions = 9 }"),  # 600 * 8**9 tets: would exhaust memory
+        ("tesseract", '{ color = "red" }'),
+    ],
+)
 def test_bad_shape_param_values(tmp_path, shape, params):
     extra = OBJECT.replace('"tesseract"', f'"{shape}"').replace("position", f"params = {params}\nposition")
     (msg,) = problems_of(write(tmp_path, BASE + extra))
@@ -602,10 +668,14 @@ def test_unknown_shape_with_params_reports_one_problem(tmp_path):
     assert "5-cell" not in problems[0].split("expected one of")[0]
 
 
-@pytest.mark.parametrize("extra", [
-    "[[mesh]]\nasset = \"\"\n",
-    "[[object]]\nname = \"blank\"\nasset = \"\"\nposition = [0.0, 1.0, 3.0, 0.0]\n",
-], ids=["mesh", "object"])
+@pytest.mark.parametrize(
+    "extra",
+    [
+        '[[mesh]]\nasset = ""\n',
+        '[[object]]\nname = "blank"\nasset = ""\nposition = [0.0, 1.0, 3.0, 0.0]\n',
+    ],
+    ids=["mesh", "object"],
+)
 def test_empty_asset_path(tmp_path, extra):
     (msg,) = problems_of(write(tmp_path, BASE + "\n" + extra))
     assert "field 'asset'" in msg
@@ -613,7 +683,7 @@ def test_empty_asset_path(tmp_path, extra):
 
 @pytest.mark.parametrize("asset", ["README.md", "meshes/make_assets.py"])
 def test_asset_must_be_a_mesh_format(tmp_path, asset):
-    (msg,) = problems_of(write(tmp_path, BASE + f"\n[[mesh]]\nasset = \"{asset}\"\n"))
+    (msg,) = problems_of(write(tmp_path, BASE + f'\n[[mesh]]\nasset = "{asset}"\n'))
     assert "field 'asset'" in msg and ".obj" in msg
 
 
@@ -622,13 +692,19 @@ def test_nul_in_asset_path(tmp_path):
     assert "inside the assets folder" in msg
 
 
-@pytest.mark.parametrize("edit", [
-    ("w_range = [-1.0, 1.0]", "w_range = [1.0]"),                       # + "got [0.0, 0.0]"
-    ("w_range = [-1.0, 1.0]\n\n[spawn]\nposition = [0.0, 0.0, 0.0, 0.0]",
-     "w_range = [0.5, 1.0]\n\n[spawn]\nposition = [0.0, 0.0, 0.0]"),  # + "w = 0 is outside"
-    ("[spawn]\nposition = [0.0, 0.0, 0.0, 0.0]\n", ""),                 # + "missing field 'position'"
-    ("[[box]]", "[[world]]\nname = \"m\"\nw = 0.0\ndepth = 1.0\n[[world.mesh]]\nasset = \"../x.obj\"\n\n[[box]]"),
-], ids=["w_range_short", "spawn_short", "missing_spawn", "world_only_bad_mesh"])
+@pytest.mark.parametrize(
+    "edit",
+    [
+        ("w_range = [-1.0, 1.0]", "w_range = [1.0]"),  # + "got [0.0, 0.0]"
+        (
+            "w_range = [-1.0, 1.0]\n\n[spawn]\nposition = [0.0, 0.0, 0.0, 0.0]",
+            "w_range = [0.5, 1.0]\n\n[spawn]\nposition = [0.0, 0.0, 0.0]",
+        ),  # + "w = 0 is outside"
+        ("[spawn]\nposition = [0.0, 0.0, 0.0, 0.0]\n", ""),  # + "missing field 'position'"
+        ("[[box]]", '[[world]]\nname = "m"\nw = 0.0\ndepth = 1.0\n[[world.mesh]]\nasset = "../x.obj"\n\n[[box]]'),
+    ],
+    ids=["w_range_short", "spawn_short", "missing_spawn", "world_only_bad_mesh"],
+)
 def test_one_mistake_one_problem(tmp_path, edit):
     old, new = edit
     assert old in BASE

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from across_dimensions.core import TetMesh4, cross_section
-from across_dimensions.core.transform import translation
+from across_dimensions.core.fileio import FileProblem
 from across_dimensions.core.lift import (
     box_solid,
     extend_solid,
@@ -20,7 +20,7 @@ from across_dimensions.core.lift import (
     profile_scales,
     tet_volumes3,
 )
-from across_dimensions.core.fileio import FileProblem
+from across_dimensions.core.transform import translation
 from across_dimensions.world import bake
 from across_dimensions.world.assets import bake_cache
 from across_dimensions.world.bake import AssetError, lift_asset, lift_to_file, load_surface
@@ -87,8 +87,14 @@ def test_tips_close_the_solid():
 
 @pytest.mark.parametrize(
     "layers, scales",
-    [([0.0], None), ([0.0, 0.0], None), ([1.0, 0.0], None), ([0, 1, 2], [1, 0, 1]), ([0, 1], [1, -1]),
-     ([0, 1], [0, 0])],
+    [
+        ([0.0], None),
+        ([0.0, 0.0], None),
+        ([1.0, 0.0], None),
+        ([0, 1, 2], [1, 0, 1]),
+        ([0, 1], [1, -1]),
+        ([0, 1], [0, 0]),
+    ],
 )
 def test_extrude_rejects_bad_layers(layers, scales):
     v, t = unit_cube()
@@ -324,8 +330,15 @@ def test_lift_to_file_refuses_a_missing_folder(tmp_path, fake_tetwild):
 def pillar_bake(tmp_path_factory):
     cache = tmp_path_factory.mktemp("bake-cache")
     t0 = time.perf_counter()
-    mesh = lift_asset(ASSETS / "pillar.obj", 2.0, w_center=1.0, profile="prism", cache_dir=cache,
-                      edge_length_fac=COARSE, progress=False)
+    mesh = lift_asset(
+        ASSETS / "pillar.obj",
+        2.0,
+        w_center=1.0,
+        profile="prism",
+        cache_dir=cache,
+        edge_length_fac=COARSE,
+        progress=False,
+    )
     return mesh, cache, time.perf_counter() - t0
 
 
@@ -352,8 +365,9 @@ def test_lifted_pillar_cache_hit(pillar_bake, monkeypatch):
 
     monkeypatch.setattr(bake, "tetrahedralize", no_tetwild)
     t0 = time.perf_counter()
-    again = lift_asset(ASSETS / "pillar.obj", 2.0, w_center=1.0, cache_dir=cache, edge_length_fac=COARSE,
-                       progress=False)
+    again = lift_asset(
+        ASSETS / "pillar.obj", 2.0, w_center=1.0, cache_dir=cache, edge_length_fac=COARSE, progress=False
+    )
     hit_seconds = time.perf_counter() - t0
     np.testing.assert_array_equal(again.tets, mesh.tets)
     assert hit_seconds * 10 < bake_seconds

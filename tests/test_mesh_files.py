@@ -111,12 +111,15 @@ def test_member_sizes_are_checked_before_decompressing(tmp_path, monkeypatch):
         TetMesh4.load(path)
 
 
-@pytest.mark.parametrize("vertices, needle", [
-    (_npy_header((5, 4)) + bytes(8), "promises"),  # truncated data
-    (_npy_header((5, 4), "|O"), "object"),
-    (_npy_header((5, 4), "<c16") + bytes(16 * 20), "complex"),
-    (b"not a numpy array at all", "not a numpy array"),
-])
+@pytest.mark.parametrize(
+    "vertices, needle",
+    [
+        (_npy_header((5, 4)) + bytes(8), "promises"),  # truncated data
+        (_npy_header((5, 4), "|O"), "object"),
+        (_npy_header((5, 4), "<c16") + bytes(16 * 20), "complex"),
+        (b"not a numpy array at all", "not a numpy array"),
+    ],
+)
 def test_malformed_members_are_refused(tmp_path, vertices, needle):
     path = tmp_path / "bad.npz"
     with zipfile.ZipFile(path, "w") as z:
@@ -146,16 +149,39 @@ def test_every_shape_parameter_has_a_rule():
             assert name == "color" or name in SHAPE_PARAM_RULES, name
 
 
-@pytest.mark.parametrize("name, value", [("subdivisions", 4), ("subdivisions", -1), ("subdivisions", True),
-                                         ("p", 2), ("p", 129), ("segments", 3.5), ("radius", float("nan")),
-                                         ("radius", float("inf")), ("radius", 0.0), ("height", 1e4), ("r1", "1")])
+@pytest.mark.parametrize(
+    "name, value",
+    [
+        ("subdivisions", 4),
+        ("subdivisions", -1),
+        ("subdivisions", True),
+        ("p", 2),
+        ("p", 129),
+        ("segments", 3.5),
+        ("radius", float("nan")),
+        ("radius", float("inf")),
+        ("radius", 0.0),
+        ("height", 1e4),
+        ("r1", "1"),
+    ],
+)
 def test_shape_param_problem_refuses(name, value):
     problem = shape_param_problem(name, value)
     assert problem and name in problem
 
 
-@pytest.mark.parametrize("name, value", [("subdivisions", 3), ("subdivisions", 0), ("p", 128), ("segments", 3.0),
-                                         ("radius", 1e-3), ("size", 1000), ("r2", np.float32(0.5))])
+@pytest.mark.parametrize(
+    "name, value",
+    [
+        ("subdivisions", 3),
+        ("subdivisions", 0),
+        ("p", 128),
+        ("segments", 3.0),
+        ("radius", 1e-3),
+        ("size", 1000),
+        ("r2", np.float32(0.5)),
+    ],
+)
 def test_shape_param_problem_accepts(name, value):
     assert shape_param_problem(name, value) is None
 
@@ -204,8 +230,17 @@ def test_collapse_keeps_colours_within_tolerance():
     worst = 0.0
     for p, color in zip(pts, tri.colors):
         # Barycentric coordinates of p in every welded triangle; keep the one p lies in.
-        w = np.stack([(np.cross(d - b, p - b) * n).sum(1), (np.cross(a - d, p - d) * n).sum(1),
-                      (np.cross(b - a, p - a) * n).sum(1)], axis=1) / area[:, None]
+        w = (
+            np.stack(
+                [
+                    (np.cross(d - b, p - b) * n).sum(1),
+                    (np.cross(a - d, p - d) * n).sum(1),
+                    (np.cross(b - a, p - a) * n).sum(1),
+                ],
+                axis=1,
+            )
+            / area[:, None]
+        )
         off_plane = np.abs(((p - a) * n).sum(1)) / np.sqrt(area)
         inside = np.flatnonzero((w >= -1e-6).all(axis=1) & (off_plane < 1e-5))
         assert len(inside), f"{p} is on no welded triangle"

@@ -68,8 +68,7 @@ def test_box_contacts_agree_with_sampled_overlap(a1, a2, h1, h2, off):
 def test_box_sphere_depth_is_exact(a, h, off, r):
     rot, half, c = _rot(a), np.asarray(h), np.asarray(off)
     op, on, od = np.zeros((1, 4)), np.zeros((1, 4)), np.zeros(1)
-    n = collide.box_sphere(np.zeros(4), rot, half, c, r, 0.02, np.zeros((collide.SCRATCH_ROWS, 4)),
-                           op, on, od, 0)
+    n = collide.box_sphere(np.zeros(4), rot, half, c, r, 0.02, np.zeros((collide.SCRATCH_ROWS, 4)), op, on, od, 0)
     q = rot.T @ c
     outside = np.linalg.norm(q - np.clip(q, -half, half))
     if outside > 0:

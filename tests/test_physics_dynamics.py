@@ -21,8 +21,9 @@ def _kinetic(world, ids):
 # ---------------------------------------------------------------- free motion
 def test_free_fall_matches_g():
     world = PhysicsWorld(ground=False)
-    b = world.add_body(BodyDef("hypersphere", radius=0.3, position=(1.0, 50.0, -2.0, 0.5),
-                               velocity=(0.5, 0.0, 0.0, 0.25)))
+    b = world.add_body(
+        BodyDef("hypersphere", radius=0.3, position=(1.0, 50.0, -2.0, 0.5), velocity=(0.5, 0.0, 0.0, 0.25))
+    )
     ticks = 90
     for _ in range(ticks):
         world.step(1 / 60)
@@ -78,9 +79,16 @@ def test_free_tumbling_box_conserves_angular_momentum_and_energy():
     # A box with four different sides has an anisotropic inertia on bivectors, so
     # omega precesses while L = I_world omega must stay fixed in the world frame.
     world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
-    b = world.add_body(BodyDef("hypercube", size=(0.4, 1.0, 0.7, 1.6), position=(0, 5, 0, 0),
-                               angles={"xy": 0.3, "zw": -0.5, "yw": 0.2},
-                               angular_velocity=(1.0, -2.0, 0.5, 3.0, -1.5, 2.5), mass=2.0))
+    b = world.add_body(
+        BodyDef(
+            "hypercube",
+            size=(0.4, 1.0, 0.7, 1.6),
+            position=(0, 5, 0, 0),
+            angles={"xy": 0.3, "zw": -0.5, "yw": 0.2},
+            angular_velocity=(1.0, -2.0, 0.5, 3.0, -1.5, 2.5),
+            mass=2.0,
+        )
+    )
     _, w0 = world.body_velocity(b)
     l0 = world.body_inertia(b) @ w0
     e0 = _kinetic(world, [b])
@@ -103,18 +111,35 @@ def test_free_hypercube_spin_is_steady():
         world.step(1 / 60)
     # Isotropic inertia: omega is constant and R(t) = expm(t skew(w0)).
     np.testing.assert_allclose(world.body_velocity(b)[1], w0, atol=1e-14)
-    np.testing.assert_allclose(world.body_rotation(b), transform.bivector_rotation(w0, 1.0),
-                               atol=1e-9)
+    np.testing.assert_allclose(world.body_rotation(b), transform.bivector_rotation(w0, 1.0), atol=1e-9)
 
 
 # ---------------------------------------------------------------- collisions
 @pytest.mark.parametrize("m2", [1.0, 3.0])
 def test_elastic_head_on_collision_conserves_momentum_and_energy(m2):
     world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
-    a = world.add_body(BodyDef("hypersphere", radius=0.5, position=(-2, 1, 0, 0.3), velocity=(3, 0, 0, 0),
-                               mass=1.0, restitution=1.0, friction=0.5))
-    b = world.add_body(BodyDef("hypersphere", radius=0.5, position=(2, 1, 0, 0.3), velocity=(-1, 0, 0, 0),
-                               mass=m2, restitution=1.0, friction=0.5))
+    a = world.add_body(
+        BodyDef(
+            "hypersphere",
+            radius=0.5,
+            position=(-2, 1, 0, 0.3),
+            velocity=(3, 0, 0, 0),
+            mass=1.0,
+            restitution=1.0,
+            friction=0.5,
+        )
+    )
+    b = world.add_body(
+        BodyDef(
+            "hypersphere",
+            radius=0.5,
+            position=(2, 1, 0, 0.3),
+            velocity=(-1, 0, 0, 0),
+            mass=m2,
+            restitution=1.0,
+            friction=0.5,
+        )
+    )
     p0 = 1.0 * world.body_velocity(a)[0] + m2 * world.body_velocity(b)[0]
     e0 = _kinetic(world, [a, b])
     for _ in range(120):
@@ -154,8 +179,7 @@ def test_hypersphere_slides_into_rolling_with_four_d_inertia():
     r = 0.4
     d = np.array([1.0, 0.0, 0.0, 1.0]) / np.sqrt(2)
     v0 = 4.0
-    b = world.add_body(BodyDef("hypersphere", radius=r, position=(0, r, 0, 0), velocity=v0 * d,
-                               friction=0.6))
+    b = world.add_body(BodyDef("hypersphere", radius=r, position=(0, r, 0, 0), velocity=v0 * d, friction=0.6))
     for _ in range(120):
         world.step(1 / 60)
     v, w = world.body_velocity(b)
@@ -172,13 +196,20 @@ def test_spin_friction_and_rolling_resistance_stop_a_ball():
     # the contact patch; rolling only by the optional rolling resistance.
     world = PhysicsWorld(rolling_resistance=0.05)
     r = 0.3
-    spinner = world.add_body(BodyDef("hypersphere", radius=r, position=(0, r, 0, 0),
-                                     angular_velocity={"xz": 5.0, "zw": -3.0}))
-    roller = world.add_body(BodyDef("hypersphere", radius=r, position=(3, r, 0, 0),
-                                    velocity=(0, 0, 0, 2.0), angular_velocity={"yw": 2.0 / r}))
+    spinner = world.add_body(
+        BodyDef("hypersphere", radius=r, position=(0, r, 0, 0), angular_velocity={"xz": 5.0, "zw": -3.0})
+    )
+    roller = world.add_body(
+        BodyDef(
+            "hypersphere", radius=r, position=(3, r, 0, 0), velocity=(0, 0, 0, 2.0), angular_velocity={"yw": 2.0 / r}
+        )
+    )
     ideal = PhysicsWorld()
-    free = ideal.add_body(BodyDef("hypersphere", radius=r, position=(0, r, 0, 0), velocity=(0, 0, 0, 2.0),
-                                  angular_velocity={"yw": 2.0 / r}))
+    free = ideal.add_body(
+        BodyDef(
+            "hypersphere", radius=r, position=(0, r, 0, 0), velocity=(0, 0, 0, 2.0), angular_velocity={"yw": 2.0 / r}
+        )
+    )
     for _ in range(600):
         world.step(1 / 60)
         ideal.step(1 / 60)
@@ -214,10 +245,18 @@ def test_hypersphere_rolls_down_a_slope_without_slipping():
 
 def test_off_centre_hit_tumbles_a_hypercube_through_w_planes():
     world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
-    cube = world.add_body(BodyDef("hypercube", size=1.0, position=(0, 0, 0, 0),
-                                  angles={"xy": 0.2, "zw": 0.3, "xw": 0.25, "yz": -0.15}, mass=1.0))
-    ball = world.add_body(BodyDef("hypersphere", radius=0.2, position=(-2.0, 0.3, -0.25, 0.35),
-                                  velocity=(4.0, 0.0, 0.0, 0.0), mass=0.5))
+    cube = world.add_body(
+        BodyDef(
+            "hypercube",
+            size=1.0,
+            position=(0, 0, 0, 0),
+            angles={"xy": 0.2, "zw": 0.3, "xw": 0.25, "yz": -0.15},
+            mass=1.0,
+        )
+    )
+    ball = world.add_body(
+        BodyDef("hypersphere", radius=0.2, position=(-2.0, 0.3, -0.25, 0.35), velocity=(4.0, 0.0, 0.0, 0.0), mass=0.5)
+    )
     for _ in range(60):
         world.step(1 / 60)
     _, w = world.body_velocity(cube)
@@ -241,9 +280,12 @@ def test_push_at_a_point_spins_the_body():
 # ---------------------------------------------------------------- resting
 def _stack(allow_sleep):
     world = PhysicsWorld(allow_sleep=allow_sleep)
-    ids = [world.add_body(BodyDef("hypercube", size=1.0, position=(0.02 * k, 0.5 + 1.0 * k + 0.01 * k, 0, -0.01 * k),
-                                  friction=0.6))
-           for k in range(3)]
+    ids = [
+        world.add_body(
+            BodyDef("hypercube", size=1.0, position=(0.02 * k, 0.5 + 1.0 * k + 0.01 * k, 0, -0.01 * k), friction=0.6)
+        )
+        for k in range(3)
+    ]
     return world, ids
 
 

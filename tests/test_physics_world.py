@@ -14,15 +14,27 @@ def _scene(seed=3, n=24):
     world = PhysicsWorld()
     world.set_static_boxes([((0.0, 0.25, 2.0), (1.0, 0.25, 0.5))])
     for k in range(n):
-        p = np.array([rng.uniform(-1.5, 1.5), 0.6 + 0.7 * k, rng.uniform(-1.5, 1.5),
-                      rng.uniform(-0.5, 0.5)])
+        p = np.array([rng.uniform(-1.5, 1.5), 0.6 + 0.7 * k, rng.uniform(-1.5, 1.5), rng.uniform(-0.5, 0.5)])
         if k % 2:
-            world.add_body(BodyDef("hypercube", size=rng.uniform(0.4, 0.8), position=p,
-                                   angles={"xw": rng.uniform(-1, 1), "yz": rng.uniform(-1, 1)},
-                                   angular_velocity=rng.normal(size=6)))
+            world.add_body(
+                BodyDef(
+                    "hypercube",
+                    size=rng.uniform(0.4, 0.8),
+                    position=p,
+                    angles={"xw": rng.uniform(-1, 1), "yz": rng.uniform(-1, 1)},
+                    angular_velocity=rng.normal(size=6),
+                )
+            )
         else:
-            world.add_body(BodyDef("hypersphere", radius=rng.uniform(0.2, 0.4), position=p,
-                                   velocity=rng.normal(size=4), restitution=0.4))
+            world.add_body(
+                BodyDef(
+                    "hypersphere",
+                    radius=rng.uniform(0.2, 0.4),
+                    position=p,
+                    velocity=rng.normal(size=4),
+                    restitution=0.4,
+                )
+            )
     return world
 
 
@@ -71,8 +83,7 @@ def test_replay_in_a_fresh_process_is_bit_identical():
         world.step(1 / 60)
     code = _REPLAY.format(tests=os.path.dirname(__file__))
     env = dict(os.environ, PYTHONHASHSEED="123")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
-                         check=True, timeout=300)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True, timeout=300)
     assert out.stdout.strip().splitlines()[-1] == world.state_hash()
 
 
@@ -108,8 +119,7 @@ def test_body_pose_is_a_model_matrix():
     assert pose.shape == (5, 5)
     np.testing.assert_allclose(pose, transform.pose((1, 2, 3, 4), {"xw": 0.4}), atol=1e-15)
     corner = np.array([0.5, 1.0, 1.5, 2.0])
-    np.testing.assert_allclose(transform.apply(pose, corner),
-                               transform.rotation4("xw", 0.4) @ corner + [1, 2, 3, 4])
+    np.testing.assert_allclose(transform.apply(pose, corner), transform.rotation4("xw", 0.4) @ corner + [1, 2, 3, 4])
     with pytest.raises(ValueError):
         world.add_body(BodyDef("cylinder"))
     with pytest.raises(ValueError):
@@ -141,8 +151,9 @@ def test_static_and_kinematic_bodies():
     assert world.body_position(ball)[1] == pytest.approx(1.35, abs=0.01)
     np.testing.assert_array_equal(world.body_position(floor), [0, 1.0, 0, 0])
     # A kinematic paddle moves at its set speed and shoves the ball along w.
-    paddle = world.add_body(BodyDef("hypercube", size=(0.5, 0.5, 0.5, 0.2), position=(0, 1.35, 0, -0.5),
-                                    kind="kinematic"))
+    paddle = world.add_body(
+        BodyDef("hypercube", size=(0.5, 0.5, 0.5, 0.2), position=(0, 1.35, 0, -0.5), kind="kinematic")
+    )
     world.set_velocity(paddle, (0, 0, 0, 1.0))
     for _ in range(60):
         world.step(1 / 60)
@@ -173,8 +184,7 @@ def test_world_boxes_extend_along_w():
 def test_box_wall_stops_a_sliding_hypercube():
     world = PhysicsWorld()
     world.set_static_boxes([((3.0, 1.0, 0.0), (0.5, 1.0, 2.0))])
-    b = world.add_body(BodyDef("hypercube", size=0.5, position=(0, 0.25, 0, 1.0), velocity=(6, 0, 0, 0),
-                               friction=0.1))
+    b = world.add_body(BodyDef("hypercube", size=0.5, position=(0, 0.25, 0, 1.0), velocity=(6, 0, 0, 0), friction=0.1))
     for _ in range(120):
         world.step(1 / 60)
     assert world.body_position(b)[0] <= 2.5 - 0.25 + 0.01
@@ -183,8 +193,9 @@ def test_box_wall_stops_a_sliding_hypercube():
 # ---------------------------------------------------------------- events
 def test_contact_events_report_touches():
     world = PhysicsWorld()
-    ball = world.add_body(BodyDef("hypersphere", radius=0.5, position=(0, 1.0, 0, 0.2), velocity=(0, -3, 0, 0),
-                                  restitution=0.0))
+    ball = world.add_body(
+        BodyDef("hypersphere", radius=0.5, position=(0, 1.0, 0, 0.2), velocity=(0, -3, 0, 0), restitution=0.0)
+    )
     seen = []
     for _ in range(30):
         v0 = world.body_velocity(ball)[0]
@@ -270,15 +281,18 @@ def test_player_push_moves_touched_dynamic_bodies():
     assert world.body_position(box)[0] > 0.7
     # Walking into it with a velocity pushes it along (and not backwards).
     before = world.body_velocity(box)[0]
-    player_collide(world, world.body_position(box) - (0.5, 0.3, 0.0, 0.0), radius=0.3, height=1.8,
-                         velocity=(2.0, 0.0, 0.0))
+    player_collide(
+        world, world.body_position(box) - (0.5, 0.3, 0.0, 0.0), radius=0.3, height=1.8, velocity=(2.0, 0.0, 0.0)
+    )
     assert world.body_velocity(box)[0][0] == pytest.approx(max(2.0, before[0]))
-    player_collide(world, world.body_position(box) + (0.5, -0.3, 0.0, 0.0), radius=0.3, height=1.8,
-                         velocity=(2.0, 0.0, 0.0))
+    player_collide(
+        world, world.body_position(box) + (0.5, -0.3, 0.0, 0.0), radius=0.3, height=1.8, velocity=(2.0, 0.0, 0.0)
+    )
     assert world.body_velocity(box)[0][0] == pytest.approx(max(2.0, before[0]))
     # A rotated hypercube still blocks, and the correction separates.
-    cube = world.add_body(BodyDef("hypercube", size=1.0, position=(0, 0.5, 3.0, 0.0),
-                                  angles={"xz": 0.5, "zw": 0.4}, kind="static"))
+    cube = world.add_body(
+        BodyDef("hypercube", size=1.0, position=(0, 0.5, 3.0, 0.0), angles={"xz": 0.5, "zw": 0.4}, kind="static")
+    )
     feet = np.array([0.0, 0.0, 2.3, 0.0])
     corr, touched = player_collide(world, feet, radius=0.3, height=1.8)
     assert cube in touched and corr[2] < 0
@@ -370,13 +384,27 @@ def test_random_scenes_stay_sane():
         for k in range(60):
             p = np.array([rng.uniform(-2, 2), 1.5 + 0.4 * k, rng.uniform(-2, 2), rng.uniform(-1.8, 1.8)])
             if rng.random() < 0.5:
-                world.add_body(BodyDef("hypersphere", radius=rng.uniform(0.1, 0.5), position=p,
-                                       velocity=rng.normal(size=4) * 3, restitution=rng.uniform(0, 0.9)))
+                world.add_body(
+                    BodyDef(
+                        "hypersphere",
+                        radius=rng.uniform(0.1, 0.5),
+                        position=p,
+                        velocity=rng.normal(size=4) * 3,
+                        restitution=rng.uniform(0, 0.9),
+                    )
+                )
             else:
                 size = rng.uniform(0.2, 1.0, 4) if rng.random() < 0.3 else rng.uniform(0.2, 1.0)
-                world.add_body(BodyDef("hypercube", size=size, position=p, mass=rng.uniform(0.2, 20),
-                                       angles={pl: rng.uniform(-3, 3) for pl in ("xy", "xw", "zw")},
-                                       angular_velocity=rng.normal(size=6) * 3))
+                world.add_body(
+                    BodyDef(
+                        "hypercube",
+                        size=size,
+                        position=p,
+                        mass=rng.uniform(0.2, 20),
+                        angles={pl: rng.uniform(-3, 3) for pl in ("xy", "xw", "zw")},
+                        angular_velocity=rng.normal(size=6) * 3,
+                    )
+                )
         for _ in range(600):
             world.step(1 / 60)
         pos = world.bodies.position[:60]
@@ -401,7 +429,7 @@ def test_add_body_takes_a_body_def_with_defaults():
     assert world.body_kind(ball) == "dynamic" and not world.is_sleeping(ball)
     np.testing.assert_array_equal(world.body_position(ball), 0.0)
     # Diameter 1 by default: the hypervolume of a unit-density 4-ball of radius 1/2.
-    assert world.body_mass(ball) == pytest.approx(np.pi ** 2 / 2 * 0.5 ** 4)
+    assert world.body_mass(ball) == pytest.approx(np.pi**2 / 2 * 0.5**4)
     # One definition makes many bodies; a failed add takes no slot.
     crate = BodyDef("hypercube", size=(1, 2, 1, 1), kind="static", position=(3, 1, 0, 0))
     ids = [world.add_body(crate) for _ in range(2)]

@@ -89,8 +89,9 @@ def test_mirrored_object_still_has_outward_sections():
 def test_numba_kernel_agrees_with_numpy_oracle(seed):
     rng = np.random.default_rng(seed)
     mesh = shapes.hypersphere(subdivisions=1)  # 4800 tets
-    model = T.pose(rng.normal(size=4) * 0.3, {p: rng.uniform(-np.pi, np.pi) for p in T.PLANES},
-                   rng.uniform(0.5, 2.0, size=4))
+    model = T.pose(
+        rng.normal(size=4) * 0.3, {p: rng.uniform(-np.pi, np.pi) for p in T.PLANES}, rng.uniform(0.5, 2.0, size=4)
+    )
     fast = cross_section(mesh, model=model)
     slow = cross_section_reference(mesh, model=model)
     assert len(fast) == len(slow) > 0

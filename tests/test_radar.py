@@ -60,8 +60,10 @@ def test_every_kind_has_its_own_head_shape():
 
 
 def test_heads_stand_at_height_times_radius_and_stems_reach_them():
-    pins = [RadarPin(k, 0.1 * i - 0.4, 0.3 - 0.05 * i, h, h == 0.0)
-            for i, (k, h) in enumerate(zip(RADAR_KINDS, (0.5, -0.3, 0.0, 0.25, -0.55, 0.1, 0.0, -0.05)))]
+    pins = [
+        RadarPin(k, 0.1 * i - 0.4, 0.3 - 0.05 * i, h, h == 0.0)
+        for i, (k, h) in enumerate(zip(RADAR_KINDS, (0.5, -0.3, 0.0, 0.25, -0.55, 0.1, 0.0, -0.05)))
+    ]
     geo = radar_geometry(Radar(range=20.0, w_scale=0.5, pins=pins), px_per_radius=120.0)
     for p, head, shape in zip(pins, geo.heads, geo.shapes):
         np.testing.assert_allclose(head, [p.x * RADIUS, p.height * RADIUS, p.z * RADIUS], atol=1e-9)
@@ -84,8 +86,11 @@ def test_heads_stand_at_height_times_radius_and_stems_reach_them():
 
 
 def test_visible_pins_get_a_ring_on_the_disc():
-    pins = [RadarPin("crystal", 0.2, 0.3, 0.0, True), RadarPin("body", -0.4, 0.1, 0.4, False),
-            RadarPin("enemy", 0.5, -0.5, 0.0, True)]
+    pins = [
+        RadarPin("crystal", 0.2, 0.3, 0.0, True),
+        RadarPin("body", -0.4, 0.1, 0.4, False),
+        RadarPin("enemy", 0.5, -0.5, 0.0, True),
+    ]
     geo = radar_geometry(Radar(20.0, 1.0, pins))
     rings = geo.instances["seen_ring"]
     assert len(rings) == 2
@@ -97,8 +102,11 @@ def test_visible_pins_get_a_ring_on_the_disc():
 
 
 def test_heights_beyond_the_view_are_clamped_with_an_arrow():
-    pins = [RadarPin("crystal", 0.0, 0.5, 3.0, False), RadarPin("bullet", 0.3, 0.0, -HEIGHT_CLAMP * 2, False),
-            RadarPin("body", 0.0, -0.5, HEIGHT_CLAMP * 0.9, False)]
+    pins = [
+        RadarPin("crystal", 0.0, 0.5, 3.0, False),
+        RadarPin("bullet", 0.3, 0.0, -HEIGHT_CLAMP * 2, False),
+        RadarPin("body", 0.0, -0.5, HEIGHT_CLAMP * 0.9, False),
+    ]
     geo = radar_geometry(Radar(20.0, 1.0, pins))
     assert geo.clamped.tolist() == [True, True, False]
     assert np.isclose(geo.heads[0, 1], HEIGHT_CLAMP * RADIUS) and np.isclose(geo.heads[1, 1], -HEIGHT_CLAMP * RADIUS)
@@ -135,10 +143,12 @@ def test_radar_camera_frames_the_disc_and_the_clamp_height(aspect):
     ndc = clip[:, :3] / clip[:, 3:]
     assert (np.abs(ndc) < 1.0).all(), "disc or clamped pins outside the radar's view"
     assert np.ptp(ndc[:, 0]) > 1.2 or np.ptp(ndc[:, 1]) > 1.7, "the radar uses most of its rectangle"
+
     # From above and behind: the near rim (z = -1) is lower on screen than the far rim, and up is up.
     def y_of(p):
         c = vp @ np.r_[p, 1.0]
         return c[1] / c[3]
+
     assert y_of([0, 0, -1]) < y_of([0, 0, 1]) and y_of([0, 0.5, 0]) > y_of([0, 0, 0])
     assert ndc_r > 0
 
@@ -170,10 +180,10 @@ def test_radar_draws_only_in_its_corner(gl_ctx, renderer, size):
         assert renderer.radar.draw_calls >= 3
     x, y, rw, rh = HudMetrics(w, h).radar_rect()
     changed = np.abs(with_radar - without).max(axis=2) > 8
-    inside = changed[y:y + rh, x:x + rw]
+    inside = changed[y : y + rh, x : x + rw]
     assert inside.mean() > 0.05, "the radar changed too few pixels in its corner"
     outside = changed.copy()
-    outside[y:y + rh, x:x + rw] = False
+    outside[y : y + rh, x : x + rw] = False
     assert not outside.any(), "the radar drew outside its rectangle"
     assert gl_ctx.error == "GL_NO_ERROR"
 
@@ -193,13 +203,17 @@ def test_pins_above_and_below_show_where_expected(gl_ctx, renderer):
     def red_rows(height):
         with Offscreen(gl_ctx, w, h) as t:
             t.use()
-            frame = Frame(Camera3(position=np.zeros(3)), hud=Hud(crosshair=False), sky_color=SKY,
-                          radar=Radar(30.0, 1.0, [RadarPin("enemy", 0.0, 0.0, height, False)]))
+            frame = Frame(
+                Camera3(position=np.zeros(3)),
+                hud=Hud(crosshair=False),
+                sky_color=SKY,
+                radar=Radar(30.0, 1.0, [RadarPin("enemy", 0.0, 0.0, height, False)]),
+            )
             renderer.draw(frame)
             img = t.read_rgb().astype(int)
         # Reddish, also when seen through the translucent (blue) disc.
         red = (img[:, :, 0] > 110) & (img[:, :, 0] > img[:, :, 1] + 60) & (img[:, :, 0] > img[:, :, 2] + 45)
-        red = red[:, rect[0]:rect[0] + rect[2]]  # the radar's columns only
+        red = red[:, rect[0] : rect[0] + rect[2]]  # the radar's columns only
         # The head is wider than the stem (about 2 px) and the foot.
         return np.flatnonzero(red.sum(axis=1) >= 5)
 
@@ -223,11 +237,18 @@ def test_two_hundred_pins_cost_a_handful_of_draw_calls(gl_ctx, renderer):
 @pytest.mark.gl
 def test_second_view_in_a_frame_does_not_evict_or_reupload_the_first(gl_ctx, renderer):
     crate = Drawable("crate", 0, box_mesh((1, 0.5, 1)))
-    main = Frame(Camera3(position=np.array([0.0, 1.0, -4.0])), hud=Hud(), sky_color=SKY,
-                 radar=Radar(30.0, 0.5, demo_pins()),
-                 drawables=[Drawable("wall", 0, box_mesh((0, 1, 0), (2, 2, 0.3))), crate])
-    inset = Frame(Camera3(position=np.array([0.0, 6.0, 0.0]), pitch=-1.5), sky_color=SKY,
-                  drawables=[Drawable("map", 0, box_mesh((0, 0, 0), (5, 0.1, 5))), crate])
+    main = Frame(
+        Camera3(position=np.array([0.0, 1.0, -4.0])),
+        hud=Hud(),
+        sky_color=SKY,
+        radar=Radar(30.0, 0.5, demo_pins()),
+        drawables=[Drawable("wall", 0, box_mesh((0, 1, 0), (2, 2, 0.3))), crate],
+    )
+    inset = Frame(
+        Camera3(position=np.array([0.0, 6.0, 0.0]), pitch=-1.5),
+        sky_color=SKY,
+        drawables=[Drawable("map", 0, box_mesh((0, 0, 0), (5, 0.1, 5))), crate],
+    )
     with Offscreen(gl_ctx, 320, 180) as t:
         t.use()
         for _ in range(4):
@@ -267,8 +288,17 @@ def test_golden_radar(gl_ctx, renderer, compare_golden, size):
 
 @pytest.mark.gl
 def test_bench_hud_command_runs(gl_ctx, tmp_path):
-    cmd = [sys.executable, "-m", "across_dimensions.render.bench_hud", "--frames", "5", "--pins", "50",
-           "--png", str(tmp_path)]
+    cmd = [
+        sys.executable,
+        "-m",
+        "across_dimensions.render.bench_hud",
+        "--frames",
+        "5",
+        "--pins",
+        "50",
+        "--png",
+        str(tmp_path),
+    ]
     p = subprocess.run(cmd, check=False, capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
     assert "radar of 50 pins" in p.stdout and "ms" in p.stdout
@@ -276,6 +306,11 @@ def test_bench_hud_command_runs(gl_ctx, tmp_path):
 
 
 def test_bench_hud_command_refuses_bad_arguments():
-    p = subprocess.run([sys.executable, "-m", "across_dimensions.render.bench_hud", "--frames", "many"],
-                       check=False, capture_output=True, text=True, timeout=120)
+    p = subprocess.run(
+        [sys.executable, "-m", "across_dimensions.render.bench_hud", "--frames", "many"],
+        check=False,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert p.returncode == 2 and "--frames" in p.stderr and "Traceback" not in p.stderr

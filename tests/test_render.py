@@ -21,7 +21,7 @@ import pytest
 from across_dimensions.core.mesh import TriMesh3
 from across_dimensions.game.frame import Camera3, Drawable, Frame, Hud
 from across_dimensions.render import font
-from across_dimensions.render.context import Offscreen, RenderError, create_offscreen_context
+from across_dimensions.render.context import Offscreen, RenderError
 from across_dimensions.render.demo import box_mesh, plane_mesh
 from across_dimensions.render.hud import MARKER_COLOR, HudMetrics, hud_quads
 from across_dimensions.render.png import PngError, decode_png, encode_png, read_png, write_png
@@ -53,7 +53,15 @@ def assert_no_gl_error(ctx):
     assert ctx.error == "GL_NO_ERROR"
 
 
-def cube_frame(camera_pos=(0.0, 0.0, 0.0), cube_center=(0.0, 0.0, 3.0), style="solid", color=(0.9, 0.2, 0.1, 1.0), hud=None, revision=0, key=None) -> Frame:
+def cube_frame(
+    camera_pos=(0.0, 0.0, 0.0),
+    cube_center=(0.0, 0.0, 3.0),
+    style="solid",
+    color=(0.9, 0.2, 0.1, 1.0),
+    hud=None,
+    revision=0,
+    key=None,
+) -> Frame:
     """A camera at ``camera_pos`` looking along +z at a unit cube.
 
     The default key names the mesh's content, so a renderer reused across
@@ -107,7 +115,9 @@ def _png_with_filters(img: np.ndarray) -> bytes:
         return struct.pack(">I", len(d)) + k + d + struct.pack(">I", zlib.crc32(k + d) & 0xFFFFFFFF)
 
     hdr = struct.pack(">IIBBBBB", w, h, 8, {3: 2, 4: 6}[c], 0, 0, 0)
-    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", hdr) + chunk(b"IDAT", zlib.compress(b"".join(rows))) + chunk(b"IEND", b"")
+    return (
+        b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", hdr) + chunk(b"IDAT", zlib.compress(b"".join(rows))) + chunk(b"IEND", b"")
+    )
 
 
 @pytest.mark.parametrize("channels", [1, 3, 4])
@@ -264,7 +274,9 @@ def test_offscreen_drawables_are_culled(gl_ctx, target, renderer):
 
 @pytest.mark.gl
 def test_empty_meshes_and_empty_frames(gl_ctx, target, renderer):
-    frame = Frame(Camera3(position=np.zeros(3)), [Drawable("e", 0, TriMesh3.empty())], hud=Hud(crosshair=False), sky_color=SKY)
+    frame = Frame(
+        Camera3(position=np.zeros(3)), [Drawable("e", 0, TriMesh3.empty())], hud=Hud(crosshair=False), sky_color=SKY
+    )
     img = render(renderer, target, frame)
     assert not non_sky(img, tol=1).any()
     assert renderer.stats.draw_calls == 0
@@ -386,7 +398,12 @@ def test_w_indicator_marker_moves(gl_ctx, target, renderer):
 @pytest.mark.gl
 def test_hud_text_fps_message_and_pause(gl_ctx, target, renderer):
     def shot(**kw):
-        return render(renderer, target, Frame(Camera3(position=np.zeros(3)), hud=Hud(crosshair=False, **kw), sky_color=SKY), hud=True).astype(int)
+        return render(
+            renderer,
+            target,
+            Frame(Camera3(position=np.zeros(3)), hud=Hud(crosshair=False, **kw), sky_color=SKY),
+            hud=True,
+        ).astype(int)
 
     plain = shot()
     fps = shot(fps=59.7)
@@ -398,7 +415,9 @@ def test_hud_text_fps_message_and_pause(gl_ctx, target, renderer):
     paused = shot(paused=True)
     # The overlay darkens the scene: a cube low on the left, away from the PAUSED text.
     lit = render(renderer, target, cube_frame(cube_center=(-1.3, -0.6, 2.5)), hud=True)
-    dim = render(renderer, target, cube_frame(cube_center=(-1.3, -0.6, 2.5), hud=Hud(paused=True, crosshair=False)), hud=True)
+    dim = render(
+        renderer, target, cube_frame(cube_center=(-1.3, -0.6, 2.5), hud=Hud(paused=True, crosshair=False)), hud=True
+    )
     cube = non_sky(lit)
     cube[: H // 2 + 10] = False
     assert cube.sum() > 20
@@ -450,7 +469,12 @@ def test_bad_input_raises_render_error(gl_ctx, target, renderer):
 @pytest.mark.gl
 def test_renderer_does_not_change_the_frame(gl_ctx, target, renderer):
     frame = cube_frame(hud=Hud(w=0.3, fps=30.0, message="hi"))
-    before = (frame.camera.position.copy(), frame.drawables[0].mesh.vertices.copy(), frame.drawables[0].model.copy(), repr(frame.hud))
+    before = (
+        frame.camera.position.copy(),
+        frame.drawables[0].mesh.vertices.copy(),
+        frame.drawables[0].model.copy(),
+        repr(frame.hud),
+    )
     renderer.draw(frame)
     after = (frame.camera.position, frame.drawables[0].mesh.vertices, frame.drawables[0].model, repr(frame.hud))
     for a, b in zip(before, after):

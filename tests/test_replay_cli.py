@@ -40,8 +40,14 @@ def env() -> dict:
 
 
 def run(env, cwd, *args, timeout=TIMEOUT) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "across_dimensions", *map(str, args)], capture_output=True,
-                          text=True, timeout=timeout, cwd=cwd, env=env)
+    return subprocess.run(
+        [sys.executable, "-m", "across_dimensions", *map(str, args)],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        cwd=cwd,
+        env=env,
+    )
 
 
 def describe(r) -> str:
@@ -71,8 +77,7 @@ def test_replay_json_for_the_shipped_replays(env, tmp_path, name):
     assert r.returncode == 0, describe(r)
     out = replay_json(r)
     recorded = json.loads(SHIPPED[name].read_text())["final"]
-    assert set(out) == {"level", "outcome", "ticks", "hash", "events", "energy", "position", "respawns",
-                        "divergence"}
+    assert set(out) == {"level", "outcome", "ticks", "hash", "events", "energy", "position", "respawns", "divergence"}
     assert out["outcome"] == recorded["outcome"] == "complete"
     assert out["ticks"] == recorded["ticks"] and out["hash"] == recorded["hash"]
     assert out["divergence"] is None and out["respawns"] == 0
@@ -118,10 +123,18 @@ def test_screenshots_folder_parents_are_not_created(env, tmp_path):
 
 # --------------------------------------------------------- hostile replays
 def _valid() -> dict:
-    return {"format": "across-dimensions-replay", "version": 1, "level": "01_first_steps",
-            "level_hash": hashlib.sha256(LEVEL1.read_bytes()).hexdigest(), "seed": 0, "tick_rate": 60,
-            "hash_every": 60, "actions": [[45, [1.0, 0.0, 0.0, 0.0, 0.0, 0]]], "hashes": {},
-            "final": {"ticks": 45, "hash": "", "outcome": None}}
+    return {
+        "format": "across-dimensions-replay",
+        "version": 1,
+        "level": "01_first_steps",
+        "level_hash": hashlib.sha256(LEVEL1.read_bytes()).hexdigest(),
+        "seed": 0,
+        "tick_rate": 60,
+        "hash_every": 60,
+        "actions": [[45, [1.0, 0.0, 0.0, 0.0, 0.0, 0]]],
+        "hashes": {},
+        "final": {"ticks": 45, "hash": "", "outcome": None},
+    }
 
 
 def _make(kind: str, path: Path) -> None:
@@ -148,8 +161,16 @@ def _make(kind: str, path: Path) -> None:
     path.write_text(raw, encoding="utf-8")
 
 
-HOSTILE = {"run-1e9": str(MAX_TICKS), "run-1e7": str(MAX_TICKS), "huge-int": "5000 digits", "nan-row": "NaN",
-           "deep": "nested", "seed-type": "'seed'", "fifo": "FIFO", "100MB": "larger than"}
+HOSTILE = {
+    "run-1e9": str(MAX_TICKS),
+    "run-1e7": str(MAX_TICKS),
+    "huge-int": "5000 digits",
+    "nan-row": "NaN",
+    "deep": "nested",
+    "seed-type": "'seed'",
+    "fifo": "FIFO",
+    "100MB": "larger than",
+}
 
 
 @pytest.mark.parametrize("kind", HOSTILE)
@@ -197,8 +218,11 @@ def xvfb():
     number = int(os.environ.get("ACROSS_DIMENSIONS_TEST_DISPLAY", "58"))
     if Path(f"/tmp/.X{number}-lock").exists():
         pytest.skip(f"display :{number} is in use (set ACROSS_DIMENSIONS_TEST_DISPLAY)")
-    server = subprocess.Popen(["Xvfb", f":{number}", "-screen", "0", "1280x720x24", "-nolisten", "tcp"],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    server = subprocess.Popen(
+        ["Xvfb", f":{number}", "-screen", "0", "1280x720x24", "-nolisten", "tcp"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     for _ in range(100):
         if Path(f"/tmp/.X11-unix/X{number}").exists():
             break
@@ -218,9 +242,26 @@ def test_sigterm_in_the_window_saves_the_recording(env, tmp_path, xvfb):
     path = tmp_path / "r.json"
     settings = tmp_path / "settings.toml"
     settings.write_text("", encoding="utf-8")
-    game = subprocess.Popen([sys.executable, "-m", "across_dimensions", "play", "01_first_steps", "--record",
-                             str(path), "--settings", str(settings), "--quit-after", "120"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=e, cwd=tmp_path)
+    game = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "across_dimensions",
+            "play",
+            "01_first_steps",
+            "--record",
+            str(path),
+            "--settings",
+            str(settings),
+            "--quit-after",
+            "120",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=e,
+        cwd=tmp_path,
+    )
     try:
         deadline = time.monotonic() + TIMEOUT
         while time.monotonic() < deadline and game.poll() is None:

@@ -30,9 +30,13 @@ ROW = [1.0, 0.0, 0.0, 0.0, 0.0, 0]
 def valid() -> dict:
     """A short valid replay of level 1: walk, strafe and turn, move along w, jump."""
     return {
-        "format": FORMAT, "version": 2, "level": "01_first_steps",
+        "format": FORMAT,
+        "version": 2,
+        "level": "01_first_steps",
         "level_hash": hashlib.sha256(LEVEL1.read_bytes()).hexdigest(),
-        "seed": 0, "tick_rate": 60, "hash_every": 60,
+        "seed": 0,
+        "tick_rate": 60,
+        "hash_every": 60,
         "actions": [[45, ROW], [30, [0.5, 0.3, 0.02, -0.01, 0.5, 0]], [45, [1.0, 0.0, 0.0, 0.0, -1.0, 1]]],
         "hashes": {},
         "final": {"ticks": 120, "hash": "", "outcome": None},
@@ -138,25 +142,28 @@ def test_action_runs_keep_signed_zeros_apart():
 
 
 # ------------------------------------------------------------ actions rows
-@pytest.mark.parametrize("row, needle", [
-    ([1.0, 0.0, 0.0, 0.0, 1.5, 0], "w"),
-    ([-1.01, 0.0, 0.0, 0.0, 0.0, 0], "forward"),
-    ([0.0, 2, 0.0, 0.0, 0.0, 0], "right"),
-    ([0.0, 0.0, 3.2, 0.0, 0.0, 0], "yaw"),
-    ([0.0, 0.0, 0.0, -4.0, 0.0, 0], "pitch"),
-    ([0.0, 0.0, 1e300, 0.0, 0.0, 0], "yaw"),
-    ([0.0, 0.0, 0.0, 0.0, 0.0, -1], "buttons"),
-    ([0.0, 0.0, 0.0, 0.0, 0.0, 64], "buttons"),
-    ([0.0, 0.0, 0.0, 0.0, 0.0, True], "buttons"),
-    ([0.0, 0.0, 0.0, 0.0, 0.0, 1.0], "buttons"),
-    ([True, 0.0, 0.0, 0.0, 0.0, 0], "forward"),
-    ([0.0, "0", 0.0, 0.0, 0.0, 0], "right"),
-    ([0.0, 0.0, None, 0.0, 0.0, 0], "yaw"),
-    ([0.0, 0.0, 0.0, 0.0, 0], "expected [forward"),
-    ([0.0, 0.0, 0.0, 0.0, 0.0, 0, 0], "presses: expected a table"),
-    ([0.0, 0.0, 0.0, 0.0, 0.0, 0, {}, 0], "expected [forward"),
-    ({"forward": 1}, "expected [forward"),
-])
+@pytest.mark.parametrize(
+    "row, needle",
+    [
+        ([1.0, 0.0, 0.0, 0.0, 1.5, 0], "w"),
+        ([-1.01, 0.0, 0.0, 0.0, 0.0, 0], "forward"),
+        ([0.0, 2, 0.0, 0.0, 0.0, 0], "right"),
+        ([0.0, 0.0, 3.2, 0.0, 0.0, 0], "yaw"),
+        ([0.0, 0.0, 0.0, -4.0, 0.0, 0], "pitch"),
+        ([0.0, 0.0, 1e300, 0.0, 0.0, 0], "yaw"),
+        ([0.0, 0.0, 0.0, 0.0, 0.0, -1], "buttons"),
+        ([0.0, 0.0, 0.0, 0.0, 0.0, 64], "buttons"),
+        ([0.0, 0.0, 0.0, 0.0, 0.0, True], "buttons"),
+        ([0.0, 0.0, 0.0, 0.0, 0.0, 1.0], "buttons"),
+        ([True, 0.0, 0.0, 0.0, 0.0, 0], "forward"),
+        ([0.0, "0", 0.0, 0.0, 0.0, 0], "right"),
+        ([0.0, 0.0, None, 0.0, 0.0, 0], "yaw"),
+        ([0.0, 0.0, 0.0, 0.0, 0], "expected [forward"),
+        ([0.0, 0.0, 0.0, 0.0, 0.0, 0, 0], "presses: expected a table"),
+        ([0.0, 0.0, 0.0, 0.0, 0.0, 0, {}, 0], "expected [forward"),
+        ({"forward": 1}, "expected [forward"),
+    ],
+)
 def test_bad_rows_name_the_run_and_the_axis(tmp_path, row, needle):
     data = valid()
     data["actions"][1] = [30, row]
@@ -215,7 +222,7 @@ def test_many_runs_are_refused_by_the_tick_limit(tmp_path):
 
 @pytest.mark.parametrize("digits", [50, 4000])
 def test_huge_integers_are_named(tmp_path, digits):
-    raw = json.dumps(valid()).replace('[[45, ', f'[[{"9" * digits}, ', 1)
+    raw = json.dumps(valid()).replace("[[45, ", f"[[{'9' * digits}, ", 1)
     refused(write(tmp_path, raw), "'actions' #0", "count", f"{digits} digits")
 
 
@@ -245,30 +252,65 @@ def test_deep_nesting_alone(tmp_path):
 
 # ------------------------------------------------------------ header fields
 BAD_HEADERS = [
-    ("format", 1, "not a replay"), ("format", "something-else", "not a replay"), ("format", _DELETE, "not a replay"),
-    ("version", 9, "version 9"), ("version", True, "'version'"), ("version", "1", "'version'"),
-    ("version", 1.0, "'version'"), ("version", None, "'version'"), ("version", _DELETE, "'version'"),
-    ("level", "", "'level'"), ("level", 5, "'level'"), ("level", None, "'level'"), ("level", "a\nb", "'level'"),
-    ("level", "x" * 300, "'level'"), ("level", _DELETE, "'level'"),
-    ("level_hash", "h", "'level_hash'"), ("level_hash", 5, "'level_hash'"), ("level_hash", "A" * 64, "'level_hash'"),
-    ("level_hash", "0" * 63, "'level_hash'"), ("level_hash", _DELETE, "'level_hash'"),
-    ("seed", -1, "'seed'"), ("seed", 2**64, "'seed'"), ("seed", True, "'seed'"), ("seed", 1.5, "'seed'"),
-    ("seed", "0", "'seed'"), ("seed", None, "'seed'"), ("seed", _DELETE, "'seed'"),
-    ("tick_rate", 30, "30 Hz"), ("tick_rate", True, "'tick_rate'"), ("tick_rate", "60", "'tick_rate'"),
-    ("tick_rate", 60.0, "'tick_rate'"), ("tick_rate", _DELETE, "'tick_rate'"),
-    ("hash_every", 0, "'hash_every'"), ("hash_every", -60, "'hash_every'"), ("hash_every", True, "'hash_every'"),
-    ("hash_every", 1.5, "'hash_every'"), ("hash_every", MAX_TICKS + 1, "'hash_every'"),
+    ("format", 1, "not a replay"),
+    ("format", "something-else", "not a replay"),
+    ("format", _DELETE, "not a replay"),
+    ("version", 9, "version 9"),
+    ("version", True, "'version'"),
+    ("version", "1", "'version'"),
+    ("version", 1.0, "'version'"),
+    ("version", None, "'version'"),
+    ("version", _DELETE, "'version'"),
+    ("level", "", "'level'"),
+    ("level", 5, "'level'"),
+    ("level", None, "'level'"),
+    ("level", "a\nb", "'level'"),
+    ("level", "x" * 300, "'level'"),
+    ("level", _DELETE, "'level'"),
+    ("level_hash", "h", "'level_hash'"),
+    ("level_hash", 5, "'level_hash'"),
+    ("level_hash", "A" * 64, "'level_hash'"),
+    ("level_hash", "0" * 63, "'level_hash'"),
+    ("level_hash", _DELETE, "'level_hash'"),
+    ("seed", -1, "'seed'"),
+    ("seed", 2**64, "'seed'"),
+    ("seed", True, "'seed'"),
+    ("seed", 1.5, "'seed'"),
+    ("seed", "0", "'seed'"),
+    ("seed", None, "'seed'"),
+    ("seed", _DELETE, "'seed'"),
+    ("tick_rate", 30, "30 Hz"),
+    ("tick_rate", True, "'tick_rate'"),
+    ("tick_rate", "60", "'tick_rate'"),
+    ("tick_rate", 60.0, "'tick_rate'"),
+    ("tick_rate", _DELETE, "'tick_rate'"),
+    ("hash_every", 0, "'hash_every'"),
+    ("hash_every", -60, "'hash_every'"),
+    ("hash_every", True, "'hash_every'"),
+    ("hash_every", 1.5, "'hash_every'"),
+    ("hash_every", MAX_TICKS + 1, "'hash_every'"),
     ("hash_every", _DELETE, "'hash_every'"),
-    ("actions", "x", "'actions'"), ("actions", {}, "'actions'"), ("actions", None, "'actions'"),
-    ("actions", [[0, ROW]], "'actions' #0"), ("actions", [[1.5, ROW]], "'actions' #0"),
-    ("actions", [[True, ROW]], "'actions' #0"), ("actions", [[1, ROW, 3]], "'actions' #0"),
-    ("actions", [5], "'actions' #0"), ("actions", _DELETE, "'actions'"),
-    ("hashes", [], "'hashes'"), ("hashes", {"x": "0" * 16}, "'hashes' 'x'"),
-    ("hashes", {"060": "0" * 16}, "'hashes' '060'"), ("hashes", {"-60": "0" * 16}, "'hashes' '-60'"),
-    ("hashes", {"61": "0" * 16}, "tick 61"), ("hashes", {"6000": "0" * 16}, "tick 6000"),
-    ("hashes", {"60": 5}, "'hashes' '60'"), ("hashes", {"60": "XYZ"}, "'hashes' '60'"),
-    ("hashes", {"٦٠": "0" * 16}, "'hashes'"), ("hashes", _DELETE, "'hashes'"),
-    ("final", [], "'final'"), ("final", {"ticks": 120}, "'final'"),
+    ("actions", "x", "'actions'"),
+    ("actions", {}, "'actions'"),
+    ("actions", None, "'actions'"),
+    ("actions", [[0, ROW]], "'actions' #0"),
+    ("actions", [[1.5, ROW]], "'actions' #0"),
+    ("actions", [[True, ROW]], "'actions' #0"),
+    ("actions", [[1, ROW, 3]], "'actions' #0"),
+    ("actions", [5], "'actions' #0"),
+    ("actions", _DELETE, "'actions'"),
+    ("hashes", [], "'hashes'"),
+    ("hashes", {"x": "0" * 16}, "'hashes' 'x'"),
+    ("hashes", {"060": "0" * 16}, "'hashes' '060'"),
+    ("hashes", {"-60": "0" * 16}, "'hashes' '-60'"),
+    ("hashes", {"61": "0" * 16}, "tick 61"),
+    ("hashes", {"6000": "0" * 16}, "tick 6000"),
+    ("hashes", {"60": 5}, "'hashes' '60'"),
+    ("hashes", {"60": "XYZ"}, "'hashes' '60'"),
+    ("hashes", {"٦٠": "0" * 16}, "'hashes'"),
+    ("hashes", _DELETE, "'hashes'"),
+    ("final", [], "'final'"),
+    ("final", {"ticks": 120}, "'final'"),
     ("final", {"ticks": 121, "hash": "", "outcome": None}, "'final' 'ticks'"),
     ("final", {"ticks": True, "hash": "", "outcome": None}, "'final' 'ticks'"),
     ("final", {"ticks": 120, "hash": 5, "outcome": None}, "'final' 'hash'"),
@@ -281,16 +323,25 @@ BAD_HEADERS = [
 ]
 
 
-@pytest.mark.parametrize("key, value, needle", BAD_HEADERS,
-                         ids=[f"{k}={'missing' if v is _DELETE else str(v)[:20]}" for k, v, _ in BAD_HEADERS])
+@pytest.mark.parametrize(
+    "key, value, needle",
+    BAD_HEADERS,
+    ids=[f"{k}={'missing' if v is _DELETE else str(v)[:20]}" for k, v, _ in BAD_HEADERS],
+)
 def test_every_header_field_is_typed_and_range_checked(tmp_path, key, value, needle):
     refused(write(tmp_path, mutated(**{key: value})), needle)
 
 
-@pytest.mark.parametrize("raw, needle", [
-    ("", "invalid JSON"), ("{not json", "invalid JSON"), ("null", "not a replay"), ("[1, 2]", "not a replay"),
-    ('"across-dimensions-replay"', "not a replay"),
-])
+@pytest.mark.parametrize(
+    "raw, needle",
+    [
+        ("", "invalid JSON"),
+        ("{not json", "invalid JSON"),
+        ("null", "not a replay"),
+        ("[1, 2]", "not a replay"),
+        ('"across-dimensions-replay"', "not a replay"),
+    ],
+)
 def test_not_a_replay(tmp_path, raw, needle):
     refused(write(tmp_path, raw), needle)
 
@@ -351,4 +402,3 @@ def test_file_over_the_size_limit(tmp_path):
         f.truncate(100 * 2**20)
     assert MAX_BYTES < 100 * 2**20
     refused(path, "larger than")
-

@@ -94,8 +94,10 @@ def test_flush_continues_a_held_run_and_loading_merges_it(level1, tmp_path):
     rec.close()
     lines = path.read_text().splitlines()
     assert json.loads(lines[0])["format"] == JOURNAL_FORMAT
-    assert [json.loads(x) for x in lines[1:] if x.startswith("[")] == [[60, [1.0, 0, 0, 0, 0, 0]],
-                                                                       [30, [1.0, 0, 0, 0, 0, 0]]]
+    assert [json.loads(x) for x in lines[1:] if x.startswith("[")] == [
+        [60, [1.0, 0, 0, 0, 0, 0]],
+        [30, [1.0, 0, 0, 0, 0, 0]],
+    ]
     assert Replay.load(path).actions.runs == [(90, Actions(forward=1.0))]
 
 
@@ -106,19 +108,22 @@ def test_a_last_line_cut_short_is_left_out(level1, tmp_path):
     drive(game, rec, 120, {})
     rec.close()
     with open(path, "a", encoding="utf-8") as f:
-        f.write('[30,[1.0,0.0,0.0,0.0,0')  # the write the crash interrupted
+        f.write("[30,[1.0,0.0,0.0,0.0,0")  # the write the crash interrupted
     assert len(Replay.load(path).actions) == 120
 
 
-@pytest.mark.parametrize("line, needle", [
-    ('[30,[1.0,0.0,0.0,0.0,0.0]]', "expected [forward"),
-    ('[30,[NaN,0.0,0.0,0.0,0.0,0]]', "forward"),
-    ('[1000000000,[1.0,0.0,0.0,0.0,0.0,0]]', "count"),
-    ('{"tick": 61, "hash": "0123456789abcdef"}', "tick 61"),
-    ('{"tick": 6000, "hash": "0123456789abcdef"}', "tick 6000"),
-    ('"hello"', "expected a run"),
-    ('{not json', "expected a run"),
-])
+@pytest.mark.parametrize(
+    "line, needle",
+    [
+        ("[30,[1.0,0.0,0.0,0.0,0.0]]", "expected [forward"),
+        ("[30,[NaN,0.0,0.0,0.0,0.0,0]]", "forward"),
+        ("[1000000000,[1.0,0.0,0.0,0.0,0.0,0]]", "count"),
+        ('{"tick": 61, "hash": "0123456789abcdef"}', "tick 61"),
+        ('{"tick": 6000, "hash": "0123456789abcdef"}', "tick 6000"),
+        ('"hello"', "expected a run"),
+        ("{not json", "expected a run"),
+    ],
+)
 def test_a_broken_complete_line_is_refused_by_number(level1, tmp_path, line, needle):
     path = tmp_path / "rec.json"
     game = Game(level1)
@@ -169,8 +174,14 @@ CHILD = textwrap.dedent("""
 def test_a_recording_killed_mid_run_leaves_a_loadable_replay(level1, tmp_path, signum):
     path = tmp_path / "killed.json"
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in (str(REPO), os.environ.get("PYTHONPATH")) if p))
-    child = subprocess.Popen([sys.executable, "-c", CHILD, str(LEVEL1), str(path)], stdout=subprocess.PIPE,
-                             stderr=subprocess.PIPE, text=True, env=env, cwd=tmp_path)
+    child = subprocess.Popen(
+        [sys.executable, "-c", CHILD, str(LEVEL1), str(path)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+        cwd=tmp_path,
+    )
     seen: dict[int, str] = {}
     try:
         for line in child.stdout:

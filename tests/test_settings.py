@@ -50,9 +50,25 @@ def write(path: Path, text: str) -> Path:
 
 
 def test_actions_have_descriptions_and_required_names():
-    required = {"move_forward", "move_back", "strafe_left", "strafe_right", "jump", "w_ana", "w_kata", "fire",
-                "alt_fire", "next_weapon", "switch_camera", "manipulate", "record", "screenshot", "toggle_fps",
-                "toggle_fullscreen", "pause"}
+    required = {
+        "move_forward",
+        "move_back",
+        "strafe_left",
+        "strafe_right",
+        "jump",
+        "w_ana",
+        "w_kata",
+        "fire",
+        "alt_fire",
+        "next_weapon",
+        "switch_camera",
+        "manipulate",
+        "record",
+        "screenshot",
+        "toggle_fps",
+        "toggle_fullscreen",
+        "pause",
+    }
     assert ACTIONS == tuple(ACTION_DESCRIPTIONS)
     assert required <= set(ACTIONS)
     assert len(set(ACTIONS)) == len(ACTIONS)
@@ -72,11 +88,29 @@ def test_presets_bind_every_action_to_known_keys_without_conflicts(preset):
 
 def test_qwerty_preset():
     s = default_settings("qwerty")
-    expected = {"W": "move_forward", "A": "strafe_left", "S": "move_back", "D": "strafe_right",
-                "UP": "move_forward", "LEFT": "strafe_left", "DOWN": "move_back", "RIGHT": "strafe_right",
-                "SPACE": "jump", "E": "w_ana", "Q": "w_kata", "MOUSE_LEFT": "fire", "MOUSE_RIGHT": "alt_fire",
-                "TAB": "switch_camera", "F": "manipulate", "F9": "record", "F12": "screenshot",
-                "F3": "toggle_fps", "F11": "toggle_fullscreen", "ESCAPE": "pause", "R": "next_weapon"}
+    expected = {
+        "W": "move_forward",
+        "A": "strafe_left",
+        "S": "move_back",
+        "D": "strafe_right",
+        "UP": "move_forward",
+        "LEFT": "strafe_left",
+        "DOWN": "move_back",
+        "RIGHT": "strafe_right",
+        "SPACE": "jump",
+        "E": "w_ana",
+        "Q": "w_kata",
+        "MOUSE_LEFT": "fire",
+        "MOUSE_RIGHT": "alt_fire",
+        "TAB": "switch_camera",
+        "F": "manipulate",
+        "F9": "record",
+        "F12": "screenshot",
+        "F3": "toggle_fps",
+        "F11": "toggle_fullscreen",
+        "ESCAPE": "pause",
+        "R": "next_weapon",
+    }
     for key, action in expected.items():
         assert s.action_for_key(key) == action, key
     assert s.action_for_key("Z") is None
@@ -93,8 +127,19 @@ def test_azerty_preset_binds_zqsd():
     assert s.action_for_key("UP") == "move_forward"
     assert s.action_for_key("W") is None
     # "rest the same"
-    for action in ("jump", "fire", "alt_fire", "next_weapon", "switch_camera", "manipulate", "record",
-                   "screenshot", "toggle_fps", "toggle_fullscreen", "pause"):
+    for action in (
+        "jump",
+        "fire",
+        "alt_fire",
+        "next_weapon",
+        "switch_camera",
+        "manipulate",
+        "record",
+        "screenshot",
+        "toggle_fps",
+        "toggle_fullscreen",
+        "pause",
+    ):
         assert s.keys_for(action) == default_settings("qwerty").keys_for(action)
 
 
@@ -156,11 +201,23 @@ def test_settings_do_not_alias_presets():
     assert PRESETS["qwerty"]["jump"] == ("SPACE",)
 
 
-@pytest.mark.parametrize("kwargs", [
-    {"mouse_sensitivity": 0.0}, {"mouse_sensitivity": 0.1}, {"mouse_sensitivity": math.nan},
-    {"fov_deg": 49.9}, {"fov_deg": 120.5}, {"width": 319}, {"height": 239}, {"width": 800.0},
-    {"vsync": 1}, {"preset": "dvorak"}, {"bindings": {"fly": ("F",)}}, {"bindings": {"jump": ("SPCE",)}},
-])
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {"mouse_sensitivity": 0.0},
+        {"mouse_sensitivity": 0.1},
+        {"mouse_sensitivity": math.nan},
+        {"fov_deg": 49.9},
+        {"fov_deg": 120.5},
+        {"width": 319},
+        {"height": 239},
+        {"width": 800.0},
+        {"vsync": 1},
+        {"preset": "dvorak"},
+        {"bindings": {"fly": ("F",)}},
+        {"bindings": {"jump": ("SPCE",)}},
+    ],
+)
 def test_invalid_construction_raises(kwargs):
     with pytest.raises(ValueError):
         Settings(**kwargs)
@@ -242,9 +299,19 @@ def test_defaults_round_trip_exactly(preset, config_dir):
 
 
 def test_custom_settings_round_trip_exactly(tmp_path):
-    s = Settings(preset="azerty", bindings={"jump": ("SPACE", "MOUSE_RIGHT"), "alt_fire": (), "record": ("_8",)},
-                 mouse_sensitivity=0.0031415926535, invert_x=True, invert_y=True, fov_deg=101.25,
-                 fullscreen=True, vsync=False, show_fps=True, width=2560, height=1440)
+    s = Settings(
+        preset="azerty",
+        bindings={"jump": ("SPACE", "MOUSE_RIGHT"), "alt_fire": (), "record": ("_8",)},
+        mouse_sensitivity=0.0031415926535,
+        invert_x=True,
+        invert_y=True,
+        fov_deg=101.25,
+        fullscreen=True,
+        vsync=False,
+        show_fps=True,
+        width=2560,
+        height=1440,
+    )
     path = tmp_path / "deep" / "er" / "s.toml"
     path.parent.mkdir(parents=True)  # a folder given explicitly is never created (only the config folder is)
     save_settings(s, path)
@@ -264,8 +331,9 @@ def test_file_overrides_only_listed_actions(tmp_path):
 
 
 def test_wrong_type_warns_names_file_and_entry_and_keeps_other_entries(tmp_path):
-    path = write(tmp_path / "s.toml",
-                 'mouse_sensitivity = "fast"\nfov_deg = 90\ninvert_y = true\n[bindings]\njump = ["X"]\n')
+    path = write(
+        tmp_path / "s.toml", 'mouse_sensitivity = "fast"\nfov_deg = 90\ninvert_y = true\n[bindings]\njump = ["X"]\n'
+    )
     s, warnings = load_settings(path)
     assert len(warnings) == 1
     assert str(path) in warnings[0] and "mouse_sensitivity" in warnings[0]
@@ -275,7 +343,7 @@ def test_wrong_type_warns_names_file_and_entry_and_keeps_other_entries(tmp_path)
 
 
 def test_invalid_toml_gives_one_warning_and_all_defaults(tmp_path):
-    path = write(tmp_path / "s.toml", 'fov_deg = 90\nthis is not = = toml [\n')
+    path = write(tmp_path / "s.toml", "fov_deg = 90\nthis is not = = toml [\n")
     s, warnings = load_settings(path)
     assert s == default_settings()
     assert len(warnings) == 1 and str(path) in warnings[0] and "TOML" in warnings[0]
@@ -297,7 +365,7 @@ def test_non_utf8_file_warns(tmp_path):
 
 def test_byte_order_mark_is_tolerated(tmp_path):
     path = tmp_path / "s.toml"
-    path.write_bytes('\ufefffov_deg = 80\n'.encode("utf-8"))
+    path.write_bytes("\ufefffov_deg = 80\n".encode("utf-8"))
     assert load_settings(path) == (Settings(fov_deg=80), [])
 
 
@@ -335,7 +403,7 @@ def test_unknown_preset_warns_and_overrides_still_apply(tmp_path):
 
 
 def test_unknown_top_level_setting_warns(tmp_path):
-    path = write(tmp_path / "s.toml", 'gamma = 2.2\nfov_deg = 60\n')
+    path = write(tmp_path / "s.toml", "gamma = 2.2\nfov_deg = 60\n")
     s, warnings = load_settings(path)
     assert len(warnings) == 1 and "'gamma'" in warnings[0]
     assert s.fov_deg == 60
@@ -395,17 +463,19 @@ def test_a_single_key_string_is_accepted(tmp_path):
 def test_load_never_raises_on_random_documents(tmp_path):
     hypothesis = pytest.importorskip("hypothesis")
     st = hypothesis.strategies
-    scalars = st.one_of(st.booleans(), st.integers(-10**6, 10**6), st.floats(allow_nan=True),
-                        st.text(max_size=8))
-    values = st.recursive(scalars, lambda c: st.lists(c, max_size=3) | st.dictionaries(st.text(max_size=5), c,
-                                                                                        max_size=3), max_leaves=6)
+    scalars = st.one_of(st.booleans(), st.integers(-(10**6), 10**6), st.floats(allow_nan=True), st.text(max_size=8))
+    values = st.recursive(
+        scalars, lambda c: st.lists(c, max_size=3) | st.dictionaries(st.text(max_size=5), c, max_size=3), max_leaves=6
+    )
     names = st.sampled_from([*settings_mod._RULES, "bindings", "other"])
-    bindings = st.dictionaries(st.sampled_from([*ACTIONS, "fly"]),
-                               st.one_of(values, st.lists(st.sampled_from([*sorted(KEY_NAMES), "w", "1", "BAD"]),
-                                                          max_size=3)), max_size=4)
-    docs = st.dictionaries(names, values, max_size=6) | st.builds(lambda d, b: {**d, "bindings": b},
-                                                                    st.dictionaries(names, values, max_size=4),
-                                                                    bindings)
+    bindings = st.dictionaries(
+        st.sampled_from([*ACTIONS, "fly"]),
+        st.one_of(values, st.lists(st.sampled_from([*sorted(KEY_NAMES), "w", "1", "BAD"]), max_size=3)),
+        max_size=4,
+    )
+    docs = st.dictionaries(names, values, max_size=6) | st.builds(
+        lambda d, b: {**d, "bindings": b}, st.dictionaries(names, values, max_size=4), bindings
+    )
     path = tmp_path / "s.toml"
 
     @hypothesis.settings(max_examples=150, deadline=None, database=None)

@@ -30,8 +30,9 @@ def special(tmp_path):
     return tmp_path
 
 
-@pytest.mark.parametrize("name, needle", [("fifo.toml", "FIFO"), ("zero.toml", "device"),
-                                          ("folder.toml", "folder"), ("big.toml", "larger")])
+@pytest.mark.parametrize(
+    "name, needle", [("fifo.toml", "FIFO"), ("zero.toml", "device"), ("folder.toml", "folder"), ("big.toml", "larger")]
+)
 def test_special_settings_files_give_one_warning_and_defaults(special, name, needle):
     settings, warnings = load_settings(special / name)  # must not block or read forever
     assert settings == default_settings()
@@ -94,8 +95,12 @@ def test_read_png_refuses_special_files_and_names_the_file(tmp_path):
 def test_png_bomb_is_not_inflated_past_its_header():
     # A 16x16 grey image whose data inflates to 64 MiB: only what the header promises is decoded.
     header = png.struct.pack(">IIBBBBB", 16, 16, 8, 0, 0, 0, 0)
-    data = (png._SIGNATURE + png._chunk(b"IHDR", header)
-            + png._chunk(b"IDAT", zlib.compress(bytes(64 << 20), 9)) + png._chunk(b"IEND", b""))
+    data = (
+        png._SIGNATURE
+        + png._chunk(b"IHDR", header)
+        + png._chunk(b"IDAT", zlib.compress(bytes(64 << 20), 9))
+        + png._chunk(b"IEND", b"")
+    )
     assert len(data) < 1 << 20
     with pytest.raises(png.PngError, match="expected 272"):
         png.decode_png(data)

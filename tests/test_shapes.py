@@ -445,14 +445,25 @@ def test_section_volume_integrates_to_hypervolume():
     for w in ws:
         s = cross_section(turned, camera_pose=transform.translation((0, 0, 0, w)))
         vols.append(s.volume() if not s.is_empty else 0.0)
-    integral = np.trapezoid(vols, ws) if hasattr(np, "trapezoid") else np.trapz(vols, ws)
+    integral = np.trapezoid(vols, ws)
     assert integral == pytest.approx(mesh.hypervolume(), rel=1e-3)
 
 
 # -------------------------------------------------------------- registry
 def test_registry_names():
-    for name in ("5-cell", "simplex", "tesseract", "16-cell", "24-cell", "120-cell", "600-cell",
-                 "hypersphere", "duoprism", "cubinder", "spherinder"):
+    for name in (
+        "5-cell",
+        "simplex",
+        "tesseract",
+        "16-cell",
+        "24-cell",
+        "120-cell",
+        "600-cell",
+        "hypersphere",
+        "duoprism",
+        "cubinder",
+        "spherinder",
+    ):
         assert name in shapes.SHAPES
     assert shapes.make_shape("simplex").name == "5-cell"
     assert shapes.make_shape("Tesseract", size=2.0).hypervolume() == pytest.approx(16.0)

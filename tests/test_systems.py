@@ -93,8 +93,12 @@ def test_energy_accounting_is_exact_over_a_long_random_run(crystal_level):
     gained = spent = empties = 0
     for t in range(4000):
         if t % 30 == 0:
-            a = Actions(forward=float(rng.uniform(-1, 1)), right=float(rng.uniform(-1, 1)),
-                        yaw=float(rng.normal(0, 0.2)), w=float(rng.choice([-1.0, 0.0, 1.0])))
+            a = Actions(
+                forward=float(rng.uniform(-1, 1)),
+                right=float(rng.uniform(-1, 1)),
+                yaw=float(rng.normal(0, 0.2)),
+                w=float(rng.choice([-1.0, 0.0, 1.0])),
+            )
         game.step(a)
         for e in game.events:
             if isinstance(e, CrystalCollected):

@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from across_dimensions.core import transform as T
@@ -126,7 +126,9 @@ def test_orthonormalize_keeps_proper_rotation_close():
     assert np.abs(fixed - r).max() < 1e-3
 
 
-@pytest.mark.parametrize("bad, kind", [(["xq=3"], "plane"), (["xw=abc"], "plane"), (["w0.3"], "axis"), (["v=1"], "axis")])
+@pytest.mark.parametrize(
+    "bad, kind", [(["xq=3"], "plane"), (["xw=abc"], "plane"), (["w0.3"], "axis"), (["v=1"], "axis")]
+)
 def test_parse_axis_assignments_rejects_bad_items(bad, kind):
     with pytest.raises(ValueError, match=bad[0].split("=")[0]):
         T.parse_axis_assignments(bad, kind)

@@ -27,7 +27,7 @@ import threading
 
 from ..core.errors import InputError
 from . import commands
-from .options import PROG, UserError, fov_degrees, positive_float, positive_int
+from .options import PROG, UserError, fov_degrees, length, positive_float, positive_int
 
 __all__ = ["PROG", "UserError", "main"]
 
@@ -60,8 +60,11 @@ def _parser() -> argparse.ArgumentParser:
     rp.add_argument("--every", type=positive_int, default=30, metavar="N", help="one screenshot every N ticks (30)")
     rp.add_argument("--size", default="640x360", metavar="WxH", help="screenshot size (640x360)")
     rp.add_argument("--no-check", action="store_true", help="do not compare state hashes")
-    rp.add_argument("--json", action="store_true",
-                    help="print one JSON object (outcome, ticks, hash, events, energy, position, ...) and nothing else")
+    rp.add_argument(
+        "--json",
+        action="store_true",
+        help="print one JSON object (outcome, ticks, hash, events, energy, position, ...) and nothing else",
+    )
     rp.set_defaults(func=commands.replay)
 
     ck = sub.add_parser("check-level", help="check level files and list every problem")
@@ -87,7 +90,7 @@ def _parser() -> argparse.ArgumentParser:
 
     lf = sub.add_parser("lift", help="lift a 3D mesh (OBJ, GLB, STL) into a 4D prism, baked to .npz")
     lf.add_argument("mesh")
-    lf.add_argument("--depth", type=positive_float, required=True, help="hyper-depth: extent along w")
+    lf.add_argument("--depth", type=length, required=True, help="hyper-depth: extent along w (0.001 to 10000)")
     lf.add_argument("--profile", choices=("prism", "round", "taper"), default="prism")
     lf.add_argument("-o", "--output", required=True, metavar="OUT.npz")
     lf.set_defaults(func=commands.lift)
@@ -105,10 +108,15 @@ def _add_play_args(p):
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--settings", metavar="FILE", help="settings file (default: the user's config folder)")
     p.add_argument("--fullscreen", action="store_true", default=None)
-    p.add_argument("--screenshot-after", type=positive_float, metavar="SECONDS",
-                   help="save a screenshot after this many seconds, then keep playing (for testing)")
-    p.add_argument("--quit-after", type=positive_float, metavar="SECONDS",
-                   help="close the window after this many seconds")
+    p.add_argument(
+        "--screenshot-after",
+        type=positive_float,
+        metavar="SECONDS",
+        help="save a screenshot after this many seconds, then keep playing (for testing)",
+    )
+    p.add_argument(
+        "--quit-after", type=positive_float, metavar="SECONDS", help="close the window after this many seconds"
+    )
 
 
 def _exit_on_signal(signum, frame):
@@ -176,8 +184,10 @@ def _play(args) -> int:
         # The display answered display_problem's check but the window still
         # could not open (a server that went away, or refused us).
         if type(e).__name__ == "NoSuchDisplayException":
-            print(f"{PROG}: cannot open the display ({e}); try the headless demo: {PROG} demo --screenshots out/",
-                  file=sys.stderr)
+            print(
+                f"{PROG}: cannot open the display ({e}); try the headless demo: {PROG} demo --screenshots out/",
+                file=sys.stderr,
+            )
             return 1
         raise
 

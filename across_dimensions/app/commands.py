@@ -41,14 +41,18 @@ def check_level(args) -> int:
             for p in e.problems:
                 print(f"  {p}", file=sys.stderr)
             continue
-        _out(f"{f}: ok - '{level.name}', {len(level.boxes)} boxes, {len(level.worlds)} worlds, "
-             f"{len(level.objects)} 4D objects, w in {list(level.w_range)}")
+        _out(
+            f"{f}: ok - '{level.name}', {len(level.boxes)} boxes, {len(level.worlds)} worlds, "
+            f"{len(level.objects)} 4D objects, w in {list(level.w_range)}"
+        )
         cost = level.frame_cost_ms()
         if cost > FRAME_MS:
-            print(f"{f}: warning: will likely not keep 60 Hz on a typical 2-core machine: about {cost:.0f} ms "
-                  f"per frame while moving along w ({FRAME_MS:.1f} ms allowed) for {level.tets:,} tetrahedra in "
-                  f"{len(level.worlds) + len(level.objects)} 4D objects and worlds and {level.bodies} rigid bodies",
-                  file=sys.stderr)
+            print(
+                f"{f}: warning: will likely not keep 60 Hz on a typical 2-core machine: about {cost:.0f} ms "
+                f"per frame while moving along w ({FRAME_MS:.1f} ms allowed) for {level.tets:,} tetrahedra in "
+                f"{len(level.worlds) + len(level.objects)} 4D objects and worlds and {level.bodies} rigid bodies",
+                file=sys.stderr,
+            )
     return 2 if bad else 0
 
 
@@ -77,8 +81,11 @@ def replay(args) -> int:
     as_json = getattr(args, "json", False)
     rep = Replay.load(args.replay)
     if rep.recovered:
-        print(f"{PROG}: note: {args.replay} is a recording that was cut short ({len(rep.actions)} ticks kept); "
-              "it has no final hash to check", file=sys.stderr)
+        print(
+            f"{PROG}: note: {args.replay} is a recording that was cut short ({len(rep.actions)} ticks kept); "
+            "it has no final hash to check",
+            file=sys.stderr,
+        )
     game = _load_game(args.level, rep.seed)
     warm_up()
     shooter = _screenshotter(args, game) if args.screenshots else None
@@ -163,8 +170,10 @@ def shape(args) -> int:
     out = _output(args.output, (".npz",), "shape")
     mesh = _make_shape(args.name, _parse_params(args.param))
     mesh.save(out)
-    _out(f"{args.output}: {mesh.name}, {len(mesh.vertices)} vertices, {len(mesh.tets)} tets, "
-         f"hyper-volume {mesh.hypervolume():.4g}")
+    _out(
+        f"{args.output}: {mesh.name}, {len(mesh.vertices)} vertices, {len(mesh.tets)} tets, "
+        f"hyper-volume {mesh.hypervolume():.4g}"
+    )
     return 0
 
 
@@ -188,8 +197,10 @@ def slice(args) -> int:
     if tri.is_empty:
         _out(f"{args.output}: empty - the hyperplane misses {mesh.name or src}")
     else:
-        _out(f"{args.output}: {n_triangles} triangles, {n_vertices} vertices ({args.mode}; "
-             f"{len(tri)} triangles before welding)")
+        _out(
+            f"{args.output}: {n_triangles} triangles, {n_vertices} vertices ({args.mode}; "
+            f"{len(tri)} triangles before welding)"
+        )
     return 0
 
 

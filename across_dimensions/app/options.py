@@ -13,8 +13,18 @@ import math
 
 from ..core.errors import InputError
 
-__all__ = ["PROG", "UserError", "parse_size", "positive_float", "fov_degrees", "positive_int",
-           "SIZE_RANGE", "OPTION_LIMIT", "FOV_RANGE", "axis_values"]
+__all__ = [
+    "PROG",
+    "UserError",
+    "parse_size",
+    "positive_float",
+    "fov_degrees",
+    "positive_int",
+    "SIZE_RANGE",
+    "OPTION_LIMIT",
+    "FOV_RANGE",
+    "axis_values",
+]
 
 #: The command's name, as users type it and as every message starts.
 PROG = "across-dimensions"
@@ -59,6 +69,19 @@ def positive_float(text: str) -> float:
     return x
 
 
+#: Lengths accepted for sizes such as ``--depth``, metres: the level format's own range.
+LENGTH_RANGE = (1e-3, 1e4)
+
+
+def length(text: str) -> float:
+    """argparse type: a length in metres within :data:`LENGTH_RANGE`."""
+    x = _number(text)
+    lo, hi = LENGTH_RANGE
+    if not lo <= x <= hi:
+        raise argparse.ArgumentTypeError(f"expected a length from {lo:g} to {hi:g}, got {text!r}")
+    return x
+
+
 #: Field of view accepted by ``--fov``, degrees: inside (0, 180), with a margin so
 #: the projection's 1 / tan(fov / 2) stays finite.
 FOV_RANGE = (0.001, 179.999)
@@ -70,7 +93,8 @@ def fov_degrees(text: str) -> float:
     lo, hi = FOV_RANGE
     if not lo <= x <= hi:
         raise argparse.ArgumentTypeError(
-            f"expected degrees strictly between 0 and 180 ({lo:g} to {hi:g}), got {text!r}")
+            f"expected degrees strictly between 0 and 180 ({lo:g} to {hi:g}), got {text!r}"
+        )
     return x
 
 
@@ -101,6 +125,7 @@ def axis_values(items, kind: str, option: str) -> dict[str, float]:
         raise UserError(f"{option} {e}") from None
     for key, x in values.items():
         if not (math.isfinite(x) and abs(x) <= OPTION_LIMIT):
-            raise UserError(f"{option} {key}={x}: expected a finite number between {-OPTION_LIMIT:g} and "
-                            f"{OPTION_LIMIT:g}")
+            raise UserError(
+                f"{option} {key}={x}: expected a finite number between {-OPTION_LIMIT:g} and {OPTION_LIMIT:g}"
+            )
     return values

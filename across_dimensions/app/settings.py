@@ -39,9 +39,10 @@ import math
 import os
 import string
 import tomllib
+from collections.abc import Callable
 from dataclasses import dataclass, fields, replace
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import platformdirs
 import tomli_w
@@ -104,8 +105,15 @@ ACTIONS: tuple[str, ...] = tuple(ACTION_DESCRIPTIONS)
 #: Mouse buttons and the wheel, named like keys so one binding can mix both. A
 #: wheel notch is a press of a one-shot action (next weapon), or holds any
 #: other action for one tick.
-MOUSE_BUTTONS: tuple[str, ...] = ("MOUSE_LEFT", "MOUSE_MIDDLE", "MOUSE_RIGHT", "MOUSE_4", "MOUSE_5",
-                                  "MOUSE_WHEEL_UP", "MOUSE_WHEEL_DOWN")
+MOUSE_BUTTONS: tuple[str, ...] = (
+    "MOUSE_LEFT",
+    "MOUSE_MIDDLE",
+    "MOUSE_RIGHT",
+    "MOUSE_4",
+    "MOUSE_5",
+    "MOUSE_WHEEL_UP",
+    "MOUSE_WHEEL_DOWN",
+)
 
 #: Every accepted key name: a subset of pyglet's ``pyglet.window.key`` symbol
 #: names (a test checks that) plus :data:`MOUSE_BUTTONS`. A closed list lets a
@@ -116,11 +124,43 @@ KEY_NAMES: frozenset[str] = frozenset(
     + [f"F{n}" for n in range(1, 13)]
     + [f"NUM_{d}" for d in range(10)]
     + ["NUM_ADD", "NUM_SUBTRACT", "NUM_MULTIPLY", "NUM_DIVIDE", "NUM_DECIMAL", "NUM_ENTER"]
-    + ["SPACE", "TAB", "ESCAPE", "RETURN", "BACKSPACE", "DELETE", "INSERT",
-       "HOME", "END", "PAGEUP", "PAGEDOWN", "UP", "DOWN", "LEFT", "RIGHT",
-       "LSHIFT", "RSHIFT", "LCTRL", "RCTRL", "LALT", "RALT", "CAPSLOCK"]
-    + ["MINUS", "EQUAL", "BRACKETLEFT", "BRACKETRIGHT", "BACKSLASH", "SEMICOLON",
-       "APOSTROPHE", "GRAVE", "COMMA", "PERIOD", "SLASH"]
+    + [
+        "SPACE",
+        "TAB",
+        "ESCAPE",
+        "RETURN",
+        "BACKSPACE",
+        "DELETE",
+        "INSERT",
+        "HOME",
+        "END",
+        "PAGEUP",
+        "PAGEDOWN",
+        "UP",
+        "DOWN",
+        "LEFT",
+        "RIGHT",
+        "LSHIFT",
+        "RSHIFT",
+        "LCTRL",
+        "RCTRL",
+        "LALT",
+        "RALT",
+        "CAPSLOCK",
+    ]
+    + [
+        "MINUS",
+        "EQUAL",
+        "BRACKETLEFT",
+        "BRACKETRIGHT",
+        "BACKSLASH",
+        "SEMICOLON",
+        "APOSTROPHE",
+        "GRAVE",
+        "COMMA",
+        "PERIOD",
+        "SLASH",
+    ]
     + list(MOUSE_BUTTONS)
 )
 
@@ -173,10 +213,12 @@ CONFIG_DIR_ENV = "ACROSS_DIMENSIONS_CONFIG_DIR"
 _APP_NAME = "across-dimensions"
 _FILE_NAME = "settings.toml"
 
-_KEYS_EXPECTED = ("a list of key names such as [\"SPACE\"] (pyglet symbol names: "
-                  "'A'..'Z', '_0'..'_9', 'F1'..'F12', 'SPACE', 'LSHIFT', 'UP', ..., "
-                  "or 'MOUSE_LEFT', 'MOUSE_MIDDLE', 'MOUSE_RIGHT', 'MOUSE_4', 'MOUSE_5', "
-                  "'MOUSE_WHEEL_UP', 'MOUSE_WHEEL_DOWN')")
+_KEYS_EXPECTED = (
+    'a list of key names such as ["SPACE"] (pyglet symbol names: '
+    "'A'..'Z', '_0'..'_9', 'F1'..'F12', 'SPACE', 'LSHIFT', 'UP', ..., "
+    "or 'MOUSE_LEFT', 'MOUSE_MIDDLE', 'MOUSE_RIGHT', 'MOUSE_4', 'MOUSE_5', "
+    "'MOUSE_WHEEL_UP', 'MOUSE_WHEEL_DOWN')"
+)
 
 # --------------------------------------------------------------------------
 # Validation rules for the scalar settings
@@ -211,6 +253,7 @@ def _number(lo: float, hi: float, *, open_lo: bool = False, open_hi: bool = Fals
         if not (math.isfinite(x) and above and below):  # NaN fails both comparisons
             raise ValueError("out of range")
         return x
+
     return convert
 
 
@@ -221,6 +264,7 @@ def _integer(lo: int, hi: int) -> Callable[[Any], int]:
         if not lo <= value <= hi:
             raise ValueError("out of range")
         return value
+
     return convert
 
 
@@ -239,8 +283,9 @@ _MAX_SIZE = 16384
 
 _RULES: dict[str, _Rule] = {
     "preset": _Rule(" or ".join(repr(p) for p in PRESETS), _preset),
-    "mouse_sensitivity": _Rule("a number of radians per pixel, > 0 and < 0.1",
-                               _number(0.0, 0.1, open_lo=True, open_hi=True)),
+    "mouse_sensitivity": _Rule(
+        "a number of radians per pixel, > 0 and < 0.1", _number(0.0, 0.1, open_lo=True, open_hi=True)
+    ),
     "invert_x": _Rule("true or false", _boolean),
     "invert_y": _Rule("true or false", _boolean),
     "fov_deg": _Rule("a number of degrees from 50 to 120", _number(50.0, 120.0)),
@@ -406,8 +451,7 @@ class Settings:
     def problems(self) -> list[str]:
         """Human-readable descriptions of keys bound to more than one action."""
         return [
-            f"key {key!r} is bound to {' and '.join(repr(a) for a in acts)}; "
-            f"it will only trigger {acts[0]!r}"
+            f"key {key!r} is bound to {' and '.join(repr(a) for a in acts)}; it will only trigger {acts[0]!r}"
             for key, acts in self.conflicts().items()
         ]
 
@@ -499,7 +543,7 @@ def load_settings(path: str | os.PathLike | None = None) -> tuple[Settings, list
         return default_settings(), [f"{exc}; using the default settings"]
     except RecursionError:  # deeply nested arrays: tomllib recurses per level
         return default_settings(), [f"{path}: not valid TOML (nested too deeply); using the default settings"]
-    except tomllib.TOMLDecodeError as exc:
+    except (tomllib.TOMLDecodeError, ValueError) as exc:  # ValueError: an integer of over 4300 digits
         return default_settings(), [f"{path}: not valid TOML ({exc}); using the default settings"]
 
     warnings: list[str] = []
@@ -507,8 +551,7 @@ def load_settings(path: str | os.PathLike | None = None) -> tuple[Settings, list
     def bad(entry: str, value: Any, expected: str, default: Any, why: str = "") -> None:
         shown = list(default) if isinstance(default, tuple) else default
         detail = f" ({why})" if why else ""
-        warnings.append(f"{path}: {entry} = {value!r}{detail}: expected {expected}; "
-                        f"using the default {shown!r}")
+        warnings.append(f"{path}: {entry} = {value!r}{detail}: expected {expected}; using the default {shown!r}")
 
     values: dict[str, Any] = {}
     for name, rule in _RULES.items():
@@ -521,22 +564,26 @@ def load_settings(path: str | os.PathLike | None = None) -> tuple[Settings, list
     for name in data:
         if name not in _RULES and name != "bindings":
             # Ignored rather than fatal: it may come from a newer version.
-            warnings.append(f"{path}: unknown setting {name!r}, ignored; "
-                            f"expected one of {', '.join(list(_RULES) + ['[bindings]'])}")
+            warnings.append(
+                f"{path}: unknown setting {name!r}, ignored; expected one of {', '.join(list(_RULES) + ['[bindings]'])}"
+            )
 
     preset = PRESETS[values.get("preset", defaults["preset"])]
     overrides: dict[str, tuple[str, ...]] = {}
     raw_bindings = data.get("bindings", {})
     if not isinstance(raw_bindings, dict):
-        warnings.append(f"{path}: bindings = {raw_bindings!r}: expected a [bindings] table of "
-                        f"action = [\"KEY\", ...]; using the preset's bindings")
+        warnings.append(
+            f"{path}: bindings = {raw_bindings!r}: expected a [bindings] table of "
+            f'action = ["KEY", ...]; using the preset\'s bindings'
+        )
         raw_bindings = {}
     for action, raw in raw_bindings.items():
         if action not in ACTION_DESCRIPTIONS:
             close = difflib.get_close_matches(action, ACTIONS, n=1)
             hint = f" (did you mean {close[0]!r}?)" if close else ""
-            warnings.append(f"{path}: [bindings] unknown action {action!r}{hint}, ignored; "
-                            f"expected one of {', '.join(ACTIONS)}")
+            warnings.append(
+                f"{path}: [bindings] unknown action {action!r}{hint}, ignored; expected one of {', '.join(ACTIONS)}"
+            )
             continue
         try:
             overrides[action] = _parse_keys(raw)
@@ -554,8 +601,7 @@ def _to_toml(settings: Settings) -> dict[str, Any]:
     # Only the differences from the preset, so the file stays short and a
     # changed ``preset`` line still moves every action the player left alone.
     base = PRESETS[settings.preset]
-    doc["bindings"] = {action: list(keys) for action, keys in settings.bindings.items()
-                       if keys != base.get(action, ())}
+    doc["bindings"] = {action: list(keys) for action, keys in settings.bindings.items() if keys != base.get(action, ())}
     return doc
 
 

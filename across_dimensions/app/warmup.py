@@ -20,8 +20,10 @@ def warm_up() -> None:
     from ..core.transform import translation
     from ..physics import BodyDef, PhysicsWorld
 
-    notice = threading.Timer(NOTICE_AFTER, lambda: print(
-        "Compiling the 4D kernels (first run only, about a minute)...", file=sys.stderr, flush=True))
+    notice = threading.Timer(
+        NOTICE_AFTER,
+        lambda: print("Compiling the 4D kernels (first run only, about a minute)...", file=sys.stderr, flush=True),
+    )
     notice.daemon = True
     notice.start()
     try:

@@ -35,8 +35,13 @@ HINT_SECONDS = 7.0
 NEXT_LEVEL_DELAY = 3.0
 
 
-_MOUSE = {"MOUSE_LEFT": "LEFT", "MOUSE_MIDDLE": "MIDDLE", "MOUSE_RIGHT": "RIGHT", "MOUSE_4": "MOUSE4",
-          "MOUSE_5": "MOUSE5"}
+_MOUSE = {
+    "MOUSE_LEFT": "LEFT",
+    "MOUSE_MIDDLE": "MIDDLE",
+    "MOUSE_RIGHT": "RIGHT",
+    "MOUSE_4": "MOUSE4",
+    "MOUSE_5": "MOUSE5",
+}
 
 
 def _key_code(name: str):
@@ -51,12 +56,28 @@ def _key_code(name: str):
 class GameWindow(pyglet.window.Window):
     """One window playing levels in order, starting from ``level_path``."""
 
-    def __init__(self, settings: Settings, level_path: Path, seed: int = 0, record: str | None = None,
-                 warnings=(), screenshot_after: float | None = None, quit_after: float | None = None):
-        config = pyglet.gl.Config(major_version=3, minor_version=3, forward_compatible=True, depth_size=24,
-                                  double_buffer=True)
-        super().__init__(settings.width, settings.height, caption="Across Dimensions", resizable=True,
-                         vsync=settings.vsync, config=config, fullscreen=settings.fullscreen)
+    def __init__(
+        self,
+        settings: Settings,
+        level_path: Path,
+        seed: int = 0,
+        record: str | None = None,
+        warnings=(),
+        screenshot_after: float | None = None,
+        quit_after: float | None = None,
+    ):
+        config = pyglet.gl.Config(
+            major_version=3, minor_version=3, forward_compatible=True, depth_size=24, double_buffer=True
+        )
+        super().__init__(
+            settings.width,
+            settings.height,
+            caption="Across Dimensions",
+            resizable=True,
+            vsync=settings.vsync,
+            config=config,
+            fullscreen=settings.fullscreen,
+        )
         self.settings = settings
         self.ctx = wrap_current_context()
         self.renderer = Renderer(self.ctx)
@@ -192,12 +213,20 @@ class GameWindow(pyglet.window.Window):
         axis = lambda pos, neg: float(self.held(pos)) - float(self.held(neg))  # noqa: E731
         # clamped(): a replay stores exactly these frames, and Replay.load
         # refuses non-finite or out-of-bound rows (a huge mouse jump, a driver's NaN).
-        actions = Actions(forward=axis("move_forward", "move_back"), right=axis("strafe_right", "strafe_left"),
-                          yaw=dyaw, pitch=dpitch, w=axis("w_ana", "w_kata"), jump=self.held("jump"),
-                          fire=self.held("fire"), alt_fire=self.held("alt_fire"),
-                          switch_camera=self.held("switch_camera"), manipulate=self.held("manipulate"),
-                          next_weapon=self.held("next_weapon"),
-                          presses=Actions.count_presses(self.presses)).clamped()
+        actions = Actions(
+            forward=axis("move_forward", "move_back"),
+            right=axis("strafe_right", "strafe_left"),
+            yaw=dyaw,
+            pitch=dpitch,
+            w=axis("w_ana", "w_kata"),
+            jump=self.held("jump"),
+            fire=self.held("fire"),
+            alt_fire=self.held("alt_fire"),
+            switch_camera=self.held("switch_camera"),
+            manipulate=self.held("manipulate"),
+            next_weapon=self.held("next_weapon"),
+            presses=Actions.count_presses(self.presses),
+        ).clamped()
         self.presses.clear()
         self.wheel_held.clear()
         return actions
@@ -324,9 +353,14 @@ class GameWindow(pyglet.window.Window):
 
     def hint(self, i: int) -> str:
         """Level hint ``i`` with ``{action}`` replaced by the keys bound to it."""
-        keys = {a: "/".join(k.replace("MOUSE_", "mouse ").lower() if k.startswith("MOUSE_") else k.lstrip("_")
-                            for k in self.settings.keys_for(a)) or "(unbound)"
-                for a in self.settings.bindings}
+        keys = {
+            a: "/".join(
+                k.replace("MOUSE_", "mouse ").lower() if k.startswith("MOUSE_") else k.lstrip("_")
+                for k in self.settings.keys_for(a)
+            )
+            or "(unbound)"
+            for a in self.settings.bindings
+        }
         return self.game.level.hints[i].format_map(_Missing(keys))
 
     def on_draw(self):
@@ -425,11 +459,21 @@ def run_window(args) -> int:
         check_record_path(args.record)
     warm_up()
     try:
-        window = GameWindow(settings, path, seed=args.seed, record=args.record, warnings=warnings,
-                            screenshot_after=args.screenshot_after, quit_after=args.quit_after)
+        window = GameWindow(
+            settings,
+            path,
+            seed=args.seed,
+            record=args.record,
+            warnings=warnings,
+            screenshot_after=args.screenshot_after,
+            quit_after=args.quit_after,
+        )
     except (pyglet.window.NoSuchConfigException, pyglet.gl.ContextException, RenderError) as e:
-        print(f"across-dimensions: cannot open an OpenGL 3.3 window here ({e}); "
-              f"try the headless demo: across-dimensions demo --screenshots out/", file=sys.stderr)
+        print(
+            f"across-dimensions: cannot open an OpenGL 3.3 window here ({e}); "
+            f"try the headless demo: across-dimensions demo --screenshots out/",
+            file=sys.stderr,
+        )
         return 1
     # SIGTERM (and SIGHUP, a closed terminal) would end the process on the spot
     # and lose the recording's last second; instead leave the loop and save.

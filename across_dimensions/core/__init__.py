@@ -5,9 +5,9 @@ frustum projection, shapes. Depends on numpy and numba only.
 >>> cube = cross_section(shapes.tesseract())          # the unit cube at w = 0
 """
 
+from .frustum import frustum_project, frustum_project_reference
 from .mesh import MeshError, TetMesh4, TriMesh3, cross4
 from .section import cross_section, cross_section_reference
-from .frustum import frustum_project, frustum_project_reference
 
 __all__ = [
     "MeshError",

@@ -16,6 +16,7 @@ if "NUMBA_CACHE_DIR" not in os.environ:
 
 import numba  # noqa: E402  (must follow the environment set-up above)
 
+
 def njit(*args, **kwargs):
     """``numba.njit`` with NumPy's error model: a division by zero gives inf or
     NaN instead of a Python exception, which would cost a branch per division

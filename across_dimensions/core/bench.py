@@ -12,9 +12,9 @@ import time
 
 import numpy as np
 
+from .frustum import frustum_project
 from .mesh import TetMesh4, concatenate
 from .section import cross_section, mesh_clusters
-from .frustum import frustum_project
 from .transform import translation
 
 
@@ -83,17 +83,25 @@ def run(sizes=(100_000, 1_000_000, 4_000_000), repeat: int = 7, out=print) -> li
     for n in sizes:
         scene = tiled_scene(base, n, spread_w=30.0)
         mesh_clusters(scene)  # built once per mesh, like a loaded level
-        report("section, full scan (no culling)", scene, _median_ms(
-            lambda: cross_section(scene, hyperplane, cull=False), repeat))
+        report(
+            "section, full scan (no culling)",
+            scene,
+            _median_ms(lambda scene=scene: cross_section(scene, hyperplane, cull=False), repeat),
+        )
         if n == 1_000_000:
-            report("section, same scene with cluster culling", scene, _median_ms(
-                lambda: cross_section(scene, hyperplane), repeat))
+            report(
+                "section, same scene with cluster culling",
+                scene,
+                _median_ms(lambda scene=scene: cross_section(scene, hyperplane), repeat),
+            )
     dense = tiled_scene(base, sizes[0])
     mesh_clusters(dense)
-    report("section, dense worst case (every copy cut)", dense, _median_ms(
-        lambda: cross_section(dense, hyperplane), repeat))
+    report(
+        "section, dense worst case (every copy cut)",
+        dense,
+        _median_ms(lambda: cross_section(dense, hyperplane), repeat),
+    )
     camera = translation((0, 0, 0, -4.0))
     dense.feature_faces()
-    report("frustum projection (every face in view)", dense, _median_ms(
-        lambda: frustum_project(dense, camera), repeat))
+    report("frustum projection (every face in view)", dense, _median_ms(lambda: frustum_project(dense, camera), repeat))
     return rows

@@ -11,8 +11,9 @@ import numpy as np
 __all__ = ["feature_edges"]
 
 
-def feature_edges(vertices: np.ndarray, faces: np.ndarray, angle_tol: float = 1e-3,
-                  weld_tol: float = 1e-5) -> np.ndarray:
+def feature_edges(
+    vertices: np.ndarray, faces: np.ndarray, angle_tol: float = 1e-3, weld_tol: float = 1e-5
+) -> np.ndarray:
     """The edges to draw for a wireframe.
 
     Triangle soups (each triangle with its own vertices, as cross-sections are)

@@ -32,8 +32,9 @@ def focal_length(fov_deg: float) -> float:
     return float(1.0 / np.tan(np.radians(fov_deg) / 2.0))
 
 
-def frustum_project(mesh: TetMesh4, camera_pose=None, fov_deg: float = 90.0, near: float = 0.05, model=None,
-                    all_faces: bool = False) -> TriMesh3:
+def frustum_project(
+    mesh: TetMesh4, camera_pose=None, fov_deg: float = 90.0, near: float = 0.05, model=None, all_faces: bool = False
+) -> TriMesh3:
     """Project ``mesh`` through a 4D camera's frustum.
 
     Parameters
@@ -86,8 +87,7 @@ def _project(v, faces, colors, mv, f, near):
     inside = np.empty(nv, np.bool_)
     for i in range(nv):
         for r in range(4):
-            cam[i, r] = (mv[r, 0] * v[i, 0] + mv[r, 1] * v[i, 1] + mv[r, 2] * v[i, 2]
-                         + mv[r, 3] * v[i, 3] + mv[r, 4])
+            cam[i, r] = mv[r, 0] * v[i, 0] + mv[r, 1] * v[i, 1] + mv[r, 2] * v[i, 2] + mv[r, 3] * v[i, 3] + mv[r, 4]
         w = cam[i, 3]
         inside[i] = w >= near
         if inside[i]:
@@ -142,8 +142,9 @@ def _project(v, faces, colors, mv, f, near):
     return out_v, out_c, out_d, out_f, k_v, k_f
 
 
-def frustum_project_reference(mesh: TetMesh4, camera_pose=None, fov_deg: float = 90.0, near: float = 0.05,
-                              model=None, all_faces: bool = False) -> TriMesh3:
+def frustum_project_reference(
+    mesh: TetMesh4, camera_pose=None, fov_deg: float = 90.0, near: float = 0.05, model=None, all_faces: bool = False
+) -> TriMesh3:
     """Plain numpy frustum projection, the oracle for :func:`frustum_project`."""
     f = focal_length(fov_deg)
     mv = _model_view(model, camera_pose)
@@ -172,5 +173,10 @@ def frustum_project_reference(mesh: TetMesh4, camera_pose=None, fov_deg: float =
     if not out_v:
         return TriMesh3.empty(with_depth=True)
     v = np.array(out_v, np.float32)
-    return TriMesh3(v, np.arange(len(v), dtype=np.uint32).reshape(-1, 3), np.zeros_like(v), np.array(out_c, np.float32),
-                    np.array(out_d, np.float32))
+    return TriMesh3(
+        v,
+        np.arange(len(v), dtype=np.uint32).reshape(-1, 3),
+        np.zeros_like(v),
+        np.array(out_c, np.float32),
+        np.array(out_d, np.float32),
+    )

@@ -185,7 +185,11 @@ def extrude(vertices3, tets3, layers_w, layer_scales=None, center=None, colors=N
         raise ValueError("extrude: the 3D solid has no tets")
     w, s = _check_layers(layers_w, layer_scales)
     used = np.unique(t3)
-    c = 0.5 * (v3[used].min(axis=0) + v3[used].max(axis=0)) if center is None else np.asarray(center, np.float64).reshape(3)
+    c = (
+        0.5 * (v3[used].min(axis=0) + v3[used].max(axis=0))
+        if center is None
+        else np.asarray(center, np.float64).reshape(3)
+    )
     surf = boundary_faces3(t3)
     _check_surface_manifold(surf)
     tips = (s[0] == 0.0, s[-1] == 0.0)
@@ -207,7 +211,9 @@ def _check_layers(layers_w, layer_scales) -> tuple[np.ndarray, np.ndarray]:
     if s.shape != w.shape:
         raise ValueError(f"extrude: {len(s)} layer_scales for {len(w)} layers")
     if not np.isfinite(s).all() or (s < 0).any() or (s[1:-1] <= 0).any():
-        raise ValueError(f"extrude: layer scales must be > 0 (0 allowed only at the first/last layer), got {s.tolist()}")
+        raise ValueError(
+            f"extrude: layer scales must be > 0 (0 allowed only at the first/last layer), got {s.tolist()}"
+        )
     if len(w) == 2 and (s == 0).all():
         raise ValueError("extrude: both ends are tips (scale 0) with no layer between them")
     return w, s
@@ -386,8 +392,18 @@ def profile_layers(w_center: float, depth: float, profile: str, layers: int = 9)
     return np.linspace(w_center - depth / 2, w_center + depth / 2, layers)
 
 
-def extend_solid(vertices3, tets3, w_center: float, depth: float, profile: str = "round", layers: int = 9,
-                 colors=None, center=None, floor: float = 0.0, name: str = "") -> TetMesh4:
+def extend_solid(
+    vertices3,
+    tets3,
+    w_center: float,
+    depth: float,
+    profile: str = "round",
+    layers: int = 9,
+    colors=None,
+    center=None,
+    floor: float = 0.0,
+    name: str = "",
+) -> TetMesh4:
     """Give a 3D solid a hyper-depth: :func:`profile_layers` + :func:`profile_scales` + :func:`extrude`.
 
     Parameters

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import io
 import zipfile
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -269,8 +270,10 @@ class TetMesh4:
         degenerate = repeated | (vol <= 1e-9 * longest**3) | (longest == 0)
         if degenerate.any():
             bad = np.flatnonzero(degenerate)
-            out.append(f"{self.label}: {len(bad)} degenerate tets (zero volume or repeated vertex), "
-                       f"e.g. {bad[:max_report].tolist()}")
+            out.append(
+                f"{self.label}: {len(bad)} degenerate tets (zero volume or repeated vertex), "
+                f"e.g. {bad[:max_report].tolist()}"
+            )
         if check_closed:
             of = self.oriented_faces()
             key = _face_keys(of, len(self.vertices))
@@ -296,11 +299,12 @@ class TetMesh4:
                         f"their tets (inverted tets), in tets {tets_bad[:max_report].tolist()}"
                     )
                 elif self.hypervolume() <= 0:
-                    out.append(f"{self.label}: the mesh is inside out "
-                               f"(enclosed hyper-volume {self.hypervolume():.3g} <= 0)")
+                    out.append(
+                        f"{self.label}: the mesh is inside out (enclosed hyper-volume {self.hypervolume():.3g} <= 0)"
+                    )
         return out
 
-    def validate(self, check_closed: bool = True) -> "TetMesh4":
+    def validate(self, check_closed: bool = True) -> TetMesh4:
         """Raise :class:`MeshError` listing every problem, or return ``self``."""
         problems = self.problems(check_closed=check_closed)
         if problems:
@@ -308,7 +312,7 @@ class TetMesh4:
         return self
 
     # ------------------------------------------------------------- transformation
-    def transformed(self, m) -> "TetMesh4":
+    def transformed(self, m) -> TetMesh4:
         """A copy with vertices mapped by the 5x5 transform ``m``.
 
         A reflection (negative determinant) reverses tets to keep them outward.
@@ -318,7 +322,7 @@ class TetMesh4:
         tets = self.tets if np.linalg.det(m[:4, :4]) > 0 else self.tets[:, [0, 2, 1, 3]]
         return TetMesh4(v, tets, self.colors, self.name)
 
-    def with_color(self, rgba) -> "TetMesh4":
+    def with_color(self, rgba) -> TetMesh4:
         """A copy with every vertex coloured ``rgba`` (3 or 4 floats)."""
         # Geometry caches stay valid for the copy; copy the dict so they are not shared.
         cache = {k: v for k, v in self._cache.items() if k != "white"}
@@ -355,7 +359,7 @@ class TetMesh4:
             raise FileProblem(f"{path}: cannot write it ({e.strerror or e})") from None
 
     @classmethod
-    def load(cls, path, validate: bool = True) -> "TetMesh4":
+    def load(cls, path, validate: bool = True) -> TetMesh4:
         """Read a mesh written by :meth:`save`, treating the file as hostile.
 
         The file is read whole through :func:`~.fileio.read_bytes` (regular
@@ -433,16 +437,20 @@ def _read_npz(path: Path, raw: bytes) -> dict:
         # 8-byte elements at most, plus the .npy header (bounded by numpy at 10 kB + alignment).
         most = limit * max(widths) * 8 + 16_384
         if info.file_size > most:
-            raise MeshError(f"{path}: '{name}' would unpack to {info.file_size} bytes, more than the "
-                            f"{limit} rows a mesh may have ({most} bytes)")
+            raise MeshError(
+                f"{path}: '{name}' would unpack to {info.file_size} bytes, more than the "
+                f"{limit} rows a mesh may have ({most} bytes)"
+            )
         try:
             data = zf.read(info)
-        except (zipfile.BadZipFile, ValueError, OSError, EOFError, NotImplementedError, RuntimeError) as e:
+        except (zipfile.BadZipFile, zlib.error, ValueError, OSError, EOFError, NotImplementedError, RuntimeError) as e:
             raise MeshError(f"{path}: cannot unpack '{name}' ({e})") from None
         out[name] = _read_npy(path, name, data, widths, kinds, limit)
     if "colors" in out and len(out["colors"]) != len(out["vertices"]):
-        raise MeshError(f"{path}: 'colors' has {len(out['colors'])} rows for {len(out['vertices'])} vertices; "
-                        f"expected one colour per vertex")
+        raise MeshError(
+            f"{path}: 'colors' has {len(out['colors'])} rows for {len(out['vertices'])} vertices; "
+            f"expected one colour per vertex"
+        )
     return out
 
 
@@ -474,8 +482,9 @@ def _read_npy(path: Path, name: str, data: bytes, widths: tuple, kinds: str, lim
     offset = f.tell()
     count = shape[0] * shape[1]
     if len(data) - offset != count * dtype.itemsize:
-        raise MeshError(f"{where} holds {len(data) - offset} bytes of data; its header promises "
-                        f"{count * dtype.itemsize}")
+        raise MeshError(
+            f"{where} holds {len(data) - offset} bytes of data; its header promises {count * dtype.itemsize}"
+        )
     a = np.frombuffer(data, dtype=dtype, count=count, offset=offset)
     a = a.reshape(shape[::-1]).T if fortran else a.reshape(shape)
     if name != "tets":
@@ -484,8 +493,9 @@ def _read_npy(path: Path, name: str, data: bytes, widths: tuple, kinds: str, lim
             bad = np.flatnonzero(~((a >= -NPZ_MAX_COORD) & (a <= NPZ_MAX_COORD)).all(axis=1))
         if len(bad):
             kind = "are not finite" if not np.isfinite(a[bad]).all() else f"exceed {NPZ_MAX_COORD:g} in magnitude"
-            raise MeshError(f"{where} rows {bad[:5].tolist()} {kind}; expected finite numbers within "
-                            f"+-{NPZ_MAX_COORD:g}")
+            raise MeshError(
+                f"{where} rows {bad[:5].tolist()} {kind}; expected finite numbers within +-{NPZ_MAX_COORD:g}"
+            )
     if dtype.kind in "iu" and name == "tets" and a.size and int(a.min()) < 0:
         raise MeshError(f"{where} holds the negative vertex index {int(a.min())}")
     return a
@@ -520,7 +530,7 @@ class TriMesh3:
     depth: np.ndarray | None = None
 
     @classmethod
-    def empty(cls, with_depth: bool = False) -> "TriMesh3":
+    def empty(cls, with_depth: bool = False) -> TriMesh3:
         return cls(
             np.zeros((0, 3), np.float32),
             np.zeros((0, 3), np.uint32),
@@ -604,6 +614,7 @@ def concatenate(meshes, name: str = "") -> TetMesh4:
     tets = np.concatenate([m.tets.astype(np.int64) + o for m, o in zip(meshes, offsets)])
     colors = None
     if any(m.colors is not None for m in meshes):
-        colors = np.concatenate([m.colors if m.colors is not None else np.ones((len(m.vertices), 4), np.float32)
-                                 for m in meshes])
+        colors = np.concatenate(
+            [m.colors if m.colors is not None else np.ones((len(m.vertices), 4), np.float32) for m in meshes]
+        )
     return TetMesh4(verts, tets, colors, name or "+".join(m.name for m in meshes if m.name))

@@ -58,8 +58,10 @@ def save_trimesh3(mesh, path) -> tuple[int, int]:
     if ext not in FORMATS:
         raise InputError(f"{path}: unknown mesh format {ext or '(none)'!r}; expected one of {', '.join(FORMATS)}")
     if not (np.isfinite(mesh.vertices).all() and np.isfinite(mesh.colors).all()):
-        raise InputError(f"{path}: the projected mesh has points at infinity or NaN; nothing was written "
-                         f"(a camera too close, or a field of view too narrow?)")
+        raise InputError(
+            f"{path}: the projected mesh has points at infinity or NaN; nothing was written "
+            f"(a camera too close, or a field of view too narrow?)"
+        )
     vertices, faces, colors = indexed_mesh(mesh)
     try:
         if ext == ".glb":
@@ -196,9 +198,14 @@ def _collapse_targets(x: int, fs: list, faces: np.ndarray, v: np.ndarray, normal
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise cross product of ``(k, 3)`` arrays (np.cross is slow on many tiny calls)."""
-    return np.stack([a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1],
-                     a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
-                     a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]], axis=1)
+    return np.stack(
+        [
+            a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1],
+            a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
+            a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
+        ],
+        axis=1,
+    )
 
 
 def _try_collapse(x, q, fs, faces, v, c, normal, around, alive, tiny) -> bool:
@@ -234,8 +241,17 @@ def _colour_kept(x: int, rows: np.ndarray, n: np.ndarray, v: np.ndarray, c: np.n
     a, b, d = v[rows[:, 0]], v[rows[:, 1]], v[rows[:, 2]]
     # Barycentric coordinates of px in each triangle, by signed areas along its normal.
     area = (_cross(b - a, d - a) * n).sum(axis=1)
-    w = np.stack([(_cross(d - b, px - b) * n).sum(axis=1), (_cross(a - d, px - d) * n).sum(axis=1),
-                  (_cross(b - a, px - a) * n).sum(axis=1)], axis=1) / area[:, None]
+    w = (
+        np.stack(
+            [
+                (_cross(d - b, px - b) * n).sum(axis=1),
+                (_cross(a - d, px - d) * n).sum(axis=1),
+                (_cross(b - a, px - a) * n).sum(axis=1),
+            ],
+            axis=1,
+        )
+        / area[:, None]
+    )
     on_plane = np.abs(((px - a) * n).sum(axis=1)) <= 1e-6 * max(float(np.abs(v).max()), 1e-30)
     inside = np.flatnonzero((w >= -1e-7).all(axis=1) & on_plane)
     if not len(inside):
@@ -279,7 +295,9 @@ def _glb_bytes(vertices: np.ndarray, faces: np.ndarray, colors: np.ndarray) -> b
 
 def _empty_glb() -> bytes:
     """A valid binary glTF 2.0 file holding one empty scene (trimesh refuses to export one)."""
-    doc = json.dumps({"asset": {"version": "2.0", "generator": "across-dimensions"},
-                      "scene": 0, "scenes": [{"nodes": []}]}, separators=(",", ":")).encode()
+    doc = json.dumps(
+        {"asset": {"version": "2.0", "generator": "across-dimensions"}, "scene": 0, "scenes": [{"nodes": []}]},
+        separators=(",", ":"),
+    ).encode()
     doc += b" " * (-len(doc) % 4)  # chunks are 4-byte aligned, JSON padded with spaces
     return struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(doc)) + struct.pack("<I4s", len(doc), b"JSON") + doc

@@ -252,8 +252,9 @@ def _emit(v, tets, colors, mv, flip, cut, ntri, case_edges, case_count):
         for k in range(4):
             vi = tets[t, k]
             for r in range(4):
-                p[k, r] = (mv[r, 0] * v[vi, 0] + mv[r, 1] * v[vi, 1] + mv[r, 2] * v[vi, 2]
-                           + mv[r, 3] * v[vi, 3] + mv[r, 4])
+                p[k, r] = (
+                    mv[r, 0] * v[vi, 0] + mv[r, 1] * v[vi, 1] + mv[r, 2] * v[vi, 2] + mv[r, 3] * v[vi, 3] + mv[r, 4]
+                )
             if p[k, 3] > 0.0:
                 mask |= 1 << k
         # Outward normal: xyz part of cross4(p1 - p0, p2 - p0, p3 - p0).
@@ -359,4 +360,6 @@ def cross_section_reference(mesh: TetMesh4, camera_pose=None, model=None) -> Tri
     if not verts:
         return TriMesh3.empty()
     v = np.array(verts, np.float32)
-    return TriMesh3(v, np.arange(len(v), dtype=np.uint32).reshape(-1, 3), np.array(norms, np.float32), np.array(cols, np.float32))
+    return TriMesh3(
+        v, np.arange(len(v), dtype=np.uint32).reshape(-1, 3), np.array(norms, np.float32), np.array(cols, np.float32)
+    )

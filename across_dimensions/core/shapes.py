@@ -38,8 +38,9 @@ with normal ``(n_A, 0)`` and ``A x (facet of B)`` with normal ``(0, n_B)``.
 from __future__ import annotations
 
 import inspect
+from collections.abc import Callable
 from itertools import permutations
-from typing import Callable, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 
@@ -135,7 +136,9 @@ def _check_facets(v: np.ndarray, incidence: np.ndarray) -> None:
         s = np.linalg.svd(p - p.mean(axis=1, keepdims=True), compute_uv=False)
         flat = s[:, 2] <= 1e-9 * np.maximum(s[:, 0], 1e-300)
         if flat.any():
-            raise ValueError(f"facet normals {which[flat][:5].tolist()} touch a flat (rank < 3) set of vertices: not facets")
+            raise ValueError(
+                f"facet normals {which[flat][:5].tolist()} touch a flat (rank < 3) set of vertices: not facets"
+            )
 
 
 def _pair_members(incidence: np.ndarray, ca: np.ndarray, cb: np.ndarray) -> list:
@@ -144,7 +147,7 @@ def _pair_members(incidence: np.ndarray, ca: np.ndarray, cb: np.ndarray) -> list
     chunk = max(1, 4_000_000 // max(nv, 1))
     out = []
     for s in range(0, len(ca), chunk):
-        rows, cols = np.nonzero(incidence[ca[s:s + chunk]] & incidence[cb[s:s + chunk]])
+        rows, cols = np.nonzero(incidence[ca[s : s + chunk]] & incidence[cb[s : s + chunk]])
         splits = np.cumsum(np.bincount(rows, minlength=min(chunk, len(ca) - s)))[:-1]
         out.extend(np.split(cols.astype(np.int64), splits))
     return out
@@ -337,13 +340,15 @@ def _parity(p) -> int:
 
 def _cell600_vertices() -> np.ndarray:
     """The 120 vertices of the 600-cell on the unit 3-sphere, ``(120, 4) float64``."""
-    return np.concatenate([
-        _signed_permutations([1.0, 0.0, 0.0, 0.0]),
-        _signed_permutations([0.5, 0.5, 0.5, 0.5]),
-        # (1, phi, 1/phi, 0) rather than (phi, 1, ...): the mirror image, the
-        # chirality whose cell directions are the 120-cell vertices below.
-        _signed_permutations([0.5, PHI / 2, 0.5 / PHI, 0.0], even_only=True),
-    ])
+    return np.concatenate(
+        [
+            _signed_permutations([1.0, 0.0, 0.0, 0.0]),
+            _signed_permutations([0.5, 0.5, 0.5, 0.5]),
+            # (1, phi, 1/phi, 0) rather than (phi, 1, ...): the mirror image, the
+            # chirality whose cell directions are the 120-cell vertices below.
+            _signed_permutations([0.5, PHI / 2, 0.5 / PHI, 0.0], even_only=True),
+        ]
+    )
 
 
 def _cell120_vertices() -> np.ndarray:
@@ -353,15 +358,17 @@ def _cell120_vertices() -> np.ndarray:
     direction of a dodecahedral cell's centre.
     """
     s5, ip, ip2 = 5.0**0.5, 1.0 / PHI, 1.0 / PHI**2
-    return np.concatenate([
-        _signed_permutations([0.0, 0.0, 2.0, 2.0]),
-        _signed_permutations([1.0, 1.0, 1.0, s5]),
-        _signed_permutations([ip2, PHI, PHI, PHI]),
-        _signed_permutations([ip, ip, ip, PHI**2]),
-        _signed_permutations([0.0, ip2, 1.0, PHI**2], even_only=True),
-        _signed_permutations([0.0, ip, PHI, s5], even_only=True),
-        _signed_permutations([ip, 1.0, PHI, 2.0], even_only=True),
-    ])
+    return np.concatenate(
+        [
+            _signed_permutations([0.0, 0.0, 2.0, 2.0]),
+            _signed_permutations([1.0, 1.0, 1.0, s5]),
+            _signed_permutations([ip2, PHI, PHI, PHI]),
+            _signed_permutations([ip, ip, ip, PHI**2]),
+            _signed_permutations([0.0, ip2, 1.0, PHI**2], even_only=True),
+            _signed_permutations([0.0, ip, PHI, s5], even_only=True),
+            _signed_permutations([ip, 1.0, PHI, 2.0], even_only=True),
+        ]
+    )
 
 
 def _simplex_vertices() -> np.ndarray:
@@ -403,10 +410,12 @@ def _product(va, na, vb, nb) -> tuple[np.ndarray, np.ndarray]:
     va, na, vb, nb = (np.asarray(x, dtype=np.float64) for x in (va, na, vb, nb))
     da, db = va.shape[1], vb.shape[1]
     verts = np.concatenate([np.repeat(va, len(vb), axis=0), np.tile(vb, (len(va), 1))], axis=1)
-    normals = np.concatenate([
-        np.concatenate([na, np.zeros((len(na), db))], axis=1),
-        np.concatenate([np.zeros((len(nb), da)), nb], axis=1),
-    ])
+    normals = np.concatenate(
+        [
+            np.concatenate([na, np.zeros((len(na), db))], axis=1),
+            np.concatenate([np.zeros((len(nb), da)), nb], axis=1),
+        ]
+    )
     return verts, normals
 
 
@@ -607,11 +616,13 @@ def _split_on_sphere(v: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.nd
     lengths = np.linalg.norm(v_new[diagonals[:, 0]] - v_new[diagonals[:, 1]], axis=2)  # (3, m)
     choice = np.argmin(lengths, axis=0)
     # For each diagonal (p, q), the four other midpoints in cyclic order round it.
-    rings = np.stack([
-        np.stack([ac, bc, bd, ad]),
-        np.stack([ab, bc, cd, ad]),
-        np.stack([ab, bd, cd, ac]),
-    ])  # (3, 4, m)
+    rings = np.stack(
+        [
+            np.stack([ac, bc, bd, ad]),
+            np.stack([ab, bc, cd, ad]),
+            np.stack([ab, bd, cd, ac]),
+        ]
+    )  # (3, 4, m)
     cols = np.arange(len(tets))
     p, q = diagonals[choice, 0, cols], diagonals[choice, 1, cols]
     ring = rings[choice, :, cols]  # (m, 4)
@@ -772,13 +783,48 @@ def icosphere(radius: float = 1.0, subdivisions: int = 2) -> tuple[np.ndarray, n
     """
     if int(subdivisions) != subdivisions or subdivisions < 0:
         raise ValueError(f"subdivisions must be a whole number >= 0, got {subdivisions}")
-    v = np.array([[-1, PHI, 0], [1, PHI, 0], [-1, -PHI, 0], [1, -PHI, 0],
-                  [0, -1, PHI], [0, 1, PHI], [0, -1, -PHI], [0, 1, -PHI],
-                  [PHI, 0, -1], [PHI, 0, 1], [-PHI, 0, -1], [-PHI, 0, 1]], dtype=np.float64)
-    f = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11],
-                  [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
-                  [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
-                  [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]], dtype=np.int64)
+    v = np.array(
+        [
+            [-1, PHI, 0],
+            [1, PHI, 0],
+            [-1, -PHI, 0],
+            [1, -PHI, 0],
+            [0, -1, PHI],
+            [0, 1, PHI],
+            [0, -1, -PHI],
+            [0, 1, -PHI],
+            [PHI, 0, -1],
+            [PHI, 0, 1],
+            [-PHI, 0, -1],
+            [-PHI, 0, 1],
+        ],
+        dtype=np.float64,
+    )
+    f = np.array(
+        [
+            [0, 11, 5],
+            [0, 5, 1],
+            [0, 1, 7],
+            [0, 7, 10],
+            [0, 10, 11],
+            [1, 5, 9],
+            [5, 11, 4],
+            [11, 10, 2],
+            [10, 7, 6],
+            [7, 1, 8],
+            [3, 9, 4],
+            [3, 4, 2],
+            [3, 2, 6],
+            [3, 6, 8],
+            [3, 8, 9],
+            [4, 9, 5],
+            [2, 4, 11],
+            [6, 2, 10],
+            [8, 6, 7],
+            [9, 8, 1],
+        ],
+        dtype=np.int64,
+    )
     v /= np.linalg.norm(v, axis=1, keepdims=True)
     for _ in range(int(subdivisions)):
         n = len(v)
@@ -788,8 +834,9 @@ def icosphere(radius: float = 1.0, subdivisions: int = 2) -> tuple[np.ndarray, n
         v = np.concatenate([v, m / np.linalg.norm(m, axis=1, keepdims=True)])
         ab, bc, ca = (n + eid.reshape(-1, 3)).T
         a, b, c = f.T
-        f = np.stack([np.stack(t, axis=1) for t in
-                      [(a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)]], axis=1).reshape(-1, 3)
+        f = np.stack(
+            [np.stack(t, axis=1) for t in [(a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)]], axis=1
+        ).reshape(-1, 3)
     return v * radius, f
 
 
@@ -824,9 +871,14 @@ SHAPES: dict[str, Callable[..., TetMesh4]] = {
 #: to build (``hypersphere`` with ``subdivisions=3`` has 307,200 tets, a
 #: 128 x 128 ``duoprism`` 96,768); each subdivision multiplies the work by 8.
 SHAPE_PARAM_RULES: dict[str, tuple[str, tuple[float, float]]] = {
-    "radius": ("positive", (1e-3, 1e3)), "size": ("positive", (1e-3, 1e3)), "height": ("positive", (1e-3, 1e3)),
-    "r1": ("positive", (1e-3, 1e3)), "r2": ("positive", (1e-3, 1e3)),
-    "p": ("whole", (3, 128)), "q": ("whole", (3, 128)), "segments": ("whole", (3, 128)),
+    "radius": ("positive", (1e-3, 1e3)),
+    "size": ("positive", (1e-3, 1e3)),
+    "height": ("positive", (1e-3, 1e3)),
+    "r1": ("positive", (1e-3, 1e3)),
+    "r2": ("positive", (1e-3, 1e3)),
+    "p": ("whole", (3, 128)),
+    "q": ("whole", (3, 128)),
+    "segments": ("whole", (3, 128)),
     "subdivisions": ("whole", (0, 3)),
 }
 

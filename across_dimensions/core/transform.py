@@ -20,7 +20,7 @@ Conventions
 
 from __future__ import annotations
 
-from typing import Mapping
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -353,7 +353,6 @@ def expm_skew(w, h, out, wk):
         for i in range(4):
             for j in range(4):
                 out[i, j] = tmp[i, j]
-
 
 
 def skew(omega) -> np.ndarray:

@@ -25,8 +25,17 @@ BUTTONS = ("jump", "fire", "alt_fire", "switch_camera", "manipulate", "next_weap
 #: a bound keeps a hand-edited replay from feeding the simulation 1e300 radians.
 MAX_LOOK = math.pi
 #: One-shot actions, counted per tick. Append only: replays name them.
-PRESSES = ("fire", "alt_fire", "next_weapon", "previous_weapon", "switch_camera", "manipulate",
-           "weapon_1", "weapon_2", "weapon_3")
+PRESSES = (
+    "fire",
+    "alt_fire",
+    "next_weapon",
+    "previous_weapon",
+    "switch_camera",
+    "manipulate",
+    "weapon_1",
+    "weapon_2",
+    "weapon_3",
+)
 #: Most presses of one action in one tick that a replay may carry (a key repeat
 #: or a wheel spin gives a few; more is a corrupt file).
 MAX_PRESSES = 100
@@ -109,8 +118,10 @@ class Actions:
         all known buttons (``0 <= buttons < 2 ** len(BUTTONS)``).
         """
         if type(row) not in (list, tuple) or len(row) not in (6, 7):
-            raise ValueError(f"expected [forward, right, yaw, pitch, w, buttons] or the same with "
-                             f"{{action: presses}} after it, got {short_repr(row)}")
+            raise ValueError(
+                f"expected [forward, right, yaw, pitch, w, buttons] or the same with "
+                f"{{action: presses}} after it, got {short_repr(row)}"
+            )
         if len(row) == 7:
             return replace(cls.from_row(row[:6]), presses=_presses(row[6]))
         f, r, y, p, w, bits = row
@@ -118,18 +129,28 @@ class Actions:
         # type() is not isinstance(), so True is not a number here. Comparing
         # before converting: float() of a huge int overflows, and int/float
         # comparison is exact at any size. Comparisons are false for NaN.
-        if (type(f) in _NUMBER and type(r) in _NUMBER and type(y) in _NUMBER and type(p) in _NUMBER
-                and type(w) in _NUMBER and type(bits) is int and -1.0 <= f <= 1.0 and -1.0 <= r <= 1.0
-                and -MAX_LOOK <= y <= MAX_LOOK and -MAX_LOOK <= p <= MAX_LOOK and -1.0 <= w <= 1.0
-                and 0 <= bits < len(_BUTTON_SETS)):
+        if (
+            type(f) in _NUMBER
+            and type(r) in _NUMBER
+            and type(y) in _NUMBER
+            and type(p) in _NUMBER
+            and type(w) in _NUMBER
+            and type(bits) is int
+            and -1.0 <= f <= 1.0
+            and -1.0 <= r <= 1.0
+            and -MAX_LOOK <= y <= MAX_LOOK
+            and -MAX_LOOK <= p <= MAX_LOOK
+            and -1.0 <= w <= 1.0
+            and 0 <= bits < len(_BUTTON_SETS)
+        ):
             return cls(float(f), float(r), float(y), float(p), float(w), *_BUTTON_SETS[bits])
         for name, v in zip(_AXES, row):
             limit = _AXIS_LIMIT[name]
             if type(v) not in _NUMBER or not -limit <= v <= limit:
-                raise ValueError(f"{name}: expected a finite number in [{-limit:.6g}, {limit:.6g}], "
-                                 f"got {short_repr(v)}")
-        raise ValueError(f"buttons: expected a whole number from 0 to {len(_BUTTON_SETS) - 1}, "
-                         f"got {short_repr(bits)}")
+                raise ValueError(
+                    f"{name}: expected a finite number in [{-limit:.6g}, {limit:.6g}], got {short_repr(v)}"
+                )
+        raise ValueError(f"buttons: expected a whole number from 0 to {len(_BUTTON_SETS) - 1}, got {short_repr(bits)}")
 
     def clamped(self) -> Actions:
         """This frame made safe to simulate and record: each axis clamped to its
@@ -164,20 +185,21 @@ def _presses(value) -> tuple:
         if name not in PRESSES:
             raise ValueError(f"presses: unknown action {short_repr(name)} (expected one of {', '.join(PRESSES)})")
         if type(count) is not int or not 1 <= count <= MAX_PRESSES:
-            raise ValueError(f"presses: '{name}': expected a whole number from 1 to {MAX_PRESSES}, "
-                             f"got {short_repr(count)}")
+            raise ValueError(
+                f"presses: '{name}': expected a whole number from 1 to {MAX_PRESSES}, got {short_repr(count)}"
+            )
     return Actions.count_presses(value)
 
 
 def short_repr(value, limit: int = 40) -> str:
     """A short repr for messages: a hostile file must not make a message long."""
-    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10 ** limit:
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10**limit:
         try:
             return f"a number of {len(str(abs(value)))} digits"
         except ValueError:  # beyond Python's int-to-text limit (4300 digits)
             return f"a number of about {int(value.bit_length() * 0.30103) + 1} digits"
     text = repr(value)
-    return text if len(text) <= limit else text[:limit - 3] + "..."
+    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 IDLE = Actions()

@@ -50,8 +50,10 @@ def bench_level_text(n: int, seed: int = 0) -> str:
         if i % 2 == 0:
             parts.append(f"[[crystal]]\nposition = [{x:.3f}, 1.0, {z:.3f}, {w:.3f}]\nenergy = 1.0\n")
         else:
-            parts.append(f"[[object]]\nshape = \"5-cell\"\nposition = [{x:.3f}, 1.5, {z:.3f}, {w:.3f}]\n"
-                         f"scale = 0.5\nspin = {{ xw = 30.0, yz = 20.0 }}\nsolid = false\n")
+            parts.append(
+                f'[[object]]\nshape = "5-cell"\nposition = [{x:.3f}, 1.5, {z:.3f}, {w:.3f}]\n'
+                f"scale = 0.5\nspin = {{ xw = 30.0, yz = 20.0 }}\nsolid = false\n"
+            )
     return "\n".join(parts)
 
 

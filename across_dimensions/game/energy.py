@@ -51,7 +51,7 @@ class EnergyBar:
             self.low_milli = self.high_milli = self.milli
 
     @classmethod
-    def of(cls, start: float, maximum: float) -> "EnergyBar":
+    def of(cls, start: float, maximum: float) -> EnergyBar:
         m = to_milli(maximum)
         return cls(min(max(to_milli(start), 0), m), m, _announced_empty=to_milli(start) <= 0)
 

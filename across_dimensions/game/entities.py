@@ -21,8 +21,9 @@ write the system that gives it behaviour.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Any, Iterator
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -200,8 +201,9 @@ class EntityStore:
         self._next = 1
         self.version = 0  # bumps on every spawn and removal (for caches of the entity list)
 
-    def spawn(self, kind: str, name: str = "", mesh: TetMesh4 | None = None, motion: Motion | None = None,
-              **fields) -> Entity:
+    def spawn(
+        self, kind: str, name: str = "", mesh: TetMesh4 | None = None, motion: Motion | None = None, **fields
+    ) -> Entity:
         """Add an entity and return it (its ``id`` is new)."""
         if motion is None:
             motion = Placed(np.eye(5))

@@ -130,8 +130,16 @@ def _move_horizontal(pos, dx: float, dz: float, boxes, on_ground: bool) -> np.nd
     return stepped if moved(stepped) > moved(flat) + 1e-12 else flat
 
 
-def step_player(player: Player, actions: Actions, dt: float, gravity_y: float, w_range: tuple[float, float],
-                colliders_at, blocked_w=None, w_budget: float = np.inf) -> str | None:
+def step_player(
+    player: Player,
+    actions: Actions,
+    dt: float,
+    gravity_y: float,
+    w_range: tuple[float, float],
+    colliders_at,
+    blocked_w=None,
+    w_budget: float = np.inf,
+) -> str | None:
     """Advance the player one tick.
 
     Parameters

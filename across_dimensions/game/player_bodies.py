@@ -29,8 +29,9 @@ def player_box(position, radius: float, height: float, w_half: float = W_HALF) -
     return center, half
 
 
-def player_collide(physics, position, radius: float, height: float, w_half: float = W_HALF,
-                   velocity=None) -> tuple[np.ndarray, list[int]]:
+def player_collide(
+    physics, position, radius: float, height: float, w_half: float = W_HALF, velocity=None
+) -> tuple[np.ndarray, list[int]]:
     """Push a player out of the bodies in its w slab, and optionally push them.
 
     Parameters

@@ -36,7 +36,8 @@ the entry):
   is built;
 - rows hold finite numbers: forward, right and w in [-1, 1], yaw and pitch in
   [-pi, pi] radians per tick (see :data:`.actions.MAX_LOOK`), known button
-  bits, and presses of known actions from 1 to :data:`.actions.MAX_PRESSES`; NaN, Infinity and numbers too large for a float are refused;
+  bits, and presses of known actions from 1 to :data:`.actions.MAX_PRESSES`; NaN, Infinity
+  and numbers too large for a float are refused;
 - whole numbers have at most 20 digits (the seed needs 20);
 - ``hashes`` keys are tick numbers (multiples of ``hash_every`` up to the
   replay's length) and values 8 to 64 lowercase hex digits;
@@ -153,7 +154,8 @@ class ActionRuns:
         if not isinstance(other, ActionRuns):
             return NotImplemented
         return len(self._runs) == len(other._runs) and all(
-            c == d and a.same_row(b) for (c, a), (d, b) in zip(self._runs, other._runs))
+            c == d and a.same_row(b) for (c, a), (d, b) in zip(self._runs, other._runs)
+        )
 
     def __repr__(self) -> str:
         return f"ActionRuns({self._ticks} ticks in {len(self._runs)} runs)"
@@ -186,12 +188,20 @@ class Replay:
             self.actions = ActionRuns(self.actions)
 
     def header(self, fmt: str = FORMAT) -> dict:
-        return {"format": fmt, "version": VERSION, "level": self.level, "level_hash": self.level_hash,
-                "seed": self.seed, "tick_rate": self.tick_rate, "hash_every": self.hash_every}
+        return {
+            "format": fmt,
+            "version": VERSION,
+            "level": self.level,
+            "level_hash": self.level_hash,
+            "seed": self.seed,
+            "tick_rate": self.tick_rate,
+            "hash_every": self.hash_every,
+        }
 
     def to_json(self) -> dict:
         return {
-            **self.header(), "actions": [[c, a.to_row()] for c, a in self.actions.runs],
+            **self.header(),
+            "actions": [[c, a.to_row()] for c, a in self.actions.runs],
             "hashes": {str(k): v for k, v in sorted(self.hashes.items())},
             "final": {"ticks": self.final_ticks, "hash": self.final_hash, "outcome": self.outcome},
         }
@@ -297,8 +307,10 @@ def _too_long_number(text: str) -> str | None:
         return None
     line = text.count("\n", 0, m.start()) + 1
     column = m.start() - (text.rfind("\n", 0, m.start()) + 1) + 1
-    return (f"a number of {len(m.group())} digits at line {line} column {column} "
-            f"(no entry of a replay needs more than {_MAX_DIGITS})")
+    return (
+        f"a number of {len(m.group())} digits at line {line} column {column} "
+        f"(no entry of a replay needs more than {_MAX_DIGITS})"
+    )
 
 
 def _is_int(v) -> bool:
@@ -327,13 +339,15 @@ class _Checker:
     def header(self, data: dict, keys: frozenset, fmt: str) -> dict:
         """The checked header fields of a replay or journal object ``data``."""
         if data.get("format") != fmt:
-            self.fail("entry 'format'", f"not a replay (expected \"format\": \"{FORMAT}\")")
+            self.fail("entry 'format'", f'not a replay (expected "format": "{FORMAT}")')
         version = data.get("version")
         if not _is_int(version):
             self.fail("entry 'version'", f"expected a whole number, got {short_repr(version)}")
         if version not in READS:
-            raise ReplayError(f"{self.path}: replay format version {short_repr(version)}; "
-                              f"this game reads versions {' and '.join(map(str, READS))}")
+            raise ReplayError(
+                f"{self.path}: replay format version {short_repr(version)}; "
+                f"this game reads versions {' and '.join(map(str, READS))}"
+            )
         for key in data:
             if key not in keys:
                 self.fail(f"entry {short_repr(key)}", f"unknown entry (expected only {', '.join(sorted(keys))})")
@@ -342,8 +356,10 @@ class _Checker:
                 self.fail(f"entry '{key}'", "missing")
         level = data["level"]
         if not isinstance(level, str) or not 0 < len(level) <= 255 or not level.isprintable():
-            self.fail("entry 'level'", f"expected a level name or path (1 to 255 printable characters), "
-                                       f"got {short_repr(level)}")
+            self.fail(
+                "entry 'level'",
+                f"expected a level name or path (1 to 255 printable characters), got {short_repr(level)}",
+            )
         tick_rate = data["tick_rate"]
         if not _is_int(tick_rate):
             self.fail("entry 'tick_rate'", f"expected a whole number, got {short_repr(tick_rate)}")
@@ -351,8 +367,9 @@ class _Checker:
             self.fail("entry 'tick_rate'", f"recorded at {short_repr(tick_rate)} Hz, the game runs at {TICK_RATE} Hz")
         return {
             "level": level,
-            "level_hash": self.text("entry 'level_hash'", data["level_hash"], _LEVEL_HASH,
-                                    "a sha256 hash (64 lowercase hex digits)"),
+            "level_hash": self.text(
+                "entry 'level_hash'", data["level_hash"], _LEVEL_HASH, "a sha256 hash (64 lowercase hex digits)"
+            ),
             "seed": self.whole("entry 'seed'", data["seed"], 0, MAX_SEED),
             "tick_rate": tick_rate,
             "hash_every": self.whole("entry 'hash_every'", data["hash_every"], 1, MAX_TICKS),
@@ -378,8 +395,11 @@ class _Checker:
             self.fail(where, f"expected [count, [forward, right, yaw, pitch, w, buttons]], got {short_repr(run)}")
         count = self.whole(f"{where} count", run[0], 1, MAX_TICKS)
         if len(runs) + count > MAX_TICKS:
-            self.fail(where, f"the replay would be longer than {MAX_TICKS} ticks "
-                             f"({MAX_TICKS // TICK_RATE // 3600} hours at {TICK_RATE} Hz), the longest a replay may be")
+            self.fail(
+                where,
+                f"the replay would be longer than {MAX_TICKS} ticks "
+                f"({MAX_TICKS // TICK_RATE // 3600} hours at {TICK_RATE} Hz), the longest a replay may be",
+            )
         try:
             actions = Actions.from_row(run[1])
         except ValueError as e:
@@ -388,19 +408,21 @@ class _Checker:
 
     def hash_entry(self, where: str, tick, value, hash_every: int, ticks: int, hashes: dict) -> None:
         if tick % hash_every or tick > ticks:
-            self.fail(where, f"tick {tick}: expected a multiple of hash_every ({hash_every}) "
-                             f"up to the replay's {ticks} ticks")
+            self.fail(
+                where, f"tick {tick}: expected a multiple of hash_every ({hash_every}) up to the replay's {ticks} ticks"
+            )
         hashes[tick] = self.text(where, value, _STATE_HASH, "a state hash (8 to 64 lowercase hex digits)")
 
     def document(self, data) -> Replay:
         if not isinstance(data, dict) or data.get("format") != FORMAT:
-            raise ReplayError(f"{self.path}: not a replay (expected \"format\": \"{FORMAT}\")")
+            raise ReplayError(f'{self.path}: not a replay (expected "format": "{FORMAT}")')
         head = self.header(data, _KEYS, FORMAT)
         if not isinstance(data["actions"], list):
             self.fail("entry 'actions'", f"expected a list of [count, row] runs, got {short_repr(data['actions'])}")
         if len(data["actions"]) > MAX_TICKS:
-            self.fail("entry 'actions'",
-                      f"{len(data['actions'])} runs, more than the {MAX_TICKS} ticks a replay may be")
+            self.fail(
+                "entry 'actions'", f"{len(data['actions'])} runs, more than the {MAX_TICKS} ticks a replay may be"
+            )
         runs = ActionRuns()
         for i, run in enumerate(data["actions"]):
             self.run("entry 'actions' #{}", i, run, runs)
@@ -415,18 +437,30 @@ class _Checker:
             self.hash_entry(where, int(key), value, head["hash_every"], ticks, hashes)
         final = data["final"]
         if not isinstance(final, dict) or set(final) != _FINAL_KEYS:
-            self.fail("entry 'final'", f"expected {{\"ticks\", \"hash\", \"outcome\"}}, got {short_repr(final)}")
+            self.fail("entry 'final'", f'expected {{"ticks", "hash", "outcome"}}, got {short_repr(final)}')
         if not _is_int(final["ticks"]) or final["ticks"] != ticks:
-            self.fail("entry 'final' 'ticks'", f"expected {ticks} (the sum of the run lengths), "
-                                               f"got {short_repr(final['ticks'])}")
+            self.fail(
+                "entry 'final' 'ticks'",
+                f"expected {ticks} (the sum of the run lengths), got {short_repr(final['ticks'])}",
+            )
         final_hash = final["hash"]
         if final_hash != "":
             self.text("entry 'final' 'hash'", final_hash, _STATE_HASH, "a state hash (8 to 64 lowercase hex digits)")
         outcome = final["outcome"]
         if outcome is not None:
             self.text("entry 'final' 'outcome'", outcome, _OUTCOME, "null or a snake_case word")
-        return Replay(head["level"], head["level_hash"], head["seed"], head["tick_rate"], head["hash_every"], runs,
-                      hashes, ticks, final_hash, outcome)
+        return Replay(
+            head["level"],
+            head["level_hash"],
+            head["seed"],
+            head["tick_rate"],
+            head["hash_every"],
+            runs,
+            hashes,
+            ticks,
+            final_hash,
+            outcome,
+        )
 
     def journal(self, first: dict, rest: str) -> Replay:
         """A recording's journal: the header line ``first``, then ``rest``.
@@ -450,12 +484,23 @@ class _Checker:
                 tick = self.whole(f"{where} 'tick'", item["tick"], 1, MAX_TICKS)
                 hash_lines.append((where, tick, item["hash"]))
             else:
-                self.fail(where, "expected a run [count, row] or {\"tick\": t, \"hash\": h}")
+                self.fail(where, 'expected a run [count, row] or {"tick": t, "hash": h}')
         hashes: dict[int, str] = {}
         for where, tick, value in hash_lines:
             self.hash_entry(where, tick, value, head["hash_every"], len(runs), hashes)
-        return Replay(head["level"], head["level_hash"], head["seed"], head["tick_rate"], head["hash_every"], runs,
-                      hashes, len(runs), "", None, recovered=True)
+        return Replay(
+            head["level"],
+            head["level_hash"],
+            head["seed"],
+            head["tick_rate"],
+            head["hash_every"],
+            runs,
+            hashes,
+            len(runs),
+            "",
+            None,
+            recovered=True,
+        )
 
 
 # --------------------------------------------------------------- recording
@@ -482,8 +527,9 @@ class Recorder:
         The journal cannot be created.
     """
 
-    def __init__(self, game: Game, level_name: str, path=None, *, flush_every: int = FLUSH_EVERY,
-                 sync_every: int = SYNC_EVERY):
+    def __init__(
+        self, game: Game, level_name: str, path=None, *, flush_every: int = FLUSH_EVERY, sync_every: int = SYNC_EVERY
+    ):
         if game.tick != 0:
             raise ValueError(f"a recording starts at tick 0, the game is at tick {game.tick}")
         self.replay = Replay(level_name, game.level.source_hash, game.seed)
@@ -605,8 +651,10 @@ def play(replay: Replay, game: Game, on_tick=None, check: bool = True) -> PlayRe
         and the run continues so the outcome is still known.
     """
     if check and game.level.source_hash != replay.level_hash:
-        divergence = ("the level file changed since this replay was recorded "
-                      f"(level hash {game.level.source_hash[:12]}, replay expects {replay.level_hash[:12]})")
+        divergence = (
+            "the level file changed since this replay was recorded "
+            f"(level hash {game.level.source_hash[:12]}, replay expects {replay.level_hash[:12]})"
+        )
     else:
         divergence = None
     for a in replay.actions:
@@ -616,8 +664,10 @@ def play(replay: Replay, game: Game, on_tick=None, check: bool = True) -> PlayRe
         if check and divergence is None:
             expected = replay.hashes.get(game.tick)
             if expected is not None and expected != game.state_hash():
-                divergence = (f"replay diverges at tick {game.tick} ({game.tick / TICK_RATE:.2f} s): "
-                              f"expected state {expected}, got {game.state_hash()}")
+                divergence = (
+                    f"replay diverges at tick {game.tick} ({game.tick / TICK_RATE:.2f} s): "
+                    f"expected state {expected}, got {game.state_hash()}"
+                )
     final = game.state_hash()
     if check and divergence is None and replay.final_hash and replay.final_hash != final:
         divergence = f"replay diverges at the end (tick {game.tick}): expected state {replay.final_hash}, got {final}"
@@ -638,9 +688,18 @@ def summary(game: Game, result: PlayResult) -> dict:
     """
     position = [float(v) if math.isfinite(v) else None for v in game.player.position]
     bar = game.energy
-    energy = None if bar is None else {"min": bar.low_milli / MILLI, "max": bar.high_milli / MILLI,
-                                       "end": bar.milli / MILLI}
+    energy = (
+        None if bar is None else {"min": bar.low_milli / MILLI, "max": bar.high_milli / MILLI, "end": bar.milli / MILLI}
+    )
     events = {kind: game.event_counts.get(kind, 0) for kind in event_kinds()}
-    return {"level": game.level.name, "outcome": result.outcome, "ticks": result.ticks, "hash": result.final_hash,
-            "events": events, "energy": energy, "position": position, "respawns": game.respawns,
-            "divergence": result.divergence}
+    return {
+        "level": game.level.name,
+        "outcome": result.outcome,
+        "ticks": result.ticks,
+        "hash": result.final_hash,
+        "events": events,
+        "energy": energy,
+        "position": position,
+        "respawns": game.respawns,
+        "divergence": result.divergence,
+    }

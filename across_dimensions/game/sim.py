@@ -33,6 +33,10 @@ from .systems import SYSTEMS, crystals
 
 TICK_RATE = 60
 DT = 1.0 / TICK_RATE
+#: Metres around the player's feet within which solid 4D objects are sliced for
+#: collision: the player's height plus more than a tick's travel at any speed the
+#: walker reaches (a fall at 30 m/s moves 0.5 m a tick).
+COLLIDE_MARGIN = 3.0
 
 
 class Game:
@@ -68,15 +72,30 @@ class Game:
         self.physics, body_of = build_physics(self.scene, DT)
         self.entities = EntityStore()
         self._table_key: tuple | None = None
+        self._colliders_key: tuple | None = None
+        self._colliders: dict[float, np.ndarray] = {}
         self.entity_of_body: dict[int, int] = {}
         for i, obj in enumerate(self.scene.objects):
             if i in body_of:
-                e = self.entities.spawn("body", obj.name, obj.mesh, Rigid(body_of[i], obj.scale), radar="body",
-                                        radius=reach(obj.mesh, obj.scale))
+                e = self.entities.spawn(
+                    "body",
+                    obj.name,
+                    obj.mesh,
+                    Rigid(body_of[i], obj.scale),
+                    radar="body",
+                    radius=reach(obj.mesh, obj.scale),
+                )
                 self.entity_of_body[body_of[i]] = e.id
             else:
-                self.entities.spawn("object", obj.name, obj.mesh, Scripted(obj), solid=obj.solid, radar="object",
-                                    radius=reach(obj.mesh, obj.scale))
+                self.entities.spawn(
+                    "object",
+                    obj.name,
+                    obj.mesh,
+                    Scripted(obj),
+                    solid=obj.solid,
+                    radar="object",
+                    radius=reach(obj.mesh, obj.scale),
+                )
         self.regrowing: list = []  # (tick, CrystalSpec) of crystals growing back, soonest first
         for c in level.crystals:
             crystals.spawn(self, c)
@@ -128,13 +147,31 @@ class Game:
     def colliders_at(self, w: float) -> np.ndarray:
         """Boxes ``(k, 2, 3)`` solid in the slice at ``w``: the 3D world, the
         extended worlds and the bounds of solid 4D objects' sections. The rows
-        are the same things at every w; a thing absent at ``w`` is NaN."""
+        are the same things at every w; a thing absent at ``w`` is NaN.
+
+        Nothing moves within a tick, so the answer for a w is kept until the
+        tick (or the set of entities) changes: the walker asks for the slice it
+        is in and the one it steps to several times a tick.
+        """
+        key = (self.tick, self.entities.version)
+        if self._colliders_key != key:
+            self._colliders_key, self._colliders = key, {}
+        boxes = self._colliders.get(w)
+        if boxes is None:
+            boxes = self._colliders[w] = self._colliders_now(w)
+        return boxes
+
+    def _colliders_now(self, w: float) -> np.ndarray:
         parts = [self.scene.static_boxes, self.scene.world_boxes_at(w)]
+        feet = self.player.position
         for e in self.entities:
             if not e.solid:
                 continue
             key = f"tick:{e.id}"
-            if e.reaches_slice(self, w):
+            # Only what the player can touch this tick needs its section: within its
+            # reach of the player's box in space, and of the slice in w.
+            near = np.all(np.abs(e.center(self)[:3] - feet[:3]) <= e.radius + COLLIDE_MARGIN)
+            if near and e.reaches_slice(self, w):
                 self.sections.section(key, e.mesh, e.model(self), w)
             else:
                 self.sections.forget(key)  # absent at w: bounds are NaN
@@ -195,7 +232,9 @@ class Game:
         yaw = self._prev_view[0] + alpha * dyaw
         pitch = self._prev_view[1] + alpha * (p.pitch - self._prev_view[1])
         lo, hi = self.level.w_range
-        frame = Frame(Camera3(eye, yaw, pitch, fov_y_deg=fov_y_deg), hud=Hud(w=float(p.position[3]), w_min=lo, w_max=hi))
+        frame = Frame(
+            Camera3(eye, yaw, pitch, fov_y_deg=fov_y_deg), hud=Hud(w=float(p.position[3]), w_min=lo, w_max=hi)
+        )
         for system in SYSTEMS:
             if hasattr(system, "draw"):
                 system.draw(self, frame, alpha)

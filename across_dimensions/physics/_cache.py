@@ -15,10 +15,10 @@ import hashlib
 import os
 from pathlib import Path
 
-from across_dimensions.core import _jit  # noqa: F401  (sets NUMBA_CACHE_DIR first)
-
 import numba  # noqa: E402
 from numba.core import config  # noqa: E402
+
+from across_dimensions.core import _jit  # noqa: F401  (sets NUMBA_CACHE_DIR first)
 
 _HERE = Path(__file__).resolve().parent
 _STAMP = "physics-sources.sha256"

@@ -15,8 +15,7 @@ from .body_def import BodyDef
 from .world import PhysicsWorld
 
 
-def build_pile(n_bodies: int = 200, seed: int = 0, allow_sleep: bool = False,
-               arena: float = 1.5) -> PhysicsWorld:
+def build_pile(n_bodies: int = 200, seed: int = 0, allow_sleep: bool = False, arena: float = 1.5) -> PhysicsWorld:
     """Hyperspheres and hypercubes (alternating) on a jittered 4D grid over a walled floor.
 
     The arena is ``|x|, |z| <= arena`` (3D world boxes, extending over all w)
@@ -27,12 +26,14 @@ def build_pile(n_bodies: int = 200, seed: int = 0, allow_sleep: bool = False,
     world = PhysicsWorld(allow_sleep=allow_sleep)
     t = 0.5
     a = arena
-    world.set_static_boxes([
-        ((a + t, 2.0, 0.0), (t, 2.0, a + 2 * t)),
-        ((-a - t, 2.0, 0.0), (t, 2.0, a + 2 * t)),
-        ((0.0, 2.0, a + t), (a + 2 * t, 2.0, t)),
-        ((0.0, 2.0, -a - t), (a + 2 * t, 2.0, t)),
-    ])
+    world.set_static_boxes(
+        [
+            ((a + t, 2.0, 0.0), (t, 2.0, a + 2 * t)),
+            ((-a - t, 2.0, 0.0), (t, 2.0, a + 2 * t)),
+            ((0.0, 2.0, a + t), (a + 2 * t, 2.0, t)),
+            ((0.0, 2.0, -a - t), (a + 2 * t, 2.0, t)),
+        ]
+    )
     # Solid beyond |w| = a: {-w <= -a} and {w <= -a}.
     world.add_half_space((0, 0, 0, -1), -a)
     world.add_half_space((0, 0, 0, 1), -a)
@@ -48,19 +49,25 @@ def build_pile(n_bodies: int = 200, seed: int = 0, allow_sleep: bool = False,
                         break
                     p = np.array([x, 0.4 + 0.65 * layer, z, w]) + rng.uniform(-0.05, 0.05, 4)
                     if i % 2 == 0:
-                        world.add_body(BodyDef("hypersphere", radius=0.25, position=p,
-                                               velocity=rng.uniform(-0.5, 0.5, 4) * [1, 0, 1, 1]))
+                        world.add_body(
+                            BodyDef(
+                                "hypersphere",
+                                radius=0.25,
+                                position=p,
+                                velocity=rng.uniform(-0.5, 0.5, 4) * [1, 0, 1, 1],
+                            )
+                        )
                     else:
-                        ang = {pl: float(v) for pl, v in
-                               zip(("xy", "xz", "xw", "yw"), rng.uniform(-0.6, 0.6, 4))}
+                        ang = {pl: float(v) for pl, v in zip(("xy", "xz", "xw", "yw"), rng.uniform(-0.6, 0.6, 4))}
                         world.add_body(BodyDef("hypercube", size=0.45, position=p, angles=ang))
                     i += 1
         layer += 1
     return world
 
 
-def bench_physics(n_bodies: int = 200, ticks: int = 300, settle_ticks: int = 120,
-                  dt: float = 1.0 / 60.0, seed: int = 0) -> dict:
+def bench_physics(
+    n_bodies: int = 200, ticks: int = 300, settle_ticks: int = 120, dt: float = 1.0 / 60.0, seed: int = 0
+) -> dict:
     """Time ``ticks`` 60 Hz ticks of a settling pile of ``n_bodies`` mixed bodies.
 
     Sleeping is off so every body stays in the solver (the worst case).
@@ -127,13 +134,19 @@ def main(argv=None) -> None:
     ap.add_argument("--ticks", type=int, default=300)
     args = ap.parse_args(argv)
     r = bench_physics(args.bodies, args.ticks)
-    print(f"{r['n_bodies']} bodies, {r['ticks']} ticks of {r['substeps_per_tick']} substeps, "
-          f"{r['contacts']:.0f} contact points per tick")
-    print(f"per tick: mean {r['mean_ms']:.2f} ms, median {r['median_ms']:.2f} ms, "
-          f"p95 {r['p95_ms']:.2f} ms, max {r['max_ms']:.2f} ms (target <= 4 ms)")
+    print(
+        f"{r['n_bodies']} bodies, {r['ticks']} ticks of {r['substeps_per_tick']} substeps, "
+        f"{r['contacts']:.0f} contact points per tick"
+    )
+    print(
+        f"per tick: mean {r['mean_ms']:.2f} ms, median {r['median_ms']:.2f} ms, "
+        f"p95 {r['p95_ms']:.2f} ms, max {r['max_ms']:.2f} ms (target <= 4 ms)"
+    )
     print(f"process CPU time per tick: median {r['cpu_median_ms']:.2f} ms")
-    print(f"baselines: empty world tick {r['empty_step_ms']:.3f} ms, "
-          f"numpy update of the same arrays {r['numpy_ms']:.3f} ms")
+    print(
+        f"baselines: empty world tick {r['empty_step_ms']:.3f} ms, "
+        f"numpy update of the same arrays {r['numpy_ms']:.3f} ms"
+    )
 
 
 if __name__ == "__main__":

@@ -22,8 +22,19 @@ import numpy as np
 from across_dimensions.core._jit import njit
 from across_dimensions.core.transform import PLANE_I, PLANE_J, expm_skew
 
-__all__ = ["PLANE_I", "PLANE_J", "compound", "expm_skew", "gram_schmidt", "mat6_vec", "rotate_by",
-           "spin_velocity", "tangent_basis", "wedge", "world_inverse_inertia"]
+__all__ = [
+    "PLANE_I",
+    "PLANE_J",
+    "compound",
+    "expm_skew",
+    "gram_schmidt",
+    "mat6_vec",
+    "rotate_by",
+    "spin_velocity",
+    "tangent_basis",
+    "wedge",
+    "world_inverse_inertia",
+]
 
 
 @njit(cache=True)
@@ -112,8 +123,8 @@ def world_inverse_inertia(rot, inv_inertia_body, out):
     for k in range(6):
         for m in range(6):
             s = 0.0
-            for l in range(6):
-                s += c[k, l] * inv_inertia_body[l] * c[m, l]
+            for j in range(6):
+                s += c[k, j] * inv_inertia_body[j] * c[m, j]
             out[k, m] = s
 
 
@@ -122,8 +133,8 @@ def mat6_vec(m, v, out):
     """``out = m @ v`` for ``(6, 6)`` and ``(6,)`` float64."""
     for k in range(6):
         s = 0.0
-        for l in range(6):
-            s += m[k, l] * v[l]
+        for j in range(6):
+            s += m[k, j] * v[j]
         out[k] = s
 
 

@@ -95,7 +95,7 @@ def reduce_points(cp, cd, cnt, n, rot, wk, out_p, out_n, out_d, k):
             u[j, b] = rot[b, a]
         j += 1
     # Coordinates along u1..u3 once; each diagonal is then a sum of signs.
-    pr = wk[4:4 + cnt]
+    pr = wk[4 : 4 + cnt]
     for i in range(cnt):
         for q in range(3):
             s = 0.0
@@ -335,8 +335,7 @@ def _clip_into(tx, trot, th, loc_c, loc_axes, oh, margin, m, sup, cp, cd, cnt, v
             # Most edges miss T entirely: both ends beyond the same face.
             ok = True
             for a in range(4):
-                if (v[j, a] > lim[a] and v[j2, a] > lim[a]) or (
-                        v[j, a] < -lim[a] and v[j2, a] < -lim[a]):
+                if (v[j, a] > lim[a] and v[j2, a] > lim[a]) or (v[j, a] < -lim[a] and v[j2, a] < -lim[a]):
                     ok = False
                     break
             if not ok:

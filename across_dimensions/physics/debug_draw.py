@@ -29,9 +29,10 @@ colour), kinematic, or static.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 from itertools import combinations, product
-from typing import TYPE_CHECKING, Iterable, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
@@ -161,8 +162,9 @@ def box_section_edges(position, rotation, half_extents, w: float, tol: float = 1
     return np.array(keep)
 
 
-def debug_draw(world: "PhysicsWorld", drawer: DebugDrawer, w: float,
-               options: DebugDrawOptions | None = None, boxes: Iterable = ()) -> None:
+def debug_draw(
+    world: PhysicsWorld, drawer: DebugDrawer, w: float, options: DebugDrawOptions | None = None, boxes: Iterable = ()
+) -> None:
     """Report the world's colliders, contacts and ``boxes`` in the slice at ``w`` to ``drawer``.
 
     Bodies are reported in id order, then world boxes, then contacts (in the

@@ -8,7 +8,7 @@ by the world.
 
 from __future__ import annotations
 
-from typing import NamedTuple, Union
+from typing import NamedTuple
 
 import numpy as np
 
@@ -35,7 +35,7 @@ class ContactEvent(NamedTuple):
     """
 
     a: int
-    b: Union[int, str]
+    b: int | str
     point: np.ndarray
     normal: np.ndarray
     impulse: float

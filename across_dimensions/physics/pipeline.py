@@ -56,7 +56,6 @@ DYNAMIC = 2
 STATIC_KEY = 1 << 30
 
 
-
 @njit(cache=True)
 def _moving(i, kind, awake, vel, omg):
     """Whether body ``i`` can disturb others: awake dynamic or moving kinematic."""
@@ -309,8 +308,9 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
                     for t in range(4):
                         cn[k + q, t] = -cn[k + q, t]
             else:
-                got = box_box(pos[a], rot[a], half[a], pos[b], rot[b], half[b], m,
-                              scratch_p, scratch_d, wk, cp, cn, cd, k)
+                got = box_box(
+                    pos[a], rot[a], half[a], pos[b], rot[b], half[b], m, scratch_p, scratch_d, wk, cp, cn, cd, k
+                )
         else:
             s = -1 - b
             m = marg[a]
@@ -320,8 +320,9 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
                 if shape[a] == SPHERE:
                     got = sphere_halfspace(pos[a], half[a, 0], pn, hs[s, 4], m, cp, cn, cd, k)
                 else:
-                    got = box_halfspace(pos[a], rot[a], half[a], pn, hs[s, 4], m,
-                                        scratch_p, scratch_d, wk, cp, cn, cd, k)
+                    got = box_halfspace(
+                        pos[a], rot[a], half[a], pn, hs[s, 4], m, scratch_p, scratch_d, wk, cp, cn, cd, k
+                    )
             else:
                 # A world box spans all of w: make it a 4D box wide enough in w
                 # that its w faces can never be the separating axis.
@@ -340,8 +341,7 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
                         for t in range(4):
                             cn[k + q, t] = -cn[k + q, t]
                 else:
-                    got = box_box(pos[a], rot[a], half[a], vx, vr, vh, m,
-                                  scratch_p, scratch_d, wk, cp, cn, cd, k)
+                    got = box_box(pos[a], rot[a], half[a], vx, vr, vh, m, scratch_p, scratch_d, wk, cp, cn, cd, k)
         for q in range(got):
             body_a[k + q] = a
             body_b[k + q] = b
@@ -435,13 +435,13 @@ def integrate_positions(bodies, h):
         compound(rot[i], M)
         for k in range(6):
             s = 0.0
-            for l in range(6):
-                s += M[l, k] * omg[i, l]
+            for j in range(6):
+                s += M[j, k] * omg[i, j]
             lb[k] = s / inv_inertia[i, k]
         for k in range(6):
             s = 0.0
-            for l in range(6):
-                s += M[k, l] * lb[l]
+            for j in range(6):
+                s += M[k, j] * lb[j]
             lw[k] = s
         for a in range(4):
             for b in range(4):
@@ -458,13 +458,13 @@ def _omega_from_l(r, inv_i, lw, M, out):
     tmp = np.empty(6)
     for k in range(6):
         s = 0.0
-        for l in range(6):
-            s += M[l, k] * lw[l]
+        for j in range(6):
+            s += M[j, k] * lw[j]
         tmp[k] = s * inv_i[k]
     for k in range(6):
         s = 0.0
-        for l in range(6):
-            s += M[k, l] * tmp[l]
+        for j in range(6):
+            s += M[k, j] * tmp[j]
         out[k] = s
 
 
@@ -517,8 +517,8 @@ def update_sleep(bodies, npairs, pairs, prm):
             stir[b] = True
         elif kind[b] == KINEMATIC and _moving(b, kind, awake, vel, omg):
             stir[a] = True
-    lin2 = prm.sleep_linear ** 2
-    ang2 = prm.sleep_angular ** 2
+    lin2 = prm.sleep_linear**2
+    ang2 = prm.sleep_angular**2
     mint = np.full(nb, np.inf)
     for i in range(nb):
         if not (alive[i] and kind[i] == DYNAMIC and awake[i]):
@@ -630,8 +630,7 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
         apply_forces(bodies, prm, h)
         warm_start(nc, contacts, rows, bodies, iso)
         current_separation(nc, contacts, rows, dpos, drot)
-        solve(nc, contacts, rows, bodies, iso, inv_h, True, bias_rate, mass_scale, impulse_scale,
-              prm.max_push, iters)
+        solve(nc, contacts, rows, bodies, iso, inv_h, True, bias_rate, mass_scale, impulse_scale, prm.max_push, iters)
         integrate_positions(bodies, h)
         for i in range(nb):
             if not alive[i] or kind[i] == STATIC:
@@ -650,8 +649,7 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
                         s += rot[i, m, k] * r0[i, q, k]
                     drot[i, m, q] = s
         current_separation(nc, contacts, rows, dpos, drot)
-        solve(nc, contacts, rows, bodies, iso, inv_h, False, bias_rate, mass_scale, impulse_scale,
-              prm.max_push, relax)
+        solve(nc, contacts, rows, bodies, iso, inv_h, False, bias_rate, mass_scale, impulse_scale, prm.max_push, relax)
         for c in range(nc):
             total[c] += lam[c, 0]
     for c in range(nc):

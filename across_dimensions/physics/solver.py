@@ -290,8 +290,8 @@ def _add_spin_inv_mass(kk, c, row, body, iinv, iso, planes, inv_i_planes):
         return kk + iso[body]
     for q in range(6):
         s = 0.0
-        for l in range(6):
-            s += iinv[body, q, l] * planes[c, row, l]
+        for j in range(6):
+            s += iinv[body, q, j] * planes[c, row, j]
         inv_i_planes[c, row, q] = s
         kk += planes[c, row, q] * s
     return kk
@@ -439,8 +439,9 @@ def current_separation(nc, contacts, rows_in, dpos, drot):
 
 
 @njit(cache=True)
-def solve(nc, contacts, rows_in, bodies, iso, inv_h, use_bias, bias_rate, mass_scale,
-          impulse_scale, max_push, iterations):
+def solve(
+    nc, contacts, rows_in, bodies, iso, inv_h, use_bias, bias_rate, mass_scale, impulse_scale, max_push, iterations
+):
     """Gauss-Seidel sweeps over all contacts: normal, then friction.
 
     Parameters

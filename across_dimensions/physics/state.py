@@ -33,30 +33,32 @@ import numpy as np
 #: Tuning values of a world, one record. The field order and the float64 type
 #: of every field (even the counts) are part of the saved state: the bytes of
 #: this record enter :meth:`PhysicsWorld.state_hash`, which the shipped replays check.
-PARAMS_DTYPE = np.dtype([
-    ("tick_dt", np.float64),  # tick length, s (contacts are found once per tick)
-    ("gravity", np.float64, (4,)),  # m/s^2
-    ("inverse_cube_G", np.float64),  # strength of the mutual G m1 m2 / r^3 pull; 0 = off
-    ("softening", np.float64),  # m, added in quadrature to distances in that pull
-    ("margin", np.float64),  # m, speculative contact distance at rest
-    ("substeps", np.float64),  # solver substeps per tick (a count)
-    ("contact_hertz", np.float64),  # stiffness of the push-out of overlaps
-    ("damping_ratio", np.float64),  # its damping ratio
-    ("max_push", np.float64),  # m/s, top speed of the push-out
-    ("restitution_threshold", np.float64),  # m/s, slower approaches do not bounce
-    ("sleep_linear", np.float64),  # m/s, calm below this speed...
-    ("sleep_angular", np.float64),  # rad/s, ...and this spin
-    ("sleep_time", np.float64),  # s an island must stay calm to sleep
-    ("allow_sleep", np.float64),  # 1.0 or 0.0
-    ("iterations", np.float64),  # solver sweeps per substep with push-out (a count)
-    ("relax_iterations", np.float64),  # sweeps without it (a count)
-    ("world_friction", np.float64),  # material of the static world
-    ("world_restitution", np.float64),
-    ("linear_damping", np.float64),  # 1/s
-    ("angular_damping", np.float64),  # 1/s
-    ("spin_friction", np.float64),  # contact-patch radius of a ball / its radius
-    ("rolling_resistance", np.float64),  # ball rolling-resistance coefficient
-])
+PARAMS_DTYPE = np.dtype(
+    [
+        ("tick_dt", np.float64),  # tick length, s (contacts are found once per tick)
+        ("gravity", np.float64, (4,)),  # m/s^2
+        ("inverse_cube_G", np.float64),  # strength of the mutual G m1 m2 / r^3 pull; 0 = off
+        ("softening", np.float64),  # m, added in quadrature to distances in that pull
+        ("margin", np.float64),  # m, speculative contact distance at rest
+        ("substeps", np.float64),  # solver substeps per tick (a count)
+        ("contact_hertz", np.float64),  # stiffness of the push-out of overlaps
+        ("damping_ratio", np.float64),  # its damping ratio
+        ("max_push", np.float64),  # m/s, top speed of the push-out
+        ("restitution_threshold", np.float64),  # m/s, slower approaches do not bounce
+        ("sleep_linear", np.float64),  # m/s, calm below this speed...
+        ("sleep_angular", np.float64),  # rad/s, ...and this spin
+        ("sleep_time", np.float64),  # s an island must stay calm to sleep
+        ("allow_sleep", np.float64),  # 1.0 or 0.0
+        ("iterations", np.float64),  # solver sweeps per substep with push-out (a count)
+        ("relax_iterations", np.float64),  # sweeps without it (a count)
+        ("world_friction", np.float64),  # material of the static world
+        ("world_restitution", np.float64),
+        ("linear_damping", np.float64),  # 1/s
+        ("angular_damping", np.float64),  # 1/s
+        ("spin_friction", np.float64),  # contact-patch radius of a ball / its radius
+        ("rolling_resistance", np.float64),  # ball rolling-resistance coefficient
+    ]
+)
 
 
 class Bodies(NamedTuple):
@@ -282,14 +284,22 @@ def new_params() -> np.ndarray:
 def new_contacts(cap: int) -> Contacts:
     """Contact arrays for ``cap`` points."""
     i8 = np.int64
-    return Contacts(np.zeros(cap, i8), np.zeros(cap, i8), np.zeros(cap, i8), np.zeros((cap, 4)),
-                    np.zeros((cap, 4)), np.zeros(cap), np.zeros(cap))
+    return Contacts(
+        np.zeros(cap, i8),
+        np.zeros(cap, i8),
+        np.zeros(cap, i8),
+        np.zeros((cap, 4)),
+        np.zeros((cap, 4)),
+        np.zeros(cap),
+        np.zeros(cap),
+    )
 
 
 def new_warm_start(cap: int, old: WarmStart | None = None) -> WarmStart:
     """Warm-start arrays for ``cap`` points, keeping the stored entries of ``old``."""
-    out = WarmStart(np.zeros(cap, np.int64), np.zeros((cap, 4)), np.zeros(cap), np.zeros((cap, 4)),
-                    np.zeros(1, np.int64))
+    out = WarmStart(
+        np.zeros(cap, np.int64), np.zeros((cap, 4)), np.zeros(cap), np.zeros((cap, 4)), np.zeros(1, np.int64)
+    )
     if old is not None:
         n = int(old.count[0])
         for name in ("key", "local_point", "normal_impulse", "friction_impulse"):
@@ -301,10 +311,29 @@ def new_warm_start(cap: int, old: WarmStart | None = None) -> WarmStart:
 def new_solver_rows(cap: int) -> SolverRows:
     """Solver rows for ``cap`` contacts; kept between ticks so no large array is allocated per tick."""
     f = np.float64
-    spin = SpinRows(np.zeros((cap, 2), f), np.zeros((cap, 6, 6), f), np.zeros((cap, 6, 6), f),
-                    np.zeros((cap, 6, 6), f), np.zeros((cap, 6), f), np.zeros((cap, 6), f))
-    return SolverRows(np.zeros((cap, 4, 4), f), np.zeros((cap, 4), f), np.zeros((cap, 4), f),
-                      np.zeros((cap, 4, 6), f), np.zeros((cap, 4, 6), f), np.zeros((cap, 4, 6), f),
-                      np.zeros((cap, 4, 6), f), np.zeros((cap, 4), f), np.zeros((cap, 4), f),
-                      np.zeros((cap, 4), f), np.zeros(cap, f), np.zeros(cap, f), np.zeros(cap, f),
-                      np.zeros(cap, f), np.zeros(cap, f), spin)
+    spin = SpinRows(
+        np.zeros((cap, 2), f),
+        np.zeros((cap, 6, 6), f),
+        np.zeros((cap, 6, 6), f),
+        np.zeros((cap, 6, 6), f),
+        np.zeros((cap, 6), f),
+        np.zeros((cap, 6), f),
+    )
+    return SolverRows(
+        np.zeros((cap, 4, 4), f),
+        np.zeros((cap, 4), f),
+        np.zeros((cap, 4), f),
+        np.zeros((cap, 4, 6), f),
+        np.zeros((cap, 4, 6), f),
+        np.zeros((cap, 4, 6), f),
+        np.zeros((cap, 4, 6), f),
+        np.zeros((cap, 4), f),
+        np.zeros((cap, 4), f),
+        np.zeros((cap, 4), f),
+        np.zeros(cap, f),
+        np.zeros(cap, f),
+        np.zeros(cap, f),
+        np.zeros(cap, f),
+        np.zeros(cap, f),
+        spin,
+    )

@@ -19,7 +19,7 @@ therefore gives bit-identical states (:meth:`PhysicsWorld.state_hash`).
 from __future__ import annotations
 
 import hashlib
-from typing import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -47,8 +47,7 @@ from .state import (
 _TOUCH_TOL = 1e-3
 
 _KINDS = {"static": pl.STATIC, "kinematic": pl.KINEMATIC, "dynamic": pl.DYNAMIC}
-_SHAPES = {"hypersphere": SPHERE, "sphere": SPHERE, "ball": SPHERE,
-           "hypercube": BOX, "box": BOX, "tesseract": BOX}
+_SHAPES = {"hypersphere": SPHERE, "sphere": SPHERE, "ball": SPHERE, "hypercube": BOX, "box": BOX, "tesseract": BOX}
 
 
 def _rotation(rotation=None, angles: Mapping[str, float] | None = None) -> np.ndarray:
@@ -143,14 +142,28 @@ class PhysicsWorld:
         The impulses the next tick starts from.
     """
 
-    def __init__(self, gravity=(0.0, -9.81, 0.0, 0.0), inverse_cube_G: float = 0.0, *,
-                 ground: bool = True, tick_dt: float = 1.0 / 60.0, substeps: int = 4,
-                 iterations: int = 1, relax_iterations: int = 1, allow_sleep: bool = True,
-                 max_ticks: int = 4, world_friction: float = 0.6,
-                 world_restitution: float = 0.0, sleep_time: float = 0.5,
-                 softening: float = 0.05, contact_hertz: float = 30.0,
-                 damping_ratio: float = 10.0, max_push: float = 3.0,
-                 spin_friction: float = 0.1, rolling_resistance: float = 0.0):
+    def __init__(
+        self,
+        gravity=(0.0, -9.81, 0.0, 0.0),
+        inverse_cube_G: float = 0.0,
+        *,
+        ground: bool = True,
+        tick_dt: float = 1.0 / 60.0,
+        substeps: int = 4,
+        iterations: int = 1,
+        relax_iterations: int = 1,
+        allow_sleep: bool = True,
+        max_ticks: int = 4,
+        world_friction: float = 0.6,
+        world_restitution: float = 0.0,
+        sleep_time: float = 0.5,
+        softening: float = 0.05,
+        contact_hertz: float = 30.0,
+        damping_ratio: float = 10.0,
+        max_push: float = 3.0,
+        spin_friction: float = 0.1,
+        rolling_resistance: float = 0.0,
+    ):
         if not tick_dt > 0 or int(substeps) < 1:
             raise ValueError("tick_dt must be positive and substeps at least 1")
         self.params = new_params()
@@ -228,13 +241,22 @@ class PhysicsWorld:
         old = getattr(self, "bodies", None)
         n = old.count if old is not None else 0
         fields = {
-            "alive": ((), bool), "kind": ((), np.int8), "shape": ((), np.int8),
-            "half_extents": ((4,), np.float64), "bound": ((), np.float64),
-            "position": ((4,), np.float64), "rotation": ((4, 4), np.float64),
-            "velocity": ((4,), np.float64), "angular_velocity": ((6,), np.float64),
-            "mass": ((), np.float64), "inv_mass": ((), np.float64),
-            "inv_inertia": ((6,), np.float64), "friction": ((), np.float64),
-            "restitution": ((), np.float64), "awake": ((), bool), "sleep_timer": ((), np.float64),
+            "alive": ((), bool),
+            "kind": ((), np.int8),
+            "shape": ((), np.int8),
+            "half_extents": ((4,), np.float64),
+            "bound": ((), np.float64),
+            "position": ((4,), np.float64),
+            "rotation": ((4, 4), np.float64),
+            "velocity": ((4,), np.float64),
+            "angular_velocity": ((6,), np.float64),
+            "mass": ((), np.float64),
+            "inv_mass": ((), np.float64),
+            "inv_inertia": ((6,), np.float64),
+            "friction": ((), np.float64),
+            "restitution": ((), np.float64),
+            "awake": ((), bool),
+            "sleep_timer": ((), np.float64),
             "island": ((), np.int64),
         }
         arrays = {}
@@ -258,8 +280,13 @@ class PhysicsWorld:
 
     def _alloc_contacts(self, pair_cap: int, contact_cap: int) -> None:
         """Size the per-tick buffers; the warm-start entries are kept."""
-        self._scratch = Scratch(np.zeros((pair_cap, 2), dtype=np.int64), np.zeros(self.bodies.alive.shape[0]),
-                                np.zeros((SCRATCH_POINTS, 4)), np.zeros(SCRATCH_POINTS), np.zeros(1, np.int64))
+        self._scratch = Scratch(
+            np.zeros((pair_cap, 2), dtype=np.int64),
+            np.zeros(self.bodies.alive.shape[0]),
+            np.zeros((SCRATCH_POINTS, 4)),
+            np.zeros(SCRATCH_POINTS),
+            np.zeros(1, np.int64),
+        )
         self.contacts = new_contacts(contact_cap)
         self._rows = new_solver_rows(contact_cap)
         self._touch_buf = np.zeros(contact_cap, dtype=np.int64)
@@ -456,8 +483,7 @@ class PhysicsWorld:
         self.bodies.velocity[i] += p * self.bodies.inv_mass[i]
         if point is not None:
             r = _vec4(point, "point") - self.bodies.position[i]
-            tau = np.array([r[a] * p[b] - r[b] * p[a]
-                            for a, b in ((0, 1), (0, 2), (1, 2), (0, 3), (1, 3), (2, 3))])
+            tau = np.array([r[a] * p[b] - r[b] * p[a] for a, b in ((0, 1), (0, 2), (1, 2), (0, 3), (1, 3), (2, 3))])
             inv = np.zeros((6, 6))
             world_inverse_inertia(self.bodies.rotation[i], self.bodies.inv_inertia[i], inv)
             self.bodies.angular_velocity[i] += inv @ tau
@@ -573,8 +599,7 @@ class PhysicsWorld:
         self._prev_position[:n] = self.bodies.position[:n]
         self._prev_rotation[:n] = self.bodies.rotation[:n]
         while True:
-            nc = pl.tick(self.bodies, self.static, params, self.contacts, self.warm, self._rows,
-                         self._scratch)
+            nc = pl.tick(self.bodies, self.static, params, self.contacts, self.warm, self._rows, self._scratch)
             if nc == -1:
                 self._alloc_contacts(2 * int(self._scratch.needed[0]), self.contacts.key.shape[0])
             elif nc == -2:
@@ -607,8 +632,14 @@ class PhysicsWorld:
             keys, ab, pts, nrm, imp = manifold_events(nc, self.contacts, _TOUCH_TOL)
             began = ~np.isin(keys, self._touch_prev)
             self._events_cache = [
-                ContactEvent(int(ab[e, 0]), int(ab[e, 1]) if ab[e, 1] >= 0 else "world",
-                             pts[e].copy(), nrm[e].copy(), float(imp[e]), bool(began[e]))
+                ContactEvent(
+                    int(ab[e, 0]),
+                    int(ab[e, 1]) if ab[e, 1] >= 0 else "world",
+                    pts[e].copy(),
+                    nrm[e].copy(),
+                    float(imp[e]),
+                    bool(began[e]),
+                )
                 for e in range(keys.shape[0])
             ]
         return self._events_cache
@@ -621,13 +652,35 @@ class PhysicsWorld:
         c = int(warm.count[0])
         parts = [np.array([n, c], dtype=np.int64), np.array([self.time, self._acc])]
         b = self.bodies
-        for name in ("alive", "kind", "shape", "half_extents", "position", "rotation", "velocity",
-                     "angular_velocity", "mass", "inv_mass", "inv_inertia", "friction", "restitution",
-                     "awake", "sleep_timer", "island"):
+        for name in (
+            "alive",
+            "kind",
+            "shape",
+            "half_extents",
+            "position",
+            "rotation",
+            "velocity",
+            "angular_velocity",
+            "mass",
+            "inv_mass",
+            "inv_inertia",
+            "friction",
+            "restitution",
+            "awake",
+            "sleep_timer",
+            "island",
+        ):
             parts.append(getattr(b, name)[:n])
         # The params record's bytes are those of its 25 float64 fields in order.
-        parts += [warm.key[:c], warm.local_point[:c], warm.normal_impulse[:c], warm.friction_impulse[:c],
-                  self.static.half_spaces, self.static.boxes, self.params]
+        parts += [
+            warm.key[:c],
+            warm.local_point[:c],
+            warm.normal_impulse[:c],
+            warm.friction_impulse[:c],
+            self.static.half_spaces,
+            self.static.boxes,
+            self.params,
+        ]
         return b"".join(np.ascontiguousarray(a).tobytes() for a in parts)
 
     def state_hash(self) -> str:
@@ -692,8 +745,7 @@ class PhysicsWorld:
         return corr, [int(i) for i in np.flatnonzero(touched)]
 
     # ------------------------------------------------------------------ debug drawing
-    def debug_draw(self, drawer: DebugDrawer, w: float, options: DebugDrawOptions | None = None,
-                   boxes=()) -> None:
+    def debug_draw(self, drawer: DebugDrawer, w: float, options: DebugDrawOptions | None = None, boxes=()) -> None:
         """Report colliders, contacts and query ``boxes`` in the 3D slice at ``w`` to ``drawer``.
 
         See :func:`~across_dimensions.physics.debug_draw.debug_draw`; the world

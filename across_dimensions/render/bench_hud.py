@@ -48,16 +48,23 @@ def random_pins(n: int, seed: int = 0) -> list[RadarPin]:
     h[rng.random(n) < 0.25] = 0.0
     kinds = rng.integers(0, len(RADAR_KINDS), n)
     x, z = r * np.cos(a), r * np.sin(a)
-    return [RadarPin(RADAR_KINDS[k], float(x[i]), float(z[i]), float(h[i]), bool(h[i] == 0.0))
-            for i, k in enumerate(kinds)]
+    return [
+        RadarPin(RADAR_KINDS[k], float(x[i]), float(z[i]), float(h[i]), bool(h[i] == 0.0)) for i, k in enumerate(kinds)
+    ]
 
 
 def hud_demo_frame(energy: EnergyGauge | None = None, pins: list[RadarPin] | None = None) -> Frame:
     """A level-like scene with the w indicator, an energy bar and the radar."""
     frame = demo_frame(w=0.35)
     frame.drawables.append(Drawable("crate", 0, box_mesh((3.5, 0.5, 4.0), (1.0, 1.0, 1.0), (0.55, 0.5, 0.42, 1.0))))
-    frame.hud = Hud(w=0.35, w_min=-1.0, w_max=1.0, fps=None, message="",
-                    energy=energy if energy is not None else EnergyGauge(value=64.0, maximum=100.0, flash=0.0))
+    frame.hud = Hud(
+        w=0.35,
+        w_min=-1.0,
+        w_max=1.0,
+        fps=None,
+        message="",
+        energy=energy if energy is not None else EnergyGauge(value=64.0, maximum=100.0, flash=0.0),
+    )
     frame.radar = Radar(range=30.0, w_scale=0.5, pins=demo_pins() if pins is None else pins)
     return frame
 
@@ -106,7 +113,7 @@ def bench_hud(ctx, n_pins: int = 200, frames: int = 300, size: tuple[int, int] =
                 # Nothing may be cached between frames: the value, flash and pins change every frame.
                 if hud.energy is not None:
                     hud.energy = EnergyGauge((i * 7) % 100, 100.0, (i % 10) / 10)
-                pins = radar.pins[i % 3:] + radar.pins[:i % 3]
+                pins = radar.pins[i % 3 :] + radar.pins[: i % 3]
                 r = Radar(radar.range, radar.w_scale, pins)
                 t0 = time.perf_counter()
                 if with_radar:
@@ -125,7 +132,7 @@ def bench_hud(ctx, n_pins: int = 200, frames: int = 300, size: tuple[int, int] =
         # vertex shaders on the calling thread, which a GPU would do.
         times = []
         px = 100.0
-        for i in range(frames):
+        for _ in range(frames):
             t0 = time.perf_counter()
             hud_quads(full, *size, radar)
             radar_geometry(radar, px)
@@ -161,11 +168,13 @@ def main(argv=None) -> None:
                 t.save_png(Path(args.png) / f"radar_{w}.png")
         renderer.release()
     r = bench_hud(ctx, args.pins, args.frames)
-    print(f"HUD at 1280x720, median of {args.frames} frames (CPU, layout + submission): "
-          f"{r['hud_ms']:.3f} ms without energy and radar, {r['hud_energy_radar_ms']:.3f} ms with the energy bar "
-          f"and a radar of {r['pins']} pins ({r['radar_draw_calls']} radar draw calls), "
-          f"of which {r['layout_ms']:.3f} ms is the numpy layout and {r['radar_driver_ms']:.3f} ms is spent inside "
-          f"the radar's draw calls (llvmpipe shading vertices and setting up triangles on the CPU)")
+    print(
+        f"HUD at 1280x720, median of {args.frames} frames (CPU, layout + submission): "
+        f"{r['hud_ms']:.3f} ms without energy and radar, {r['hud_energy_radar_ms']:.3f} ms with the energy bar "
+        f"and a radar of {r['pins']} pins ({r['radar_draw_calls']} radar draw calls), "
+        f"of which {r['layout_ms']:.3f} ms is the numpy layout and {r['radar_driver_ms']:.3f} ms is spent inside "
+        f"the radar's draw calls (llvmpipe shading vertices and setting up triangles on the CPU)"
+    )
 
 
 if __name__ == "__main__":

@@ -71,7 +71,9 @@ def wrap_current_context(require: int = REQUIRED_GL) -> moderngl.Context:
     try:
         return moderngl.create_context(require=require)
     except Exception as e:
-        raise RenderError(f"cannot use the current OpenGL context (need GL {require // 100}.{require // 10 % 10} core): {e}") from e
+        raise RenderError(
+            f"cannot use the current OpenGL context (need GL {require // 100}.{require // 10 % 10} core): {e}"
+        ) from e
 
 
 class Offscreen:
@@ -124,7 +126,7 @@ class Offscreen:
         """The whole framebuffer as ``(x, y, w, h)``."""
         return 0, 0, self.width, self.height
 
-    def use(self) -> "Offscreen":
+    def use(self) -> Offscreen:
         """Bind for drawing and set the viewport to the whole framebuffer."""
         self.fbo.use()
         self.fbo.viewport = self.viewport
@@ -170,7 +172,7 @@ class Offscreen:
                 obj.release()
                 setattr(self, name, None)
 
-    def __enter__(self) -> "Offscreen":
+    def __enter__(self) -> Offscreen:
         return self
 
     def __exit__(self, *exc) -> None:

@@ -77,8 +77,11 @@ class LineDrawer:
     def draw_sphere(self, body_id: int, center, radius: float, color) -> None:
         c = self._circle * float(radius)
         zero = np.zeros(c.shape[0])
-        for ring in (np.stack([c[:, 0], c[:, 1], zero], 1), np.stack([c[:, 0], zero, c[:, 1]], 1),
-                     np.stack([zero, c[:, 0], c[:, 1]], 1)):
+        for ring in (
+            np.stack([c[:, 0], c[:, 1], zero], 1),
+            np.stack([c[:, 0], zero, c[:, 1]], 1),
+            np.stack([zero, c[:, 0], c[:, 1]], 1),
+        ):
             ring = ring + np.asarray(center, np.float64)
             self._add(np.stack([ring[:-1], ring[1:]], axis=1), color)
 

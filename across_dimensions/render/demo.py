@@ -95,7 +95,9 @@ def terrain_mesh(n_triangles: int = 100_000, extent: float = 60.0) -> TriMesh3:
     a = (i[:, None] * n + i[None, :]).reshape(-1)
     b, c, d = a + 1, a + n, a + n + 1
     faces = np.concatenate([np.stack([a, c, b], -1), np.stack([b, c, d], -1)])
-    return TriMesh3(V.astype(np.float32), faces.astype(np.uint32), N.reshape(-1, 3).astype(np.float32), C.astype(np.float32))
+    return TriMesh3(
+        V.astype(np.float32), faces.astype(np.uint32), N.reshape(-1, 3).astype(np.float32), C.astype(np.float32)
+    )
 
 
 def demo_frame(n_terrain_triangles: int = 0, w: float = 0.35) -> Frame:
@@ -115,7 +117,9 @@ def demo_frame(n_terrain_triangles: int = 0, w: float = 0.35) -> Frame:
         Drawable("ghost", 0, box_mesh((1.8, 0.6, 1.2), (1.2, 1.2, 1.2), (0.4, 0.95, 0.8, 1.0)), style="ghost"),
         Drawable("wire", 0, box_mesh((-1.2, 0.5, -1.0), (1.0, 1.0, 1.0), (1.0, 0.95, 0.4, 1.0)), style="wire"),
     ]
-    return Frame(camera=cam, drawables=drawables, hud=Hud(w=w, w_min=-1.0, w_max=1.0, fps=60.0, message="Reach the exit"))
+    return Frame(
+        camera=cam, drawables=drawables, hud=Hud(w=w, w_min=-1.0, w_max=1.0, fps=60.0, message="Reach the exit")
+    )
 
 
 def main(argv=None) -> None:
@@ -144,7 +148,7 @@ def main(argv=None) -> None:
             renderer.draw(frame)
             ctx.finish()
         times = []
-        for i in range(args.bench):
+        for _ in range(args.bench):
             frame.camera.yaw += 0.01  # move so nothing can be cached between frames
             t0 = time.perf_counter()
             renderer.draw(frame)

@@ -148,7 +148,9 @@ class _QuadList:
             if ch == " ":
                 continue
             u, v = cell_origin(glyph_index(ch))
-            self.rows.append((x + i * CELL_W * scale, y, GLYPH_W * scale, GLYPH_H * scale, u, v, u + GLYPH_W, v + GLYPH_H, *color))
+            self.rows.append(
+                (x + i * CELL_W * scale, y, GLYPH_W * scale, GLYPH_H * scale, u, v, u + GLYPH_W, v + GLYPH_H, *color)
+            )
 
     def array(self) -> np.ndarray:
         if not self.rows:

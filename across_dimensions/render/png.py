@@ -119,8 +119,10 @@ def decode_png(data: bytes) -> np.ndarray:
     if w * h > PNG_MAX_PIXELS:
         raise PngError(f"{w}x{h} pixels is more than the {PNG_MAX_PIXELS} an image may have")
     if depth != 8 or ctype not in _CHANNELS or interlace != 0:
-        raise PngError(f"unsupported PNG variant (bit depth {depth}, colour type {ctype}, interlace {interlace}); "
-                       f"need 8-bit non-interlaced grey/RGB/RGBA")
+        raise PngError(
+            f"unsupported PNG variant (bit depth {depth}, colour type {ctype}, interlace {interlace}); "
+            f"need 8-bit non-interlaced grey/RGB/RGBA"
+        )
     c = _CHANNELS[ctype]
     try:
         # Never inflate past what the header promises, plus one byte to notice more.

@@ -193,9 +193,9 @@ def radar_geometry(radar: Radar, px_per_radius: float = 120.0) -> RadarGeometry:
     shape_code = _KIND_SHAPE[code]
     order = np.argsort(shape_code, kind="stable")
     bounds = np.searchsorted(shape_code[order], np.arange(len(SHAPES) + 1))
-    for i, name in enumerate(SHAPES[:len(_HEAD_SHAPE_NAMES)]):
+    for i, name in enumerate(SHAPES[: len(_HEAD_SHAPE_NAMES)]):
         if bounds[i + 1] > bounds[i]:
-            inst[name] = head_rows[order[bounds[i]:bounds[i + 1]]]
+            inst[name] = head_rows[order[bounds[i] : bounds[i + 1]]]
     # Stems: a unit quad (x in [-0.5, 0.5], y in [0, 1]) stretched from the disc to the head; a
     # minimum height keeps the scale invertible for the normal.
     stem_w = max(STEM_WIDTH, STEM_MIN_PX * px)
@@ -284,8 +284,20 @@ def _revolve(profile, axis: int, segments: int) -> np.ndarray:
 
 def _sphere(subdiv: int = 1) -> np.ndarray:
     t = (1 + 5**0.5) / 2
-    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
-         (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    v = [
+        (-1, t, 0),
+        (1, t, 0),
+        (-1, -t, 0),
+        (1, -t, 0),
+        (0, -1, t),
+        (0, 1, t),
+        (0, -1, -t),
+        (0, 1, -t),
+        (t, 0, -1),
+        (t, 0, 1),
+        (-t, 0, -1),
+        (-t, 0, 1),
+    ]
     v = [np.array(p, float) / np.linalg.norm(p) for p in v]
     f = _hull_faces(v)
     for _ in range(subdiv):
@@ -396,6 +408,7 @@ def _annulus(r0, r1, color, segments=64, y=0.0, a0=0.0, a1=2 * np.pi) -> np.ndar
     ang = np.linspace(a0, a1, segments + 1)
     c0, s0 = np.cos(ang[:-1]), np.sin(ang[:-1])
     c1, s1 = np.cos(ang[1:]), np.sin(ang[1:])
+
     # Angle 0 is +x, angles grow towards +z.
     def p(r, c, s):
         return np.stack([r * c, np.full_like(c, y), r * s], -1)
@@ -430,8 +443,16 @@ def disc_vertices() -> np.ndarray:
         parts.append(_colored(np.array([(z, 0.0, x) for x, z in tri]), AXIS_COLOR))  # z axis
     # Forward notch outside the rim, and the player's chevron at the centre, both pointing +z.
     parts.append(_colored(np.array([(-0.09, 0.0, 1.03), (0.09, 0.0, 1.03), (0.0, 0.0, 1.17)]), FORWARD_COLOR))
-    chev = np.array([(-0.06, 0.0, -0.05), (0.0, 0.0, 0.09), (0.0, 0.0, -0.01),
-                     (0.06, 0.0, -0.05), (0.0, 0.0, -0.01), (0.0, 0.0, 0.09)])
+    chev = np.array(
+        [
+            (-0.06, 0.0, -0.05),
+            (0.0, 0.0, 0.09),
+            (0.0, 0.0, -0.01),
+            (0.06, 0.0, -0.05),
+            (0.0, 0.0, -0.01),
+            (0.0, 0.0, 0.09),
+        ]
+    )
     chev[:, 1] = 0.007
     parts.append(_colored(chev, PLAYER_COLOR))
     return np.concatenate(parts).astype(np.float32)
@@ -590,8 +611,11 @@ class RadarRenderer:
         ang = np.linspace(0, 2 * np.pi, 33)
         glow, edge = BACKDROP_COLOR, BACKDROP_COLOR[:3] + (0.0,)
         for i in range(32):
-            back += [(0.0, 0.0, far, *glow), (1.05 * np.cos(ang[i]), 1.05 * np.sin(ang[i]), far, *edge),
-                     (1.05 * np.cos(ang[i + 1]), 1.05 * np.sin(ang[i + 1]), far, *edge)]
+            back += [
+                (0.0, 0.0, far, *glow),
+                (1.05 * np.cos(ang[i]), 1.05 * np.sin(ang[i]), far, *edge),
+                (1.05 * np.cos(ang[i + 1]), 1.05 * np.sin(ang[i + 1]), far, *edge),
+            ]
         back = np.array(back, np.float32)
         self._back_vbo = ctx.buffer(back.tobytes())
         self._back_vao = ctx.vertex_array(self.flat_prog, [(self._back_vbo, "3f 4f", "in_pos", "in_color")])

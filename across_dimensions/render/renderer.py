@@ -384,7 +384,7 @@ class Renderer:
         st.cached = len(self._meshes)
 
         vp_bytes = _mat4_bytes(view_proj)
-        for style, prog in self._programs.items():
+        for prog in self._programs.values():
             self._set(prog, "u_view_proj", vp_bytes)
             self._set(prog, "u_eye", tuple(eye))
             self._set(prog, "u_light_dir", tuple(light))
@@ -400,7 +400,7 @@ class Renderer:
         opaque.sort(key=lambda o: o[0])
         for _, d, gm, model in opaque:
             self._draw_mesh(d.style, gm, model, moderngl.TRIANGLES, gm.n_indices)
-        for _, d, gm, model in wires:
+        for _, _d, gm, model in wires:
             n = self._edges(gm)
             if n:
                 self._draw_mesh("wire", gm, model, moderngl.LINES, n)
@@ -413,7 +413,7 @@ class Renderer:
             # Keep destination alpha at 1 so screenshots stay opaque.
             ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
             fbo.depth_mask = False
-            for _, d, gm, model in ghosts:
+            for _, _d, gm, model in ghosts:
                 self._draw_mesh("ghost", gm, model, moderngl.TRIANGLES, gm.n_indices)
             fbo.depth_mask = True
             ctx.disable(moderngl.BLEND)

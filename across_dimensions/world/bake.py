@@ -35,9 +35,22 @@ from .assets.repair import repair_surface
 from .assets.tetwild import DEFAULT_EDGE_LENGTH_FAC, tetrahedralize
 
 __all__ = [
-    "AssetError", "BAKE_VERSION", "DEFAULT_EDGE_LENGTH_FAC", "MAX_ASSET_BYTES", "MAX_TETS", "MAX_TRIANGLES",
-    "SUPPORTED", "bake_solid", "cache_key", "default_cache_dir", "lift_asset", "lift_to_file", "load_surface",
-    "read_triangles", "repair_surface", "tetrahedralize",
+    "AssetError",
+    "BAKE_VERSION",
+    "DEFAULT_EDGE_LENGTH_FAC",
+    "MAX_ASSET_BYTES",
+    "MAX_TETS",
+    "MAX_TRIANGLES",
+    "SUPPORTED",
+    "bake_solid",
+    "cache_key",
+    "default_cache_dir",
+    "lift_asset",
+    "lift_to_file",
+    "load_surface",
+    "read_triangles",
+    "repair_surface",
+    "tetrahedralize",
 ]
 
 
@@ -66,8 +79,9 @@ def load_surface(path) -> tuple[np.ndarray, np.ndarray]:
     return repair_surface(v, f, path)
 
 
-def bake_solid(path, edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC, cache_dir=None,
-               progress: bool = True) -> tuple[np.ndarray, np.ndarray]:
+def bake_solid(
+    path, edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC, cache_dir=None, progress: bool = True
+) -> tuple[np.ndarray, np.ndarray]:
     """The tetrahedralized 3D solid of a mesh file, from the cache when possible.
 
     Parameters
@@ -112,8 +126,10 @@ def bake_solid(path, edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC, cache_dir
         except AssetError as e:
             raise AssetError(f"{path}: {e}") from None
         if len(tt) > MAX_TETS:
-            raise AssetError(f"{path}: tetrahedralization made {len(tt)} tets, more than the {MAX_TETS} "
-                             f"a baked asset may have; use a coarser edge length than {edge_length_fac}")
+            raise AssetError(
+                f"{path}: tetrahedralization made {len(tt)} tets, more than the {MAX_TETS} "
+                f"a baked asset may have; use a coarser edge length than {edge_length_fac}"
+            )
         bar.stage("save")
         save_entry(file, tv, tt)
     except BaseException:
@@ -123,9 +139,19 @@ def bake_solid(path, edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC, cache_dir
     return tv, tt
 
 
-def lift_asset(path, depth: float, w_center: float = 0.0, profile: str = "prism", cache_dir=None,
-               progress: bool = True, *, layers: int = 9, edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC,
-               color=None, center=None) -> TetMesh4:
+def lift_asset(
+    path,
+    depth: float,
+    w_center: float = 0.0,
+    profile: str = "prism",
+    cache_dir=None,
+    progress: bool = True,
+    *,
+    layers: int = 9,
+    edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC,
+    color=None,
+    center=None,
+) -> TetMesh4:
     """A mesh file extended along ``w`` into a closed 4D solid.
 
     Parameters

@@ -117,12 +117,24 @@ def read_crystals(r, data, w_range) -> list[CrystalSpec]:
         name = r.read(t, CRYSTAL_TABLE, where, keys=("name",), name=f"crystal{i}")["name"]
         where = f"[[crystal]] #{i} '{name}'"
         n = len(r.problems)
-        v = r.read(t, CRYSTAL_TABLE, where, keys=[k for k in CRYSTAL_TABLE if k != "name"],
-                   spin=dict(CRYSTAL_SPIN))
+        v = r.read(t, CRYSTAL_TABLE, where, keys=[k for k in CRYSTAL_TABLE if k != "name"], spin=dict(CRYSTAL_SPIN))
         w = v["position"][3]
         if len(r.problems) == n and w_range is not None and not w_range[0] <= w <= w_range[1]:
-            r.problem(where, f"field 'position': w = {w:g} is outside the level's w_range {list(w_range)}, "
-                             "so the crystal can never be reached")
-        out.append(CrystalSpec(name, v["position"], int(round(v["energy"] * MILLI)), v["shape"], v["size"],
-                               v["color"], v["spin"] if "spin" in t else dict(CRYSTAL_SPIN), v["respawn"]))
+            r.problem(
+                where,
+                f"field 'position': w = {w:g} is outside the level's w_range {list(w_range)}, "
+                "so the crystal can never be reached",
+            )
+        out.append(
+            CrystalSpec(
+                name,
+                v["position"],
+                int(round(v["energy"] * MILLI)),
+                v["shape"],
+                v["size"],
+                v["color"],
+                v["spin"] if "spin" in t else dict(CRYSTAL_SPIN),
+                v["respawn"],
+            )
+        )
     return out

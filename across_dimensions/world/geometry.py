@@ -35,8 +35,12 @@ def box_trimesh(center, size, color) -> TriMesh3:
             verts.append(corners[i])
             norms.append(normal)
     v = np.asarray(verts, np.float32)
-    return TriMesh3(v, np.arange(len(v), dtype=np.uint32).reshape(-1, 3), np.asarray(norms, np.float32),
-                    np.tile(np.asarray(color, np.float32), (len(v), 1)))
+    return TriMesh3(
+        v,
+        np.arange(len(v), dtype=np.uint32).reshape(-1, 3),
+        np.asarray(norms, np.float32),
+        np.tile(np.asarray(color, np.float32), (len(v), 1)),
+    )
 
 
 def surface_trimesh(vertices, faces, color, model=None) -> TriMesh3:
@@ -58,8 +62,12 @@ def surface_trimesh(vertices, faces, color, model=None) -> TriMesh3:
     tri = p.reshape(-1, 3, 3)
     n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
-    return TriMesh3(p.astype(np.float32), np.arange(len(p), dtype=np.uint32).reshape(-1, 3),
-                    np.repeat(n, 3, axis=0).astype(np.float32), np.tile(np.asarray(color, np.float32), (len(p), 1)))
+    return TriMesh3(
+        p.astype(np.float32),
+        np.arange(len(p), dtype=np.uint32).reshape(-1, 3),
+        np.repeat(n, 3, axis=0).astype(np.float32),
+        np.tile(np.asarray(color, np.float32), (len(p), 1)),
+    )
 
 
 def merge_trimeshes(meshes) -> TriMesh3:

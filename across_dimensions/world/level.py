@@ -22,11 +22,11 @@ import hashlib
 import inspect
 import math
 import string
+import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import tomllib
 
 from ..core import fileio
 from ..core.errors import InputError
@@ -57,7 +57,7 @@ OBJECT_BODIES = ("none", "hypersphere", "hypercube")
 DEFAULT_COLOR = (0.7, 0.7, 0.72, 1.0)
 OBJECT_COLOR = (0.95, 0.55, 0.2, 1.0)
 MESH_SUFFIXES = (".obj", ".glb", ".gltf", ".stl")  # what world/bake.py reads
-_INT64 = (-2**63, 2**63 - 1)  # TOML integers are 64-bit; tomllib accepts any size
+_INT64 = (-(2**63), 2**63 - 1)  # TOML integers are 64-bit; tomllib accepts any size
 
 
 def _is_number(x) -> bool:
@@ -139,15 +139,26 @@ OBJECT = {
 }
 #: The format, one model per table (top-level keys; ``world.box`` and
 #: ``world.mesh`` use ``box`` and ``mesh``).
-MODELS = {"level": LEVEL, "spawn": SPAWN, "goal": GOAL, "physics": PHYSICS, "box": BOX, "mesh": MESH,
-          "world": WORLD, "object": OBJECT, **gameplay.MODELS}
+MODELS = {
+    "level": LEVEL,
+    "spawn": SPAWN,
+    "goal": GOAL,
+    "physics": PHYSICS,
+    "box": BOX,
+    "mesh": MESH,
+    "world": WORLD,
+    "object": OBJECT,
+    **gameplay.MODELS,
+}
 FORMATS = (1, 2)  # format 2 adds the tables of gameplay.MODELS
 
 # Shape parameters: how each is checked (the builders in core/shapes.py take these names).
 # One table of rules for the core's builders and for levels (core.shapes.SHAPE_PARAM_RULES);
 # lengths are in metres here.
-_PARAM_RULES = {name: (kind, Range(lo, hi, "m" if kind == "positive" else ""))
-                for name, (kind, (lo, hi)) in SHAPE_PARAM_RULES.items()}
+_PARAM_RULES = {
+    name: (kind, Range(lo, hi, "m" if kind == "positive" else ""))
+    for name, (kind, (lo, hi)) in SHAPE_PARAM_RULES.items()
+}
 
 
 def _param_problem(name, value) -> str | None:
@@ -329,9 +340,11 @@ class _Reader:
         room = limit - self.counts[key]
         if len(items) > room:
             if room >= 0:  # one line per kind: later tables of that kind are just not read
-                self.problem(label(room + 1), f"a level may have at most {limit} {what}; "
-                                              f"this one and those after it are not read")
-            items = items[:max(room, 0)]
+                self.problem(
+                    label(room + 1),
+                    f"a level may have at most {limit} {what}; this one and those after it are not read",
+                )
+            items = items[: max(room, 0)]
             room = -1
         self.counts[key] = limit + 1 if room < 0 else self.counts[key] + len(items)
         return items
@@ -341,8 +354,11 @@ class _Reader:
         self.tets += n
         if self.tets > limits.MAX_TOTAL_TETS and not self._tets_reported:
             self._tets_reported = True
-            self.problem(where, f"with this entry the level's 4D content reaches about {self.tets:,} tetrahedra; "
-                                f"a level may have at most {limits.MAX_TOTAL_TETS:,}")
+            self.problem(
+                where,
+                f"with this entry the level's 4D content reaches about {self.tets:,} tetrahedra; "
+                f"a level may have at most {limits.MAX_TOTAL_TETS:,}",
+            )
 
     def unknown(self, data: dict, allowed, where) -> None:
         for k in data:
@@ -408,8 +424,10 @@ class _Reader:
         elif f.range is not None and any(x not in f.range for x in v):
             self.problem(where, f"field '{key}': expected {n} numbers {f.range.text()}, got {v!r}")
         elif f.length is not None and math.hypot(*v) > f.length:
-            self.problem(where, f"field '{key}': expected a length of at most {f.length:g}, "
-                                f"got {v!r} (length {math.hypot(*v):.4g})")
+            self.problem(
+                where,
+                f"field '{key}': expected a length of at most {f.length:g}, got {v!r} (length {math.hypot(*v):.4g})",
+            )
         else:
             return np.asarray(v, dtype=np.float64)
         return self._fallback(f, default, n)
@@ -463,8 +481,11 @@ class _Reader:
         if key not in data:
             return tuple(default)
         v = data[key]
-        if (isinstance(v, list) and len(v) in (3, 4)
-                and all(isinstance(x, (int, float)) and not isinstance(x, bool) and x in COLOR for x in v)):
+        if (
+            isinstance(v, list)
+            and len(v) in (3, 4)
+            and all(isinstance(x, (int, float)) and not isinstance(x, bool) and x in COLOR for x in v)
+        ):
             return tuple(float(x) for x in v) + ((1.0,) if len(v) == 3 else ())
         self.problem(where, f"field '{key}': expected 3 or 4 numbers between 0 and 1 (RGB[A]), got {v!r}")
         return tuple(default)
@@ -472,14 +493,16 @@ class _Reader:
     def _angles(self, data, key, where, f: Field, default) -> dict:
         v = data.get(key, {})
         if not isinstance(v, dict):
-            self.problem(where, f"field '{key}': expected a table of plane = degrees with planes "
-                                f"{', '.join(PLANES)}, got {v!r}")
+            self.problem(
+                where, f"field '{key}': expected a table of plane = degrees with planes {', '.join(PLANES)}, got {v!r}"
+            )
             return {}
         out = {}
         for plane, deg in v.items():
             if plane not in PLANES:
-                self.problem(where, f"field '{key}': unknown rotation plane '{plane}' "
-                                    f"(expected one of {', '.join(PLANES)})")
+                self.problem(
+                    where, f"field '{key}': unknown rotation plane '{plane}' (expected one of {', '.join(PLANES)})"
+                )
             elif not _is_number(deg):
                 self.problem(where, f"field '{key}.{plane}': expected degrees as a number, got {deg!r}")
             elif f.range is not None and deg not in f.range:
@@ -494,8 +517,11 @@ class _Reader:
         rel = self._string(data, key, where, f, REQUIRED)
         if not rel:
             if isinstance(data.get(key), str):
-                self.problem(where, f"field '{key}': expected a path inside the assets folder such as "
-                                    f"\"meshes/crate.obj\", got an empty string")
+                self.problem(
+                    where,
+                    f"field '{key}': expected a path inside the assets folder such as "
+                    f'"meshes/crate.obj", got an empty string',
+                )
             return None
         try:
             full = resources.resolve_asset(rel)
@@ -599,8 +625,11 @@ def _goal_table(r: _Reader, data, w_range, w_ok) -> GoalSpec:
         if len(r.problems) == n and gw[0] > gw[1]:
             r.problem("[goal]", f"field 'w_range': expected [low, high] with low <= high, got {gw.tolist()}")
         elif len(r.problems) == n and w_ok and (gw[1] < w_range[0] or gw[0] > w_range[1]):
-            r.problem("[goal]", f"field 'w_range': {gw.tolist()} is outside the level's w_range "
-                                f"{w_range.tolist()}, so the goal can never be reached")
+            r.problem(
+                "[goal]",
+                f"field 'w_range': {gw.tolist()} is outside the level's w_range "
+                f"{w_range.tolist()}, so the goal can never be reached",
+            )
     v = r.read(goal_t, GOAL, "[goal]", keys=("center", "size"))
     return GoalSpec(v["center"], v["size"], goal_w)
 
@@ -611,8 +640,15 @@ def _world_table(r: _Reader, wt: dict, i: int) -> WorldSpec:
     name = r.read(wt, WORLD, where, keys=("name",), name=f"world{i}")["name"]
     where = f"[[world]] #{i} '{name}'"
     v = r.read(wt, WORLD, where, keys=("color", "w", "depth", "profile"))
-    world = WorldSpec(name, v["w"], v["depth"], v["profile"], v["color"],
-                      _boxes(r, wt, where, v["color"]), _meshes(r, wt, where, v["color"]))
+    world = WorldSpec(
+        name,
+        v["w"],
+        v["depth"],
+        v["profile"],
+        v["color"],
+        _boxes(r, wt, where, v["color"]),
+        _meshes(r, wt, where, v["color"]),
+    )
     if not wt.get("box") and not wt.get("mesh"):
         r.problem(where, "has no [[world.box]] or [[world.mesh]] entries")
     r.add_tets(limits.world_tets(len(world.boxes), len(world.meshes)), where)
@@ -662,13 +698,20 @@ def _object_table(r: _Reader, ot: dict, i: int) -> ObjectSpec:
     if params_ok:
         tets = limits.shape_tets(shape, params)
         if tets > limits.MAX_OBJECT_TETS:
-            r.problem(where, f"field 'params': shape '{shape}' with these parameters has {tets:,} tetrahedra; "
-                             f"an object may have at most {limits.MAX_OBJECT_TETS:,}")
+            r.problem(
+                where,
+                f"field 'params': shape '{shape}' with these parameters has {tets:,} tetrahedra; "
+                f"an object may have at most {limits.MAX_OBJECT_TETS:,}",
+            )
     elif asset is not None:
         tets = limits.asset_object_tets()
     r.add_tets(tets, where)
-    v = r.read(ot, OBJECT, where, keys=("depth", "position", "rotation", "scale", "color", "spin", "solid", "body",
-                                        "mass", "velocity"))
+    v = r.read(
+        ot,
+        OBJECT,
+        where,
+        keys=("depth", "position", "rotation", "scale", "color", "spin", "solid", "body", "mass", "velocity"),
+    )
     if v["body"] != "none":
         r.counts["body"] += 1
         limit, what = MAX_COUNTS["body"]
@@ -684,8 +727,22 @@ def _object_table(r: _Reader, ot: dict, i: int) -> ObjectSpec:
             why = limits.body_problem(limits.body_extent(vertices, v["scale"], v["body"]))
             if why:
                 r.problem(where, f"field 'scale': {why}")
-    return ObjectSpec(name, shape, params, asset, v["depth"], v["position"], v["rotation"], v["scale"], v["color"],
-                      v["spin"], v["solid"], v["body"], v["mass"], v["velocity"])
+    return ObjectSpec(
+        name,
+        shape,
+        params,
+        asset,
+        v["depth"],
+        v["position"],
+        v["rotation"],
+        v["scale"],
+        v["color"],
+        v["spin"],
+        v["solid"],
+        v["body"],
+        v["mass"],
+        v["velocity"],
+    )
 
 
 def _asset_vertices(asset: Path, depth: float):
@@ -719,8 +776,13 @@ def _parse(path: Path) -> tuple[dict, bytes]:
         raise LevelError(path, [f"{path}: not valid TOML: arrays or tables nested too deeply"]) from None
     big = list(_big_ints(data))
     if big:
-        raise LevelError(path, [f"{path}: {b}: integer out of range (TOML integers are 64-bit; "
-                                f"write a float like 1e30 for huge values)" for b in big[:20]])
+        raise LevelError(
+            path,
+            [
+                f"{path}: {b}: integer out of range (TOML integers are 64-bit; write a float like 1e30 for huge values)"
+                for b in big[:20]
+            ],
+        )
     return data, raw
 
 
@@ -752,10 +814,14 @@ def load_level(path) -> Level:
 
     boxes = _boxes(r, data, "top level", DEFAULT_COLOR)
     meshes = _meshes(r, data, "top level", DEFAULT_COLOR)
-    worlds = [_world_table(r, wt, i) for i, wt in
-              enumerate(r.entries(data, "world", "top level", _entry_label("top level", "world")), 1)]
-    objects = [_object_table(r, ot, i) for i, ot in
-               enumerate(r.entries(data, "object", "top level", _entry_label("top level", "object")), 1)]
+    worlds = [
+        _world_table(r, wt, i)
+        for i, wt in enumerate(r.entries(data, "world", "top level", _entry_label("top level", "world")), 1)
+    ]
+    objects = [
+        _object_table(r, ot, i)
+        for i, ot in enumerate(r.entries(data, "object", "top level", _entry_label("top level", "object")), 1)
+    ]
 
     energy = gameplay.read_energy(r, data)
     radar = gameplay.read_radar(r, data)
@@ -764,9 +830,24 @@ def load_level(path) -> Level:
     if r.problems:
         raise LevelError(path, r.problems)
     return Level(
-        path=path, name=meta["name"], description=meta["description"],
-        w_range=(float(w_range[0]), float(w_range[1])), spawn=spawn, spawn_yaw_deg=spawn_yaw, goal=goal,
-        gravity=phys["gravity"], inverse_cube_g=phys["inverse_cube_g"], boxes=boxes, meshes=meshes,
-        worlds=worlds, objects=objects, source_hash=hashlib.sha256(raw).hexdigest(), hints=meta["hints"],
-        rolling_resistance=phys["rolling_resistance"], tets=r.tets, crystals=crystals, energy=energy, radar=radar,
+        path=path,
+        name=meta["name"],
+        description=meta["description"],
+        w_range=(float(w_range[0]), float(w_range[1])),
+        spawn=spawn,
+        spawn_yaw_deg=spawn_yaw,
+        goal=goal,
+        gravity=phys["gravity"],
+        inverse_cube_g=phys["inverse_cube_g"],
+        boxes=boxes,
+        meshes=meshes,
+        worlds=worlds,
+        objects=objects,
+        source_hash=hashlib.sha256(raw).hexdigest(),
+        hints=meta["hints"],
+        rolling_resistance=phys["rolling_resistance"],
+        tets=r.tets,
+        crystals=crystals,
+        energy=energy,
+        radar=radar,
     )

@@ -59,11 +59,15 @@ MAX_COUNTS = {
 MAX_NAME_CHARS = 100  # level, world and object names
 MAX_TEXT_CHARS = 1000  # description and each hint
 
-#: Tetrahedra one 4D object may have (a hypersphere with subdivisions = 3 has 307,200).
-MAX_OBJECT_TETS = 400_000
+#: Tetrahedra one 4D object may have (a 128 x 128 duoprism has 98,304; a
+#: hypersphere with subdivisions = 2 has 76,800, with 3 it has 307,200: too many
+#: for a level, though ``shape`` builds it).
+MAX_OBJECT_TETS = 200_000
 #: Tetrahedra of all the level's 4D content (objects and extended worlds). Moving
-#: along w re-slices all of it every frame: about 15 ms per million (below).
-MAX_TOTAL_TETS = 1_000_000
+#: along w re-slices solid content up to three times a tick (the walker's slice,
+#: the slice it steps to, the picture): about 60 ms per million in the worst case
+#: (below), so this keeps the heaviest level near 25 ms, and check-level warns.
+MAX_TOTAL_TETS = 400_000
 
 
 @dataclass(frozen=True)
@@ -132,16 +136,21 @@ def shape_aspect_problem(shape: str, params: dict) -> str | None:
     p = {**_defaults(shape), **params}
     a, b = float(p[pair[0]]), float(p[pair[1]])
     if max(a, b) > MAX_SHAPE_ASPECT * min(a, b):
-        return (f"'{pair[0]}' and '{pair[1]}' may differ by a factor of at most {MAX_SHAPE_ASPECT:g}, "
-                f"got {a:g} and {b:g}")
+        return (
+            f"'{pair[0]}' and '{pair[1]}' may differ by a factor of at most {MAX_SHAPE_ASPECT:g}, got {a:g} and {b:g}"
+        )
     return None
 
 
 # ------------------------------------------------------------------ bodies
 _LENGTHS = ("radius", "size", "r1", "r2", "height")
 #: Which length parameter stretches each axis (x, y, z, w) of a shape.
-_AXIS_LENGTH = {"duoprism": ("r1", "r1", "r2", "r2"), "cubinder": ("radius", "height", "radius", "height"),
-                "spherinder": ("radius", "radius", "radius", "height"), "tesseract": ("size",) * 4}
+_AXIS_LENGTH = {
+    "duoprism": ("r1", "r1", "r2", "r2"),
+    "cubinder": ("radius", "height", "radius", "height"),
+    "spherinder": ("radius", "radius", "radius", "height"),
+    "tesseract": ("size",) * 4,
+}
 _unit_vertices_cache: dict = {}
 
 
@@ -190,8 +199,10 @@ def body_problem(extent) -> str | None:
     tol = 1 + 1e-6  # shape vertices are float32: a body of exactly the limit must pass
     if lo * tol < BODY_SIZE.lo or hi > BODY_SIZE.hi * tol or hi > BODY_ASPECT * lo * tol:
         shown = ", ".join(f"{x:.3g}" for x in extent)
-        return (f"as a rigid body it measures [{shown}] m along x, y, z, w; a body must measure "
-                f"{BODY_SIZE.text()} along each axis, the longest at most {BODY_ASPECT:g} times the shortest")
+        return (
+            f"as a rigid body it measures [{shown}] m along x, y, z, w; a body must measure "
+            f"{BODY_SIZE.text()} along each axis, the longest at most {BODY_ASPECT:g} times the shortest"
+        )
     return None
 
 
@@ -199,15 +210,25 @@ def body_problem(extent) -> str | None:
 # Closed forms of the tetrahedra core/shapes.py builds (tests/test_level_limits.py
 # compares them with the built meshes). Parameters missing from ``params`` take
 # the builder's defaults.
-_FIXED_TETS = {"5-cell": 5, "simplex": 5, "tesseract": 48, "16-cell": 16, "24-cell": 96, "120-cell": 3240,
-               "600-cell": 600}
+_FIXED_TETS = {
+    "5-cell": 5,
+    "simplex": 5,
+    "tesseract": 48,
+    "16-cell": 16,
+    "24-cell": 96,
+    "120-cell": 3240,
+    "600-cell": 600,
+}
 
 
 def _defaults(shape: str) -> dict:
     from ..core.shapes import SHAPES
 
-    return {k: p.default for k, p in inspect.signature(SHAPES[shape]).parameters.items()
-            if p.default is not inspect.Parameter.empty}
+    return {
+        k: p.default
+        for k, p in inspect.signature(SHAPES[shape]).parameters.items()
+        if p.default is not inspect.Parameter.empty
+    }
 
 
 def shape_tets(shape: str, params: dict) -> int:
@@ -267,14 +288,18 @@ def world_tets(n_boxes: int, n_meshes: int, layers: int = 9) -> int:
 # 3.2 ms CPU, so the measured times were divided by 3, the same factor:
 #   base (player, 3D world, floor, fill):  ~5 ms      (16 ms measured)
 #   per 4D object or world drawn:          ~0.06 ms   (200 tesseracts: 48 ms)
-#   per million tetrahedra re-sliced:      ~15 ms     (8 duoprisms, 0.77 M: 52 ms)
+#   per million tetrahedra re-sliced:      ~60 ms     (10 solid duoprisms 128x128 that the
+#                                                      slice cuts everywhere, 0.98 M: 120 ms per
+#                                                      tick for the walker alone, measured again
+#                                                      with the load at ~3; the slicer's worst case
+#                                                      is ~32 M tets/s and a tick slices solids twice)
 #   per rigid body (solver, contacts):     ~0.016 ms  (bench: 200 bodies 3.2 ms)
 # It is a rough guide (triangle count and overdraw of translucent ghosts are
 # not modelled), used only to warn.
 FRAME_MS = 1000.0 / 60.0
 BASE_MS = 5.0
 PER_DRAWABLE_MS = 0.06
-PER_MILLION_TETS_MS = 15.0
+PER_MILLION_TETS_MS = 60.0
 PER_BODY_MS = 0.016
 
 
@@ -286,4 +311,3 @@ def tick_cost_ms(drawables: int, tets: int, bodies: int) -> float:
 def fmt_count(n: int) -> str:
     """``1234567`` -> ``"1,234,567"``."""
     return f"{n:,}"
-

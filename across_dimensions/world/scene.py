@@ -65,8 +65,10 @@ class Object4:
 
     def model_at(self, t: float, position=None, extra_rotation=None) -> np.ndarray:
         """Object-to-world ``(5, 5)`` at time ``t`` seconds (spin included)."""
-        angles = {p: np.radians(self.rotation_deg.get(p, 0.0) + self.spin_deg.get(p, 0.0) * t)
-                  for p in set(self.rotation_deg) | set(self.spin_deg)}
+        angles = {
+            p: np.radians(self.rotation_deg.get(p, 0.0) + self.spin_deg.get(p, 0.0) * t)
+            for p in set(self.rotation_deg) | set(self.spin_deg)
+        }
         m = pose(self.position if position is None else position, angles, self.scale)
         if extra_rotation is not None:
             m[:4, :4] = extra_rotation @ m[:4, :4]
@@ -148,8 +150,14 @@ def _build_world(spec) -> ExtendedWorld:
         parts.append(lift.extrude(v3, t3, layers_w, scales, center=c, colors=m.color))
         centers.append(c)
         halves.append(h)
-    return ExtendedWorld(spec.name, concatenate(parts, name=spec.name), np.asarray(centers), np.asarray(halves),
-                         layers_w, np.asarray(scales, dtype=np.float64))
+    return ExtendedWorld(
+        spec.name,
+        concatenate(parts, name=spec.name),
+        np.asarray(centers),
+        np.asarray(halves),
+        layers_w,
+        np.asarray(scales, dtype=np.float64),
+    )
 
 
 def _build_object(spec) -> Object4:
@@ -160,8 +168,18 @@ def _build_object(spec) -> Object4:
 
         mesh = lift_asset(spec.asset, spec.depth)
     mesh = mesh.with_color(spec.color)
-    return Object4(spec.name, mesh, spec.position.copy(), dict(spec.rotation_deg), spec.scale.copy(),
-                   dict(spec.spin_deg), spec.solid, spec.body, spec.mass, spec.velocity.copy())
+    return Object4(
+        spec.name,
+        mesh,
+        spec.position.copy(),
+        dict(spec.rotation_deg),
+        spec.scale.copy(),
+        dict(spec.spin_deg),
+        spec.solid,
+        spec.body,
+        spec.mass,
+        spec.velocity.copy(),
+    )
 
 
 BOUNDS_MARGIN = 20.0  # metres between everything in a level and the walls that keep bodies in
@@ -212,8 +230,13 @@ def build_physics(scene: Scene, tick_dt: float):
     from ..physics import BodyDef, PhysicsWorld
 
     level = scene.level
-    world = PhysicsWorld(gravity=level.gravity, inverse_cube_G=level.inverse_cube_g, ground=False,
-                         tick_dt=tick_dt, rolling_resistance=level.rolling_resistance)
+    world = PhysicsWorld(
+        gravity=level.gravity,
+        inverse_cube_G=level.inverse_cube_g,
+        ground=False,
+        tick_dt=tick_dt,
+        rolling_resistance=level.rolling_resistance,
+    )
     # Walls at both ends of the level's w range: the player cannot leave it, so
     # a body that rolled out along w would never be seen again (and, rolling
     # on forever, never sleep). A body's whole extent stays inside.
@@ -238,15 +261,25 @@ def build_physics(scene: Scene, tick_dt: float):
         if len(inside) == 0:
             continue
         for c, h in zip(wd.centers, wd.halves):
-            world.add_body(BodyDef("hypercube", size=np.append(2 * h, inside[-1] - inside[0]), kind="static",
-                                   position=np.append(c, 0.5 * (inside[0] + inside[-1]))))
+            world.add_body(
+                BodyDef(
+                    "hypercube",
+                    size=np.append(2 * h, inside[-1] - inside[0]),
+                    kind="static",
+                    position=np.append(c, 0.5 * (inside[0] + inside[-1])),
+                )
+            )
     body_of = {}
     for i in movers:
         o = scene.objects[i]
         v = o.mesh.vertices.astype(np.float64)
-        common = dict(position=o.position, angles={p: np.radians(a) for p, a in o.rotation_deg.items()},
-                      velocity=o.velocity, mass=o.mass,
-                      angular_velocity=[np.radians(o.spin_deg.get(p, 0.0)) for p in PLANES])
+        common = dict(
+            position=o.position,
+            angles={p: np.radians(a) for p, a in o.rotation_deg.items()},
+            velocity=o.velocity,
+            mass=o.mass,
+            angular_velocity=[np.radians(o.spin_deg.get(p, 0.0)) for p in PLANES],
+        )
         if o.body == "hypersphere":
             radius = float(np.linalg.norm(v, axis=1).max() * o.scale.max())
             body_of[i] = world.add_body(BodyDef("hypersphere", radius=radius, **common))
@@ -258,8 +291,8 @@ def build_physics(scene: Scene, tick_dt: float):
 class SectionCache:
     """Cross-sections recomputed only when the object or the hyperplane moved.
 
-    Each key keeps its last inputs, result and a revision that bumps whenever the
-    result is recomputed, which is what the renderer uploads by.
+    Each key keeps its last inputs, result, bounds and a revision that bumps
+    whenever the result is recomputed, which is what the renderer uploads by.
     """
 
     def __init__(self):
@@ -273,7 +306,7 @@ class SectionCache:
             return entry[2], entry[3]
         tri = cross_section(mesh, translation((0.0, 0.0, 0.0, w)), model)
         rev = 0 if entry is None else entry[3] + 1
-        self._entries[key] = (w, np.array(model, copy=True), tri, rev)
+        self._entries[key] = (w, np.array(model, copy=True), tri, rev, None)
         self.computed += 1
         return tri, rev
 
@@ -291,10 +324,16 @@ class SectionCache:
         entry = self._entries.get(key)
         return entry is not None and not entry[2].is_empty
 
-    def bounds(self, key: str) -> np.ndarray | None:
-        """Bounds ``(2, 3)`` of the last section for ``key``; NaN if it is empty."""
+    def bounds(self, key: str) -> np.ndarray:
+        """Bounds ``(2, 3) float64`` of the last section for ``key``; NaN if it is empty.
+
+        Computed once per section (the walker asks for them several times a tick).
+        """
         entry = self._entries.get(key)
         if entry is None or entry[2].is_empty:
             return np.full((2, 3), np.nan)
-        v = entry[2].vertices
-        return np.stack([v.min(axis=0), v.max(axis=0)]).astype(np.float64)
+        if entry[4] is None:
+            v = entry[2].vertices
+            entry = entry[:4] + (np.stack([v.min(axis=0), v.max(axis=0)]).astype(np.float64),)
+            self._entries[key] = entry
+        return entry[4]

@@ -54,8 +54,11 @@ def main(argv=None) -> int:
             steps = write_case(case, folder)
             reply = worker.run(steps)
             failures = judge(case, steps, reply, folder)
-            print(report(case, steps, reply, folder, failures) if failures
-                  else f"case {case.label}: ok ({case.detail[:100]})")
+            print(
+                report(case, steps, reply, folder, failures)
+                if failures
+                else f"case {case.label}: ok ({case.detail[:100]})"
+            )
             bad += bool(failures)
     finally:
         worker.stop()

@@ -17,7 +17,7 @@ from __future__ import annotations
 import copy
 import functools
 import math
-import sys
+import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -27,11 +27,6 @@ from . import mutate as M
 from . import npzgen
 from .emit import Raw, json_dumps, no_int_digit_limit, toml_dumps
 from .mutate import pick
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
 
 __all__ = ["Case", "CATALOGUE", "schedule", "build_case", "write_case", "SPECIAL_KINDS"]
 
@@ -45,8 +40,16 @@ SMALL_MESHES = [REPO / "assets" / "meshes" / "crate.obj", REPO / "assets" / "mes
 BAKE_TIMEOUT = 30.0
 
 #: Special files made in place of an input.
-SPECIAL_KINDS = ("fifo", "dev_zero", "dev_null", "folder", "symlink_to_folder", "dangling_symlink", "symlink_loop",
-                 "empty")
+SPECIAL_KINDS = (
+    "fifo",
+    "dev_zero",
+    "dev_null",
+    "folder",
+    "symlink_to_folder",
+    "dangling_symlink",
+    "symlink_loop",
+    "empty",
+)
 
 
 @dataclass
@@ -86,36 +89,86 @@ class Case:
 #: (kind, mutation, weight): the weight is how often an entry comes up per cycle.
 CATALOGUE: tuple = (
     # levels
-    ("level", "number_extreme", 4), ("level", "targeted_extreme", 7), ("level", "type_swap", 3),
-    ("level", "delete_entry", 2), ("level", "duplicate_tables", 1), ("level", "table_flood", 1),
-    ("level", "deep_nesting", 1), ("level", "long_string", 1), ("level", "unknown_field", 1),
-    ("level", "truncate", 1), ("level", "random_bytes", 1), ("level", "bit_flips", 2),
-    ("level", "duplicate_line", 1), ("level", "delete_lines", 1), ("level", "bad_encoding", 1),
-    ("level", "heavy_level", 1), ("level", "asset_path", 1), ("level", "long_run", 1),
+    ("level", "number_extreme", 4),
+    ("level", "targeted_extreme", 7),
+    ("level", "type_swap", 3),
+    ("level", "delete_entry", 2),
+    ("level", "duplicate_tables", 1),
+    ("level", "table_flood", 1),
+    ("level", "deep_nesting", 1),
+    ("level", "long_string", 1),
+    ("level", "unknown_field", 1),
+    ("level", "truncate", 1),
+    ("level", "random_bytes", 1),
+    ("level", "bit_flips", 2),
+    ("level", "duplicate_line", 1),
+    ("level", "delete_lines", 1),
+    ("level", "bad_encoding", 1),
+    ("level", "heavy_level", 1),
+    ("level", "asset_path", 1),
+    ("level", "long_run", 1),
     # replays
-    ("replay", "number_extreme", 2), ("replay", "type_swap", 2), ("replay", "delete_entry", 1),
-    ("replay", "duplicate_tables", 1), ("replay", "table_flood", 1), ("replay", "deep_nesting", 1),
-    ("replay", "long_string", 1), ("replay", "unknown_field", 1), ("replay", "truncate", 1),
-    ("replay", "random_bytes", 1), ("replay", "bit_flips", 1), ("replay", "bad_encoding", 1),
-    ("replay", "run_length", 3), ("replay", "nan_row", 2), ("replay", "header", 3), ("replay", "hash_keys", 1),
+    ("replay", "number_extreme", 2),
+    ("replay", "type_swap", 2),
+    ("replay", "delete_entry", 1),
+    ("replay", "duplicate_tables", 1),
+    ("replay", "table_flood", 1),
+    ("replay", "deep_nesting", 1),
+    ("replay", "long_string", 1),
+    ("replay", "unknown_field", 1),
+    ("replay", "truncate", 1),
+    ("replay", "random_bytes", 1),
+    ("replay", "bit_flips", 1),
+    ("replay", "bad_encoding", 1),
+    ("replay", "run_length", 3),
+    ("replay", "nan_row", 2),
+    ("replay", "header", 3),
+    ("replay", "hash_keys", 1),
     # settings
-    ("settings", "number_extreme", 2), ("settings", "type_swap", 2), ("settings", "delete_entry", 1),
-    ("settings", "deep_nesting", 1), ("settings", "long_string", 1), ("settings", "unknown_field", 1),
-    ("settings", "truncate", 1), ("settings", "random_bytes", 1), ("settings", "bit_flips", 1),
-    ("settings", "duplicate_line", 1), ("settings", "bad_encoding", 1), ("settings", "bad_binding", 2),
+    ("settings", "number_extreme", 2),
+    ("settings", "type_swap", 2),
+    ("settings", "delete_entry", 1),
+    ("settings", "deep_nesting", 1),
+    ("settings", "long_string", 1),
+    ("settings", "unknown_field", 1),
+    ("settings", "truncate", 1),
+    ("settings", "random_bytes", 1),
+    ("settings", "bit_flips", 1),
+    ("settings", "duplicate_line", 1),
+    ("settings", "bad_encoding", 1),
+    ("settings", "bad_binding", 2),
     # .npz meshes
-    *(("npz", m, 1) for m in npzgen.ARRAY_MUTATIONS), ("npz", "bad_index", 1), ("npz", "dtype_swap", 1),
-    ("npz", "zip_bomb", 1), ("npz", "lying_header", 1), ("npz", "nested_zip", 1),
-    ("npz", "truncate", 1), ("npz", "bit_flips", 1), ("npz", "random_bytes", 1),
+    *(("npz", m, 1) for m in npzgen.ARRAY_MUTATIONS),
+    ("npz", "bad_index", 1),
+    ("npz", "dtype_swap", 1),
+    ("npz", "zip_bomb", 1),
+    ("npz", "lying_header", 1),
+    ("npz", "nested_zip", 1),
+    ("npz", "truncate", 1),
+    ("npz", "bit_flips", 1),
+    ("npz", "random_bytes", 1),
     # 3D meshes, lifted (baking takes about a second, so few of these)
-    ("obj", "vertex_extreme", 1), ("obj", "bad_face", 1), ("obj", "bytes", 1), ("obj", "flood", 1),
-    ("obj", "gltf_uri", 1), ("obj", "stl", 1),
+    ("obj", "vertex_extreme", 1),
+    ("obj", "bad_face", 1),
+    ("obj", "bytes", 1),
+    ("obj", "flood", 1),
+    ("obj", "gltf_uri", 1),
+    ("obj", "stl", 1),
     # special files in place of each kind of input
-    ("special", "level", 2), ("special", "replay", 1), ("special", "replay_level", 1), ("special", "npz", 1),
-    ("special", "obj", 1), ("special", "settings", 2),
+    ("special", "level", 2),
+    ("special", "replay", 1),
+    ("special", "replay_level", 1),
+    ("special", "npz", 1),
+    ("special", "obj", 1),
+    ("special", "settings", 2),
     # command-line options
-    ("args", "slice", 4), ("args", "shape", 3), ("args", "lift", 1), ("args", "replay_options", 1),
-    ("args", "output_path", 2), ("args", "empty_section", 1), ("args", "tmp_squatter", 1),
+    ("args", "slice", 4),
+    ("args", "shape", 3),
+    ("args", "lift", 1),
+    ("args", "replay_options", 1),
+    ("args", "output_path", 2),
+    ("args", "empty_section", 1),
+    ("args", "tmp_squatter", 1),
 )
 
 
@@ -166,9 +219,14 @@ def _mutate_tree(rng, mutation: str, tree, *, json_style=False, flood=(10_000, 1
     raise KeyError(mutation)
 
 
-_BYTE_MUTATIONS = {"truncate": M.truncate, "random_bytes": M.random_bytes, "bit_flips": M.bit_flips,
-                   "duplicate_line": M.duplicate_line, "delete_lines": M.delete_lines,
-                   "bad_encoding": M.bad_encoding}
+_BYTE_MUTATIONS = {
+    "truncate": M.truncate,
+    "random_bytes": M.random_bytes,
+    "bit_flips": M.bit_flips,
+    "duplicate_line": M.duplicate_line,
+    "delete_lines": M.delete_lines,
+    "bad_encoding": M.bad_encoding,
+}
 
 
 def _short_replay_rows(rng, ticks: int = 120) -> list:
@@ -176,9 +234,14 @@ def _short_replay_rows(rng, ticks: int = 120) -> list:
     runs, left = [], ticks
     while left > 0:
         n = min(left, int(rng.integers(1, 31)))
-        row = [float(np.round(rng.uniform(-1, 1), 3)), float(np.round(rng.uniform(-1, 1), 3)),
-               float(np.round(rng.normal(0, 0.05), 4)), float(np.round(rng.normal(0, 0.02), 4)),
-               float(np.round(rng.uniform(-1, 1), 3)), int(rng.integers(0, 2))]
+        row = [
+            float(np.round(rng.uniform(-1, 1), 3)),
+            float(np.round(rng.uniform(-1, 1), 3)),
+            float(np.round(rng.normal(0, 0.05), 4)),
+            float(np.round(rng.normal(0, 0.02), 4)),
+            float(np.round(rng.uniform(-1, 1), 3)),
+            int(rng.integers(0, 2)),
+        ]
         runs.append([n, row])
         left -= n
     return runs
@@ -192,18 +255,29 @@ _TARGET_VALUES = (1e300, -1e300, 1e308, -1e308, 1e-300, 5e-324, 1e150, 1e5, -1e5
 
 def _level_targets(doc: dict) -> list[tuple]:
     """Paths of the numbers a level's physics and geometry depend on (bodies' fields when it has bodies)."""
-    paths = [("physics", "gravity", 1), ("physics", "gravity", 0), ("physics", "gravity", 3),
-             ("physics", "inverse_cube_g"), ("spawn", "position", 1), ("spawn", "position", 3), ("goal", "size", 1)]
-    for i, b in enumerate(doc.get("box", [])[:2]):
+    paths = [
+        ("physics", "gravity", 1),
+        ("physics", "gravity", 0),
+        ("physics", "gravity", 3),
+        ("physics", "inverse_cube_g"),
+        ("spawn", "position", 1),
+        ("spawn", "position", 3),
+        ("goal", "size", 1),
+    ]
+    for i in range(len(doc.get("box", [])[:2])):
         paths += [("box", i, "center", 0), ("box", i, "size", 1)]
-    for i, w in enumerate(doc.get("world", [])):
+    for i in range(len(doc.get("world", []))):
         paths += [("world", i, "w"), ("world", i, "depth"), ("world", i, "box", 0, "center", 0)]
     objects = doc.get("object", [])
     bodies = [i for i, o in enumerate(objects) if o.get("body", "none") != "none"]
     for i in bodies or range(len(objects)):
         paths += [("object", i, f) for f in ("scale", "mass")]
-        paths += [("object", i, "velocity", 0), ("object", i, "velocity", 3), ("object", i, "spin", "xw"),
-                  ("object", i, "position", 1)]
+        paths += [
+            ("object", i, "velocity", 0),
+            ("object", i, "velocity", 3),
+            ("object", i, "spin", "xw"),
+            ("object", i, "position", 1),
+        ]
     return paths
 
 
@@ -221,28 +295,55 @@ def _heavy_level(rng, doc: dict) -> str:
     kind = pick(rng, ("120-cells", "duoprisms", "spheres", "boxes"))
     if kind == "120-cells":
         n = 200
-        objs = [{"name": f"c{i}", "shape": "120-cell", "position": [i % 10, 1.0, i // 10, 0.0], "scale": 0.3}
-                for i in range(n)]
+        objs = [
+            {"name": f"c{i}", "shape": "120-cell", "position": [i % 10, 1.0, i // 10, 0.0], "scale": 0.3}
+            for i in range(n)
+        ]
     elif kind == "duoprisms":
         n = 10
-        objs = [{"name": f"d{i}", "shape": "duoprism", "params": {"p": 128, "q": 128},
-                 "position": [i, 1.0, 0.0, 0.0]} for i in range(n)]
+        objs = [
+            {"name": f"d{i}", "shape": "duoprism", "params": {"p": 128, "q": 128}, "position": [i, 1.0, 0.0, 0.0]}
+            for i in range(n)
+        ]
     elif kind == "spheres":
         n = 100
-        objs = [{"name": f"s{i}", "shape": "hypersphere", "params": {"subdivisions": 3}, "body": "hypersphere",
-                 "position": [i % 10, 2.0 + i // 10, 0.0, 0.0], "scale": 0.3, "mass": 1.0} for i in range(n)]
+        objs = [
+            {
+                "name": f"s{i}",
+                "shape": "hypersphere",
+                "params": {"subdivisions": 3},
+                "body": "hypersphere",
+                "position": [i % 10, 2.0 + i // 10, 0.0, 0.0],
+                "scale": 0.3,
+                "mass": 1.0,
+            }
+            for i in range(n)
+        ]
     else:
         n = 20_000
-        doc.setdefault("box", []).extend({"center": [i % 100, 0.5, i // 100], "size": [0.5, 0.5, 0.5]}
-                                         for i in range(n))
+        doc.setdefault("box", []).extend(
+            {"center": [i % 100, 0.5, i // 100], "size": [0.5, 0.5, 0.5]} for i in range(n)
+        )
         return f"{n} extra boxes"
     doc.setdefault("object", []).extend(objs)
     return f"{n} extra {kind}"
 
 
-_HOSTILE_ASSETS = ("../levels/01_first_steps.toml", "/etc/passwd", "meshes/../../pyproject.toml", "meshes/crate.obj/..",
-                   "C:/x.obj", "meshes/crate.obj\x00.png", "meshes/" + "a" * 5000 + ".obj", "~/x.obj", "meshes",
-                   "../../../../../../../../dev/zero", "meshes/make_assets.py", "file:///dev/zero", "\\\\host\\x.obj")
+_HOSTILE_ASSETS = (
+    "../levels/01_first_steps.toml",
+    "/etc/passwd",
+    "meshes/../../pyproject.toml",
+    "meshes/crate.obj/..",
+    "C:/x.obj",
+    "meshes/crate.obj\x00.png",
+    "meshes/" + "a" * 5000 + ".obj",
+    "~/x.obj",
+    "meshes",
+    "../../../../../../../../dev/zero",
+    "meshes/make_assets.py",
+    "file:///dev/zero",
+    "\\\\host\\x.obj",
+)
 
 
 def _build_level(rng, case: Case) -> None:
@@ -298,13 +399,28 @@ def _build_level(rng, case: Case) -> None:
     case.names = ("level.toml",)
     seed = int(rng.integers(0, 2**31))
     case.steps = [
-        {"op": "cli", "argv": ["check-level", "{in}/level.toml"], "allowed": [0, 2],
-         "warn_or_refuse": m == "heavy_level"},
-        {"op": "write_replay", "path": "{in}/actions.json", "runs": _short_replay_rows(rng, ticks), "seed": seed,
-         "needs": 0},
-        {"op": "cli", "argv": ["replay", "{in}/level.toml", "{in}/actions.json", "--no-check"], "allowed": [0],
-         "game_checks": True, "needs": 0, **extra,
-         "why": f"check-level accepted the level, so a headless run of {ticks} ticks of random actions must work"},
+        {
+            "op": "cli",
+            "argv": ["check-level", "{in}/level.toml"],
+            "allowed": [0, 2],
+            "warn_or_refuse": m == "heavy_level",
+        },
+        {
+            "op": "write_replay",
+            "path": "{in}/actions.json",
+            "runs": _short_replay_rows(rng, ticks),
+            "seed": seed,
+            "needs": 0,
+        },
+        {
+            "op": "cli",
+            "argv": ["replay", "{in}/level.toml", "{in}/actions.json", "--no-check"],
+            "allowed": [0],
+            "game_checks": True,
+            "needs": 0,
+            **extra,
+            "why": f"check-level accepted the level, so a headless run of {ticks} ticks of random actions must work",
+        },
     ]
 
 
@@ -335,15 +451,43 @@ def _build_replay(rng, case: Case) -> None:
             detail = f"actions[{i}] row[{j}] ({'forward right yaw pitch w'.split()[j]}) = {value!r}"
             refuse = j in (0, 1, 4) or not math.isfinite(value)
         elif m == "header":
-            key = pick(rng, ("format", "version", "level", "level_hash", "seed", "tick_rate", "hash_every",
-                             "final", "hashes", "actions"))
-            value = pick(rng, (*M.EXTREMES, *M.TYPE_SWAPS, Raw("[" * 10_000 + "]" * 10_000, "10000 nested lists"),
-                               {"ticks": 10**30, "hash": 5, "outcome": ["x"]}))
+            key = pick(
+                rng,
+                (
+                    "format",
+                    "version",
+                    "level",
+                    "level_hash",
+                    "seed",
+                    "tick_rate",
+                    "hash_every",
+                    "final",
+                    "hashes",
+                    "actions",
+                ),
+            )
+            value = pick(
+                rng,
+                (
+                    *M.EXTREMES,
+                    *M.TYPE_SWAPS,
+                    Raw("[" * 10_000 + "]" * 10_000, "10000 nested lists"),
+                    {"ticks": 10**30, "hash": 5, "outcome": ["x"]},
+                ),
+            )
             doc[key] = copy.deepcopy(value)
             detail = f"header {key} = {M.describe(value)}"
         elif m == "hash_keys":
-            value = pick(rng, ({"1e9": "x"}, {"-5": "00"}, {"NaN": "00"}, {"9" * 5000: "00"},
-                               {str(i): "0" * 16 for i in range(0, 6_000_000, 60)}))
+            value = pick(
+                rng,
+                (
+                    {"1e9": "x"},
+                    {"-5": "00"},
+                    {"NaN": "00"},
+                    {"9" * 5000: "00"},
+                    {str(i): "0" * 16 for i in range(0, 6_000_000, 60)},
+                ),
+            )
             doc["hashes"] = value
             detail = f"hashes = {M.describe(value) if len(value) < 5 else f'{len(value)} entries'}"
         else:
@@ -355,10 +499,19 @@ def _build_replay(rng, case: Case) -> None:
     case.files = {"replay.json": data}
     case.names = ("replay.json",)
     case.steps = [
-        {"op": "cli", "argv": ["replay", f"{{repo}}/levels/{level}", "{in}/replay.json"], "allowed": [0, 2, 3],
-         "game_checks": True},
-        {"op": "replay_roundtrip", "path": "{in}/replay.json", "out": "{out}/saved.json", "needs": 0,
-         "needs_exit": [0, 3]},
+        {
+            "op": "cli",
+            "argv": ["replay", f"{{repo}}/levels/{level}", "{in}/replay.json"],
+            "allowed": [0, 2, 3],
+            "game_checks": True,
+        },
+        {
+            "op": "replay_roundtrip",
+            "path": "{in}/replay.json",
+            "out": "{out}/saved.json",
+            "needs": 0,
+            "needs_exit": [0, 3],
+        },
     ]
 
 
@@ -390,8 +543,10 @@ def _build_settings(rng, case: Case) -> None:
         if m == "bad_binding":
             doc = copy.deepcopy(doc)
             action = pick(rng, ("jump", "w_ana", "nonexistent", "", "move_forward"))
-            value = pick(rng, (["NOT_A_KEY"], "SPACE", [["SPACE"]], [1], ["SPACE"] * 100_000, [""], {"k": "v"},
-                               ["\x00"], ["space"]))
+            value = pick(
+                rng,
+                (["NOT_A_KEY"], "SPACE", [["SPACE"]], [1], ["SPACE"] * 100_000, [""], {"k": "v"}, ["\x00"], ["space"]),
+            )
             doc["bindings"][action] = value
             detail = f"bindings.{action} = {M.describe(value)}"
         else:
@@ -437,7 +592,7 @@ def _build_npz(rng, case: Case) -> None:
 _OBJ_VALUES = (math.nan, math.inf, -math.inf, 1e308, -1e308, 5e-324, 1e30, 0.0)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _crate_exports() -> tuple[dict, bytes]:
     import trimesh
 
@@ -445,10 +600,19 @@ def _crate_exports() -> tuple[dict, bytes]:
     return mesh.export(file_type="gltf"), mesh.export(file_type="stl")
 
 
-_HOSTILE_URIS = (("/dev/zero", True), ("file:///dev/zero", True), ("../../../../../../../../etc/passwd", True),
-                 ("/etc/passwd", True), ("fifo.bin", True), ("zero.bin", True), ("missing.bin", True),
-                 ("gltf_buffer_1.bin", False), ("data:application/octet-stream;base64,AAAA", False),
-                 ("https://example.invalid/x.bin", True), ("", True))
+_HOSTILE_URIS = (
+    ("/dev/zero", True),
+    ("file:///dev/zero", True),
+    ("../../../../../../../../etc/passwd", True),
+    ("/etc/passwd", True),
+    ("fifo.bin", True),
+    ("zero.bin", True),
+    ("missing.bin", True),
+    ("gltf_buffer_1.bin", False),
+    ("data:application/octet-stream;base64,AAAA", False),
+    ("https://example.invalid/x.bin", True),
+    ("", True),
+)
 
 
 def _build_gltf(rng, case: Case) -> None:
@@ -467,8 +631,14 @@ def _build_gltf(rng, case: Case) -> None:
     case.detail = f"crate as glTF, buffers[{i}].uri = {uri!r}, byteLength {doc['buffers'][i]['byteLength']}"
     case.must_refuse = refuse
     case.names = ("mesh.gltf", uri.rsplit("/", 1)[-1] or "mesh.gltf")
-    case.steps = [{"op": "cli", "argv": ["lift", "{in}/mesh.gltf", "--depth", "1", "-o", "{out}/lifted.npz"],
-                   "allowed": [0, 2], **({} if refuse else {"timeout": BAKE_TIMEOUT})}]  # refusals need no bake
+    case.steps = [
+        {
+            "op": "cli",
+            "argv": ["lift", "{in}/mesh.gltf", "--depth", "1", "-o", "{out}/lifted.npz"],
+            "allowed": [0, 2],
+            **({} if refuse else {"timeout": BAKE_TIMEOUT}),
+        }
+    ]  # refusals need no bake
 
 
 def _build_stl(rng, case: Case) -> None:
@@ -493,8 +663,14 @@ def _build_stl(rng, case: Case) -> None:
     case.must_refuse = refuse
     case.files = {"mesh.stl": data}
     case.names = ("mesh.stl",)
-    case.steps = [{"op": "cli", "argv": ["lift", "{in}/mesh.stl", "--depth", "1", "-o", "{out}/lifted.npz"],
-                   "allowed": [0, 2], **({} if refuse else {"timeout": BAKE_TIMEOUT})}]
+    case.steps = [
+        {
+            "op": "cli",
+            "argv": ["lift", "{in}/mesh.stl", "--depth", "1", "-o", "{out}/lifted.npz"],
+            "allowed": [0, 2],
+            **({} if refuse else {"timeout": BAKE_TIMEOUT}),
+        }
+    ]
 
 
 def _build_obj(rng, case: Case) -> None:
@@ -530,7 +706,7 @@ def _build_obj(rng, case: Case) -> None:
     elif m == "flood":
         i = pick(rng, vs + fs)
         n = int(pick(rng, (10_000, 100_000)))
-        lines[i + 1:i + 1] = [lines[i]] * n
+        lines[i + 1 : i + 1] = [lines[i]] * n
         detail = f"line {i + 1} repeated {n} times: {lines[i]}"
     else:
         fn = pick(rng, (M.truncate, M.random_bytes, M.bit_flips, M.bad_encoding))
@@ -543,10 +719,15 @@ def _build_obj(rng, case: Case) -> None:
     case.must_refuse = refuse
     case.files = {"mesh.obj": data}
     case.names = ("mesh.obj",)
-    case.steps = [{"op": "cli", "argv": ["lift", "{in}/mesh.obj", "--depth", depth, "--profile", profile,
-                                         "-o", "{out}/lifted.npz"], "allowed": [0, 2],
-                   # a flood of 10**5 lines must be refused quickly, not baked
-                   **({} if m == "flood" else {"timeout": BAKE_TIMEOUT})}]
+    case.steps = [
+        {
+            "op": "cli",
+            "argv": ["lift", "{in}/mesh.obj", "--depth", depth, "--profile", profile, "-o", "{out}/lifted.npz"],
+            "allowed": [0, 2],
+            # a flood of 10**5 lines must be refused quickly, not baked
+            **({} if m == "flood" else {"timeout": BAKE_TIMEOUT}),
+        }
+    ]
 
 
 # ------------------------------------------------------------------- special
@@ -560,11 +741,15 @@ def _build_special(rng, case: Case) -> None:
     name, step = {
         "level": ("level.toml", {"op": "cli", "argv": ["check-level", "{in}/level.toml"], "allowed": [0, 2]}),
         "replay": ("replay.json", {"op": "cli", "argv": ["replay", level, "{in}/replay.json"], "allowed": [0, 2, 3]}),
-        "replay_level": ("level.toml", {"op": "cli", "argv": ["replay", "{in}/level.toml", replay],
-                                        "allowed": [0, 2, 3]}),
+        "replay_level": (
+            "level.toml",
+            {"op": "cli", "argv": ["replay", "{in}/level.toml", replay], "allowed": [0, 2, 3]},
+        ),
         "npz": ("mesh.npz", _slice_step(rng, "{in}/mesh.npz")),
-        "obj": ("mesh.obj", {"op": "cli", "argv": ["lift", "{in}/mesh.obj", "--depth", "1", "-o", "{out}/l.npz"],
-                             "allowed": [0, 2]}),
+        "obj": (
+            "mesh.obj",
+            {"op": "cli", "argv": ["lift", "{in}/mesh.obj", "--depth", "1", "-o", "{out}/l.npz"], "allowed": [0, 2]},
+        ),
         "settings": ("settings.toml", {"op": "settings", "path": "{in}/settings.toml", "out": "{out}/settings.toml"}),
     }[target]
     case.detail = f"{name} is {special.replace('_', ' ')}"
@@ -575,8 +760,24 @@ def _build_special(rng, case: Case) -> None:
 
 
 # ---------------------------------------------------------------------- args
-_BAD_FLOATS = ("nan", "inf", "-inf", "1e308", "1e309", "-1e308", "5e-324", "0", "-0", "", "abc", "1e5000", "NaN",
-               "30deg", " 30", "0x1p3")
+_BAD_FLOATS = (
+    "nan",
+    "inf",
+    "-inf",
+    "1e308",
+    "1e309",
+    "-1e308",
+    "5e-324",
+    "0",
+    "-0",
+    "",
+    "abc",
+    "1e5000",
+    "NaN",
+    "30deg",
+    " 30",
+    "0x1p3",
+)
 _NON_FINITE = ("nan", "inf", "-inf", "1e309", "NaN", "1e5000")
 
 
@@ -602,16 +803,43 @@ def _build_args(rng, case: Case) -> None:
         names = (option, option.lstrip("-"))
         detail = f"{option} {arg!r}"
     elif m == "shape":
-        shape, params = pick(rng, (("hypersphere", ("radius", "subdivisions")), ("duoprism", ("p", "q", "r1", "r2")),
-                                   ("cubinder", ("segments", "radius", "height")), ("tesseract", ("size",)),
-                                   ("spherinder", ("radius", "height", "subdivisions")),
-                                   ("duocylinder", ("segments", "radius"))))
+        shape, params = pick(
+            rng,
+            (
+                ("hypersphere", ("radius", "subdivisions")),
+                ("duoprism", ("p", "q", "r1", "r2")),
+                ("cubinder", ("segments", "radius", "height")),
+                ("tesseract", ("size",)),
+                ("spherinder", ("radius", "height", "subdivisions")),
+                ("duocylinder", ("segments", "radius")),
+            ),
+        )
         param = pick(rng, params + ("bogus",))
-        value = pick(rng, ("nan", "inf", "-1", "0", "1e308", "5e-324", "abc", "", "50", "100000", str(10**30),
-                           str(10**5000), "3", "2.5"))
+        value = pick(
+            rng,
+            (
+                "nan",
+                "inf",
+                "-1",
+                "0",
+                "1e308",
+                "5e-324",
+                "abc",
+                "",
+                "50",
+                "100000",
+                str(10**30),
+                str(10**5000),
+                "3",
+                "2.5",
+            ),
+        )
         argv = ["shape", shape, "--param", f"{param}={value}", "-o", "{out}/shape.npz"]
-        refuse = (param == "bogus" or value in ("nan", "inf", "-1", "abc", "", str(10**30), str(10**5000))
-                  or (param in ("subdivisions", "p", "q", "segments") and value in ("50", "100000", "1e308")))
+        refuse = (
+            param == "bogus"
+            or value in ("nan", "inf", "-1", "abc", "", str(10**30), str(10**5000))
+            or (param in ("subdivisions", "p", "q", "segments") and value in ("50", "100000", "1e308"))
+        )
         names = ("--param", param)
         detail = f"shape {shape} --param {param}={M.describe(value)}"
     elif m == "lift":
@@ -621,11 +849,28 @@ def _build_args(rng, case: Case) -> None:
         names = ("--depth", "depth")
         detail = f"lift --depth {depth}"
     elif m == "replay_options":
-        option, value = pick(rng, (("--every", "0"), ("--every", "-5"), ("--every", str(10**30)),
-                                   ("--size", "0x0"), ("--size", "99999x99999"), ("--size", "nanxnan"),
-                                   ("--size", "640"), ("--size", "-640x-360")))
-        argv = ["replay", "{repo}/levels/01_first_steps.toml", "{repo}/levels/replays/01_first_steps.json",
-                "--screenshots", "{out}/shots", option, value]
+        option, value = pick(
+            rng,
+            (
+                ("--every", "0"),
+                ("--every", "-5"),
+                ("--every", str(10**30)),
+                ("--size", "0x0"),
+                ("--size", "99999x99999"),
+                ("--size", "nanxnan"),
+                ("--size", "640"),
+                ("--size", "-640x-360"),
+            ),
+        )
+        argv = [
+            "replay",
+            "{repo}/levels/01_first_steps.toml",
+            "{repo}/levels/replays/01_first_steps.json",
+            "--screenshots",
+            "{out}/shots",
+            option,
+            value,
+        ]
         if option == "--every":
             argv += ["--size", "1x1"]  # refused before anything is drawn, whatever --every says
         refuse = True
@@ -644,29 +889,44 @@ def _build_args(rng, case: Case) -> None:
         command = pick(rng, ("slice", "shape"))
         target = "{out}/out.obj" if command == "slice" else "{out}/out.npz"
         name = target.rsplit("/", 1)[1] + ".tmp"
-        case.files = {"victim.txt": b"precious\n",
-                      f"out/{name}": {"folder": "special:folder", "symlink": "special:victim_link",
-                                      "fifo": "special:fifo"}[kind]}
-        argv = (["slice", "tesseract", "-o", target] if command == "slice"
-                else ["shape", "5-cell", "-o", target])
+        case.files = {
+            "victim.txt": b"precious\n",
+            f"out/{name}": {"folder": "special:folder", "symlink": "special:victim_link", "fifo": "special:fifo"}[kind],
+        }
+        argv = ["slice", "tesseract", "-o", target] if command == "slice" else ["shape", "5-cell", "-o", target]
         names = ("-o",)
         detail = f"{command} -o {target.rsplit('/', 1)[1]} while {name} already exists as a {kind}"
         case.must_refuse = False
         case.detail, case.names = detail, names
-        case.steps = [{"op": "cli", "argv": argv, "allowed": [0], "must_create": target,
-                       "unchanged": {"{in}/victim.txt": "precious\n"},
-                       "why": "a stale or hostile temporary file must not stop or redirect the write"}]
+        case.steps = [
+            {
+                "op": "cli",
+                "argv": argv,
+                "allowed": [0],
+                "must_create": target,
+                "unchanged": {"{in}/victim.txt": "precious\n"},
+                "why": "a stale or hostile temporary file must not stop or redirect the write",
+            }
+        ]
         return
     else:  # output_path
         kind = pick(rng, ("missing_folder", "is_folder", "bad_suffix", "file_as_folder", "empty"))
-        target = {"missing_folder": "{out}/no/such/dir/out", "is_folder": "{out}", "bad_suffix": "{out}/out.txt",
-                  "file_as_folder": "{in}/file/out", "empty": ""}[kind]
+        target = {
+            "missing_folder": "{out}/no/such/dir/out",
+            "is_folder": "{out}",
+            "bad_suffix": "{out}/out.txt",
+            "file_as_folder": "{in}/file/out",
+            "empty": "",
+        }[kind]
         command = pick(rng, ("slice", "shape", "lift"))
         suffix = {"slice": ".obj", "shape": ".npz", "lift": ".npz"}[command]
         if kind in ("missing_folder", "file_as_folder"):
             target += suffix
-        argv = {"slice": ["slice", "tesseract", "-o", target], "shape": ["shape", "5-cell", "-o", target],
-                "lift": ["lift", str(SMALL_MESHES[0]), "--depth", "1", "-o", target]}[command]
+        argv = {
+            "slice": ["slice", "tesseract", "-o", target],
+            "shape": ["shape", "5-cell", "-o", target],
+            "lift": ["lift", str(SMALL_MESHES[0]), "--depth", "1", "-o", target],
+        }[command]
         case.files = {"file": b"a plain file\n"}
         refuse = True
         names = (target.replace("{out}", "").replace("{in}", "").lstrip("/") or "-o", "-o", "--output", "output")
@@ -675,20 +935,29 @@ def _build_args(rng, case: Case) -> None:
     case.detail = detail
     case.must_refuse = refuse
     case.names = names
-    case.steps = [{"op": "cli", "argv": argv, "allowed": [0, 2],
-                   "check_obj": out if argv[0] == "slice" and out in argv else None}]
+    case.steps = [
+        {"op": "cli", "argv": argv, "allowed": [0, 2], "check_obj": out if argv[0] == "slice" and out in argv else None}
+    ]
 
 
-_BUILDERS = {"level": _build_level, "replay": _build_replay, "settings": _build_settings, "npz": _build_npz,
-             "obj": _build_obj, "special": _build_special, "args": _build_args}
+_BUILDERS = {
+    "level": _build_level,
+    "replay": _build_replay,
+    "settings": _build_settings,
+    "npz": _build_npz,
+    "obj": _build_obj,
+    "special": _build_special,
+    "args": _build_args,
+}
 
 
 # --------------------------------------------------------------------- files
 def resolve(value, folder: Path):
     """Replace the ``{in}``, ``{out}`` and ``{repo}`` placeholders in strings inside ``value``."""
     if isinstance(value, str):
-        return (value.replace("{in}", str(folder / "in")).replace("{out}", str(folder / "out"))
-                .replace("{repo}", str(REPO)))
+        return (
+            value.replace("{in}", str(folder / "in")).replace("{out}", str(folder / "out")).replace("{repo}", str(REPO))
+        )
     if isinstance(value, list):
         return [resolve(v, folder) for v in value]
     if isinstance(value, dict):

@@ -98,9 +98,14 @@ class Worker:
     def start(self) -> None:
         self.log.parent.mkdir(parents=True, exist_ok=True)
         with open(self.log, "ab") as log:
-            self.proc = subprocess.Popen([sys.executable, "-m", "fuzz.worker", str(self.memory_limit)],
-                                         stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=log,
-                                         env=self._env(), start_new_session=True)
+            self.proc = subprocess.Popen(
+                [sys.executable, "-m", "fuzz.worker", str(self.memory_limit)],
+                stdin=subprocess.PIPE,
+                stdout=subprocess.PIPE,
+                stderr=log,
+                env=self._env(),
+                start_new_session=True,
+            )
         self.starts += 1
         self._buf = b""
         ready = self._readline(300.0)  # a cold numba cache compiles for about a minute
@@ -158,8 +163,10 @@ class Worker:
             code = self.proc.returncode
             self.stop()
             if alive:
-                return {"died": f"no answer after {time.monotonic() - t0:.0f} s (stuck outside Python?); killed",
-                        "hang": True}
+                return {
+                    "died": f"no answer after {time.monotonic() - t0:.0f} s (stuck outside Python?); killed",
+                    "hang": True,
+                }
             how = f"killed by signal {-code}" if code is not None and code < 0 else f"exit status {code}"
             return {"died": f"the worker process ended ({how}) during the case"}
         return json.loads(line)
@@ -223,12 +230,21 @@ def judge(case: Case, steps: list[dict], reply: dict, folder: Path) -> list[Fail
         code = res["exit"]
         if code not in step["allowed"] and "internal error" not in text:
             why = f" ({step['why']})" if step.get("why") else ""
-            out.append(Failure("exit status", f"{what}: exit {code}, expected one of {step['allowed']}{why}: "
-                                              f"{_last_line(res['stderr'])}"))
+            out.append(
+                Failure(
+                    "exit status",
+                    f"{what}: exit {code}, expected one of {step['allowed']}{why}: {_last_line(res['stderr'])}",
+                )
+            )
         named = _names_something(res["stderr"], case.names)
         if code not in (0, 3, None) and "internal error" not in text and not named:
-            out.append(Failure("unnamed file", f"{what}: exit {code} and the message names none of "
-                                               f"{list(case.names)}: {_last_line(res['stderr'])}"))
+            out.append(
+                Failure(
+                    "unnamed file",
+                    f"{what}: exit {code} and the message names none of "
+                    f"{list(case.names)}: {_last_line(res['stderr'])}",
+                )
+            )
         if i == 0 and case.must_refuse and code in (0, 3):
             out.append(Failure("accepted bad input", f"{what}: exit {code} for {case.detail}"))
         if code == 0 and step.get("warn_or_refuse") and "warn" not in text.lower():
@@ -255,20 +271,22 @@ def judge(case: Case, steps: list[dict], reply: dict, folder: Path) -> list[Fail
 
 def _first(text: str, needle) -> str:
     for line in text.splitlines():
-        if (needle.search(line) if hasattr(needle, "search") else needle in line):
+        if needle.search(line) if hasattr(needle, "search") else needle in line:
             return line.strip()[:300]
     return ""
 
 
 def _last_line(text: str) -> str:
     lines = [ln for ln in text.strip().splitlines() if ln.strip()]
-    return (lines[-1].strip()[:300] if lines else "(no message)")
+    return lines[-1].strip()[:300] if lines else "(no message)"
 
 
 def report(case: Case, steps: list, reply: dict, folder: Path, failures: list[Failure]) -> str:
     """A failing case as text: what it is, where its files are, what ran, what broke, how to rerun it."""
-    lines = [f"fuzz case {case.index} (seed {case.seed}): {case.kind} / {case.mutation}: {case.detail}",
-             f"files: {folder / 'in'}"]
+    lines = [
+        f"fuzz case {case.index} (seed {case.seed}): {case.kind} / {case.mutation}: {case.detail}",
+        f"files: {folder / 'in'}",
+    ]
     for step, res in zip(steps, reply.get("steps", [])):
         what = command_line(step) if step["op"] == "cli" else f"[{step['op']}] {step.get('path', '')}"
         if res.get("skipped"):
@@ -276,6 +294,8 @@ def report(case: Case, steps: list, reply: dict, folder: Path, failures: list[Fa
         else:
             lines.append(f"  $ {what}    -> exit {res['exit']}, {res.get('seconds', 0):.2f} s")
     lines += [f"[{f.category}] {f.message}" for f in failures]
-    lines.append(f"rerun: python -m pytest tests/test_fuzz.py --fuzz-seed {case.seed} --fuzz-case {case.index}"
-                 f"    or: python -m tests.fuzz --seed {case.seed} --case {case.index}")
+    lines.append(
+        f"rerun: python -m pytest tests/test_fuzz.py --fuzz-seed {case.seed} --fuzz-case {case.index}"
+        f"    or: python -m tests.fuzz --seed {case.seed} --case {case.index}"
+    )
     return "\n".join(lines)

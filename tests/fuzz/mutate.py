@@ -17,17 +17,52 @@ import numpy as np
 from .emit import Raw
 
 __all__ = [
-    "EXTREMES", "TYPE_SWAPS", "describe", "nodes", "get_at", "set_at", "delete_at", "where",
-    "number_extreme", "type_swap", "delete_entry", "duplicate_tables", "deep_nesting", "long_string",
-    "unknown_field", "truncate", "random_bytes", "bit_flips", "duplicate_line", "delete_lines",
-    "bad_encoding", "pick",
+    "EXTREMES",
+    "TYPE_SWAPS",
+    "describe",
+    "nodes",
+    "get_at",
+    "set_at",
+    "delete_at",
+    "where",
+    "number_extreme",
+    "type_swap",
+    "delete_entry",
+    "duplicate_tables",
+    "deep_nesting",
+    "long_string",
+    "unknown_field",
+    "truncate",
+    "random_bytes",
+    "bit_flips",
+    "duplicate_line",
+    "delete_lines",
+    "bad_encoding",
+    "pick",
 ]
 
 #: Numbers at the edges: zero, negatives, the largest and smallest floats, NaN,
 #: infinities, and integers too big for 64 bits (10**5000 is past Python's
 #: 4300-digit str/int conversion limit).
-EXTREMES = (0, -1, 1e308, -1e308, 5e-324, math.nan, math.inf, -math.inf, 10**30, -10**30, 10**5000,
-            2**63, 2**64, 1e300, 1e-300, -0.0, 1e-9)
+EXTREMES = (
+    0,
+    -1,
+    1e308,
+    -1e308,
+    5e-324,
+    math.nan,
+    math.inf,
+    -math.inf,
+    10**30,
+    -(10**30),
+    10**5000,
+    2**63,
+    2**64,
+    1e300,
+    1e-300,
+    -0.0,
+    1e-9,
+)
 
 #: Values of the wrong type for almost any entry.
 TYPE_SWAPS = ("text", "", True, False, [], [1, 2, 3], {}, {"x": 1}, 0, 2.5, [{"a": 1}], ["a", "b"])
@@ -202,7 +237,7 @@ def duplicate_line(rng, data: bytes):
     lines = data.split(b"\n")
     i = int(rng.integers(len(lines)))
     k = int(pick(rng, (1, 2, 1000)))
-    lines[i + 1:i + 1] = [lines[i]] * k
+    lines[i + 1 : i + 1] = [lines[i]] * k
     return b"\n".join(lines), f"line {i + 1} repeated {k} more time(s): {lines[i][:40]!r}"
 
 
@@ -210,7 +245,7 @@ def delete_lines(rng, data: bytes):
     lines = data.split(b"\n")
     i = int(rng.integers(len(lines)))
     k = int(rng.integers(1, 4))
-    del lines[i:i + k]
+    del lines[i : i + k]
     return b"\n".join(lines), f"deleted lines {i + 1}..{i + k}"
 
 

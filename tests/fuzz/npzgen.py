@@ -19,7 +19,7 @@ from .mutate import pick
 __all__ = ["base_arrays", "savez", "zip_bomb", "npy_header", "lying_header", "nested_zip", "MUTATIONS"]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _base(name: str) -> tuple:
     from across_dimensions.core import shapes
 
@@ -64,13 +64,35 @@ def _zip_one(name: str, deflated: bytes, crc: int, size: int, extra_members: dic
         off = out.tell()
         mb = mname.encode()
         c = zlib.crc32(data)
-        out.write(struct.pack("<IHHHHHIIIHH", 0x04034B50, 20, 0, 0, 0, 0x21, c, len(data), len(data), len(mb), 0)
-                  + mb + data)
+        out.write(
+            struct.pack("<IHHHHHIIIHH", 0x04034B50, 20, 0, 0, 0, 0x21, c, len(data), len(data), len(mb), 0) + mb + data
+        )
         central.append((mb, off, c, len(data), len(data), 0))
     cd_start = out.tell()
     for fn, off, c, csize, usize, method in central:
-        out.write(struct.pack("<IHHHHHHIIIHHHHHII", 0x02014B50, 20, 20, 0, method, 0, 0x21, c, csize, usize,
-                              len(fn), 0, 0, 0, 0, 0, off) + fn)
+        out.write(
+            struct.pack(
+                "<IHHHHHHIIIHHHHHII",
+                0x02014B50,
+                20,
+                20,
+                0,
+                method,
+                0,
+                0x21,
+                c,
+                csize,
+                usize,
+                len(fn),
+                0,
+                0,
+                0,
+                0,
+                0,
+                off,
+            )
+            + fn
+        )
     cd_size = out.tell() - cd_start
     out.write(struct.pack("<IHHHHIIH", 0x06054B50, 0, 0, len(central), len(central), cd_size, cd_start, 0))
     return out.getvalue()
@@ -205,9 +227,15 @@ def _shape_swap(rng, a):
     target = pick(rng, [k for k in a])
     x = a[target]
     kind = pick(rng, ("scalar", "flat", "transposed", "extra-axis", "empty", "five-columns", "3d-points"))
-    y = {"scalar": lambda: np.asarray(x.flat[0]), "flat": lambda: x.ravel(), "transposed": lambda: x.T.copy(),
-         "extra-axis": lambda: x[..., None], "empty": lambda: x[:0],
-         "five-columns": lambda: np.concatenate([x, x[:, :1]], axis=1), "3d-points": lambda: x[:, :3].copy()}[kind]()
+    y = {
+        "scalar": lambda: np.asarray(x.flat[0]),
+        "flat": lambda: x.ravel(),
+        "transposed": lambda: x.T.copy(),
+        "extra-axis": lambda: x[..., None],
+        "empty": lambda: x[:0],
+        "five-columns": lambda: np.concatenate([x, x[:, :1]], axis=1),
+        "3d-points": lambda: x[:, :3].copy(),
+    }[kind]()
     a[target] = y
     refused = not (kind == "empty" and target == "colors")
     return a, f"{target} reshaped ({kind}) to {y.shape}", refused
@@ -217,11 +245,14 @@ def _scalar_colour(rng, a):
     a = dict(a)
     kind = pick(rng, ("0-d", "one-rgba", "rgb-only", "nan", "wrong-length", "string"))
     n = len(a["vertices"])
-    a["colors"] = {"0-d": lambda: np.float32(0.5), "one-rgba": lambda: np.array([1, 0, 0, 1], np.float32),
-                   "rgb-only": lambda: np.full((n, 3), 0.5, np.float32),
-                   "nan": lambda: np.full((n, 4), np.nan, np.float32),
-                   "wrong-length": lambda: np.ones((n + 3, 4), np.float32),
-                   "string": lambda: np.array("red")}[kind]()
+    a["colors"] = {
+        "0-d": lambda: np.float32(0.5),
+        "one-rgba": lambda: np.array([1, 0, 0, 1], np.float32),
+        "rgb-only": lambda: np.full((n, 3), 0.5, np.float32),
+        "nan": lambda: np.full((n, 4), np.nan, np.float32),
+        "wrong-length": lambda: np.ones((n + 3, 4), np.float32),
+        "string": lambda: np.array("red"),
+    }[kind]()
     return a, f"colors: {kind} {np.shape(a['colors'])}", kind != "rgb-only"
 
 
@@ -253,15 +284,20 @@ def _degenerate(rng, a):
     elif kind == "zero-vertices":
         a["vertices"] = a["vertices"][:0]
     else:
-        a["vertices"] = (a["vertices"].astype(np.float64) * 1e300)
+        a["vertices"] = a["vertices"].astype(np.float64) * 1e300
     return a, f"degenerate mesh: {kind}", False
 
 
 #: name -> function(rng, arrays) returning (arrays, description, must_be_refused)
 ARRAY_MUTATIONS = {
-    "value_extreme": _value_extreme, "bad_index": _bad_index, "uint64_wrap": _uint64_wrap,
-    "dtype_swap": _dtype_swap, "shape_swap": _shape_swap, "scalar_colour": _scalar_colour,
-    "missing_or_extra": _missing_or_extra, "degenerate": _degenerate,
+    "value_extreme": _value_extreme,
+    "bad_index": _bad_index,
+    "uint64_wrap": _uint64_wrap,
+    "dtype_swap": _dtype_swap,
+    "shape_swap": _shape_swap,
+    "scalar_colour": _scalar_colour,
+    "missing_or_extra": _missing_or_extra,
+    "degenerate": _degenerate,
 }
 #: name -> function(rng, arrays) returning (file bytes, description); all must be refused
 FILE_MUTATIONS = {"zip_bomb": zip_bomb, "lying_header": lying_header, "nested_zip": nested_zip}

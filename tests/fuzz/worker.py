@@ -83,25 +83,40 @@ def _game_problems(game, bodies_in_w: bool = False) -> list[list[str]]:
     out = []
     state = np.asarray(game.state_array(), dtype=np.float64)
     if not np.isfinite(state).all():
-        out.append(["non-finite state", f"Game.state_array() not finite after {game.tick} ticks: player position "
-                   f"{np.asarray(game.player.position).tolist()}, yaw {game.player.yaw}, pitch {game.player.pitch}"])
+        out.append(
+            [
+                "non-finite state",
+                f"Game.state_array() not finite after {game.tick} ticks: player position "
+                f"{np.asarray(game.player.position).tolist()}, yaw {game.player.yaw}, pitch {game.player.pitch}",
+            ]
+        )
     lo, hi = game.level.w_range
     w = float(game.player.position[3])
     if math.isfinite(w) and not lo - 1e-9 <= w <= hi + 1e-9:
-        out.append(["non-finite state", f"player w = {w} outside the level's w_range [{lo}, {hi}] "
-                                        f"after {game.tick} ticks"])
+        out.append(
+            ["non-finite state", f"player w = {w} outside the level's w_range [{lo}, {hi}] after {game.tick} ticks"]
+        )
     physics = getattr(game, "physics", None)
     if physics is not None:
         for b in physics.body_ids:
             pose = physics.body_pose(b)
             if not np.isfinite(pose).all():
-                out.append(["non-finite state",
-                            f"body {b} pose not finite after {game.tick} ticks: position {pose[:4, 4].tolist()}"])
+                out.append(
+                    [
+                        "non-finite state",
+                        f"body {b} pose not finite after {game.tick} ticks: position {pose[:4, 4].tolist()}",
+                    ]
+                )
                 break
             bw = float(pose[3, 4])
             if bodies_in_w and not lo - W_MARGIN <= bw <= hi + W_MARGIN:
-                out.append(["body left w range", f"body {b} at w = {bw:.3g} after {game.tick} ticks, outside the "
-                                                 f"level's w_range [{lo}, {hi}] (+- {W_MARGIN})"])
+                out.append(
+                    [
+                        "body left w range",
+                        f"body {b} at w = {bw:.3g} after {game.tick} ticks, outside the "
+                        f"level's w_range [{lo}, {hi}] (+- {W_MARGIN})",
+                    ]
+                )
                 break
     return out
 
@@ -165,9 +180,18 @@ def _write_replay(step: dict, result: dict) -> None:
         rep.final_ticks = len(actions)
         rep.save(step["path"])
     except Exception:  # the replay API changed: write format 1 by hand, a stale file is still a useful test
-        doc = {"format": "across-dimensions-replay", "version": 1, "level": "fuzz", "level_hash": "0" * 64,
-               "seed": step.get("seed", 0), "tick_rate": 60, "hash_every": 60, "actions": step["runs"],
-               "hashes": {}, "final": {"ticks": len(actions), "hash": "", "outcome": None}}
+        doc = {
+            "format": "across-dimensions-replay",
+            "version": 1,
+            "level": "fuzz",
+            "level_hash": "0" * 64,
+            "seed": step.get("seed", 0),
+            "tick_rate": 60,
+            "hash_every": 60,
+            "actions": step["runs"],
+            "hashes": {},
+            "final": {"ticks": len(actions), "hash": "", "outcome": None},
+        }
         with open(step["path"], "w", encoding="utf-8") as f:
             json.dump(doc, f)
     result["exit"] = 0
@@ -236,13 +260,27 @@ def _selftest(step: dict, result: dict) -> None:
     result["exit"] = 0
 
 
-_OPS = {"selftest": _selftest, "cli": _run_cli, "write_replay": _write_replay, "replay_roundtrip": _replay_roundtrip,
-        "settings": _settings}
+_OPS = {
+    "selftest": _selftest,
+    "cli": _run_cli,
+    "write_replay": _write_replay,
+    "replay_roundtrip": _replay_roundtrip,
+    "settings": _settings,
+}
 
 
 def run_step(step: dict, timeout: float, scratch: str) -> dict:
-    result = {"op": step["op"], "exit": None, "stdout": "", "stderr": "", "exception": None, "traceback": None,
-              "timed_out": False, "seconds": 0.0, "problems": []}
+    result = {
+        "op": step["op"],
+        "exit": None,
+        "stdout": "",
+        "stderr": "",
+        "exception": None,
+        "traceback": None,
+        "timed_out": False,
+        "seconds": 0.0,
+        "problems": [],
+    }
     _GAMES.clear()
     cwd = os.getcwd()
     t0 = time.perf_counter()
@@ -276,8 +314,12 @@ def _needs_met(step: dict, done: list) -> bool:
     if "needs" not in step:
         return True
     prev = done[step["needs"]]
-    return (not prev["timed_out"] and prev["exception"] is None and not prev.get("skipped")
-            and prev["exit"] in step.get("needs_exit", [0]))
+    return (
+        not prev["timed_out"]
+        and prev["exception"] is None
+        and not prev.get("skipped")
+        and prev["exit"] in step.get("needs_exit", [0])
+    )
 
 
 def main() -> None:
@@ -303,8 +345,16 @@ def main() -> None:
         done = []
         for step in request["steps"]:
             if not _needs_met(step, done):
-                done.append({"op": step["op"], "skipped": True, "exit": None, "timed_out": False,
-                             "exception": None, "problems": []})
+                done.append(
+                    {
+                        "op": step["op"],
+                        "skipped": True,
+                        "exit": None,
+                        "timed_out": False,
+                        "exception": None,
+                        "problems": [],
+                    }
+                )
                 continue
             done.append(run_step(step, max(step.get("timeout", 0), request["timeout"]), scratch))
             if done[-1]["timed_out"]:

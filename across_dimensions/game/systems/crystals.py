@@ -38,10 +38,28 @@ class Crystal:
 def spawn(game, spec: CrystalSpec):
     """Put a crystal in the game: a small polychoron turning in the w planes, glowing."""
     mesh = make_shape(spec.shape).with_color(spec.color)
-    obj = Object4(spec.name, mesh, spec.position.copy(), {}, np.full(4, spec.size), dict(spec.spin_deg),
-                  solid=False, body="none", mass=1.0, velocity=np.zeros(4))
-    return game.entities.spawn("crystal", spec.name, mesh, Scripted(obj), radar="crystal", style="glow",
-                               data=Crystal(spec), radius=reach(mesh, spec.size))
+    obj = Object4(
+        spec.name,
+        mesh,
+        spec.position.copy(),
+        {},
+        np.full(4, spec.size),
+        dict(spec.spin_deg),
+        solid=False,
+        body="none",
+        mass=1.0,
+        velocity=np.zeros(4),
+    )
+    return game.entities.spawn(
+        "crystal",
+        spec.name,
+        mesh,
+        Scripted(obj),
+        radar="crystal",
+        style="glow",
+        data=Crystal(spec),
+        radius=reach(mesh, spec.size),
+    )
 
 
 def touching(game, entity) -> bool:

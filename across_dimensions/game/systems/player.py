@@ -24,8 +24,16 @@ def _w_budget(game) -> float:
 def step(game, actions) -> None:
     p = game.player
     w_before = float(p.position[3])
-    cut = step_player(p, actions, game.dt, float(game.level.gravity[1]), game.level.w_range, game.colliders_at,
-                      game.bodies_block_w if game.physics is not None else None, _w_budget(game))
+    cut = step_player(
+        p,
+        actions,
+        game.dt,
+        float(game.level.gravity[1]),
+        game.level.w_range,
+        game.colliders_at,
+        game.bodies_block_w if game.physics is not None else None,
+        _w_budget(game),
+    )
     travelled = abs(float(p.position[3]) - w_before)
     if game.energy is not None and travelled > 0.0 and game.level.energy.w_cost_milli > 0:
         # Round up so that no run of tiny steps is free, but never past what the bar holds.

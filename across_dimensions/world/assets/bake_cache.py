@@ -89,8 +89,17 @@ def load_entry(file) -> tuple[np.ndarray, np.ndarray] | None:
             version = int(d["bake_version"])
     except Exception:  # noqa: BLE001 -- missing, truncated, corrupt, old format: all mean "rebake"
         return None
-    if (version != BAKE_VERSION or v.ndim != 2 or v.shape[1] != 3 or t.ndim != 2 or t.shape[1] != 4
-            or not 0 < len(t) <= MAX_TETS or t.min() < 0 or t.max() >= len(v) or not np.isfinite(v).all()):
+    if (
+        version != BAKE_VERSION
+        or v.ndim != 2
+        or v.shape[1] != 3
+        or t.ndim != 2
+        or t.shape[1] != 4
+        or not 0 < len(t) <= MAX_TETS
+        or t.min() < 0
+        or t.max() >= len(v)
+        or not np.isfinite(v).all()
+    ):
         return None
     return v.astype(np.float64), t.astype(np.int64)
 

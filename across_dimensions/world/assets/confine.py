@@ -51,8 +51,10 @@ class Budget:
             data = read_bytes(path, limit=self.left, what=what)
         except FileProblem as e:
             if self.left < self.limit and "larger than" in str(e):  # the budget, not the file, ran out
-                raise AssetError(f"{path}: more than the {self.left} bytes left of the {_size(self.limit)} "
-                                 f"a {what} and the files it references may take together") from None
+                raise AssetError(
+                    f"{path}: more than the {self.left} bytes left of the {_size(self.limit)} "
+                    f"a {what} and the files it references may take together"
+                ) from None
             raise AssetError(str(e)) from None
         self.left -= len(data)
         return data
@@ -107,7 +109,7 @@ def _gltf_json(path: Path, data: bytes) -> dict:
         length, kind = struct.unpack_from("<II", data, 12)
         if kind != _GLB_JSON or 20 + length > len(data):
             raise AssetError(f"{path}: binary glTF has no complete JSON chunk after its header")
-        data = data[20:20 + length]
+        data = data[20 : 20 + length]
     try:
         doc = json.loads(data.decode("utf-8-sig"))
     except (UnicodeDecodeError, ValueError) as e:
@@ -157,8 +159,10 @@ def referenced_files(path: Path, data: bytes, root: Path) -> list[Path]:
             raise AssetError(f"{path}: accessor {i} has count {count!r}; expected a whole number")
         total += count
         if total > MAX_GLTF_ELEMENTS:
-            raise AssetError(f"{path}: accessor {i} brings the elements its accessors declare to {total}, "
-                             f"more than the {MAX_GLTF_ELEMENTS} a mesh asset may have")
+            raise AssetError(
+                f"{path}: accessor {i} brings the elements its accessors declare to {total}, "
+                f"more than the {MAX_GLTF_ELEMENTS} a mesh asset may have"
+            )
     files = []
     for key, what in (("buffers", "buffer"), ("images", "image")):
         for i, entry in enumerate(_entries(doc, key, path)):
@@ -201,7 +205,7 @@ class ConfinedResolver:
         except AssetError:
             return False
 
-    def namespaced(self, namespace: str) -> "ConfinedResolver":
+    def namespaced(self, namespace: str) -> ConfinedResolver:
         joined = f"{self.namespace}/{namespace}" if self.namespace else namespace
         return ConfinedResolver(self.root, self.owner, self.budget, joined)
 

@@ -27,3 +27,7 @@ MAX_GLTF_ELEMENTS = 8 * MAX_TRIANGLES
 #: with the round or taper profile (9 layers), so this caps one lifted asset at
 #: about 2 million 4D tets: some 8 ms of slicing per frame on one core.
 MAX_TETS = 200_000
+
+#: Largest vertex coordinate of a mesh asset, in its own units: the level format's
+#: positions stay within 10 km, and float32 vertices keep millimetres there.
+MAX_COORDINATE = 1e4

@@ -11,13 +11,14 @@ from __future__ import annotations
 import io
 import re
 import struct
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 from .confine import Budget, ConfinedResolver, referenced_files
 from .errors import AssetError
-from .limits import MAX_ASSET_BYTES, MAX_TRIANGLES
+from .limits import MAX_ASSET_BYTES, MAX_COORDINATE, MAX_TRIANGLES
 
 SUPPORTED = (".obj", ".glb", ".gltf", ".stl")
 _STL_HEADER = 84  # 80-byte header + uint32 triangle count
@@ -68,13 +69,20 @@ def read_triangles(path) -> tuple[np.ndarray, np.ndarray]:
         raise AssetError(f"{path}: contains no triangles")
     n_faces = sum(len(m.faces) for m in meshes)
     if n_faces > MAX_TRIANGLES:
-        raise AssetError(f"{path}: {n_faces} triangles is more than the {MAX_TRIANGLES} a mesh asset may have; "
-                         "simplify it in the modelling tool")
+        raise AssetError(
+            f"{path}: {n_faces} triangles is more than the {MAX_TRIANGLES} a mesh asset may have; "
+            "simplify it in the modelling tool"
+        )
     offsets = np.cumsum([0] + [len(m.vertices) for m in meshes])
     vertices = np.concatenate([np.asarray(m.vertices, np.float64) for m in meshes])
     faces = np.concatenate([np.asarray(m.faces, np.int64) + o for m, o in zip(meshes, offsets)])
     if not np.isfinite(vertices).all():
         raise AssetError(f"{path}: has non-finite vertex coordinates")
+    if np.abs(vertices).max() > MAX_COORDINATE:
+        raise AssetError(
+            f"{path}: a vertex lies {np.abs(vertices).max():.3g} from the origin; "
+            f"a mesh asset's coordinates must be within {MAX_COORDINATE:g}"
+        )
     return vertices, faces
 
 
@@ -87,8 +95,9 @@ def check_format(path) -> None:
     """
     ext = Path(path).suffix.lower()
     if ext not in SUPPORTED:
-        raise AssetError(f"{path}: unsupported mesh format {ext or '(no extension)'!r}; "
-                         f"expected one of {', '.join(SUPPORTED)}")
+        raise AssetError(
+            f"{path}: unsupported mesh format {ext or '(no extension)'!r}; expected one of {', '.join(SUPPORTED)}"
+        )
 
 
 def _check_text_face_count(path: Path, ext: str, data: bytes) -> None:
@@ -105,8 +114,10 @@ def _check_text_face_count(path: Path, ext: str, data: bytes) -> None:
     else:
         return
     if faces > MAX_TRIANGLES:
-        raise AssetError(f"{path}: {faces} faces is more than the {MAX_TRIANGLES} triangles a mesh asset may have; "
-                         "simplify it in the modelling tool")
+        raise AssetError(
+            f"{path}: {faces} faces is more than the {MAX_TRIANGLES} triangles a mesh asset may have; "
+            "simplify it in the modelling tool"
+        )
 
 
 def _load_meshes(path: Path, ext: str, data: bytes, resolver: ConfinedResolver) -> list:
@@ -115,8 +126,12 @@ def _load_meshes(path: Path, ext: str, data: bytes, resolver: ConfinedResolver) 
     # load_scene is trimesh 5's name; 4.x spells it load(force="scene").
     load = getattr(trimesh, "load_scene", None) or (lambda *a, **k: trimesh.load(*a, force="scene", **k))
     try:
-        scene = load(io.BytesIO(data), file_type=ext[1:], resolver=resolver, skip_materials=True)
-        return [g for g in scene.dump() if isinstance(g, trimesh.Trimesh)] if scene.geometry else []
+        # Hostile coordinates (1e308) overflow inside trimesh's merging; the result
+        # is checked below (non-finite, or out of range), so its warnings are noise.
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore", RuntimeWarning)
+            scene = load(io.BytesIO(data), file_type=ext[1:], resolver=resolver, skip_materials=True)
+            return [g for g in scene.dump() if isinstance(g, trimesh.Trimesh)] if scene.geometry else []
     except AssetError:
         raise  # the resolver refused a file: its message already says which and why
     except Exception as e:  # noqa: BLE001 -- loaders raise anything on bad bytes
@@ -152,10 +167,14 @@ def _check_stl(path: Path, data: bytes) -> None:
         is_text = False
     if not is_text:
         if count is None:
-            raise AssetError(f"{path}: not an STL file ({len(data)} bytes: too short for a binary STL "
-                             "and not ASCII text starting with 'solid')")
-        raise AssetError(f"{path}: corrupt binary STL: its header says {count} triangles, which needs "
-                         f"{_STL_HEADER + _STL_TRIANGLE * count} bytes, but the file has {len(data)}")
+            raise AssetError(
+                f"{path}: not an STL file ({len(data)} bytes: too short for a binary STL "
+                "and not ASCII text starting with 'solid')"
+            )
+        raise AssetError(
+            f"{path}: corrupt binary STL: its header says {count} triangles, which needs "
+            f"{_STL_HEADER + _STL_TRIANGLE * count} bytes, but the file has {len(data)}"
+        )
 
 
 def _binary_stl_count(data: bytes) -> int | None:

@@ -34,8 +34,15 @@ class BakeProgress:
             from tqdm import tqdm  # local: only bakes draw it
 
             # tqdm keeps the clock: the simulation layers never read it themselves.
-            self._bar = tqdm(total=None, desc=f"bake {label}", file=self.stream, leave=False,
-                             bar_format="{desc} {elapsed}", mininterval=0.1, dynamic_ncols=True)
+            self._bar = tqdm(
+                total=None,
+                desc=f"bake {label}",
+                file=self.stream,
+                leave=False,
+                bar_format="{desc} {elapsed}",
+                mininterval=0.1,
+                dynamic_ncols=True,
+            )
 
     @property
     def shown(self) -> bool:

@@ -62,10 +62,14 @@ def repair_surface(vertices, faces, path="mesh") -> tuple[np.ndarray, np.ndarray
     trimesh.repair.fill_holes(mesh)
     open_edges, nonmanifold = edge_problems(mesh.faces)
     if open_edges or nonmanifold:
-        what = ", ".join(x for x in (
-            f"{open_edges} open edges" if open_edges else "",
-            f"{nonmanifold} edges shared by more than two triangles" if nonmanifold else "",
-        ) if x)
+        what = ", ".join(
+            x
+            for x in (
+                f"{open_edges} open edges" if open_edges else "",
+                f"{nonmanifold} edges shared by more than two triangles" if nonmanifold else "",
+            )
+            if x
+        )
         raise AssetError(f"{path}: surface is not watertight after repair ({what}); close it in the modelling tool")
     trimesh.repair.fix_normals(mesh, multibody=True)
     if not mesh.is_winding_consistent:

@@ -38,8 +38,15 @@ with open(dst, "wb") as out:
 """
 
 
-def tetrahedralize(vertices, faces, edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC, *,
-                   isolate: bool = True, on_wait=None, **tetwild_kw) -> tuple[np.ndarray, np.ndarray]:
+def tetrahedralize(
+    vertices,
+    faces,
+    edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC,
+    *,
+    isolate: bool = True,
+    on_wait=None,
+    **tetwild_kw,
+) -> tuple[np.ndarray, np.ndarray]:
     """Fill a closed surface with tetrahedra using pytetwild (fTetWild).
 
     Parameters
@@ -105,7 +112,9 @@ def _tetwild_child(v, f, kw, on_wait=None):
         with open(os.path.join(tmp, "stderr.txt"), "w+b") as err:
             proc = subprocess.Popen(
                 [sys.executable, "-c", _WORKER, src, dst, json.dumps(kw)],
-                stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err,
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.DEVNULL,
+                stderr=err,
                 cwd=tmp,  # fTetWild writes __tracked_surface.stl into the working folder
             )
             try:
