@@ -130,8 +130,8 @@ def readme_toml_blocks() -> list[str]:
 @pytest.fixture
 def example(tmp_path) -> Path:
     """The complete example level from levels/README.md, as a file."""
-    blocks = [b for b in readme_toml_blocks() if "[level]" in b]
-    assert len(blocks) == 1, "levels/README.md should have exactly one complete example (a toml block with [level])"
+    blocks = [b for b in readme_toml_blocks() if "[level]" in b and "The Crossing" in b]
+    assert len(blocks) == 1, "levels/README.md should have exactly one complete example, The Crossing"
     return write(tmp_path, blocks[0], "example.toml")
 
 

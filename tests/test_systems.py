@@ -236,3 +236,40 @@ def test_crystal_cache_running_dry_is_recoverable():
     hold_w(game, 1.0, 120)
     walk_to(game, 0.0, 12.0, ticks=900)
     assert game.outcome == "complete", (game.player.position, game.energy.value)
+
+
+# ---- the format-2 example in levels/README.md ----------------------------------
+def test_readme_energy_example_plays_to_the_exit(tmp_path):
+    import re
+
+    readme = (Path(__file__).parent.parent / "levels" / "README.md").read_text(encoding="utf-8")
+    (block,) = [b for b in re.findall(r"^```toml\n(.*?)^```", readme, re.S | re.M) if "Energy example" in b]
+    path = tmp_path / "energy_example.toml"
+    path.write_text(block, encoding="utf-8")
+    game = Game(load_level(path))
+    assert game.energy.milli == 0 and game.frame().radar.range == 12.0
+    hold_w(game, 1.0, 60)
+    assert game.player.position[3] == 0.0  # no energy: no w
+    walk_to(game, 0.0, -2.0)  # the crystal in sight
+    assert game.energy.value == 3.0
+    hold_w(game, 1.0, 40)  # to w = 0.6 and a bit: 0.75 of w affordable
+    walk_to(game, 0.0, 2.0)  # the ana crystal, visible now
+    assert game.event_counts["crystal_collected"] == 2
+    walk_to(game, 0.0, 6.0)
+    assert game.outcome == "complete"
+
+
+def test_player_settings_scale_and_hide_the_radar(crystal_level):
+    from across_dimensions.game.sim import RadarView
+
+    game = Game(crystal_level)
+    game.energy.gain(10_000)
+    hold_w(game, 1.0, 10)
+    base = game.frame().radar
+    game.radar_view = RadarView(True, range_scale=2.0, height_scale=0.5)
+    scaled = game.frame().radar
+    assert scaled.range == 2 * base.range and scaled.w_scale == 0.5 * base.w_scale
+    assert sorted(p.height for p in scaled.pins) == pytest.approx(sorted(0.5 * p.height for p in base.pins))
+    assert sorted(p.z for p in scaled.pins) == pytest.approx(sorted(0.5 * p.z for p in base.pins))
+    game.radar_view = RadarView(False)
+    assert game.frame().radar is None

@@ -6,6 +6,7 @@
     demo [--screenshots DIR]           the headless demo (no window needed)
     replay LEVEL REPLAY [--json] [--screenshots DIR --every N]
     check-level FILE...                check level files, report every problem
+    level-schema [-o FILE.json]        the level format as a JSON Schema
     slice SHAPE|FILE [--rotate xw=30 ...] [--translate w=0.3 ...] [--mode section|frustum] -o OUT
     shape NAME [--param k=v ...] -o OUT.npz
     lift MESH --depth D -o OUT.npz
@@ -70,6 +71,10 @@ def _parser() -> argparse.ArgumentParser:
     ck = sub.add_parser("check-level", help="check level files and list every problem")
     ck.add_argument("files", nargs="+", metavar="FILE")
     ck.set_defaults(func=commands.check_level)
+
+    sc = sub.add_parser("level-schema", help="the level format as a JSON Schema, for editors that check as you type")
+    sc.add_argument("-o", "--output", metavar="FILE.json", help="write it to FILE.json (default: print it)")
+    sc.set_defaults(func=commands.level_schema)
 
     sl = sub.add_parser("slice", help="project a 4D shape or .npz mesh to a 3D mesh file")
     sl.add_argument("source", metavar="SHAPE|FILE", help="a shape name (see 'shape --list') or a .npz 4D mesh")

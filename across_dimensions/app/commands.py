@@ -41,9 +41,18 @@ def check_level(args) -> int:
             for p in e.problems:
                 print(f"  {p}", file=sys.stderr)
             continue
+        extra = ""
+        if level.crystals:
+            extra += f", {len(level.crystals)} crystals"
+        if level.energy.enabled:
+            extra += (
+                f", energy {level.energy.start:g}/{level.energy.maximum:g} (w costs {level.energy.w_cost:g} a unit)"
+            )
+        if level.radar is not None:
+            extra += f", radar {level.radar.range:g} m"
         _out(
             f"{f}: ok - '{level.name}', {len(level.boxes)} boxes, {len(level.worlds)} worlds, "
-            f"{len(level.objects)} 4D objects, w in {list(level.w_range)}"
+            f"{len(level.objects)} 4D objects{extra}, w in {list(level.w_range)}"
         )
         cost = level.frame_cost_ms()
         if cost > FRAME_MS:
@@ -54,6 +63,22 @@ def check_level(args) -> int:
                 file=sys.stderr,
             )
     return 2 if bad else 0
+
+
+def level_schema(args) -> int:
+    """Print the level format's JSON Schema, or write it to ``-o FILE`` (atomically)."""
+    import json
+
+    from ..core.fileio import atomic_write
+    from ..world.json_schema import level_schema as schema
+
+    text = json.dumps(schema(), indent=2) + "\n"
+    if args.output:
+        atomic_write(args.output, text)
+        _out(f"{args.output}: JSON Schema of the level format")
+    else:
+        sys.stdout.write(text)
+    return 0
 
 
 # ----------------------------------------------------------------- replays

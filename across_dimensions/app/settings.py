@@ -294,6 +294,9 @@ _RULES: dict[str, _Rule] = {
     "show_fps": _Rule("true or false", _boolean),
     "width": _Rule(f"a whole number of pixels from 320 to {_MAX_SIZE}", _integer(320, _MAX_SIZE)),
     "height": _Rule(f"a whole number of pixels from 240 to {_MAX_SIZE}", _integer(240, _MAX_SIZE)),
+    "radar": _Rule("true or false", _boolean),
+    "radar_range_scale": _Rule("a number from 0.25 to 4", _number(0.25, 4.0)),
+    "radar_height_scale": _Rule("a number from 0.25 to 4", _number(0.25, 4.0)),
 }
 
 
@@ -364,6 +367,11 @@ class Settings:
         Display options.
     width, height : int
         Window size in pixels, at least 320 x 240.
+    radar : bool
+        Show the radar in levels that have one.
+    radar_range_scale, radar_height_scale : float
+        Multiply the level's radar range and pin heights (0.25 to 4): a player
+        who wants to see farther, or read small w offsets more easily.
 
     Raises
     ------
@@ -383,6 +391,9 @@ class Settings:
     show_fps: bool = False
     width: int = 1280
     height: int = 720
+    radar: bool = True
+    radar_range_scale: float = 1.0
+    radar_height_scale: float = 1.0
 
     def __post_init__(self) -> None:
         for name, rule in _RULES.items():

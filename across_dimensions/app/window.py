@@ -21,7 +21,7 @@ from ..core.errors import InputError
 from ..core.fileio import FileProblem, check_folder
 from ..game.actions import MAX_PRESSES, PRESSES, Actions
 from ..game.replay import Recorder
-from ..game.sim import DT, Game
+from ..game.sim import DT, Game, RadarView
 from ..render.context import Offscreen, RenderError, wrap_current_context
 from ..render.debug_draw import DebugOverlay
 from ..render.renderer import Renderer
@@ -115,6 +115,8 @@ class GameWindow(pyglet.window.Window):
     def load(self, path: Path) -> None:
         self.level_path = Path(path)
         self.game = Game(load_level(path), seed=self.seed)
+        s = self.settings
+        self.game.radar_view = RadarView(s.radar, s.radar_range_scale, s.radar_height_scale)
         self.level_time = 0.0
         self.finished_for = 0.0
         self.set_caption(f"Across Dimensions - {self.game.level.name}")

@@ -1,20 +1,16 @@
 """One place that configures numba for the core.
 
-Compiled kernels are cached on disk so only the first run after an install pays
-for compilation. Numba needs a writable cache directory: when the user has not
-chosen one (``NUMBA_CACHE_DIR``), use the per-user cache folder rather than the
-package folder, which may be read-only in a system or wheel install.
+Kernels are compiled with ``cache=True`` so only the first run after an install
+pays for compilation. Where the cache lives is the host's choice, not the
+core's: the game (``across_dimensions.app``) points ``NUMBA_CACHE_DIR`` at the
+platform's cache folder before numba is imported; a library user gets numba's
+default (the package's ``__pycache__``, or numba's per-user folder when that is
+read-only).
 """
 
 from __future__ import annotations
 
-import os
-
-if "NUMBA_CACHE_DIR" not in os.environ:
-    _base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    os.environ["NUMBA_CACHE_DIR"] = os.path.join(_base, "across-dimensions", "numba")
-
-import numba  # noqa: E402  (must follow the environment set-up above)
+import numba
 
 
 def njit(*args, **kwargs):

@@ -1,10 +1,8 @@
 """4D affine transforms as 5x5 homogeneous matrices.
 
-Conventions
------------
-* Axes: x right, y up, z forward, w the fourth axis ("ana" is +w, "kata" is -w).
-  The xyz part is a left-handed frame in the OpenGL sense only once a renderer
-  flips z; in the core all maths is plain linear algebra.
+Conventions (axes, handedness, units, plane names) are in ``CONVENTIONS.md`` at
+the repository's top level; what matters most here:
+
 * Points are row arrays ``(..., 4)`` batched over leading axes.
 * Matrices act on column vectors: ``p' = M @ [p, 1]``. :func:`apply` does this for
   row arrays, so ``apply(a @ b, p) == apply(a, apply(b, p))``.

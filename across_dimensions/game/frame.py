@@ -4,8 +4,8 @@ The simulation fills a :class:`Frame`; ``render`` draws it. Nothing here knows
 about OpenGL or windows, so the same frame can be drawn on screen, offscreen
 for a test, or not at all in a headless replay.
 
-Coordinates are 3D world coordinates (x right, y up, z forward), the space the
-cross-section hyperplane is mapped to by the synced camera.
+Coordinates are 3D world coordinates, the space the cross-section hyperplane
+is mapped to by the synced camera (axes and handedness: ``CONVENTIONS.md``).
 """
 
 from __future__ import annotations
@@ -49,8 +49,8 @@ class Camera3:
         """World-to-eye ``(4, 4) float64`` in OpenGL's convention (eye looks down -z)."""
         f = self.forward()
         up = np.array([0.0, 1.0, 0.0])
-        # The world (x right, y up, z forward) is left-handed; OpenGL's eye space
-        # is right-handed, so this matrix includes a reflection (det -1).
+        # The world is left-handed and OpenGL's eye space right-handed, so this
+        # matrix includes a reflection (det -1); see CONVENTIONS.md.
         r = np.cross(up, f)
         nr = np.linalg.norm(r)
         r = r / nr if nr > 1e-9 else np.array([np.cos(self.yaw), 0.0, -np.sin(self.yaw)])

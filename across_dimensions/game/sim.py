@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import hashlib
 from collections import Counter
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -37,6 +38,16 @@ DT = 1.0 / TICK_RATE
 #: collision: the player's height plus more than a tick's travel at any speed the
 #: walker reaches (a fall at 30 m/s moves 0.5 m a tick).
 COLLIDE_MARGIN = 3.0
+
+
+@dataclass(frozen=True)
+class RadarView:
+    """How the player likes the radar (their settings): shown or not, and factors on the
+    level's range and pin heights. A view choice: it changes no simulation state."""
+
+    shown: bool = True
+    range_scale: float = 1.0
+    height_scale: float = 1.0
 
 
 class Game:
@@ -101,6 +112,7 @@ class Game:
             crystals.spawn(self, c)
         self.energy = EnergyBar.of(level.energy.start, level.energy.maximum) if level.energy.enabled else None
         self.radar_settings = level.radar
+        self.radar_view = RadarView()
         self.events: list[Event] = []
         self.event_counts: Counter = Counter()
         self.tick = 0
@@ -241,4 +253,4 @@ class Game:
         return frame
 
 
-__all__ = ["Game", "TICK_RATE", "DT"]
+__all__ = ["Game", "RadarView", "TICK_RATE", "DT"]

@@ -18,7 +18,7 @@ from pathlib import Path
 import numba  # noqa: E402
 from numba.core import config  # noqa: E402
 
-from across_dimensions.core import _jit  # noqa: F401  (sets NUMBA_CACHE_DIR first)
+from across_dimensions.core import _jit  # noqa: F401  (numba configured as the core configures it)
 
 _HERE = Path(__file__).resolve().parent
 _STAMP = "physics-sources.sha256"

@@ -25,9 +25,9 @@ Styles
     Opaque and emissive, brightest at the silhouette, lightly fogged: things
     that are not scenery (crystals).
 
-There is no back-face culling: the world is left-handed, so the view matrix
-contains a reflection and "front" winding flips; two-sided lighting makes
-culling unnecessary for correctness.
+There is no back-face culling: the view matrix contains a reflection (see
+``CONVENTIONS.md``, "Axes and handedness"), so "front" winding flips; two-sided
+lighting makes culling unnecessary for correctness.
 """
 
 from __future__ import annotations

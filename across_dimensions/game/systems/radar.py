@@ -4,7 +4,8 @@ within range as a pin whose height is its w offset from the player.
 The disc lies in the player's x-z plane and turns with the player's yaw, so a
 pin straight ahead of the player is always at the disc's front. A pin on the
 disc is an entity the player can see now; above the disc lies ana (+w), below
-it kata (-w).
+it kata (-w). The level sets the range and the height scale; the player's
+settings (``game.radar_view``) multiply them or hide the radar.
 """
 
 from __future__ import annotations
@@ -15,25 +16,27 @@ from ..frame import Radar, RadarPin
 
 
 def draw(game, frame, alpha) -> None:
-    settings = game.radar_settings
-    if settings is None:
+    level, view = game.radar_settings, game.radar_view
+    if level is None or not view.shown:
         return
+    reach = level.range * view.range_scale  # metres to the rim
+    w_scale = level.w_scale * view.height_scale
     table = game.entity_table()
     tracked = [i for i, e in enumerate(table.entities) if e.radar is not None]
     if not tracked:
-        frame.radar = Radar(settings.range, settings.w_scale, [])
+        frame.radar = Radar(reach, w_scale, [])
         return
     c = table.centers[tracked]
     yaw = frame.camera.yaw
     rel = c[:, [0, 2]] - frame.camera.position[[0, 2]]
     # Into the player's frame: x to the right, z ahead, in disc radii.
-    x = (rel[:, 0] * np.cos(yaw) - rel[:, 1] * np.sin(yaw)) / settings.range
-    z = (rel[:, 0] * np.sin(yaw) + rel[:, 1] * np.cos(yaw)) / settings.range
-    height = (c[:, 3] - float(game.player.position[3])) * settings.w_scale
+    x = (rel[:, 0] * np.cos(yaw) - rel[:, 1] * np.sin(yaw)) / reach
+    z = (rel[:, 0] * np.sin(yaw) + rel[:, 1] * np.cos(yaw)) / reach
+    height = (c[:, 3] - float(game.player.position[3])) * w_scale
     inside = x * x + z * z <= 1.0
     pins = []
     for k in np.flatnonzero(inside):
         e = table.entities[tracked[k]]
         visible = game.sections.has_section(f"draw:{e.id}")  # the sections system sliced it this frame
         pins.append(RadarPin(e.radar, float(x[k]), float(z[k]), float(height[k]), visible))
-    frame.radar = Radar(settings.range, settings.w_scale, pins)
+    frame.radar = Radar(reach, w_scale, pins)
