@@ -392,6 +392,11 @@ def test_bench_quick_prints_throughput_and_copy_baseline(cli):
     assert "copy" in lines[header], lines[header]
     rows = [line for line in lines[header + 1 :] if re.search(r"\s\d+\s+[\d.]+\s+\d+\s+[\d.]+\s+[\d.]+$", line)]
     assert len(rows) >= 2, out
+    # The game's own figures, each next to its baseline from the same run.
+    assert re.search(r"Game\.step:\s+[\d.]+ ms per tick\s+\(baseline, no entities: [\d.]+ ms", out), out
+    assert re.search(r"200 radar pins: HUD with energy bar and radar [\d.]+ ms\s+\(baseline, HUD alone", out) or (
+        "HUD and radar: skipped" in out
+    ), out
 
 
 # ------------------------------------------------------- welded exports
