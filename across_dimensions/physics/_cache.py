@@ -12,13 +12,13 @@ physics cache entries are dropped and rebuilt on first use.
 from __future__ import annotations
 
 import hashlib
-import os
 from pathlib import Path
 
 import numba  # noqa: E402
 from numba.core import config  # noqa: E402
 
 from across_dimensions.core import _jit  # noqa: F401  (numba configured as the core configures it)
+from across_dimensions.core.fileio import FileProblem, atomic_write
 
 _HERE = Path(__file__).resolve().parent
 _STAMP = "physics-sources.sha256"
@@ -81,10 +81,8 @@ def drop_stale_kernels() -> bool:
                         dropped = True
                     except FileNotFoundError:
                         pass
-        d.mkdir(parents=True, exist_ok=True)
-        tmp = d / f"{_STAMP}.{os.getpid()}"
-        tmp.write_text(digest)
-        os.replace(tmp, stamp)
+        d.mkdir(parents=True, exist_ok=True)  # numba's own cache folder: ours to create
+        atomic_write(stamp, digest)
         return dropped
-    except OSError:
+    except (OSError, FileProblem):
         return False
