@@ -451,3 +451,37 @@ def test_removed_bodies_free_their_slots_lowest_first_without_stale_warm_starts(
         world.tick()
         world.remove_body(b)
     assert b == 7 and world.bodies.count == 8 and world.bodies.alive.shape[0] == 16
+
+
+def test_a_gun_with_ammunition_fires_rounds_and_crystals_refill_them(tmp_path):
+    crystal = """
+[energy]
+start = 5.0
+
+[[crystal]]
+name = "refill"
+position = [0.0, 1.0, -6.0, 0.0]
+energy = 1.0
+"""
+    path = tmp_path / "ammo.toml"
+    gun = GUN.format(cooldown=0.0, amplitude=0.5, period=2.0, lifetime=1.0, max_live=8)
+    gun = gun.replace("cost = 0.0", "cost = 1.0") + "ammo = 2\nmax_ammo = 4\nrefill = 3\n"
+    path.write_text(HALL.format(gravity="[0.0, -9.81, 0.0, 0.0]", extra=gun + crystal))
+    game = Game(load_level(path))
+    seen = []
+    for _ in range(3):
+        game.step(FIRE)
+        seen += game.events
+    assert [e.kind for e in seen if e.kind in ("shot_fired", "weapon_refused")] == [
+        "shot_fired",
+        "shot_fired",
+        "weapon_refused",
+    ]
+    assert game.energy.milli == 5000  # rounds, not energy
+    assert game.frame().hud.weapon.refused == "OUT OF AMMO"
+    for _ in range(40):  # walk into the crystal 2 m ahead
+        game.step(Actions(forward=1.0))
+    assert game.event_counts["crystal_collected"] == 1
+    game.step(Actions())
+    assert game.arsenal.rounds == [3]  # 0 + 3, at most 4
+    assert game.frame().hud.weapon.ammo == 3

@@ -226,7 +226,7 @@ class TargetHit(Event):
 
 @dataclass(frozen=True)
 class WeaponRefused(Event):
-    """The player fired and nothing happened: ``reason`` is ``"energy"`` or ``"cooldown"``.
+    """The player fired and nothing happened: ``reason`` is ``"energy"``, ``"ammo"`` or ``"cooldown"``.
 
     Attributes
     ----------

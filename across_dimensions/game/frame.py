@@ -169,6 +169,8 @@ class WeaponPanel:
         A line shown while the last try failed ("NOT ENOUGH ENERGY"), else "".
     live : int
         Bullets in flight (the gun), or -1.
+    ammo : int
+        Rounds left for a gun that fires rounds, or -1 for a weapon paid in energy.
     """
 
     name: str
@@ -179,6 +181,7 @@ class WeaponPanel:
     flash: float = 0.0
     refused: str = ""
     live: int = -1
+    ammo: int = -1
 
 
 #: Pin kinds the radar draws, each with its own head shape (never colour alone).

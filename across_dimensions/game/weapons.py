@@ -138,6 +138,8 @@ class Arsenal:
     pulls: list = field(default_factory=list)
     wired: dict = field(default_factory=dict)
     pulls_done: list = field(default_factory=list)
+    rounds: list = field(default_factory=list)  # rounds left per weapon; -1 for those paid in energy
+    crystals_seen: int = 0  # crystal pickups already turned into rounds
     fired_tick: int = -(10**9)
     refused_tick: int = -(10**9)
     refused_text: str = ""
@@ -157,7 +159,8 @@ def setup(game) -> Arsenal | None:
     level = game.level
     specs = list(getattr(level, "weapons", ()))
     targets = list(getattr(level, "targets", ()))
-    game.arsenal = Arsenal(specs, ready=[0] * len(specs)) if specs or targets else None
+    rounds = [s.ammo if s.kind == "gun" else -1 for s in specs]
+    game.arsenal = Arsenal(specs, ready=[0] * len(specs), rounds=rounds) if specs or targets else None
     if game.arsenal is None:
         return None
     if game.physics is None and any(s.kind == "gun" for s in specs):
@@ -167,6 +170,18 @@ def setup(game) -> Arsenal | None:
     for t in targets:
         spawn_target(game, t)
     return game.arsenal
+
+
+def refill(game) -> None:
+    """Guns that fire rounds get ``refill`` rounds per crystal collected since the last call."""
+    ars = game.arsenal
+    taken = game.event_counts["crystal_collected"]
+    new, ars.crystals_seen = taken - ars.crystals_seen, taken
+    if new <= 0:
+        return
+    for k, spec in enumerate(ars.specs):
+        if ars.rounds[k] >= 0:
+            ars.rounds[k] = min(spec.max_ammo, ars.rounds[k] + new * spec.refill)
 
 
 def spawn_target(game, spec: TargetSpec):

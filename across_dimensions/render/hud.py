@@ -293,8 +293,9 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
 
 
 def weapon_text(panel: WeaponPanel) -> str:
-    """The weapon panel's line: ``[1/3] 120-cell gun  cost 1``, plus the bullets in flight for the gun."""
-    text = f"[{panel.slot}/{panel.count}] {panel.name.upper()}  COST {panel.cost:g}"
+    """The weapon panel's line: ``[1/3] 120-CELL GUN  COST 1`` (or ``AMMO 12``), plus the bullets in flight."""
+    pay = f"AMMO {panel.ammo}" if panel.ammo >= 0 else f"COST {panel.cost:g}"
+    text = f"[{panel.slot}/{panel.count}] {panel.name.upper()}  {pay}"
     return text + (f"  LIVE {panel.live}" if panel.live >= 0 else "")
 
 

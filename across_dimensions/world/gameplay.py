@@ -16,6 +16,7 @@ import numpy as np
 
 from .fields import Field
 from .limits import (
+    AMMO,
     ANGLE,
     BULLET_CAP,
     COORD,
@@ -74,6 +75,9 @@ WEAPON_TABLE = {
     "max_live": Field("number", default=None, range=BULLET_CAP, sign="positive"),
     "radius": Field("number", default=None, range=WEAPON_REACH, sign="positive"),
     "duration": Field("number", default=None, range=WEAPON_TIME, sign="positive"),
+    "ammo": Field("number", default=None, range=AMMO, sign="nonnegative"),
+    "max_ammo": Field("number", default=None, range=AMMO, sign="positive"),
+    "refill": Field("number", default=None, range=AMMO, sign="nonnegative"),
 }
 #: Each kind's fields and their defaults (a field of another kind is a problem, not ignored).
 WEAPON_FIELDS = {
@@ -88,6 +92,9 @@ WEAPON_FIELDS = {
         "mass": 0.5,
         "lifetime": 6.0,
         "max_live": 8.0,
+        "ammo": -1.0,
+        "max_ammo": 30.0,
+        "refill": 5.0,
     },
     "blast": {"name": "w-pull blast", "cost": 5.0, "cooldown": 1.5, "radius": 6.0, "duration": 0.6},
     "field": {"name": "wire field", "cost": 3.0, "cooldown": 1.0, "radius": 8.0, "duration": 5.0},
@@ -226,6 +233,10 @@ class WeaponSpec:
         oscillation, its radius and mass, how long it lives, how many may fly.
     radius, duration
         The blast's and the field's reach, and how long they act.
+    ammo, max_ammo, refill
+        A gun with ``ammo >= 0`` fires rounds instead of paying energy: it starts
+        with ``ammo``, holds at most ``max_ammo`` and every crystal collected adds
+        ``refill``. ``ammo = -1`` (the default) pays ``cost`` from the energy bar.
     """
 
     kind: str
@@ -241,6 +252,9 @@ class WeaponSpec:
     max_live: int = 8
     radius: float = 6.0
     duration: float = 0.6
+    ammo: int = -1
+    max_ammo: int = 30
+    refill: int = 5
 
 
 @dataclass
@@ -279,13 +293,16 @@ def read_weapons(r, data) -> list[WeaponSpec]:
             if k in WEAPON_TABLE and k != "kind" and k not in defaults:
                 r.problem(where, f"field '{k}' does not apply to a {kind} (its fields: {', '.join(defaults)})")
         v = r.read(t, WEAPON_TABLE, where, keys=list(defaults), **defaults)
-        max_live = v.get("max_live", 8.0)
-        if max_live != int(max_live):
-            r.problem(where, f"field 'max_live': expected a whole number, got {max_live:g}")
-        extra = {k: v[k] for k in defaults if k not in ("name", "cost", "cooldown", "max_live")}
-        out.append(
-            WeaponSpec(kind, v["name"], int(round(v["cost"] * MILLI)), v["cooldown"], max_live=int(max_live), **extra)
-        )
+        counts = {}
+        for k in ("max_live", "ammo", "max_ammo", "refill"):
+            if k in v:
+                if v[k] != int(v[k]) and k in t:
+                    r.problem(where, f"field '{k}': expected a whole number, got {v[k]:g}")
+                counts[k] = int(v[k])
+        if "ammo" in t and "max_ammo" in v and v["ammo"] > v["max_ammo"]:
+            r.problem(where, f"field 'ammo': {v['ammo']:g} is more than 'max_ammo' ({v['max_ammo']:g})")
+        extra = {k: v[k] for k in defaults if k not in ("name", "cost", "cooldown") and k not in counts}
+        out.append(WeaponSpec(kind, v["name"], int(round(v["cost"] * MILLI)), v["cooldown"], **counts, **extra))
     return out
 
 

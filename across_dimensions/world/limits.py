@@ -114,6 +114,7 @@ WEAPON_TIME = Range(0.0, 600.0, "s")  # cooldowns, periods, lifetimes, durations
 WEAPON_REACH = Range(0.01, 1000.0, "m")  # bullet radius and amplitude, blast and field radius
 BULLET_CAP = Range(1.0, 64.0)  # live bullets at once
 TARGET_SIZE = Range(0.05, 10.0, "m")
+AMMO = Range(0.0, 1e4)  # rounds a gun holds or a crystal gives
 
 # Rigid bodies: the envelope in which the physics step stays finite, found by
 # stepping random scenes for 600 ticks (4 bodies each: random shapes, sizes,

@@ -2,8 +2,9 @@
 
 Presses (``next_weapon``, ``previous_weapon``, ``weapon_1`` ... ``weapon_3``,
 ``fire``) are one-shot actions, so a quick tap is never lost. Using a weapon
-costs its ``cost`` from the energy bar (free in a level without one) and starts
-its cooldown; without enough energy nothing fires and the HUD says so. See
+costs its ``cost`` from the energy bar (free in a level without one), or one
+round for a gun with ammunition (crystals refill it), and starts its cooldown;
+without enough energy or rounds nothing fires and the HUD says so. See
 :mod:`..weapons` for what each weapon does.
 """
 
@@ -31,7 +32,13 @@ def _use(game, ars) -> None:
     if game.tick < ars.ready[ars.slot]:
         game.emit(WeaponRefused(spec.kind, "cooldown"))
         return
-    if game.energy is not None and not game.energy.spend(game, spec.cost_milli, spec.kind):
+    if ars.rounds[ars.slot] == 0:
+        ars.refused_tick, ars.refused_text = game.tick, "OUT OF AMMO"
+        game.emit(WeaponRefused(spec.kind, "ammo"))
+        return
+    if ars.rounds[ars.slot] > 0:
+        ars.rounds[ars.slot] -= 1
+    elif game.energy is not None and not game.energy.spend(game, spec.cost_milli, spec.kind):
         ars.refused_tick, ars.refused_text = game.tick, "NOT ENOUGH ENERGY"
         game.emit(WeaponRefused(spec.kind, "energy"))
         return
@@ -53,6 +60,7 @@ def step(game, actions) -> None:
     if ars is None:
         return
     wp.expire_field(game)
+    wp.refill(game)
     if ars.specs:
         _select(game, ars, actions)
         for _ in range(actions.pressed("fire")):
@@ -78,5 +86,6 @@ def draw(game, frame, alpha) -> None:
         flash=max(0.0, 1.0 - (game.tick - ars.fired_tick) / wp.FLASH_TICKS),
         refused=ars.refused_text if game.tick - ars.refused_tick < wp.REFUSED_TICKS else "",
         live=len(ars.bullets) if spec.kind == "gun" else -1,
+        ammo=ars.rounds[ars.slot],
     )
     frame.hud.hit_marker = max(0.0, 1.0 - (game.tick - ars.hit_tick) / wp.HIT_MARKER_TICKS)
