@@ -53,7 +53,13 @@ def _targets(game, ars) -> None:
             if t.data.hit:
                 continue
             t.data.hit = True
-            t.style = "glow" if t.style != "glow" else "solid"  # a hit target changes its look
+            # A hit target changes its look (after the field's wireframe, if it is showing).
+            own = ars.wired[t.id][0] if t.id in ars.wired else t.style
+            looks = "glow" if own != "glow" else "solid"
+            if t.id in ars.wired:
+                ars.wired[t.id] = (looks, ars.wired[t.id][1])
+            else:
+                t.style = looks
             opened = ""
             door = game.entities.named(t.data.spec.opens) if t.data.spec.opens else None
             if door is not None and door.kind in ("object", "body"):
