@@ -131,3 +131,119 @@ class LevelComplete(Event):
     """The player reached the goal."""
 
     kind: ClassVar[str] = "level_complete"
+
+
+@dataclass(frozen=True)
+class ShotFired(Event):
+    """The gun fired a bullet.
+
+    Attributes
+    ----------
+    entity : int
+        The bullet's entity id.
+    w : float
+        The player's w at firing: the centre of the bullet's w oscillation.
+    """
+
+    kind: ClassVar[str] = "shot_fired"
+    entity: int
+    w: float
+
+
+@dataclass(frozen=True)
+class BulletHit(Event):
+    """A bullet touched something: its first contact, and every new touch of a body or target.
+
+    Attributes
+    ----------
+    entity : int
+        The bullet's entity id.
+    what : str
+        ``"world"`` (floors, walls), ``"body"``, ``"bullet"`` or ``"target"``.
+    other : int or None
+        The entity hit, None for the world.
+    """
+
+    kind: ClassVar[str] = "bullet_hit"
+    entity: int
+    what: str
+    other: int | None
+
+
+@dataclass(frozen=True)
+class Blast(Event):
+    """The blast pulled every 4D object within its radius towards the player's w.
+
+    Attributes
+    ----------
+    w : float
+        The player's w: where the objects are brought.
+    moved : tuple of int
+        Entity ids pulled.
+    """
+
+    kind: ClassVar[str] = "blast"
+    w: float
+    moved: tuple
+
+
+@dataclass(frozen=True)
+class FieldCast(Event):
+    """The field turned every 4D object within its radius to a glowing wireframe.
+
+    Attributes
+    ----------
+    shown : tuple of int
+        Entity ids drawn as wireframes.
+    ticks : int
+        How long, in ticks.
+    """
+
+    kind: ClassVar[str] = "field"
+    shown: tuple
+    ticks: int
+
+
+@dataclass(frozen=True)
+class TargetHit(Event):
+    """A bullet hit a target.
+
+    Attributes
+    ----------
+    entity : int
+        The target's entity id.
+    bullet : int
+        The bullet's entity id.
+    opened : str
+        Name of the object it removed (its door), or "" when none (or already open).
+    """
+
+    kind: ClassVar[str] = "target_hit"
+    entity: int
+    bullet: int
+    opened: str
+
+
+@dataclass(frozen=True)
+class WeaponRefused(Event):
+    """The player fired and nothing happened: ``reason`` is ``"energy"``, ``"ammo"`` or ``"cooldown"``.
+
+    Attributes
+    ----------
+    weapon : str
+        The weapon's kind.
+    reason : str
+    """
+
+    kind: ClassVar[str] = "weapon_refused"
+    weapon: str
+    reason: str
+
+
+@dataclass(frozen=True)
+class WeaponSelected(Event):
+    """The player switched weapons; ``slot`` counts from 0 in the level's order."""
+
+    kind: ClassVar[str] = "weapon_selected"
+    slot: int
+    weapon: str

@@ -126,6 +126,8 @@ class Hud:
     message: str = ""
     crosshair: bool = True
     energy: EnergyGauge | None = None
+    weapon: WeaponPanel | None = None
+    hit_marker: float = 0.0  # 1 right after a bullet hits a body or a target, fading to 0 (crosshair marks)
 
 
 @dataclass(frozen=True)
@@ -146,6 +148,40 @@ class EnergyGauge:
     maximum: float
     flash: float = 0.0
     empty: bool = False
+
+
+@dataclass(frozen=True)
+class WeaponPanel:
+    """The weapon panel: the weapon in hand, what it costs and when it is ready.
+
+    Parameters
+    ----------
+    name : str
+    slot, count : int
+        Its number (from 1) and how many weapons the player has.
+    cost : float
+        Energy per use.
+    cooldown : float
+        Fraction of the cooldown still to run, 1 just after use, 0 when ready.
+    flash : float
+        1 on the tick it fired, fading to 0 (muzzle flash).
+    refused : str
+        A line shown while the last try failed ("NOT ENOUGH ENERGY"), else "".
+    live : int
+        Bullets in flight (the gun), or -1.
+    ammo : int
+        Rounds left for a gun that fires rounds, or -1 for a weapon paid in energy.
+    """
+
+    name: str
+    slot: int
+    count: int
+    cost: float
+    cooldown: float = 0.0
+    flash: float = 0.0
+    refused: str = ""
+    live: int = -1
+    ammo: int = -1
 
 
 #: Pin kinds the radar draws, each with its own head shape (never colour alone).

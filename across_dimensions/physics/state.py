@@ -62,7 +62,7 @@ PARAMS_DTYPE = np.dtype(
 
 
 class Bodies(NamedTuple):
-    """Every body slot; ids index the arrays and are never reused.
+    """Every body slot; ids index the arrays (a removed body's slot is reused, lowest first).
 
     Attributes
     ----------

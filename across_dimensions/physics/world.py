@@ -9,7 +9,8 @@
 1
 >>> model = world.body_pose(ball)                           # (5, 5) model matrix
 
-Bodies are kept in flat arrays indexed by id (ids are never reused) so that the
+Bodies are kept in flat arrays indexed by id (a removed body's slot is reused,
+lowest first, so the arrays stay as long as the most bodies alive at once) so that the
 compiled pipeline (:mod:`.pipeline`) can step them without Python overhead.
 ``step(dt)`` feeds a time accumulator and runs whole ticks of the fixed
 ``tick_dt`` (each split into fixed substeps); the same sequence of calls
@@ -77,6 +78,13 @@ def _bivector(value) -> np.ndarray:
         return out
     out = np.asarray(value, dtype=np.float64).reshape(6)
     return out.copy()
+
+
+def _pair_involves(keys: np.ndarray, i: int) -> np.ndarray:
+    """Which pair keys ``(k,) int64`` (``a << 32 | b``, see :mod:`.pipeline`) name body ``i``."""
+    a = keys >> 32
+    b = keys & 0xFFFFFFFF
+    return (a == i) | ((b == i) & (b < pl.STATIC_KEY))
 
 
 def _vec4(value, name: str) -> np.ndarray:
@@ -349,11 +357,17 @@ class PhysicsWorld:
         rotation = _rotation(d.rotation, d.angles)
         velocity = _vec4(d.velocity, "velocity") if k != pl.STATIC else 0.0
         angular_velocity = _bivector(d.angular_velocity) if k != pl.STATIC else 0.0
-        if self._n == self.bodies.alive.shape[0]:
-            self._alloc_bodies(2 * self.bodies.alive.shape[0])
-            self._scratch = self._scratch._replace(margin=np.zeros(self.bodies.alive.shape[0]))
-        i = self._n
-        self.bodies = self.bodies._replace(count=i + 1)
+        free = np.flatnonzero(~self.bodies.alive[: self._n])
+        if free.size:
+            # The lowest free slot, so the same calls always give the same ids and a
+            # game that fires for ten minutes keeps its arrays as long as its busiest moment.
+            i = int(free[0])
+        else:
+            if self._n == self.bodies.alive.shape[0]:
+                self._alloc_bodies(2 * self.bodies.alive.shape[0])
+                self._scratch = self._scratch._replace(margin=np.zeros(self.bodies.alive.shape[0]))
+            i = self._n
+            self.bodies = self.bodies._replace(count=i + 1)
         self.bodies.alive[i] = True
         self.bodies.kind[i] = k
         self.bodies.shape[i] = sh
@@ -376,13 +390,40 @@ class PhysicsWorld:
         return i
 
     def remove_body(self, body_id: int) -> None:
-        """Delete a body; sleeping bodies near it wake (they may have rested on it)."""
+        """Delete a body; sleeping bodies near it wake (they may have rested on it).
+
+        Its slot is free for the next :meth:`add_body` (the lowest free slot is
+        taken first), so the warm-start impulses and touching pairs that name
+        it are dropped here: a newcomer in the slot must not inherit them.
+        """
         i = self._check(body_id)
         self._wake_near(i)
+        n = self._n
+        # Sleepers whose island was rooted at this body wake too: the root id is about to
+        # name a different body.
+        rooted = self.bodies.alive[:n] & ~self.bodies.awake[:n] & (self.bodies.island[:n] == i)
+        rooted[i] = False
+        for j in np.flatnonzero(rooted):
+            self.wake(int(j))
         self.bodies.alive[i] = False
         self.bodies.awake[i] = False
         self.bodies.velocity[i] = 0.0
         self.bodies.angular_velocity[i] = 0.0
+        self._forget_pairs(i)
+
+    def _forget_pairs(self, i: int) -> None:
+        """Drop warm-start entries and touching pairs that involve body slot ``i``."""
+        warm = self.warm
+        c = int(warm.count[0])
+        keep = ~_pair_involves(warm.key[:c], i)
+        k = int(keep.sum())
+        if k != c:
+            for name in ("key", "local_point", "normal_impulse", "friction_impulse"):
+                arr = getattr(warm, name)
+                arr[:k] = arr[:c][keep]
+            warm.count[0] = k
+        self._touch_keys = self._touch_keys[~_pair_involves(self._touch_keys, i)]
+        self._touch_prev = self._touch_prev[~_pair_involves(self._touch_prev, i)]
 
     def _wake_near(self, i: int) -> None:
         n = self._n

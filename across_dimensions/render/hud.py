@@ -17,6 +17,10 @@ Layout (pixels, origin top-left, ``W x H`` the viewport):
   ``value / maximum`` of its inner width, ``ENERGY`` above its left end and the value (``73/100``)
   above its right end; a crystal's ``flash`` brightens the fill and puts a fading glow round the
   bar; when ``empty`` the outline, track and label turn red and the label reads ``NO ENERGY``;
+* weapon panel (when ``hud.weapon`` is not None): above the energy bar, the weapon's number,
+  name, cost (and bullets in flight), a cooldown bar that fills as the weapon gets ready, and a red
+  ``NOT ENOUGH ENERGY`` line above when the last try failed; ``hit_marker`` puts four fading marks
+  round the crosshair;
 * radar (drawn by :mod:`.radar`, not here): the rectangle :meth:`HudMetrics.radar_rect`,
   bottom-right but left of the w indicator;
 * FPS (when not None): top-left;
@@ -34,7 +38,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from ..game.frame import EnergyGauge, Hud, Radar
+from ..game.frame import EnergyGauge, Hud, Radar, WeaponPanel
 from .font import CELL_H, CELL_W, GLYPH_H, GLYPH_W, SOLID_CELL, build_atlas, cell_origin, glyph_index
 
 CROSSHAIR_COLOR = (0.95, 0.95, 0.95, 1.0)
@@ -56,6 +60,10 @@ ENERGY_EMPTY_COLOR = (1.0, 0.18, 0.15, 1.0)
 ENERGY_EMPTY_TRACK_COLOR = (1.0, 0.15, 0.1, 0.28)
 ENERGY_LABEL_COLOR = (0.75, 0.95, 1.0, 1.0)
 RADAR_LABEL_COLOR = (0.6, 0.9, 1.0, 0.85)
+WEAPON_COLOR = (1.0, 0.9, 0.6, 1.0)
+WEAPON_READY_COLOR = (0.5, 1.0, 0.6, 0.9)
+WEAPON_COOL_COLOR = (1.0, 0.6, 0.2, 0.9)
+HIT_COLOR = (1.0, 0.35, 0.25, 1.0)
 #: Width over height of the radar's rectangle (the radar view fits itself to it).
 RADAR_ASPECT = 0.95
 
@@ -229,6 +237,10 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
     if hud.energy is not None:
         _energy_bar(q, hud.energy, m)
 
+    # --- weapon panel (above the energy bar) and hit marks round the crosshair
+    if hud.weapon is not None:
+        _weapon_panel(q, hud.weapon, m)
+
     # --- radar labels
     if radar is not None:
         rx, ry, rw, rh = m.radar_rect()
@@ -248,6 +260,10 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
         for grow, color in ((1, OUTLINE_COLOR), (0, CROSSHAIR_COLOR)):
             q.rect(left - a - grow, top - grow, 2 * a + t + 2 * grow, t + 2 * grow, color)
             q.rect(left - grow, top - a - grow, t + 2 * grow, 2 * a + t + 2 * grow, color)
+        if hud.hit_marker > 0:  # four short marks at the corners: the bullet hit something
+            k = min(float(hud.hit_marker), 1.0)
+            for dx, dy in ((-1, -1), (1, -1), (-1, 1), (1, 1)):
+                q.rect(cx + dx * (a + t) - t, cy + dy * (a + t) - t, 2 * t, 2 * t, HIT_COLOR[:3] + (k,))
 
     # --- pause overlay
     big = 2 * s if H >= 60 else s
@@ -274,6 +290,29 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
         for i, ln in enumerate(lines):
             q.text(ln, (W - text_width(ln, scale)) // 2, ytop + i * line_h, scale, TEXT_COLOR)
     return q.array()
+
+
+def weapon_text(panel: WeaponPanel) -> str:
+    """The weapon panel's line: ``[1/3] 120-CELL GUN  COST 1`` (or ``AMMO 12``), plus the bullets in flight."""
+    pay = f"AMMO {panel.ammo}" if panel.ammo >= 0 else f"COST {panel.cost:g}"
+    text = f"[{panel.slot}/{panel.count}] {panel.name.upper()}  {pay}"
+    return text + (f"  LIVE {panel.live}" if panel.live >= 0 else "")
+
+
+def _weapon_panel(q: _QuadList, panel: WeaponPanel, m: HudMetrics) -> None:
+    """Above the energy bar: the weapon's line, a cooldown bar (full when ready) and a refusal line."""
+    s = m.text_scale
+    x, y, w, h = m.energy_bar()
+    line_h = (GLYPH_H + 3) * s
+    top = y - 2 * line_h - 3 * h
+    flash = min(max(float(panel.flash), 0.0), 1.0)
+    q.text(weapon_text(panel), x, top, s, _mix(WEAPON_COLOR, (1.0, 1.0, 1.0, 1.0), flash))
+    by = top + line_h
+    q.rect(x - 1, by - 1, w + 2, h // 2 + 2, OUTLINE_COLOR)
+    ready = 1.0 - min(max(float(panel.cooldown), 0.0), 1.0)
+    q.rect(x, by, int(round(w * ready)), h // 2, WEAPON_READY_COLOR if ready >= 1.0 else WEAPON_COOL_COLOR)
+    if panel.refused:
+        q.text(panel.refused, x, top - line_h, s, ENERGY_EMPTY_COLOR)
 
 
 def energy_text(gauge: EnergyGauge) -> str:

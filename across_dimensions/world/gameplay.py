@@ -1,4 +1,4 @@
-"""Level tables of the game's systems (level format 2): crystals, energy, radar.
+"""Level tables of the game's systems (level format 2): crystals, energy, radar, weapons, targets.
 
 Each table is a model of :class:`~.fields.Field` s (read and checked by the
 level loader like every other table, and exported to the JSON Schema) and a
@@ -15,7 +15,25 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .fields import Field
-from .limits import COORD, CRYSTAL_SIZE, ENERGY, MAX_NAME_CHARS, RADAR_RANGE, RADAR_W_SCALE, RESPAWN, SPIN, Range
+from .limits import (
+    AMMO,
+    ANGLE,
+    BULLET_CAP,
+    COORD,
+    CRYSTAL_SIZE,
+    ENERGY,
+    MASS,
+    MAX_NAME_CHARS,
+    RADAR_RANGE,
+    RADAR_W_SCALE,
+    RESPAWN,
+    SPIN,
+    TARGET_SIZE,
+    WEAPON_REACH,
+    WEAPON_SPEED,
+    WEAPON_TIME,
+    Range,
+)
 
 CRYSTAL_SHAPES = ("16-cell", "24-cell", "5-cell", "tesseract", "600-cell")
 CRYSTAL_COLOR = (0.35, 1.0, 0.85, 1.0)
@@ -41,8 +59,67 @@ CRYSTAL_TABLE = {
     "spin": Field("angles", default=None, range=SPIN),
     "respawn": Field("number", default=0.0, range=RESPAWN, sign="nonnegative"),
 }
+WEAPON_KINDS = ("gun", "blast", "field")
+#: Every field a ``[[weapon]]`` may have; which apply to which kind is :data:`WEAPON_FIELDS`.
+WEAPON_TABLE = {
+    "kind": Field("string", choices=WEAPON_KINDS),
+    "name": Field("text", default=None, range=Range(0, MAX_NAME_CHARS)),
+    "cost": Field("number", default=None, range=ENERGY, sign="nonnegative"),
+    "cooldown": Field("number", default=None, range=WEAPON_TIME, sign="nonnegative"),
+    "speed": Field("number", default=None, range=WEAPON_SPEED, sign="positive"),
+    "amplitude": Field("number", default=None, range=WEAPON_REACH, sign="nonnegative"),
+    "period": Field("number", default=None, range=WEAPON_TIME, sign="positive"),
+    "size": Field("number", default=None, range=WEAPON_REACH, sign="positive"),
+    "mass": Field("number", default=None, range=MASS, sign="positive"),
+    "lifetime": Field("number", default=None, range=WEAPON_TIME, sign="positive"),
+    "max_live": Field("number", default=None, range=BULLET_CAP, sign="positive"),
+    "radius": Field("number", default=None, range=WEAPON_REACH, sign="positive"),
+    "duration": Field("number", default=None, range=WEAPON_TIME, sign="positive"),
+    "ammo": Field("number", default=None, range=AMMO, sign="nonnegative"),
+    "max_ammo": Field("number", default=None, range=AMMO, sign="positive"),
+    "refill": Field("number", default=None, range=AMMO, sign="nonnegative"),
+}
+#: Each kind's fields and their defaults (a field of another kind is a problem, not ignored).
+WEAPON_FIELDS = {
+    "gun": {
+        "name": "120-cell gun",
+        "cost": 1.0,
+        "cooldown": 0.35,
+        "speed": 12.0,
+        "amplitude": 1.0,
+        "period": 2.0,
+        "size": 0.15,
+        "mass": 0.5,
+        "lifetime": 6.0,
+        "max_live": 8.0,
+        "ammo": -1.0,
+        "max_ammo": 30.0,
+        "refill": 5.0,
+    },
+    "blast": {"name": "w-pull blast", "cost": 5.0, "cooldown": 1.5, "radius": 6.0, "duration": 0.6},
+    "field": {"name": "wire field", "cost": 3.0, "cooldown": 1.0, "radius": 8.0, "duration": 5.0},
+}
+TARGET_SHAPES = CRYSTAL_SHAPES + ("120-cell",)
+TARGET_COLOR = (1.0, 0.35, 0.3, 1.0)
+TARGET_TABLE = {
+    "name": Field("text", default=None, range=Range(0, MAX_NAME_CHARS)),
+    "position": Field("vector", 4, range=COORD),
+    "size": Field("number", default=0.4, range=TARGET_SIZE, sign="positive"),
+    "shape": Field("string", default="5-cell", choices=TARGET_SHAPES),
+    "color": Field("color", default=TARGET_COLOR),
+    "rotation": Field("angles", default=None, range=ANGLE),
+    "spin": Field("angles", default=None, range=SPIN),
+    "opens": Field("text", default="", range=Range(0, MAX_NAME_CHARS)),
+    "disguised": Field("bool", default=False),
+}
 #: The tables format 2 adds, by top-level key.
-MODELS = {"energy": ENERGY_TABLE, "radar": RADAR_TABLE, "crystal": CRYSTAL_TABLE}
+MODELS = {
+    "energy": ENERGY_TABLE,
+    "radar": RADAR_TABLE,
+    "crystal": CRYSTAL_TABLE,
+    "weapon": WEAPON_TABLE,
+    "target": TARGET_TABLE,
+}
 
 
 @dataclass
@@ -135,6 +212,122 @@ def read_crystals(r, data, w_range) -> list[CrystalSpec]:
                 v["color"],
                 v["spin"] if "spin" in t else dict(CRYSTAL_SPIN),
                 v["respawn"],
+            )
+        )
+    return out
+
+
+@dataclass
+class WeaponSpec:
+    """A ``[[weapon]]``: one of the player's weapons, in the order the level lists them.
+
+    Times in seconds, lengths in metres; ``cost_milli`` is the energy one use
+    costs, in thousandths. Fields that do not apply to ``kind`` keep their
+    defaults and are unused.
+
+    Attributes
+    ----------
+    kind : {"gun", "blast", "field"}
+    speed, amplitude, period, size, mass, lifetime, max_live
+        The gun's bullet: muzzle speed, the amplitude and period of its w
+        oscillation, its radius and mass, how long it lives, how many may fly.
+    radius, duration
+        The blast's and the field's reach, and how long they act.
+    ammo, max_ammo, refill
+        A gun with ``ammo >= 0`` fires rounds instead of paying energy: it starts
+        with ``ammo``, holds at most ``max_ammo`` and every crystal collected adds
+        ``refill``. ``ammo = -1`` (the default) pays ``cost`` from the energy bar.
+    """
+
+    kind: str
+    name: str
+    cost_milli: int
+    cooldown: float
+    speed: float = 12.0
+    amplitude: float = 1.0
+    period: float = 2.0
+    size: float = 0.15
+    mass: float = 0.5
+    lifetime: float = 6.0
+    max_live: int = 8
+    radius: float = 6.0
+    duration: float = 0.6
+    ammo: int = -1
+    max_ammo: int = 30
+    refill: int = 5
+
+
+@dataclass
+class TargetSpec:
+    """A ``[[target]]``: a 4D switch that reacts to a bullet.
+
+    ``position (4,) float64`` may lie at a w the player cannot reach; ``size``
+    is its radius (drawn and hit); hitting it removes the ``[[object]]`` named
+    ``opens`` (a door), if any. A ``disguised`` target is drawn like ordinary
+    scenery and stays off the radar.
+    """
+
+    name: str
+    position: np.ndarray
+    size: float = 0.4
+    shape: str = "5-cell"
+    color: tuple = TARGET_COLOR
+    rotation_deg: dict = field(default_factory=dict)
+    spin_deg: dict = field(default_factory=dict)
+    opens: str = ""
+    disguised: bool = False
+
+
+def read_weapons(r, data) -> list[WeaponSpec]:
+    """The ``[[weapon]]`` tables, in order (a level without them has no weapons)."""
+    out = []
+    for i, t in enumerate(r.entries(data, "weapon", "top level", lambda k: f"[[weapon]] #{k}"), 1):
+        where = f"[[weapon]] #{i}"
+        r.unknown(t, WEAPON_TABLE, where)
+        n = len(r.problems)
+        kind = r.read(t, WEAPON_TABLE, where, keys=("kind",))["kind"]
+        if len(r.problems) != n:
+            continue  # no defaults to read the rest by
+        defaults = WEAPON_FIELDS[kind]
+        for k in t:
+            if k in WEAPON_TABLE and k != "kind" and k not in defaults:
+                r.problem(where, f"field '{k}' does not apply to a {kind} (its fields: {', '.join(defaults)})")
+        v = r.read(t, WEAPON_TABLE, where, keys=list(defaults), **defaults)
+        counts = {}
+        for k in ("max_live", "ammo", "max_ammo", "refill"):
+            if k in v:
+                if v[k] != int(v[k]) and k in t:
+                    r.problem(where, f"field '{k}': expected a whole number, got {v[k]:g}")
+                counts[k] = int(v[k])
+        if "ammo" in t and "max_ammo" in v and v["ammo"] > v["max_ammo"]:
+            r.problem(where, f"field 'ammo': {v['ammo']:g} is more than 'max_ammo' ({v['max_ammo']:g})")
+        extra = {k: v[k] for k in defaults if k not in ("name", "cost", "cooldown") and k not in counts}
+        out.append(WeaponSpec(kind, v["name"], int(round(v["cost"] * MILLI)), v["cooldown"], **counts, **extra))
+    return out
+
+
+def read_targets(r, data, object_names) -> list[TargetSpec]:
+    """The ``[[target]]`` tables; ``opens`` must name one of ``object_names``."""
+    out = []
+    for i, t in enumerate(r.entries(data, "target", "top level", lambda k: f"[[target]] #{k}"), 1):
+        where = f"[[target]] #{i}"
+        r.unknown(t, TARGET_TABLE, where)
+        name = r.read(t, TARGET_TABLE, where, keys=("name",), name=f"target{i}")["name"]
+        where = f"[[target]] #{i} '{name}'"
+        v = r.read(t, TARGET_TABLE, where, keys=[k for k in TARGET_TABLE if k != "name"])
+        if v["opens"] and v["opens"] not in object_names:
+            r.problem(where, f"field 'opens': no [[object]] is named {v['opens']!r}")
+        out.append(
+            TargetSpec(
+                name,
+                v["position"],
+                v["size"],
+                v["shape"],
+                v["color"],
+                v["rotation"],
+                v["spin"],
+                v["opens"],
+                v["disguised"],
             )
         )
     return out

@@ -285,6 +285,8 @@ class Level:
     radar: gameplay.RadarSpec | None = None
     rolling_resistance: float = 0.0
     tets: int = 0  # estimated tetrahedra of the 4D content (objects and worlds)
+    weapons: list[gameplay.WeaponSpec] = field(default_factory=list)
+    targets: list[gameplay.TargetSpec] = field(default_factory=list)
 
     @property
     def bodies(self) -> int:
@@ -826,6 +828,8 @@ def load_level(path) -> Level:
     energy = gameplay.read_energy(r, data)
     radar = gameplay.read_radar(r, data)
     crystals = gameplay.read_crystals(r, data, w_range if w_ok else None)
+    weapons = gameplay.read_weapons(r, data)
+    targets = gameplay.read_targets(r, data, {o.name for o in objects})
 
     if r.problems:
         raise LevelError(path, r.problems)
@@ -850,4 +854,6 @@ def load_level(path) -> Level:
         crystals=crystals,
         energy=energy,
         radar=radar,
+        weapons=weapons,
+        targets=targets,
     )

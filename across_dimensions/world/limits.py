@@ -54,6 +54,8 @@ MAX_COUNTS = {
     "body": (200, "rigid bodies (objects with a body)"),
     "crystal": (1000, "crystals"),
     "hints": (20, "hints"),
+    "weapon": (9, "weapons (number keys 1 to 9 select them)"),
+    "target": (200, "targets"),
 }
 
 MAX_NAME_CHARS = 100  # level, world and object names
@@ -107,6 +109,12 @@ RADAR_RANGE = Range(1.0, 1e3, "m")
 RADAR_W_SCALE = Range(0.01, 100.0)  # disc radii per unit of w
 CRYSTAL_SIZE = Range(0.05, 5.0, "m")
 RESPAWN = Range(0.0, 3600.0, "s")
+WEAPON_SPEED = Range(0.1, 200.0, "m/s")  # a bullet's muzzle speed
+WEAPON_TIME = Range(0.0, 600.0, "s")  # cooldowns, periods, lifetimes, durations
+WEAPON_REACH = Range(0.01, 1000.0, "m")  # bullet radius and amplitude, blast and field radius
+BULLET_CAP = Range(1.0, 64.0)  # live bullets at once
+TARGET_SIZE = Range(0.05, 10.0, "m")
+AMMO = Range(0.0, 1e4)  # rounds a gun holds or a crystal gives
 
 # Rigid bodies: the envelope in which the physics step stays finite, found by
 # stepping random scenes for 600 ticks (4 bodies each: random shapes, sizes,

@@ -207,7 +207,8 @@ def level_bounds(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
 
 
 def build_physics(scene: Scene, tick_dt: float):
-    """The rigid-body world of a scene, or ``(None, {})`` when nothing in it moves.
+    """The rigid-body world of a scene, or ``(None, {})`` when nothing in it moves
+    (a level with a gun always has one: bullets are bodies).
 
     Bodies collide with the 3D geometry present at every w (as boxes
     extending over all w), with walls in w at both ends of the level's
@@ -224,7 +225,8 @@ def build_physics(scene: Scene, tick_dt: float):
         Object index to body id.
     """
     movers = [i for i, o in enumerate(scene.objects) if o.body != "none"]
-    if not movers:
+    guns = [wp for wp in getattr(scene.level, "weapons", ()) if wp.kind == "gun"]
+    if not movers and not guns:
         return None, {}
     from ..core.transform import PLANES
     from ..physics import BodyDef, PhysicsWorld
@@ -241,8 +243,11 @@ def build_physics(scene: Scene, tick_dt: float):
     # a body that rolled out along w would never be seen again (and, rolling
     # on forever, never sleep). A body's whole extent stays inside.
     lo, hi = level.w_range
-    world.add_half_space((0.0, 0.0, 0.0, -1.0), -hi)  # solid where w >= hi
-    world.add_half_space((0.0, 0.0, 0.0, 1.0), lo)  # solid where w <= lo
+    # A gun's bullets swing along w beyond where the player can go (that is how
+    # they hit targets out of reach), so with a gun the walls stand that much further out.
+    beyond = max((wp.amplitude + 2.0 * wp.size for wp in guns), default=0.0)
+    world.add_half_space((0.0, 0.0, 0.0, -1.0), -(hi + beyond))  # solid where w >= hi
+    world.add_half_space((0.0, 0.0, 0.0, 1.0), lo - beyond)  # solid where w <= lo
     # And an invisible box BOUNDS_MARGIN beyond everything in the level: a body
     # that falls off an edge, or through a thin floor at speed, lands on its
     # floor (a half-space: solid all the way down, so nothing tunnels through

@@ -17,10 +17,11 @@ their state on the game (``game.energy``) or on entities (``entity.data``), neve
 in module globals, so two games never share anything.
 """
 
-from . import crystals, energy, outcome, player, push, radar, rigid_bodies, scenery, sections
+from . import bullets, crystals, energy, outcome, player, push, radar, rigid_bodies, scenery, sections, weapons
 
 #: Tick order: energy first (new tick), the player moves, pushes bodies, physics
 #: runs, pickups, then the outcome. Frame order: scenery, entities, radar, HUD.
-SYSTEMS = (energy, player, push, rigid_bodies, crystals, outcome, scenery, sections, radar)
+#: Weapons fire and steer bullets before physics; bullets read its contacts after.
+SYSTEMS = (energy, player, push, weapons, rigid_bodies, bullets, crystals, outcome, scenery, sections, radar)
 
 __all__ = ["SYSTEMS"]

@@ -1,0 +1,90 @@
+"""Bullets after the physics tick: what they touched, the targets they hit, and their end.
+
+A bullet's first contact ends its prescribed flight (from then on physics moves
+it: it pushes what it hit, falls and rolls). A bullet whose centre comes within
+a target's size plus its own radius hits the target and is spent: the
+target's door (the object named by ``opens``) is removed. A bullet is removed after its lifetime or
+once it sleeps; the blast's finished pulls are settled here too.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import weapons as wp
+from ..events import BulletHit, TargetHit
+
+
+def _contacts(game, ars) -> None:
+    bullets = set(ars.bullets)
+    for c in game.physics.events:
+        if not c.began:
+            continue
+        ends = [(c.a, c.b), (c.b, c.a)] if not isinstance(c.b, str) else [(c.a, c.b)]
+        for mine, other in ends:
+            eid = game.entity_of_body.get(mine)
+            if eid not in bullets:
+                continue
+            e = game.entities.get(eid)
+            if isinstance(other, str):
+                what, oid = "world", None
+            else:
+                oid = game.entity_of_body.get(other)
+                oe = game.entities.get(oid) if oid is not None else None
+                what = "bullet" if oe is not None and oe.kind == "bullet" else "body"
+            if not e.data.contacted or what == "body":
+                game.emit(BulletHit(eid, what, oid))
+                if what == "body":
+                    ars.hit_tick = game.tick
+            e.data.contacted = True
+
+
+def _targets(game, ars) -> None:
+    targets = [t for t in game.entities.of_kind("target") if not t.data.hit]
+    if not targets:
+        return
+    tc = np.array([t.center(game) for t in targets])
+    tr = np.array([t.radius for t in targets])
+    for eid in list(ars.bullets):
+        b = game.entities.get(eid)
+        d = np.linalg.norm(tc - b.center(game), axis=1)
+        for k in np.flatnonzero(d <= tr + b.radius)[:1]:  # the nearest in firing order is enough
+            t = targets[k]
+            if t.data.hit:
+                continue
+            t.data.hit = True
+            # A hit target changes its look (after the field's wireframe, if it is showing).
+            own = ars.wired[t.id][0] if t.id in ars.wired else t.style
+            looks = "glow" if own != "glow" else "solid"
+            if t.id in ars.wired:
+                ars.wired[t.id] = (looks, ars.wired[t.id][1])
+            else:
+                t.style = looks
+            opened = ""
+            door = game.entities.named(t.data.spec.opens) if t.data.spec.opens else None
+            if door is not None and door.kind in ("object", "body"):
+                game.remove(door.id)
+                opened = t.data.spec.opens
+            ars.hit_tick = game.tick
+            game.emit(BulletHit(eid, "target", t.id))
+            game.emit(TargetHit(t.id, eid, opened))
+            # The switch takes the bullet: one shot never throws two switches.
+            ars.bullets.remove(eid)
+            game.remove(eid)
+
+
+def step(game, actions) -> None:
+    ars = getattr(game, "arsenal", None)
+    if ars is None:
+        return
+    wp.settle_pulled_bodies(game)
+    if not ars.bullets:
+        return
+    _contacts(game, ars)
+    _targets(game, ars)
+    for eid in list(ars.bullets):
+        e = game.entities.get(eid)
+        old = (game.tick + 1 - e.data.born) * game.dt >= e.data.spec.lifetime
+        if old or game.physics.is_sleeping(e.motion.body):
+            ars.bullets.remove(eid)
+            game.remove(eid)

@@ -1,0 +1,91 @@
+"""The player's weapons, before physics runs: switching, firing, the blast's pull, the field's timer.
+
+Presses (``next_weapon``, ``previous_weapon``, ``weapon_1`` ... ``weapon_3``,
+``fire``) are one-shot actions, so a quick tap is never lost. Using a weapon
+costs its ``cost`` from the energy bar (free in a level without one), or one
+round for a gun with ammunition (crystals refill it), and starts its cooldown;
+without enough energy or rounds nothing fires and the HUD says so. See
+:mod:`..weapons` for what each weapon does.
+"""
+
+from __future__ import annotations
+
+from .. import weapons as wp
+from ..events import Blast, FieldCast, ShotFired, WeaponRefused, WeaponSelected
+from ..frame import WeaponPanel
+
+
+def _select(game, ars, actions) -> None:
+    n = len(ars.specs)
+    slot = ars.slot
+    slot = (slot + actions.pressed("next_weapon") - actions.pressed("previous_weapon")) % n
+    for k in range(min(n, 3)):
+        if actions.pressed(f"weapon_{k + 1}"):
+            slot = k
+    if slot != ars.slot:
+        ars.slot = slot
+        game.emit(WeaponSelected(slot, ars.current.kind))
+
+
+def _use(game, ars) -> None:
+    spec = ars.current
+    if game.tick < ars.ready[ars.slot]:
+        game.emit(WeaponRefused(spec.kind, "cooldown"))
+        return
+    if ars.rounds[ars.slot] == 0:
+        ars.refused_tick, ars.refused_text = game.tick, "OUT OF AMMO"
+        game.emit(WeaponRefused(spec.kind, "ammo"))
+        return
+    if ars.rounds[ars.slot] > 0:
+        ars.rounds[ars.slot] -= 1
+    elif game.energy is not None and not game.energy.spend(game, spec.cost_milli, spec.kind):
+        ars.refused_tick, ars.refused_text = game.tick, "NOT ENOUGH ENERGY"
+        game.emit(WeaponRefused(spec.kind, "energy"))
+        return
+    ars.ready[ars.slot] = game.tick + max(1, round(spec.cooldown / game.dt))
+    ars.fired_tick = game.tick
+    w = float(game.player.position[3])
+    if spec.kind == "gun":
+        e = wp.fire_bullet(game, spec)
+        game.emit(ShotFired(e.id, w))
+    elif spec.kind == "blast":
+        game.emit(Blast(w, tuple(wp.blast(game, spec))))
+    else:
+        shown = wp.cast_field(game, spec)
+        game.emit(FieldCast(tuple(shown), max(1, round(spec.duration / game.dt))))
+
+
+def step(game, actions) -> None:
+    ars = wp.setup(game)
+    if ars is None:
+        return
+    wp.expire_field(game)
+    wp.refill(game)
+    if ars.specs:
+        _select(game, ars, actions)
+        for _ in range(actions.pressed("fire")):
+            _use(game, ars)
+    wp.advance_pulls(game)
+    if ars.bullets:
+        wp.steer_bullets(game)
+
+
+def draw(game, frame, alpha) -> None:
+    ars = getattr(game, "arsenal", None)
+    if ars is None or not ars.specs:
+        return
+    spec = ars.current
+    left = ars.ready[ars.slot] - game.tick
+    total = max(1, round(spec.cooldown / game.dt))
+    frame.hud.weapon = WeaponPanel(
+        spec.name,
+        ars.slot + 1,
+        len(ars.specs),
+        spec.cost_milli / 1000,
+        cooldown=min(max(left / total, 0.0), 1.0),
+        flash=max(0.0, 1.0 - (game.tick - ars.fired_tick) / wp.FLASH_TICKS),
+        refused=ars.refused_text if game.tick - ars.refused_tick < wp.REFUSED_TICKS else "",
+        live=len(ars.bullets) if spec.kind == "gun" else -1,
+        ammo=ars.rounds[ars.slot],
+    )
+    frame.hud.hit_marker = max(0.0, 1.0 - (game.tick - ars.hit_tick) / wp.HIT_MARKER_TICKS)
