@@ -217,6 +217,11 @@ class LevelEditor:
 
         self._do(f"set {self.where(ref)} {key}", change, key=(ref, key), merge=merge)
 
+    def seal(self) -> None:
+        """End the current drag: the next change of the same field is a step of its own."""
+        if self.undo_stack:
+            self.undo_stack[-1].key = None
+
     def add(self, kind: str, values: dict | None = None, parent: Ref | None = None) -> Ref:
         """Append a new ``[[kind]]`` (inside the world ``parent`` for ``box`` or ``mesh``) and select it.
 
