@@ -24,6 +24,7 @@ from pathlib import Path
 import tomlkit
 
 from ..core import fileio
+from . import gameplay
 from .fields import REQUIRED, Field
 from .level import MODELS, Level, LevelError, load_level
 
@@ -177,6 +178,10 @@ class LevelEditor:
         """Field ``key`` as the loader would read it: written value or the model's default."""
         f = model_of(ref).get(key)
         default = None if f is None or f.default is REQUIRED else f.default
+        if key == "color" and len(ref) == 4 and ref[0] == "world":  # a world's parts take its colour
+            default = self.get(ref[:2], "color", default)
+        if key == "spin" and ref[0] == "crystal":  # crystals turn unless told otherwise
+            default = dict(gameplay.CRYSTAL_SPIN)
         return self.get(ref, key, default)
 
     # ----------------------------------------------------------- editing

@@ -33,14 +33,14 @@ from ...render.context import Offscreen
 from ...world.level_edit import LevelEditor
 from ...world.scene import SectionCache
 from . import view
-from .panels import Panels
+from .panels import PANEL_LEFT, PANEL_W, Panels
 
 HANDLED = pyglet.event.EVENT_HANDLED
 FLY_SPEED = 6.0  # metres per second
 W_SPEED = 0.6  # slice w per second with the w keys
 LOOK_RATE = 0.005  # radians per pixel of right-drag
 REBUILD_EVERY = 0.25  # seconds between preview-game rebuilds during a drag (a rebuild is 10-250 ms)
-PREVIEW_SIZE = (150, 112)
+PREVIEW_SIZE = (128, 96)
 PREVIEW_OFFSETS = (-2, -1, 0, 1, 2)  # in steps of preview_step
 W_MARGIN = 0.5  # the scrubber reaches a little beyond the level's w_range
 
@@ -275,7 +275,7 @@ class EditorMode:
         elif action == "editor_play_here":
             self.play_from_here()
         elif action == "screenshot":
-            self.screenshot()
+            self.window._pending_shot = True  # noqa: SLF001 - taken after the next frame is drawn
         elif action == "toggle_fullscreen":
             self.window.set_fullscreen(not self.window.fullscreen)
         elif symbol == key.DELETE:
@@ -401,7 +401,9 @@ class EditorMode:
         frames = view.preview_frames(self.preview, sel, self.cam.w, offsets, self.sections, self.time)
         x0, y0, vw, _ = viewport
         pw, ph = PREVIEW_SIZE
-        left = x0 + (vw - len(frames) * (pw + 6)) // 2
+        # Centred between the outline and the inspector (the panels' default places).
+        free_left, free_right = x0 + PANEL_LEFT, x0 + vw - PANEL_W
+        left = max(x0, (free_left + free_right - len(frames) * (pw + 6)) // 2)
         for k, (w, f) in enumerate(frames):
             rect = (left + k * (pw + 6), y0 + 160, pw, ph)
             r.draw(f, rect, hud=False, view=f"preview{k}")

@@ -25,7 +25,8 @@ RED = imgui.ImVec4(1.0, 0.4, 0.35, 1.0)
 GREY = imgui.ImVec4(0.6, 0.6, 0.65, 1.0)
 YELLOW = imgui.ImVec4(1.0, 0.85, 0.3, 1.0)
 ADDABLE = ("box", "object", "world", "crystal", "mesh")  # the Add menu (a world's box: Add > box in world)
-PANEL_W = 330
+PANEL_W = 330  # the inspector's width
+PANEL_LEFT = 250  # the outline's width
 
 
 def _short(problem: str, ref_where: str) -> str:
@@ -115,7 +116,7 @@ class Panels:
     def outline(self, height: int) -> None:
         m = self.model
         imgui.set_next_window_pos(imgui.ImVec2(0, 20), imgui.Cond_.first_use_ever)
-        imgui.set_next_window_size(imgui.ImVec2(250, min(height - 150, 520)), imgui.Cond_.first_use_ever)
+        imgui.set_next_window_size(imgui.ImVec2(PANEL_LEFT, min(height - 150, 520)), imgui.Cond_.first_use_ever)
         imgui.begin("Level")
         bad = {tuple(r) for r in m.entries() if m.problems_for(r)} if m.problems else set()
         for ref in m.entries():
@@ -144,9 +145,14 @@ class Panels:
             return
         imgui.text_colored(YELLOW, m.label(ref).strip())
         imgui.push_item_width(-110)
+        table = m.table(ref)
         for key, f in model_of(ref).items():
             if f.kind in ("tables", "hints"):
                 continue
+            if ref[0] == "object" and key in ("shape", "asset", "depth", "params"):
+                uses = "asset" if "asset" in table else "shape"
+                if key != uses and (key != "depth" or uses != "asset") and (key != "params" or uses != "shape"):
+                    continue  # a 4D object is a shape or a lifted asset: only its own fields
             imgui.push_id(key)
             self.field(ref, key, f)
             for p in m.problems_for(ref, key):
@@ -209,7 +215,7 @@ class Panels:
             self.params(ref, key, value or {})
         if not written:
             imgui.pop_style_color()
-        elif f.default is not REQUIRED:
+        elif f.default is not REQUIRED and kind not in ("angles", "params"):
             imgui.same_line()
             if imgui.small_button("x"):
                 m.set(ref, key, None)  # back to the default
@@ -253,6 +259,11 @@ class Panels:
     def angles(self, ref, key, value: dict) -> None:
         """The six rotation planes as sliders (degrees; degrees per second for spin)."""
         imgui.text(key + (" (deg/s)" if key == "spin" else " (deg)"))
+        if value:
+            imgui.same_line()
+            if imgui.small_button("x"):
+                self.model.set(ref, key, None)
+                return
         lim = 360.0 if key == "spin" else 180.0
         out = dict(value)
         changed_any = False
@@ -288,8 +299,8 @@ class Panels:
     # ------------------------------------------------------------ w scrubber
     def scrubber(self, width: int, height: int) -> None:
         mode = self.mode
-        imgui.set_next_window_pos(imgui.ImVec2(250, height - 150), imgui.Cond_.first_use_ever)
-        imgui.set_next_window_size(imgui.ImVec2(width - 250 - PANEL_W, 128), imgui.Cond_.first_use_ever)
+        imgui.set_next_window_pos(imgui.ImVec2(PANEL_LEFT, height - 150), imgui.Cond_.first_use_ever)
+        imgui.set_next_window_size(imgui.ImVec2(width - PANEL_LEFT - PANEL_W, 128), imgui.Cond_.first_use_ever)
         imgui.begin("w", None, imgui.WindowFlags_.no_collapse)
         lo, hi = mode.w_limits()
         imgui.push_item_width(-60)
@@ -314,7 +325,7 @@ class Panels:
         problems = m.problems
         imgui.set_next_window_pos(imgui.ImVec2(0, height - 22))
         imgui.set_next_window_size(imgui.ImVec2(width, 22))
-        flags = imgui.WindowFlags_.no_decoration | imgui.WindowFlags_.no_inputs | imgui.WindowFlags_.no_background
+        flags = imgui.WindowFlags_.no_decoration | imgui.WindowFlags_.no_inputs
         imgui.begin("status", None, flags)
         name = m.path.name + (" *" if m.dirty else "")
         text = f"{name}   {len(problems)} problem(s)" if problems else f"{name}   ok"
