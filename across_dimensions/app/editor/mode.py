@@ -27,7 +27,6 @@ from imgui_bundle import imgui
 from imgui_bundle.python_backends import pyglet_backend
 
 from ...core.errors import InputError
-from ...game.player import EYE_HEIGHT
 from ...game.sim import Game
 from ...render.context import Offscreen
 from ...world.level_edit import LevelEditor
@@ -130,27 +129,19 @@ class EditorMode:
         w.set_exclusive_mouse(True)
         w.set_caption(f"Across Dimensions - {w.game.level.name}")
 
-    def _new_game(self):
+    def _new_game(self, cam=None):
         level, problems = self.model.check()
         if level is None:
             self.message = f"cannot play: {len(problems)} problem(s) in the level"
             return None
         self._game_text = self.model.text()
-        return Game(level, seed=self.window.seed)
+        return view.game_at(level, cam, seed=self.window.seed)
 
     def play_from_here(self) -> None:
         """Drop the player into the edited level at the editor camera's place, heading and w."""
-        game = self._new_game()
-        if game is None:
-            return
-        lo, hi = game.level.w_range
-        p = game.player
-        c = self.cam
-        p.position = np.array([c.position[0], c.position[1] - EYE_HEIGHT, c.position[2], np.clip(c.w, lo, hi)])
-        p.yaw, p.pitch = float(c.yaw), float(np.clip(c.pitch, -1.4, 1.4))
-        game._prev_eye = p.eye()  # noqa: SLF001 - no interpolation from the spawn
-        game._prev_view = (p.yaw, p.pitch)  # noqa: SLF001
-        self._start(game, f"Playing from the editor's camera - {self.key_name('editor')} returns to the editor")
+        game = self._new_game(self.cam)
+        if game is not None:
+            self._start(game, f"Playing from the editor's camera - {self.key_name('editor')} returns to the editor")
 
     def back_to_game(self) -> None:
         """Back to the game as it was, or the edited level from its spawn if it changed since."""

@@ -22,7 +22,7 @@ from ...core.frustum import focal_length, frustum_project
 from ...core.mesh import TriMesh3
 from ...core.transform import translation
 from ...game.frame import Camera3, Drawable, Frame, Hud
-from ...game.player import EYE_HEIGHT
+from ...game.player import EYE_HEIGHT, MAX_PITCH
 from ...world.geometry import box_trimesh
 from ...world.scene import SectionCache
 
@@ -36,6 +36,7 @@ SELECT_COLOR = (1.0, 0.85, 0.1, 1.0)
 SPAWN_SIZE = (0.6, 1.75, 0.6)  # the walker's bounds, to show and pick the spawn point
 SPAWN_RISE = 1.0  # the editor starts this far above the player's eye at the spawn: a designer's overview
 OUTLINE_GROW = 1.02  # the outline sits just outside the box so it is not hidden in it
+PITCH_LIMIT = 1.5  # radians: the editor camera stops short of straight up or down
 
 
 @dataclass
@@ -60,7 +61,7 @@ class EditorCamera:
 
     def look(self, dyaw: float, dpitch: float) -> None:
         self.yaw += dyaw
-        self.pitch = float(np.clip(self.pitch + dpitch, -1.5, 1.5))
+        self.pitch = float(np.clip(self.pitch + dpitch, -PITCH_LIMIT, PITCH_LIMIT))
 
     @classmethod
     def at_spawn(cls, level) -> EditorCamera:
@@ -76,6 +77,23 @@ def place(game, cam: EditorCamera) -> None:
     p.yaw, p.pitch = float(cam.yaw), float(cam.pitch)
     game._prev_eye = p.eye()  # noqa: SLF001 - no tick in between: draw exactly at the camera
     game._prev_view = (p.yaw, p.pitch)  # noqa: SLF001
+
+
+def game_at(level, cam: EditorCamera | None = None, seed: int = 0):
+    """A new game of ``level``; with ``cam``, its player starts at the camera's place, heading and w
+    (w kept inside the level's range) instead of the spawn: "play from here"."""
+    from ...game.sim import Game
+
+    game = Game(level, seed=seed)
+    if cam is not None:
+        lo, hi = level.w_range
+        p = game.player
+        c = cam.position
+        p.position = np.array([c[0], c[1] - EYE_HEIGHT, c[2], float(np.clip(cam.w, lo, hi))])
+        p.yaw, p.pitch = float(cam.yaw), float(np.clip(cam.pitch, -MAX_PITCH, MAX_PITCH))
+        game._prev_eye = p.eye()  # noqa: SLF001 - no interpolation from the spawn
+        game._prev_view = (p.yaw, p.pitch)  # noqa: SLF001
+    return game
 
 
 def entity_of(game, ref):
@@ -107,11 +125,6 @@ def entry_box(level, ref) -> tuple[np.ndarray, np.ndarray] | None:
     else:
         return None
     return b.center - b.size / 2, b.center + b.size / 2
-
-
-def _world_present(level, i: int, w: float) -> bool:
-    world = level.worlds[i]
-    return abs(w - world.w) < world.depth / 2
 
 
 def editor_frame(game, cam: EditorCamera, selected=None, frustum: bool = False, time: float = 0.0) -> Frame:
@@ -179,6 +192,10 @@ def outline(game, ref, w: float) -> list[Drawable]:
     """The selected entry drawn as a yellow wireframe: its bounds, or its section at ``w``."""
     level = game.level
     box = entry_box(level, ref)
+    if box is not None and ref[0] == "world" and ref[1] < len(game.scene.worlds):
+        parts = game.scene.worlds[ref[1]].boxes_at(w)  # as sliced at w (the full box where it is absent)
+        if ref[3] < len(parts) and not np.isnan(parts[ref[3]]).any():
+            box = parts[ref[3]]
     if box is not None:
         lo, hi = box
         mesh = box_trimesh((lo + hi) / 2, (hi - lo) * OUTLINE_GROW, SELECT_COLOR)
@@ -238,8 +255,11 @@ def pick(game, cam: EditorCamera, x: float, y: float, aspect: float, refs) -> tu
         t = None
         box = entry_box(level, ref)
         if box is not None:
-            if ref[0] == "world" and not _world_present(level, ref[1], w):
-                continue
+            if ref[0] == "world":  # a world's box as sliced at w: shrunk by the profile, or absent
+                parts = game.scene.worlds[ref[1]].boxes_at(w) if ref[1] < len(game.scene.worlds) else []
+                if ref[3] >= len(parts) or np.isnan(parts[ref[3]]).any():
+                    continue
+                box = parts[ref[3]]
             t = _hit_box(o, d, *box)
         else:
             e = entity_of(game, ref)
