@@ -27,6 +27,7 @@ from imgui_bundle import imgui
 from imgui_bundle.python_backends import pyglet_backend
 
 from ...core.errors import InputError
+from ...game.frame import Camera3, Frame
 from ...game.sim import Game
 from ...render.context import Offscreen
 from ...world.level_edit import LevelEditor
@@ -94,6 +95,22 @@ class EditorMode:
             self.preview = Game(level)
             self._preview_text = text
             self._built_at = now
+            self.sections = SectionCache()
+            self.drop_gpu_meshes()
+
+    def drop_gpu_meshes(self) -> None:
+        """Make the renderer upload every mesh anew.
+
+        A new game names its meshes with the same keys and revisions as the last
+        one (``entity:3``, revision 0) although they may differ (an edited box,
+        another shape), and the renderer re-uploads a key only when its revision
+        changes. Forgetting every view and drawing an empty frame releases them all.
+        """
+        r = self.window.renderer
+        for name in ("main", *(f"preview{k}" for k in range(len(PREVIEW_OFFSETS)))):
+            r.forget_view(name)
+        self.window.ctx.screen.use()
+        r.draw(Frame(Camera3(np.zeros(3))), (0, 0, 1, 1), hud=False, view="main")
 
     def w_limits(self) -> tuple[float, float]:
         lo, hi = self.preview.level.w_range
@@ -114,12 +131,14 @@ class EditorMode:
             self.cam = view.EditorCamera(p.eye().copy(), float(p.yaw), float(p.pitch), float(p.position[3]))
         self.active = True
         self._last = None
+        self.drop_gpu_meshes()  # the game's meshes and the preview game's share keys
         w.set_exclusive_mouse(False)
         w.push_handlers(self)
         w.set_caption(f"Across Dimensions - editing {self.model.path.name}")
 
     def leave(self) -> None:
         w = self.window
+        self.drop_gpu_meshes()
         w.remove_handlers(self)
         self.active = False
         self.held.clear()

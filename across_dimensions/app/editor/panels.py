@@ -19,12 +19,14 @@ from imgui_bundle import imgui
 
 from ...core.transform import PLANES
 from ...world.fields import REQUIRED
-from ...world.level_edit import WORLD_CHILDREN, model_of
+from ...world.level import MODELS
+from ...world.level_edit import SINGLE_TABLES, WORLD_CHILDREN, model_of
 
 RED = imgui.ImVec4(1.0, 0.4, 0.35, 1.0)
 GREY = imgui.ImVec4(0.6, 0.6, 0.65, 1.0)
 YELLOW = imgui.ImVec4(1.0, 0.85, 0.3, 1.0)
-ADDABLE = ("box", "object", "world", "crystal", "mesh")  # the Add menu (a world's box: Add > box in world)
+#: The Add menu: every array of tables of the format (tables the game's systems add appear by themselves).
+ADDABLE = tuple(k for k in MODELS if k not in SINGLE_TABLES)
 PANEL_W = 330  # the inspector's width
 PANEL_LEFT = 250  # the outline's width
 

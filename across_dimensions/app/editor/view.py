@@ -301,8 +301,9 @@ def preview_frames(game, ref, w: float, offsets, cache: SectionCache, time: floa
     eye = center - 2.6 * r * cam3.forward()
     out = []
     for k, dw in enumerate(offsets):
-        tri, rev = cache.section(f"preview:{k}", mesh, model, w + dw)
+        key = f"preview:{'/'.join(map(str, ref))}:{k}"  # one cache entry per entry: another mesh, another key
+        tri, rev = cache.section(key, mesh, model, w + dw)
         frame = Frame(Camera3(eye, yaw, pitch, fov_y_deg=50.0), hud=Hud(w=w + dw))
-        frame.drawables.append(Drawable(f"preview:{k}", rev, tri, style=e.style if e is not None else "solid"))
+        frame.drawables.append(Drawable(key, rev, tri, style=e.style if e is not None else "solid"))
         out.append((w + dw, frame))
     return out
