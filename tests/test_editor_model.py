@@ -177,3 +177,27 @@ def test_removing_a_field_restores_its_default(cache):
     assert "spin =" not in ed.text()
     assert ed.check()[0].objects[0].spin_deg == {}
     assert ed.value(("object", 0), "body") == "none"  # unwritten: the model's default
+
+
+@pytest.mark.parametrize("kind", ["box", "mesh", "world", "object", "crystal"])
+def test_every_kind_is_added_valid_and_removed_by_undo(cache, kind):
+    ed = LevelEditor(cache)
+    before = ed.text()
+    ref = ed.add(kind)
+    assert ed.problems == [], ed.problems
+    assert ed.exists(ref) and ref in ed.entries()
+    ed.undo()
+    assert ed.text() == before and ed.selection is None
+
+
+def test_a_level_without_a_kind_gets_its_first_entry(tmp_path):
+    first = next(p for p in LEVELS if p.name.startswith("01_"))
+    p = tmp_path / first.name
+    shutil.copy(first, p)
+    ed = LevelEditor(p)
+    assert "crystal" not in ed.doc
+    ed.set(("level",), "format", 2)
+    ref = ed.add("crystal", {"position": [0.0, 1.0, 0.0, 0.0]})
+    assert ref == ("crystal", 0) and ed.problems == []
+    ed.save()
+    assert [c.name for c in load_level(p).crystals] == ["new crystal"]
