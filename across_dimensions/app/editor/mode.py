@@ -8,8 +8,9 @@ the editor pops them, so the game resumes exactly where it was.
 Controls (Unity- and Godot-like): hold the right mouse button and drag to
 look, W A S D to fly, Space and C up and down, the wheel to move forward;
 E and Q (the game's w keys) move the slice along w, as does the scrubber.
-Left click selects; dragging the selection moves it in the plane facing the
-camera. Ctrl+Z / Ctrl+Y (or Ctrl+Shift+Z) undo and redo, Ctrl+S saves,
+Left click selects; the move gizmo's arrows and squares (ImGuizmo) move the
+selection along an axis or in a plane, and dragging the selection itself moves
+it in the plane facing the camera. Ctrl+Z / Ctrl+Y (or Ctrl+Shift+Z) undo and redo, Ctrl+S saves,
 Ctrl+D duplicates, Delete deletes, F frames the selection, P toggles the
 frustum projection. The game's ``editor_play_here`` key (F5) plays from the
 editor's camera and w; its ``editor`` key (F2) goes back to the game, and
@@ -23,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 import pyglet
-from imgui_bundle import imgui
+from imgui_bundle import imgui, imguizmo
 from imgui_bundle.python_backends import pyglet_backend
 
 from ...core.errors import InputError
@@ -43,6 +44,7 @@ REBUILD_EVERY = 0.25  # seconds between preview-game rebuilds during a drag (a r
 PREVIEW_SIZE = (128, 96)
 PREVIEW_OFFSETS = (-2, -1, 0, 1, 2)  # in steps of preview_step
 W_MARGIN = 0.5  # the scrubber reaches a little beyond the level's w_range
+MENU_BAR = 20  # pixels: ImGui's main menu bar with its default font
 
 
 class EditorMode:
@@ -258,6 +260,20 @@ class EditorMode:
                 return np.array([*spec.boxes[0].center, spec.w]), float(np.linalg.norm(spec.boxes[0].size) / 2)
         return None, 0.0
 
+    def move_target(self):
+        """``(ref, key, value, centre (3,))`` of the selection when it can be moved (a position or a
+        centre), else None."""
+        sel = self.model.selection
+        if sel is None or not self.model.exists(sel):
+            return None
+        table = self.model.table(sel)
+        key = "center" if "center" in table else "position" if "position" in table else None
+        value = self.model.get(sel, key) if key else None
+        if not isinstance(value, list):
+            return None
+        c, _ = self._selection_center()
+        return None if c is None else (sel, key, value, np.asarray(c[:3], float))
+
     # ------------------------------------------------------------ events
     def _ndc(self, x, y):
         ww, wh = self.window.get_size()
@@ -311,8 +327,8 @@ class EditorMode:
 
     def on_mouse_press(self, x, y, button, modifiers):
         self.impl.on_mouse_press(x, y, button, modifiers)
-        if imgui.get_io().want_capture_mouse:
-            return HANDLED
+        if imgui.get_io().want_capture_mouse or imguizmo.im_guizmo.is_over():
+            return HANDLED  # a panel or the move gizmo has it
         if button == pyglet.window.mouse.RIGHT:
             self.looking = True
         elif button == pyglet.window.mouse.LEFT:
@@ -409,13 +425,13 @@ class EditorMode:
             return
         offsets = [k * self.preview_step for k in PREVIEW_OFFSETS]
         frames = view.preview_frames(self.preview, sel, self.cam.w, offsets, self.sections, self.time)
-        x0, y0, vw, _ = viewport
+        x0, y0, vw, vh = viewport
         pw, ph = PREVIEW_SIZE
         # Centred between the outline and the inspector (the panels' default places).
         free_left, free_right = x0 + PANEL_LEFT, x0 + vw - PANEL_W
         left = max(x0, (free_left + free_right - len(frames) * (pw + 6)) // 2)
         for k, (w, f) in enumerate(frames):
-            rect = (left + k * (pw + 6), y0 + 160, pw, ph)
+            rect = (left + k * (pw + 6), y0 + vh - MENU_BAR - 4 - ph, pw, ph)  # along the top of the view
             r.draw(f, rect, hud=False, view=f"preview{k}")
             self.preview_rects.append((rect, w))
 

@@ -15,7 +15,8 @@ from __future__ import annotations
 
 import math
 
-from imgui_bundle import imgui
+import numpy as np
+from imgui_bundle import imgui, imguizmo
 
 from ...core.transform import PLANES
 from ...world.fields import REQUIRED
@@ -43,6 +44,7 @@ class Panels:
     def __init__(self, mode):
         self.mode = mode
         self.show_previews = True
+        self._gizmo_start = None  # (ref, value, centre) when a gizmo drag began
 
     @property
     def model(self):
@@ -50,6 +52,7 @@ class Panels:
 
     # ------------------------------------------------------------ frame
     def draw(self, width: int, height: int) -> None:
+        self.gizmo(width, height)
         self.menu_bar()
         self.outline(height)
         self.inspector(width, height)
@@ -63,6 +66,38 @@ class Panels:
     def _after_widget(self) -> None:
         if imgui.is_item_deactivated_after_edit():
             self.model.seal()
+
+    # ------------------------------------------------------------ move gizmo
+    def gizmo(self, width: int, height: int) -> None:
+        """ImGuizmo's translate arrows on the selection (drawn under the panels); one drag, one undo step."""
+        g = imguizmo.im_guizmo
+        g.begin_frame()
+        m, mode = self.model, self.mode
+        target = mode.move_target()
+        if target is None:
+            self._gizmo_start = None
+            return
+        ref, key, value, center = target
+        g.set_drawlist(imgui.get_background_draw_list())
+        g.allow_axis_flip(False)  # +x +y +z always point their true way (ImGuizmo flips them to face you)
+        g.set_rect(0.0, 0.0, float(width), float(height))
+        cam = mode.cam.camera3()
+        # ImGuizmo takes OpenGL's column-major matrices: the transpose of ours, flattened.
+        view_m = g.Matrix16(list(cam.view_matrix().T.ravel()))
+        proj_m = g.Matrix16(list(cam.projection_matrix(width / max(height, 1)).T.ravel()))
+        obj = np.eye(4)
+        obj[:3, 3] = center
+        obj_m = g.Matrix16(list(obj.T.ravel()))
+        if g.manipulate(view_m, proj_m, g.OPERATION.translate, g.MODE.world, obj_m):
+            if self._gizmo_start is None:
+                self._gizmo_start = (ref, list(value), np.array(center))
+            _, start, start_center = self._gizmo_start
+            moved = np.asarray(obj_m.values[12:15], float) - start_center
+            new = [_tidy(start[i] + moved[i], 3) for i in range(3)] + start[3:]
+            m.set(ref, key, new, merge=True)
+        if not g.is_using() and self._gizmo_start is not None:
+            self._gizmo_start = None
+            m.seal()
 
     # ------------------------------------------------------------ menus
     def menu_bar(self) -> None:
