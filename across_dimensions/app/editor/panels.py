@@ -184,7 +184,7 @@ class Panels:
         imgui.push_item_width(-110)
         table = m.table(ref)
         for key, f in model_of(ref).items():
-            if f.kind in ("tables", "hints"):
+            if f.kind == "tables":
                 continue
             if ref[0] == "object" and key in ("shape", "asset", "depth", "params"):
                 uses = "asset" if "asset" in table else "shape"
@@ -213,7 +213,12 @@ class Panels:
         if not written:
             imgui.push_style_color(imgui.Col_.text, GREY)  # shows the default; editing writes it
         kind = f.kind
-        if kind == "number":
+        if kind == "number" and isinstance(value, int) and not isinstance(value, bool):
+            changed, n = imgui.drag_int(key, value, 0.05)  # written as a whole number (format = 2): keep it one
+            self._after_widget()
+            if changed:
+                self._edited(ref, key, n)
+        elif kind == "number":
             speed = 1.0 if key in ("yaw",) else 0.01
             v = float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else 0.0
             changed, v = imgui.drag_float(key, v, speed, 0.0, 0.0, "%.3f")
@@ -250,9 +255,11 @@ class Panels:
                 self._edited(ref, key, v)
         elif kind == "params":
             self.params(ref, key, value or {})
+        elif kind == "hints":
+            self.hints(ref, key, list(value or []))
         if not written:
             imgui.pop_style_color()
-        elif f.default is not REQUIRED and kind not in ("angles", "params"):
+        elif f.default is not REQUIRED and kind not in ("angles", "params", "hints"):
             imgui.same_line()
             if imgui.small_button("x"):
                 m.set(ref, key, None)  # back to the default
@@ -313,6 +320,21 @@ class Panels:
         if changed_any:
             ordered = {p: out[p] for p in [*value, *PLANES] if p in out and (out[p] != 0.0 or p in value)}
             self._edited(ref, key, ordered)
+
+    def hints(self, ref, key, value: list) -> None:
+        """The level's hints, one line each ({action} placeholders become the player's keys)."""
+        imgui.text("hints")
+        for i, h in enumerate(value):
+            changed, text = imgui.input_text(f"hint {i + 1}", h if isinstance(h, str) else "")
+            self._after_widget()
+            if changed:
+                self._edited(ref, key, value[:i] + [text] + value[i + 1 :])
+            imgui.same_line()
+            if imgui.small_button(f"x##{i}"):
+                self.model.set(ref, key, value[:i] + value[i + 1 :] or None)
+                return
+        if imgui.small_button("add a hint"):
+            self.model.set(ref, key, [*value, "New hint: press {w_ana} to move ana."])
 
     def params(self, ref, key, value: dict) -> None:
         from ...core.shapes import SHAPE_PARAM_RULES
