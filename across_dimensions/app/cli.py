@@ -11,6 +11,7 @@
     shape NAME [--param k=v ...] -o OUT.npz
     lift MESH --depth D -o OUT.npz
     bench [--quick] [--no-physics]
+    edit LEVEL                         the level editor (the optional extra 'editor')
 
 Errors a user can cause (bad arguments, files, levels, replays, meshes) are
 :class:`~across_dimensions.core.errors.InputError` and print one ``error:`` line
@@ -104,6 +105,14 @@ def _parser() -> argparse.ArgumentParser:
     bn.add_argument("--quick", action="store_true", help="smaller meshes, fewer repeats")
     bn.add_argument("--no-physics", action="store_true", help="skip the physics benchmark")
     bn.set_defaults(func=commands.bench)
+
+    ed = sub.add_parser("edit", help="open a level in the level editor (needs the optional extra 'editor')")
+    ed.add_argument("level", help="level file or shipped level name")
+    ed.add_argument("--seed", type=int, default=0, help="seed of the games played from the editor")
+    ed.add_argument("--settings", metavar="FILE", help="settings file (default: the user's config folder)")
+    ed.add_argument("--screenshot-after", type=positive_float, metavar="SECONDS", help=argparse.SUPPRESS)
+    ed.add_argument("--quit-after", type=positive_float, metavar="SECONDS", help="close the window after SECONDS")
+    ed.set_defaults(func=_edit, record=None, fullscreen=None)
     return p
 
 
@@ -195,6 +204,17 @@ def _play(args) -> int:
             )
             return 1
         raise
+
+
+def _edit(args) -> int:
+    """``edit LEVEL``: the game's window opened in the level editor."""
+    from .editor import missing_message
+
+    problem = missing_message()
+    if problem:
+        raise UserError(problem)
+    args.edit = True
+    return _play(args)
 
 
 if __name__ == "__main__":

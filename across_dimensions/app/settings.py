@@ -97,6 +97,8 @@ ACTION_DESCRIPTIONS: dict[str, str] = {
     "debug_draw": "Show or hide the physics debug overlay (colliders, contacts, sleeping bodies)",
     "toggle_fullscreen": "Switch between windowed and fullscreen",
     "pause": "Pause the game and open the menu",
+    "editor": "Open the level editor, or return from it to the game",
+    "editor_play_here": "In the level editor: play from the editor's camera and w",
 }
 
 #: The bindable action names, in menu order.
@@ -181,6 +183,8 @@ _COMMON = {
     "debug_draw": ("F4",),
     "toggle_fullscreen": ("F11",),
     "pause": ("ESCAPE",),
+    "editor": ("F2",),
+    "editor_play_here": ("F5",),
 }
 
 #: Base key layouts. pyglet reports key *symbols*, which follow the keyboard

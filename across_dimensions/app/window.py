@@ -105,6 +105,7 @@ class GameWindow(pyglet.window.Window):
         self.wall_time = 0.0
         self.finished_for = 0.0
         self.terminated_by: int | None = None
+        self.editor = None  # the level editor (app/editor), made on first use
         self.load(level_path)
         if record:
             self.start_recording()
@@ -272,7 +273,23 @@ class GameWindow(pyglet.window.Window):
             self.screenshot()
         elif action == "record":
             self.stop_recording() if self.recorder else self.start_recording()
+        elif action == "editor":
+            self.open_editor()
         return pyglet.event.EVENT_HANDLED  # keep Esc from closing the window
+
+    def open_editor(self, from_play: bool = True) -> None:
+        """Switch to the level editor (an optional extra); its own key brings the game back."""
+        from .editor import missing_message
+
+        problem = missing_message()
+        if problem:
+            self.say(problem, 8.0)
+            return
+        from .editor.mode import EditorMode
+
+        if self.editor is None:
+            self.editor = EditorMode(self, self.level_path)
+        self.editor.enter(from_play)
 
     def on_activate(self):
         self.was_active = True
@@ -470,6 +487,8 @@ def run_window(args) -> int:
             screenshot_after=args.screenshot_after,
             quit_after=args.quit_after,
         )
+        if getattr(args, "edit", False):
+            window.open_editor(from_play=False)
     except (pyglet.window.NoSuchConfigException, pyglet.gl.ContextException, RenderError) as e:
         print(
             f"across-dimensions: cannot open an OpenGL 3.3 window here ({e}); "

@@ -762,10 +762,13 @@ def _asset_vertices(asset: Path, depth: float):
     return np.concatenate([np.hstack([v3, -half]), np.hstack([v3, half])])
 
 
-def _parse(path: Path) -> tuple[dict, bytes]:
-    """Read ``path`` (bounded) and parse it as TOML, or raise LevelError with one line."""
+def _parse(path: Path, source: bytes | None = None) -> tuple[dict, bytes]:
+    """Read ``path`` (bounded), or take ``source`` as its text, and parse it as TOML,
+    or raise LevelError with one line."""
+    if source is not None and len(source) > limits.MAX_LEVEL_BYTES:
+        raise LevelError(path, [f"{path}: a level is at most {limits.MAX_LEVEL_BYTES:,} bytes, got {len(source):,}"])
     try:
-        raw = fileio.read_bytes(path, limit=limits.MAX_LEVEL_BYTES, what="level")
+        raw = source if source is not None else fileio.read_bytes(path, limit=limits.MAX_LEVEL_BYTES, what="level")
     except fileio.FileProblem as e:
         raise LevelError(path, [str(e)]) from None
     try:
@@ -788,8 +791,9 @@ def _parse(path: Path) -> tuple[dict, bytes]:
     return data, raw
 
 
-def load_level(path) -> Level:
-    """Read and check a level file.
+def load_level(path, source: bytes | None = None) -> Level:
+    """Read and check a level file (or ``source``, the text it would have: the editor
+    checks an unsaved level with the very messages a saved one would get).
 
     The file is read through the bounded reader (at most
     :data:`limits.MAX_LEVEL_BYTES`), every field is checked against its model
@@ -802,7 +806,7 @@ def load_level(path) -> Level:
         Listing every problem, each naming the file, entry and field.
     """
     path = Path(path)
-    data, raw = _parse(path)
+    data, raw = _parse(path, source)
     r = _Reader(path)
     r.unknown(data, MODELS, "top level")
     meta, w_ok = _level_table(r, data, path)

@@ -1,0 +1,494 @@
+"""The editor mode of the game window: ImGui panels over the level seen through the game's renderer.
+
+:class:`EditorMode` attaches to a :class:`~across_dimensions.app.window.GameWindow`
+by pushing its event handlers on top of the window's: while the editor is
+open every event stops here (the game is frozen, not stepped), and leaving
+the editor pops them, so the game resumes exactly where it was.
+
+Controls (Unity- and Godot-like): hold the right mouse button and drag to
+look, W A S D to fly, Space and C up and down, the wheel to move forward;
+E and Q (the game's w keys) move the slice along w, as does the scrubber.
+Left click selects; the move gizmo's arrows and squares (ImGuizmo) move the
+selection along an axis or in a plane, and dragging the selection itself moves
+it in the plane facing the camera. Ctrl+Z / Ctrl+Y (or Ctrl+Shift+Z) undo and redo, Ctrl+S saves,
+Ctrl+D duplicates, Delete deletes, F frames the selection, P toggles the
+frustum projection. The game's ``editor_play_here`` key (F5) plays from the
+editor's camera and w; its ``editor`` key (F2) goes back to the game, and
+from the game back to the editor.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+import pyglet
+from imgui_bundle import imgui, imguizmo
+from imgui_bundle.python_backends import pyglet_backend
+
+from ...core.errors import InputError
+from ...game.frame import Camera3, Frame
+from ...game.sim import Game
+from ...render.context import Offscreen
+from ...world.level_edit import LevelEditor
+from ...world.scene import SectionCache
+from . import view
+from .panels import PANEL_LEFT, PANEL_W, Panels
+
+HANDLED = pyglet.event.EVENT_HANDLED
+FLY_SPEED = 6.0  # metres per second
+W_SPEED = 0.6  # slice w per second with the w keys
+LOOK_RATE = 0.005  # radians per pixel of right-drag
+REBUILD_EVERY = 0.25  # seconds between preview-game rebuilds during a drag (a rebuild is 10-250 ms)
+PREVIEW_SIZE = (128, 96)
+PREVIEW_OFFSETS = (-2, -1, 0, 1, 2)  # in steps of preview_step
+W_MARGIN = 0.5  # the scrubber reaches a little beyond the level's w_range
+MENU_BAR = 20  # pixels: ImGui's main menu bar with its default font
+
+
+class EditorMode:
+    """The level editor in ``window`` for the level file at ``path``."""
+
+    def __init__(self, window, path):
+        self.window = window
+        imgui.create_context()
+        imgui.get_io().set_ini_filename("")  # no imgui.ini left in the player's folder
+        # Events reach ImGui through this mode's handlers (only while the editor is open), not the backend's own.
+        self.impl = pyglet_backend.create_renderer(window, attach_callbacks=False)
+        self.impl._window = window  # noqa: SLF001 - what attaching would have set; resizing and cursors need it
+        self.panels = Panels(self)
+        self.sections = SectionCache()  # the preview strip's slices
+        self.frustum = False
+        self.animate = False
+        self.time = 0.0
+        self.preview_step = 0.25
+        self.preview_rects: list = []
+        self.message = ""
+        self.active = False
+        self.held: set = set()
+        self.looking = False
+        self.dragging = None
+        self.close_warned = False
+        self._last = None
+        self._built_at = 0.0
+        self.open(path)
+
+    # ------------------------------------------------------------ level
+    def open(self, path) -> None:
+        self.model = LevelEditor(path)
+        level, problems = self.model.check()
+        if level is None:
+            raise InputError("\n".join(problems))
+        self.preview = Game(level)
+        self._preview_text = self.model.text()
+        self._game_text = self._preview_text
+        self.cam = view.EditorCamera.at_spawn(level)
+
+    def _refresh_preview(self, now: float) -> None:
+        """Rebuild the preview game when the level changed and is valid (not on every step of a drag)."""
+        text = self.model.text()
+        if text == self._preview_text:
+            return
+        if imgui.is_any_item_active() and now - self._built_at < REBUILD_EVERY:
+            return
+        level, _ = self.model.check()
+        if level is not None:
+            self.preview = Game(level)
+            self._preview_text = text
+            self._built_at = now
+            self.sections = SectionCache()
+            self.drop_gpu_meshes()
+
+    def drop_gpu_meshes(self) -> None:
+        """Make the renderer upload every mesh anew.
+
+        A new game names its meshes with the same keys and revisions as the last
+        one (``entity:3``, revision 0) although they may differ (an edited box,
+        another shape), and the renderer re-uploads a key only when its revision
+        changes. Forgetting every view and drawing an empty frame releases them all.
+        """
+        r = self.window.renderer
+        for name in ("main", *(f"preview{k}" for k in range(len(PREVIEW_OFFSETS)))):
+            r.forget_view(name)
+        self.window.ctx.screen.use()
+        r.draw(Frame(Camera3(np.zeros(3))), (0, 0, 1, 1), hud=False, view="main")
+
+    def w_limits(self) -> tuple[float, float]:
+        lo, hi = self.preview.level.w_range
+        return lo - W_MARGIN, hi + W_MARGIN
+
+    def key_name(self, action: str) -> str:
+        return "/".join(self.window.settings.keys_for(action))
+
+    # ------------------------------------------------------------ switching
+    def enter(self, from_play: bool = True) -> None:
+        """Open the editor over the game; from play, the camera starts at the player's eye and w."""
+        w = self.window
+        w.stop_recording()  # a replay starts at the spawn and has no edits in it
+        if Path(w.level_path).resolve() != self.model.path.resolve() and not self.model.dirty:
+            self.open(w.level_path)
+        if from_play:
+            p = w.game.player
+            self.cam = view.EditorCamera(p.eye().copy(), float(p.yaw), float(p.pitch), float(p.position[3]))
+        self.active = True
+        self._last = None
+        self.drop_gpu_meshes()  # the game's meshes and the preview game's share keys
+        w.set_exclusive_mouse(False)
+        w.push_handlers(self)
+        w.set_caption(f"Across Dimensions - editing {self.model.path.name}")
+
+    def leave(self) -> None:
+        w = self.window
+        self.drop_gpu_meshes()
+        w.remove_handlers(self)
+        self.active = False
+        self.held.clear()
+        w.look = [0.0, 0.0]
+        w.presses.clear()
+        w.last_draw = None
+        w.set_exclusive_mouse(True)
+        w.set_caption(f"Across Dimensions - {w.game.level.name}")
+
+    def _new_game(self, cam=None):
+        level, problems = self.model.check()
+        if level is None:
+            self.message = f"cannot play: {len(problems)} problem(s) in the level"
+            return None
+        self._game_text = self.model.text()
+        return view.game_at(level, cam, seed=self.window.seed)
+
+    def play_from_here(self) -> None:
+        """Drop the player into the edited level at the editor camera's place, heading and w."""
+        game = self._new_game(self.cam)
+        if game is not None:
+            self._start(game, f"Playing from the editor's camera - {self.key_name('editor')} returns to the editor")
+
+    def back_to_game(self) -> None:
+        """Back to the game as it was, or the edited level from its spawn if it changed since."""
+        if self.model.text() != self._game_text:
+            game = self._new_game()
+            if game is None:
+                return
+            self._start(game, "Playing the edited level from its spawn")
+        else:
+            self.leave()
+
+    def _start(self, game, notice: str) -> None:
+        w = self.window
+        w.game = game
+        w.level_time = 1e9  # the level's hints were read when it started; not again
+        w.finished_for = 0.0
+        w.accumulator = 0.0
+        self.leave()
+        w.say(notice, 4.0)
+
+    # ------------------------------------------------------------ commands
+    def save(self) -> None:
+        try:
+            path = self.model.save()
+        except InputError as e:
+            self.message = f"not saved: {len(getattr(e, 'problems', [1]))} problem(s)"
+            return
+        self.message = f"saved {path.name}"
+
+    def revert(self) -> None:
+        self.open(self.model.path)
+        self.message = "reverted to the saved file"
+
+    def undo(self) -> None:
+        label = self.model.undo()
+        self.message = f"undid {label}" if label else "nothing to undo"
+
+    def redo(self) -> None:
+        label = self.model.redo()
+        self.message = f"redid {label}" if label else "nothing to redo"
+
+    def add(self, kind: str, parent=None) -> None:
+        """A new entry a few metres in front of the camera, at the slice's w."""
+        spot = self.cam.position + 4.0 * self.cam.camera3().forward()
+        spot = [round(float(x), 2) for x in spot]
+        values = {}
+        if kind in ("object", "crystal"):
+            values["position"] = [*spot, round(float(self.cam.w), 3)]
+        elif kind == "box":
+            values["center"] = spot
+        elif kind == "mesh":
+            values["position"] = spot
+        elif kind == "world":
+            values["w"] = round(float(self.cam.w), 3)
+            self.model.add(kind, values)
+            self.model.set(self.model.selection + ("box", 0), "center", spot)
+            self.model.seal()
+            return
+        self.model.add(kind, values, parent=parent)
+
+    def delete(self) -> None:
+        sel = self.model.selection
+        if sel is not None and len(sel) >= 2:
+            self.model.delete(sel)
+
+    def duplicate(self) -> None:
+        sel = self.model.selection
+        if sel is not None and len(sel) >= 2:
+            self.model.duplicate(sel)
+
+    def focus(self) -> None:
+        """Put the camera in front of the selection, looking at it, at its w."""
+        c, r = self._selection_center()
+        if c is None:
+            return
+        f = self.cam.camera3().forward()
+        self.cam.position = c[:3] - max(3.0 * r, 2.0) * f
+        if len(c) == 4:
+            self.cam.w = float(c[3])
+
+    def _selection_center(self):
+        sel = self.model.selection
+        if sel is None:
+            return None, 0.0
+        box = view.entry_box(self.preview.level, sel)
+        if box is not None:
+            lo, hi = box
+            return (lo + hi) / 2, float(np.linalg.norm(hi - lo) / 2)
+        e = view.entity_of(self.preview, sel)
+        if e is not None:
+            return e.center(self.preview), e.radius
+        if sel[0] == "world" and sel[1] < len(self.preview.level.worlds):
+            spec = self.preview.level.worlds[sel[1]]
+            if spec.boxes:
+                return np.array([*spec.boxes[0].center, spec.w]), float(np.linalg.norm(spec.boxes[0].size) / 2)
+        return None, 0.0
+
+    def move_target(self):
+        """``(ref, key, value, centre (3,))`` of the selection when it can be moved (a position or a
+        centre), else None."""
+        sel = self.model.selection
+        if sel is None or not self.model.exists(sel):
+            return None
+        table = self.model.table(sel)
+        key = "center" if "center" in table else "position" if "position" in table else None
+        value = self.model.get(sel, key) if key else None
+        if not isinstance(value, list):
+            return None
+        c, _ = self._selection_center()
+        return None if c is None else (sel, key, value, np.asarray(c[:3], float))
+
+    # ------------------------------------------------------------ events
+    def _ndc(self, x, y):
+        ww, wh = self.window.get_size()
+        return 2.0 * x / ww - 1.0, 2.0 * y / wh - 1.0, ww / max(wh, 1)
+
+    def on_key_press(self, symbol, modifiers):
+        self.impl.on_key_press(symbol, modifiers)
+        key = pyglet.window.key
+        ctrl = modifiers & (key.MOD_CTRL | key.MOD_COMMAND)
+        io = imgui.get_io()
+        if io.want_text_input and not ctrl:
+            return HANDLED
+        action = self.window.pressed_action("key", symbol)
+        self.held.add(symbol)
+        if ctrl and symbol == key.Z:
+            self.redo() if modifiers & key.MOD_SHIFT else self.undo()
+        elif ctrl and symbol == key.Y:
+            self.redo()
+        elif ctrl and symbol == key.S:
+            self.save()
+        elif ctrl and symbol == key.D:
+            self.duplicate()
+        elif action == "editor":
+            self.back_to_game()
+        elif action == "editor_play_here":
+            self.play_from_here()
+        elif action == "screenshot":
+            self.window._pending_shot = True  # noqa: SLF001 - taken after the next frame is drawn
+        elif action == "toggle_fullscreen":
+            self.window.set_fullscreen(not self.window.fullscreen)
+        elif symbol == key.DELETE:
+            self.delete()
+        elif symbol == key.F and not io.want_capture_keyboard:
+            self.focus()
+        elif symbol == key.P and not io.want_capture_keyboard:
+            self.frustum = not self.frustum
+        return HANDLED
+
+    def on_key_release(self, symbol, modifiers):
+        self.impl.on_key_release(symbol, modifiers)
+        self.held.discard(symbol)
+        return HANDLED
+
+    def on_text(self, text):
+        self.impl.on_text(text)
+        return HANDLED
+
+    def on_mouse_motion(self, x, y, dx, dy):
+        self.impl.on_mouse_motion(x, y, dx, dy)
+        return HANDLED
+
+    def on_mouse_press(self, x, y, button, modifiers):
+        self.impl.on_mouse_press(x, y, button, modifiers)
+        if imgui.get_io().want_capture_mouse or imguizmo.im_guizmo.is_over():
+            return HANDLED  # a panel or the move gizmo has it
+        if button == pyglet.window.mouse.RIGHT:
+            self.looking = True
+        elif button == pyglet.window.mouse.LEFT:
+            nx, ny, aspect = self._ndc(x, y)
+            hit = view.pick(self.preview, self.cam, nx, ny, aspect, self.model.entries())
+            if hit is not None and hit == self.model.selection:
+                self._start_drag(hit, nx, ny, aspect)
+            self.model.selection = hit
+        return HANDLED
+
+    def on_mouse_release(self, x, y, button, modifiers):
+        self.impl.on_mouse_release(x, y, button, modifiers)
+        if button == pyglet.window.mouse.RIGHT:
+            self.looking = False
+        if button == pyglet.window.mouse.LEFT and self.dragging is not None:
+            self.dragging = None
+            self.model.seal()
+        return HANDLED
+
+    def on_mouse_drag(self, x, y, dx, dy, buttons, modifiers):
+        self.impl.on_mouse_drag(x, y, dx, dy, buttons, modifiers)
+        if self.looking:
+            self.cam.look(dx * LOOK_RATE, dy * LOOK_RATE)
+        elif self.dragging is not None:
+            self._drag(*self._ndc(x, y))
+        return HANDLED
+
+    def on_mouse_scroll(self, x, y, scroll_x, scroll_y):
+        self.impl.on_mouse_scroll(x, y, scroll_x, scroll_y)
+        if not imgui.get_io().want_capture_mouse:
+            self.cam.fly(float(scroll_y), 0.0, 0.0, 1.0)
+        return HANDLED
+
+    def on_resize(self, width, height):
+        self.impl.on_resize(width, height)  # and the window's own handler runs too
+
+    def on_close(self):
+        if self.model.dirty and not self.close_warned:
+            self.close_warned = True
+            self.message = "unsaved changes: Ctrl+S saves them; close again to discard them"
+            return HANDLED
+        return None
+
+    # ------------------------------------------------------------ dragging (the move gizmo)
+    def _start_drag(self, ref, nx, ny, aspect) -> None:
+        key = "center" if "center" in self.model.table(ref) else "position"
+        value = self.model.get(ref, key)
+        if not isinstance(value, list):
+            return
+        c, _ = self._selection_center()
+        if c is None:
+            return
+        o, d = view.ray(self.cam, nx, ny, aspect)
+        normal = self.cam.camera3().forward()
+        hit = _plane_hit(o, d, c[:3], normal)
+        if hit is not None:
+            self.dragging = (ref, key, list(value), c[:3].copy(), normal, hit)
+
+    def _drag(self, nx, ny, aspect) -> None:
+        ref, key, start, point, normal, start_hit = self.dragging
+        o, d = view.ray(self.cam, nx, ny, aspect)
+        hit = _plane_hit(o, d, point, normal)
+        if hit is None:
+            return
+        delta = hit - start_hit
+        new = [round(float(start[i] + delta[i]), 3) for i in range(3)] + start[3:]
+        self.model.set(ref, key, new, merge=True)
+
+    # ------------------------------------------------------------ drawing
+    def _fly(self, dt: float) -> None:
+        k = pyglet.window.key
+        if imgui.get_io().want_capture_keyboard:
+            return
+        axis = lambda pos, neg: float(pos in self.held) - float(neg in self.held)  # noqa: E731
+        f, r, u = axis(k.W, k.S), axis(k.D, k.A), axis(k.SPACE, k.C)
+        if f or r or u:
+            self.cam.fly(f, r, u, FLY_SPEED * dt)
+        binds = self.window.bindings
+        dw = float(any(("key", s) in binds.get("w_ana", ()) for s in self.held)) - float(
+            any(("key", s) in binds.get("w_kata", ()) for s in self.held)
+        )
+        if dw:
+            lo, hi = self.w_limits()
+            self.cam.w = float(np.clip(self.cam.w + dw * W_SPEED * dt, lo, hi))
+
+    def draw_scene(self, viewport) -> None:
+        """The level from the editor camera, and the strip of previews of the selection along w."""
+        r = self.window.renderer
+        frame = view.editor_frame(self.preview, self.cam, self.model.selection, self.frustum, self.time)
+        r.draw(frame, viewport, view="main")
+        self.preview_rects = []
+        sel = self.model.selection
+        if not self.panels.show_previews or sel is None:
+            return
+        offsets = [k * self.preview_step for k in PREVIEW_OFFSETS]
+        frames = view.preview_frames(self.preview, sel, self.cam.w, offsets, self.sections, self.time)
+        x0, y0, vw, vh = viewport
+        pw, ph = PREVIEW_SIZE
+        # Centred between the outline and the inspector (the panels' default places).
+        free_left, free_right = x0 + PANEL_LEFT, x0 + vw - PANEL_W
+        left = max(x0, (free_left + free_right - len(frames) * (pw + 6)) // 2)
+        for k, (w, f) in enumerate(frames):
+            rect = (left + k * (pw + 6), y0 + vh - MENU_BAR - 4 - ph, pw, ph)  # along the top of the view
+            r.draw(f, rect, hud=False, view=f"preview{k}")
+            self.preview_rects.append((rect, w))
+
+    def draw_gui(self) -> None:
+        self.impl.process_inputs()
+        imgui.new_frame()
+        ww, wh = self.window.get_size()
+        self.panels.draw(ww, wh)
+        imgui.render()
+        self.impl.render(imgui.get_draw_data())
+
+    def on_draw(self):
+        now = time.perf_counter()
+        dt = 0.0 if self._last is None else min(now - self._last, 0.1)
+        self._last = now
+        self._fly(dt)
+        if self.animate:
+            self.time = (self.time + dt) % 60.0
+        self._refresh_preview(now)
+        w = self.window
+        fw, fh = w.get_framebuffer_size()
+        w.ctx.screen.use()
+        self.draw_scene((0, 0, fw, fh))
+        self.draw_gui()
+        if getattr(w, "_pending_shot", False) or (
+            w.screenshot_after is not None and w.wall_time + dt >= w.screenshot_after
+        ):
+            w._pending_shot = False  # noqa: SLF001
+            w.screenshot_after = None
+            self.screenshot()
+        w.wall_time += dt
+        if w.quit_after is not None and w.wall_time >= w.quit_after:
+            pyglet.app.exit()
+        return HANDLED
+
+    def screenshot(self) -> Path:
+        """Save the editor's view, panels included, as ./screenshots/shot_NNNN.png."""
+        w = self.window
+        fw, fh = w.get_framebuffer_size()
+        folder = Path("screenshots")
+        folder.mkdir(exist_ok=True)
+        path = folder / f"shot_{len(list(folder.glob('shot_*.png'))):04d}.png"
+        with Offscreen(w.ctx, fw, fh) as target:
+            target.use()
+            self.draw_scene(target.viewport)
+            self.draw_gui()  # ImGui draws into the framebuffer bound now: the offscreen one
+            target.save_png(path)
+        w.ctx.screen.use()
+        print(f"screenshot saved: {path}", flush=True)
+        self.message = f"screenshot saved: {path}"
+        return path
+
+
+def _plane_hit(o, d, point, normal):
+    """Where the ray ``o + t d`` meets the plane through ``point`` with ``normal``, or None."""
+    den = float(d @ normal)
+    if abs(den) < 1e-6:  # the ray runs along the plane: no single point to move to
+        return None
+    t = float((point - o) @ normal) / den
+    return o + t * d if t > 0 else None
