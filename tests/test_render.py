@@ -504,3 +504,20 @@ def test_golden_scene(gl_ctx, renderer, compare_golden):
         img = t.read_rgb()
     assert_no_gl_error(gl_ctx)
     compare_golden("scene_basic", img)
+
+
+@pytest.mark.gl
+def test_a_new_world_under_old_keys_is_uploaded_after_forget_meshes(gl_ctx, target, renderer):
+    """A new level restarts keys and revisions (``static``, 0): forget_meshes makes the
+    renderer upload it instead of drawing the old level's mesh."""
+    old = cube_frame()
+    render(renderer, target, old)
+    new = cube_frame()
+    d = new.drawables[0]
+    new.drawables[0] = Drawable(d.key, d.revision, box_mesh((0, 0, 3), (0.4, 0.4, 0.4)))  # same key, same revision
+    stale = render(renderer, target, new)
+    np.testing.assert_array_equal(stale, render(renderer, target, old))  # the contract: same revision, no upload
+    renderer.forget_meshes()
+    fresh = render(renderer, target, new)
+    assert non_sky(fresh).sum() < 0.5 * non_sky(stale).sum()  # the small box, not the old cube
+    assert renderer.stats.uploads >= 2

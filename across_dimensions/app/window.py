@@ -116,6 +116,7 @@ class GameWindow(pyglet.window.Window):
     def load(self, path: Path) -> None:
         self.level_path = Path(path)
         self.game = Game(load_level(path), seed=self.seed)
+        self.renderer.forget_meshes()  # a new world: its meshes reuse the old one's keys and revisions
         s = self.settings
         self.game.radar_view = RadarView(s.radar, s.radar_range_scale, s.radar_height_scale)
         self.level_time = 0.0

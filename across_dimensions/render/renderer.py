@@ -290,6 +290,18 @@ class Renderer:
         self.hud.release()
         self.radar.release()
 
+    def forget_meshes(self) -> None:
+        """Release every cached mesh, so the next frame uploads what it draws anew.
+
+        Call it when the world behind the drawables is replaced (a new level, a
+        new game): its keys and revisions start again (``static``, revision 0),
+        so a cached mesh of the old world would stand in for the new one.
+        """
+        for gm in self._meshes.values():
+            gm.release()
+        self._meshes.clear()
+        self._views.clear()
+
     def forget_view(self, view: str) -> None:
         """Stop holding the meshes only ``view`` used (they are released at the next draw)."""
         self._views.pop(view, None)

@@ -28,7 +28,6 @@ from imgui_bundle import imgui, imguizmo
 from imgui_bundle.python_backends import pyglet_backend
 
 from ...core.errors import InputError
-from ...game.frame import Camera3, Frame
 from ...game.sim import Game
 from ...render.context import Offscreen
 from ...world.level_edit import LevelEditor
@@ -101,18 +100,8 @@ class EditorMode:
             self.drop_gpu_meshes()
 
     def drop_gpu_meshes(self) -> None:
-        """Make the renderer upload every mesh anew.
-
-        A new game names its meshes with the same keys and revisions as the last
-        one (``entity:3``, revision 0) although they may differ (an edited box,
-        another shape), and the renderer re-uploads a key only when its revision
-        changes. Forgetting every view and drawing an empty frame releases them all.
-        """
-        r = self.window.renderer
-        for name in ("main", *(f"preview{k}" for k in range(len(PREVIEW_OFFSETS)))):
-            r.forget_view(name)
-        self.window.ctx.screen.use()
-        r.draw(Frame(Camera3(np.zeros(3))), (0, 0, 1, 1), hud=False, view="main")
+        """Make the renderer upload every mesh anew (a new game reuses the old one's keys and revisions)."""
+        self.window.renderer.forget_meshes()
 
     def w_limits(self) -> tuple[float, float]:
         lo, hi = self.preview.level.w_range
