@@ -30,7 +30,7 @@ from .frame import Camera3, Frame, Hud
 from .player import HALF_WIDTH, HEIGHT, Player
 from .player_bodies import bodies_block
 from .section_collision import triangles_of
-from .systems import SYSTEMS, crystals
+from .systems import SYSTEMS, crystals, manipulation
 
 TICK_RATE = 60
 DT = 1.0 / TICK_RATE
@@ -111,6 +111,7 @@ class Game:
         self.outcome: str | None = None  # "complete" once the goal is reached
         self.completed_tick: int | None = None
         self.player = self._spawned()
+        manipulation.setup(self)
         self.player_w_blocked = False
         self.respawns = 0
         self._prev_eye = self.player.eye()
@@ -218,7 +219,9 @@ class Game:
         self.events = []
         for system in SYSTEMS:
             if hasattr(system, "step"):
-                system.step(self, actions)
+                changed = system.step(self, actions)
+                if changed is not None:  # a system took some of the input (see systems/__init__.py)
+                    actions = changed
         self.tick += 1
 
     def _spawned(self) -> Player:
@@ -249,6 +252,7 @@ class Game:
         h.update(repr(self.rng.bit_generator.state).encode())
         if self.physics is not None:
             h.update(self.physics.state_bytes())
+        h.update(manipulation.state_bytes(self))  # nothing when the level has no manipulable object
         return h.hexdigest()[:16]
 
     # ------------------------------------------------------------------ frame

@@ -14,12 +14,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core.transform import PLANES as PLANE_ORDER
 from .fields import Field
-from .limits import COORD, CRYSTAL_SIZE, ENERGY, MAX_NAME_CHARS, RADAR_RANGE, RADAR_W_SCALE, RESPAWN, SPIN, Range
+from .limits import ANGLE, COORD, CRYSTAL_SIZE, ENERGY, MAX_NAME_CHARS, RADAR_RANGE, RADAR_W_SCALE, RESPAWN, SPIN, Range
 
 CRYSTAL_SHAPES = ("16-cell", "24-cell", "5-cell", "tesseract", "600-cell")
 CRYSTAL_COLOR = (0.35, 1.0, 0.85, 1.0)
 CRYSTAL_SPIN = {"xw": 50.0, "yw": 35.0, "zw": 65.0}  # degrees/s: turning in the three w planes
+MANIP_STEP = Range(0.1, 360.0, "degrees")  # a snapping step; zero is refused (no step: leave it out)
+MANIP_SPEED = Range(1.0, 720.0, "degrees/s")
+MANIP_REACH = Range(0.5, 100.0, "m")
 MILLI = 1000  # energy is counted in thousandths (see game.energy)
 
 ENERGY_TABLE = {
@@ -41,8 +45,17 @@ CRYSTAL_TABLE = {
     "spin": Field("angles", default=None, range=SPIN),
     "respawn": Field("number", default=0.0, range=RESPAWN, sign="nonnegative"),
 }
+MANIPULABLE_TABLE = {
+    "object": Field("text", range=Range(0, MAX_NAME_CHARS)),
+    "min": Field("angles", default=None, range=ANGLE),
+    "max": Field("angles", default=None, range=ANGLE),
+    "step": Field("number", default=None, range=MANIP_STEP, sign="positive"),
+    "speed": Field("number", default=60.0, range=MANIP_SPEED, sign="positive"),
+    "cost": Field("number", default=0.0, range=ENERGY, sign="nonnegative"),
+    "reach": Field("number", default=6.0, range=MANIP_REACH, sign="positive"),
+}
 #: The tables format 2 adds, by top-level key.
-MODELS = {"energy": ENERGY_TABLE, "radar": RADAR_TABLE, "crystal": CRYSTAL_TABLE}
+MODELS = {"energy": ENERGY_TABLE, "radar": RADAR_TABLE, "crystal": CRYSTAL_TABLE, "manipulable": MANIPULABLE_TABLE}
 
 
 @dataclass
@@ -137,4 +150,71 @@ def read_crystals(r, data, w_range) -> list[CrystalSpec]:
                 v["respawn"],
             )
         )
+    return out
+
+
+@dataclass
+class ManipulableSpec:
+    """A ``[[manipulable]]``: a 4D object the player may turn with the manipulation tool.
+
+    ``planes`` maps each plane the object may turn in to its limits
+    ``(low, high)`` in degrees, as offsets from the object's ``rotation``
+    (``low <= 0 <= high``); ``step`` the snapping step in degrees (None: turn
+    freely); ``speed`` degrees per second; ``cost_milli`` energy per degree in
+    thousandths; ``reach`` how far (metres) the player may aim at it from.
+    """
+
+    object: str
+    planes: dict
+    step: float | None = None
+    speed: float = 60.0
+    cost_milli: int = 0
+    reach: float = 6.0
+
+
+def read_manipulables(r, data, objects) -> list[ManipulableSpec]:
+    """The ``[[manipulable]]`` tables; ``objects`` are the level's :class:`ObjectSpec` s.
+
+    A plane is allowed when it appears in ``min`` or ``max`` (a missing side is
+    0: ``max = { xw = 90 }`` turns from 0 to 90 degrees). Each table must name a
+    solid 4D object that is not a rigid body and does not spin, once.
+    """
+    out = []
+    by_name = {o.name: o for o in objects}
+    if "manipulable" in data:
+        tables = r.array_of_tables(data, "manipulable", "top level")[: len(objects) + 1]
+    else:
+        tables = []
+    seen = set()
+    for i, t in enumerate(tables, 1):
+        where = f"[[manipulable]] #{i}"
+        r.unknown(t, MANIPULABLE_TABLE, where)
+        v = r.read(t, MANIPULABLE_TABLE, where)
+        name = v["object"]
+        if name:
+            where = f"[[manipulable]] #{i} '{name}'"
+        o = by_name.get(name)
+        if "object" in t and name and o is None:
+            r.problem(where, f"field 'object': no [[object]] is named '{name}'")
+        elif o is not None:
+            if o.body != "none":
+                r.problem(where, f"field 'object': '{name}' is a rigid body; only objects with body = \"none\" turn")
+            if any(x != 0.0 for x in o.spin_deg.values()):
+                r.problem(where, f"field 'object': '{name}' has a spin; a manipulable object must not spin")
+            if name in seen:
+                r.problem(where, f"field 'object': '{name}' is already manipulable (one table per object)")
+            seen.add(name)
+        planes = {}
+        for plane in sorted(set(v["min"]) | set(v["max"]), key=PLANE_ORDER.index):
+            lo, hi = v["min"].get(plane, 0.0), v["max"].get(plane, 0.0)
+            if lo > 0.0 or hi < 0.0 or lo >= hi:
+                r.problem(
+                    where,
+                    f"plane '{plane}': limits min = {lo:g}, max = {hi:g} are inverted or empty "
+                    "(expected min <= 0 <= max and min < max, in degrees from the object's rotation)",
+                )
+            planes[plane] = (lo, hi)
+        if not planes and "min" not in t and "max" not in t:
+            r.problem(where, "no plane to turn in: give 'max' and/or 'min', e.g. max = { xw = 90 }")
+        out.append(ManipulableSpec(name, planes, v["step"], v["speed"], int(round(v["cost"] * MILLI)), v["reach"]))
     return out

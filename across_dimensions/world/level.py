@@ -285,6 +285,7 @@ class Level:
     radar: gameplay.RadarSpec | None = None
     rolling_resistance: float = 0.0
     tets: int = 0  # estimated tetrahedra of the 4D content (objects and worlds)
+    manipulables: list[gameplay.ManipulableSpec] = field(default_factory=list)
 
     @property
     def bodies(self) -> int:
@@ -826,6 +827,7 @@ def load_level(path) -> Level:
     energy = gameplay.read_energy(r, data)
     radar = gameplay.read_radar(r, data)
     crystals = gameplay.read_crystals(r, data, w_range if w_ok else None)
+    manipulables = gameplay.read_manipulables(r, data, objects)
 
     if r.problems:
         raise LevelError(path, r.problems)
@@ -850,4 +852,5 @@ def load_level(path) -> Level:
         crystals=crystals,
         energy=energy,
         radar=radar,
+        manipulables=manipulables,
     )
