@@ -31,7 +31,8 @@ grab, the angles and the energy paid are in the state hash too
 
 Ghosts (:func:`draw`): while an object is held, one translucent preview per
 allowed plane and direction floats above it, showing the section the object
-would have after the next step (or :data:`PREVIEW_DEG` without a step), cut by
+would have after the next step (or :data:`PREVIEW_DEG` without a step), as a
+miniature at most :data:`GHOST_SIZE` across, cut by
 the same hyperplane as the object itself, so they change live as the player
 moves along w. They are drawables only: they never collide and are no entity.
 ``game.show_ghosts`` (the window sets it from the settings) switches them off.
@@ -56,8 +57,13 @@ from ..player import player_box
 
 PREVIEW_DEG = 15.0  # what a ghost previews in a plane without a snapping step
 GHOST_GAP = 0.6  # metres between the object's section and the row of ghosts above it
+GHOST_SIZE = 1.2  # metres: a ghost larger than this is shown shrunk to fit (a miniature beside the object)
+GHOST_SPACING = 0.4  # metres between ghosts in the row
 #: Walking axes that turn the first, second and third allowed plane (Actions field, + key, - key).
 AXES = (("forward", "move_forward", "move_back"), ("right", "strafe_right", "strafe_left"), ("w", "w_ana", "w_kata"))
+#: Metres around an object's section that still count as aiming at it: a crosshair
+#: a hand's width off a thin beam should still grab it.
+AIM_MARGIN = 0.25
 DEAD_ZONE = 0.5  # an axis must be pushed past this to turn (keys give 0 or 1)
 
 
@@ -158,7 +164,7 @@ def aimed_at(game) -> int | None:
             continue
         key = f"tick:{e.id}"
         game.sections.section(key, e.mesh, e.model(game), w)
-        b = game.sections.bounds(key)
+        b = game.sections.bounds(key) + np.array([[-AIM_MARGIN], [AIM_MARGIN]])
         if np.isnan(b).any():
             continue
         # Slab test of the ray against the section's bounds.
@@ -294,7 +300,7 @@ def _label(d: Manipulable) -> str:
     parts = []
     for i, plane in enumerate(d.planes[: len(AXES)]):
         _, plus, minus = AXES[i]
-        parts.append(f"{{{plus}}}/{{{minus}}} turn {plane} ({d.angle_deg(plane):.0f}°)")
+        parts.append(f"{{{plus}}}/{{{minus}}} turn {plane} ({d.angle_deg(plane):.0f} deg)")
     return "   ".join(parts)
 
 
@@ -348,23 +354,21 @@ def draw(game, frame, alpha) -> None:
             continue
         items.append((key, tri, rev, b))
     game.sections.keep("ghost:", {k for k, *_ in items})
-    widths = [float((b[1] - b[0]) @ np.abs(right)) for *_, b in items]
-    span = sum(widths) + 0.4 * max(len(items) - 1, 0)
-    x = -span / 2
-    for (key, tri, rev, b), width in zip(items, widths):
+    x = -(len(items) - 1) / 2 * (GHOST_SIZE + GHOST_SPACING)
+    for key, tri, rev, b in items:
         mid = 0.5 * (b[0] + b[1])
-        # Centre each ghost on its slot along the player's right, resting GHOST_GAP above the object.
-        target = centre + right * (x + width / 2)
-        shift = np.array([target[0] - mid[0], base_y - b[0, 1], target[2] - mid[2]])
-        frame.drawables.append(Drawable(key, rev, tri, model=_move4(shift), style="ghost"))
-        x += width + 0.4
+        # A miniature: shrunk (never grown) to fit GHOST_SIZE, centred on its slot in a
+        # row along the player's right, floating GHOST_GAP above the object.
+        scale = min(1.0, GHOST_SIZE / max(float((b[1] - b[0]).max()), 1e-6))
+        target = centre + right * x
+        target[1] = base_y + GHOST_SIZE / 2
+        frame.drawables.append(Drawable(key, rev, tri, model=ghost_model(mid, target, scale), style="ghost"))
+        x += GHOST_SIZE + GHOST_SPACING
 
 
-def _move4(shift) -> np.ndarray:
-    """A ``(4, 4) float64`` translation by ``shift (3,)``."""
+def ghost_model(mid, target, scale: float) -> np.ndarray:
+    """``(4, 4) float64`` that shrinks a ghost by ``scale`` about ``mid (3,)`` and moves it to ``target (3,)``."""
     m = np.eye(4)
-    m[:3, 3] = shift
+    m[:3, :3] *= scale
+    m[:3, 3] = np.asarray(target, dtype=np.float64) - scale * np.asarray(mid, dtype=np.float64)
     return m
-
-
-__all__ = ["setup", "step", "draw", "aimed_at", "ghost_offsets", "state_bytes"]
