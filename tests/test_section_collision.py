@@ -127,7 +127,8 @@ def _arch_game(tmp_path):
     game = _slab_level(tmp_path, 0.0)
     game.remove(game.entities.named("slab").id)
     parts = []
-    for c, s in (([-1.0, 1.1, 4.0], [0.4, 2.2, 0.6]), ([1.0, 1.1, 4.0], [0.4, 2.2, 0.6]), ([0.0, 2.401, 4.0], [2.4, 0.4, 0.6])):
+    pillar, lintel = [0.4, 2.2, 0.6], [2.4, 0.4, 0.6]
+    for c, s in (([-1.0, 1.1, 4.0], pillar), ([1.0, 1.1, 4.0], pillar), ([0.0, 2.401, 4.0], lintel)):
         v, t = lift.box_solid(c, s)
         parts.append(lift.extrude(v, t, [-0.5, 0.5]))
     mesh = concatenate(parts)
