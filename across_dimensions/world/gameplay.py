@@ -189,10 +189,10 @@ def read_manipulables(r, data, objects) -> list[ManipulableSpec]:
     for i, t in enumerate(tables, 1):
         where = f"[[manipulable]] #{i}"
         r.unknown(t, MANIPULABLE_TABLE, where)
-        v = r.read(t, MANIPULABLE_TABLE, where)
-        name = v["object"]
+        name = r.read(t, MANIPULABLE_TABLE, where, keys=("object",))["object"]
         if name:
             where = f"[[manipulable]] #{i} '{name}'"
+        v = r.read(t, MANIPULABLE_TABLE, where, keys=[k for k in MANIPULABLE_TABLE if k != "object"])
         o = by_name.get(name)
         if "object" in t and name and o is None:
             r.problem(where, f"field 'object': no [[object]] is named '{name}'")
