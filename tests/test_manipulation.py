@@ -231,3 +231,62 @@ def test_bad_manipulation_entries_are_one_line_each(tmp_path, body, needle):
         [sys.executable, "-m", "across_dimensions", "check-level", str(p)], capture_output=True, text=True, timeout=300
     )
     assert out.returncode == 2 and needle in out.stderr
+
+
+TABLE = """
+[level]
+format = 2
+w_range = [-1.0, 1.0]
+[spawn]
+position = [0.0, 0.0, -6.0, 0.0]
+[goal]
+center = [30.0, 1.0, 0.0]
+size = [1.0, 2.0, 1.0]
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [20.0, 1.0, 20.0]
+[[object]]
+name = "table"
+shape = "tesseract"
+position = [0.0, 1.0, 0.0, 0.0]
+scale = [3.0, 0.3, 3.0, 3.0]
+[[object]]
+name = "cube"
+shape = "tesseract"
+position = [0.0, 1.4, 0.0, 0.0]
+scale = 0.5
+body = "hypercube"
+[[manipulable]]
+object = "table"
+max = { PLANE = 45.0 }
+speed = 30.0
+"""
+#: How far a resting body may sink into what it rests on: the physics solver's
+#: contact slop is a few millimetres; 2 cm is far below any visible overlap.
+SINK = 0.02
+
+
+@pytest.mark.parametrize("plane, falls", [("xy", True), ("yw", False)])
+def test_a_body_on_a_turned_object_follows_it_or_falls_and_never_sinks_in(tmp_path, plane, falls):
+    p = tmp_path / "table.toml"
+    p.write_text(TABLE.replace("PLANE", plane))
+    game = Game(load_level(p))
+    cube, table = game.entities.named("cube"), game.entities.named("table")
+    for _ in range(60):
+        game.step(Actions())
+    game.manipulation.held = table.id
+    for i in range(240):
+        game.step(Actions(manipulate=True, forward=1.0 if i < 90 else 0.0))
+        m = table.model(game)
+        local = np.linalg.solve(m[:4, :4], game.physics.body_position(cube.motion.body) - m[:4, 4])
+        over = np.all(np.abs(local[[0, 2, 3]]) < 0.5)  # above the table's top, in the table's frame
+        if over:
+            assert (0.15 + 0.25) - local[1] * 0.3 < SINK, f"tick {i}: the cube sank into the table"
+            if not falls:
+                assert local[1] * 0.3 < 0.4 + SINK  # and stays on it: carried along by the turn
+    assert table.data.offsets[plane] == 45000
+    y = game.physics.body_position(cube.motion.body)[1]
+    if falls:
+        assert y == pytest.approx(0.25, abs=SINK)  # slid off the 45-degree slope onto the floor
+    else:
+        assert y > 0.6  # still on the table, turned with it through w

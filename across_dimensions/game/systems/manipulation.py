@@ -29,6 +29,12 @@ every run; the object's pose (in the state hash through its
 grab, the angles and the energy paid are in the state hash too
 (:func:`state_bytes`).
 
+Rigid bodies: in a level with physics, each manipulable object also gets a
+kinematic hypercube collider (its scaled bounds, exact for a tesseract slab),
+driven each tick so that the physics step ends at the object's new pose with
+the turn's velocity: a body resting on it is carried along or slides off, and
+contacts push it out rather than let the object turn through it.
+
 Ghosts (:func:`draw`): while an object is held, one translucent preview per
 allowed plane and direction floats above it, showing the section the object
 would have after the next step (or :data:`PREVIEW_DEG` without a step), as a
@@ -86,6 +92,10 @@ class Manipulable:
     moving: dict = field(default_factory=dict)
     turned: int = 0
     paid: int = 0
+    was_moving: bool = False
+    body: int | None = None  # its kinematic collider in the physics world, when the level has one
+    box_center: np.ndarray = field(default_factory=lambda: np.zeros(4))  # mesh bounds' centre, object frame
+    box_size: np.ndarray = field(default_factory=lambda: np.ones(4))  # mesh bounds' size, scaled
 
     @property
     def planes(self) -> list[str]:
@@ -136,6 +146,49 @@ def setup(game) -> None:
         e.kind = "manipulable"
         e.data = data
         e.motion = Placed(data.model())
+        if game.physics is not None:
+            _add_collider(game, e)
+
+
+def _add_collider(game, e) -> None:
+    """Give the object a kinematic hypercube (its scaled bounds) in the physics world, so rigid
+    bodies rest on it and are carried or tipped off when it turns."""
+    from ...physics import BodyDef
+
+    d = e.data
+    v = e.mesh.vertices.astype(np.float64)
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    d.box_center = 0.5 * (lo + hi) * d.scale
+    d.box_size = np.maximum((hi - lo) * d.scale, 1e-3)
+    m = d.model()
+    rot = _rotation(m)
+    d.body = game.physics.add_body(
+        BodyDef("hypercube", size=d.box_size, kind="kinematic", position=m[:4, 4] + rot @ d.box_center, rotation=rot)
+    )
+    game.entity_of_body[d.body] = e.id
+
+
+def _rotation(model: np.ndarray) -> np.ndarray:
+    """The rotation ``(4, 4)`` of a pose ``T R S`` (scale divided out of the columns)."""
+    a = model[:4, :4]
+    return a / np.linalg.norm(a, axis=0)
+
+
+def _drive_collider(game, d: Manipulable, before: np.ndarray, after: np.ndarray) -> None:
+    """Put the kinematic collider at ``before`` moving so that this tick's physics step ends at ``after``.
+
+    The angular velocity is the rotation ``after @ before.T`` spread over the tick
+    (its antisymmetric part, exact to third order in the tick's angle; the next tick
+    sets the pose again, so nothing accumulates).
+    """
+    r0, r1 = _rotation(before), _rotation(after)
+    c0 = before[:4, 4] + r0 @ d.box_center
+    c1 = after[:4, 4] + r1 @ d.box_center
+    delta = r1 @ r0.T
+    omega = 0.5 * (delta - delta.T) / game.dt  # omega[j, i]: rate of turning axis i towards j
+    bivector = [omega[j, i] for i, j in ((0, 1), (0, 2), (1, 2), (0, 3), (1, 3), (2, 3))]
+    game.physics.set_pose(d.body, position=c0, rotation=r0)
+    game.physics.set_velocity(d.body, (c1 - c0) / game.dt, bivector)
 
 
 def state_bytes(game) -> bytes:
@@ -283,7 +336,13 @@ def step(game, actions):
             elif d.moving[plane]:
                 game.emit(Manipulated(e.id, plane, d.angle_deg(plane), d.offsets[plane] / 1000.0))
             d.moving[plane] = turned != 0
-        e.motion.move(d.model())
+        before = e.motion.pose
+        after = d.model()
+        e.motion.move(after)
+        if d.body is not None and (not np.array_equal(before, after) or d.was_moving):
+            _drive_collider(game, d, before, after)  # also once after a turn, to stop it
+        if d.body is not None:
+            d.was_moving = not np.array_equal(before, after)
         e.style = "glow" if e.id in (tool.aimed, tool.held) else "solid"
     if changed:
         game.pose_version += 1  # the walker's sections of this tick are stale
