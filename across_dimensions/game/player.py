@@ -95,8 +95,8 @@ def overlapping(lo, hi, boxes: np.ndarray) -> np.ndarray:
 def move_axis(pos: np.ndarray, axis: int, delta: float, boxes: np.ndarray, tris=None) -> tuple[np.ndarray, bool]:
     """Move along one axis, stopping flush at the first box or section triangle entered.
 
-    ``tris`` is ``(t, 3, 3) float64`` (triangles of solid 4D objects' sections,
-    see :mod:`.section_collision`) or None.
+    ``tris`` is ``(t, 3, 3) float64`` or a :class:`.section_collision.Soup`
+    (triangles of solid 4D objects' sections) or None.
     """
     if delta == 0.0:
         return pos, False
@@ -259,8 +259,8 @@ def step_player(
     boxes = colliders_at(pos[3])
     tris = None
     if sections_at is not None:
-        found = sections_at(pos[3])
-        tris = np.concatenate(found) if found else None
+        found = [t for t in sections_at(pos[3]) if len(t)]
+        tris = section_collision.Soup(np.concatenate(found)) if found else None  # prepared once for every move
     pos_new = _move_horizontal(pos, v[0] * dt, v[2] * dt, boxes, player.on_ground, tris)
     pos_new, hit_y = move_axis(pos_new, 1, v[1] * dt, boxes, tris)
     # Velocity along an axis we were stopped on is gone.

@@ -54,7 +54,57 @@ def _axes(tris: np.ndarray) -> np.ndarray:
     return np.concatenate([np.broadcast_to(_E, (t, 3, 3)), normal[:, None, :], cross], axis=1)
 
 
-def sweep(lo: np.ndarray, hi: np.ndarray, axis: int, delta: float, tris: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+class Soup:
+    """Triangles prepared for many sweeps in one tick.
+
+    Bounds are computed for all triangles at once (the cheap cull); the test
+    axes and projections only for triangles a sweep comes near, once each, so a
+    big section far from the player costs little.
+
+    Parameters
+    ----------
+    tris : (t, 3, 3) float64
+
+    Attributes
+    ----------
+    lo, hi : (t, 3) float64
+        Each triangle's bounds.
+    """
+
+    def __init__(self, tris: np.ndarray):
+        self.tris = np.asarray(tris, dtype=np.float64).reshape(-1, 3, 3)
+        self.lo = self.tris.min(axis=1)
+        self.hi = self.tris.max(axis=1)
+        t = len(self.tris)
+        self._ready = np.zeros(t, bool)
+        self._axes = np.zeros((t, 13, 3))
+        self._usable = np.zeros((t, 13), bool)
+        self._t0 = np.zeros((t, 13))
+        self._t1 = np.zeros((t, 13))
+
+    def __len__(self) -> int:
+        return len(self.tris)
+
+    def prepared(self, which: np.ndarray) -> tuple:
+        """``axes (k, 13, 3)``, ``usable (k, 13)``, ``t0, t1 (k, 13)`` of the triangles ``which (t,) bool``."""
+        todo = which & ~self._ready
+        if todo.any():
+            tris = self.tris[todo]
+            axes = _axes(tris)
+            proj = np.einsum("tvi,tai->tav", tris, axes)
+            self._axes[todo] = axes
+            self._usable[todo] = np.einsum("tai,tai->ta", axes, axes) > AXIS_EPS
+            self._t0[todo] = proj.min(axis=2)
+            self._t1[todo] = proj.max(axis=2)
+            self._ready |= todo
+        return self._axes[which], self._usable[which], self._t0[which], self._t1[which]
+
+
+def _soup(tris) -> Soup:
+    return tris if isinstance(tris, Soup) else Soup(tris)
+
+
+def sweep(lo, hi, axis: int, delta: float, tris, which=None) -> tuple[np.ndarray, np.ndarray]:
     """When a box moving along one axis overlaps each triangle.
 
     Parameters
@@ -65,22 +115,22 @@ def sweep(lo: np.ndarray, hi: np.ndarray, axis: int, delta: float, tris: np.ndar
         0, 1 or 2.
     delta : float
         Signed length of the move along ``axis``.
-    tris : (t, 3, 3) float64
+    tris : (t, 3, 3) float64 or Soup
+    which : (t,) bool, optional
+        Only these triangles.
 
     Returns
     -------
-    entry, exit : (t,) float64
+    entry, exit : (k,) float64
         The box overlaps triangle ``i`` for ``entry[i] < s < exit[i]``, ``s`` the
         fraction of the move; ``entry >= exit`` means never (the infinite line
         of motion is meant, so callers clip to ``[0, 1]``).
     """
-    t = len(tris)
-    if t == 0:
+    soup = _soup(tris)
+    axes, usable, t0, t1 = soup.prepared(np.ones(len(soup), bool) if which is None else which)
+    if len(axes) == 0:
         return np.zeros(0), np.zeros(0)
-    axes = _axes(tris)  # (t, 13, 3)
-    usable = np.einsum("tai,tai->ta", axes, axes) > AXIS_EPS
-    proj = np.einsum("tvi,tai->tav", tris, axes)  # (t, 13, 3) corners projected
-    t0, t1 = proj.min(axis=2), proj.max(axis=2)
+    lo, hi = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
     centre = 0.5 * (lo + hi)
     half = 0.5 * (hi - lo)
     c = axes @ centre  # (t, 13)
@@ -98,33 +148,40 @@ def sweep(lo: np.ndarray, hi: np.ndarray, axis: int, delta: float, tris: np.ndar
     return enter.max(axis=1), leave.min(axis=1)
 
 
-def _near(lo, hi, tris: np.ndarray) -> np.ndarray:
+def _near(lo, hi, soup: Soup) -> np.ndarray:
     """Triangles whose bounds meet the box ``[lo, hi]`` (closed): a cheap cull before the exact test."""
-    return np.all((tris.min(axis=1) <= hi) & (tris.max(axis=1) >= lo), axis=1)
+    return np.all((soup.lo <= hi) & (soup.hi >= lo), axis=1)
 
 
-def overlapping(lo, hi, tris: np.ndarray) -> np.ndarray:
+def overlapping(lo, hi, tris) -> np.ndarray:
     """Which triangles the open box ``(lo, hi)`` overlaps, ``(t,) bool``."""
-    out = np.zeros(len(tris), bool)
-    near = _near(lo, hi, tris) if len(tris) else out
+    soup = _soup(tris)
+    out = np.zeros(len(soup), bool)
+    if len(soup) == 0:
+        return out
+    near = _near(lo, hi, soup)
     if near.any():
-        enter, leave = sweep(np.asarray(lo, float), np.asarray(hi, float), 0, 0.0, tris[near])
+        enter, leave = sweep(lo, hi, 0, 0.0, soup, near)
         out[near] = enter < leave
     return out
 
 
-def first_hit(lo, hi, axis: int, delta: float, tris: np.ndarray) -> float | None:
+def first_hit(lo, hi, axis: int, delta: float, tris) -> float | None:
     """The fraction ``s`` of the move at which the box first touches a triangle
-    it did not already overlap, or None when the whole move is free."""
+    it did not already overlap, or None when the whole move is free.
+
+    ``tris`` is ``(t, 3, 3) float64`` or a :class:`Soup` (prepared once for many moves).
+    """
     if len(tris) == 0 or delta == 0.0:
         return None
-    lo1, hi1 = lo.copy(), hi.copy()
+    soup = _soup(tris)
+    lo1, hi1 = np.array(lo, dtype=np.float64), np.array(hi, dtype=np.float64)
     lo1[axis] += min(delta, 0.0)
     hi1[axis] += max(delta, 0.0)
-    near = _near(lo1, hi1, tris)
+    near = _near(lo1, hi1, soup)
     if not near.any():
         return None
-    enter, leave = sweep(lo, hi, axis, delta, tris[near])
+    enter, leave = sweep(lo, hi, axis, delta, soup, near)
     before = (enter < 0.0) & (leave > 0.0)  # already overlapping: ignored, so the box can leave
     hit = (enter < leave) & (enter < 1.0) & (leave > 0.0) & ~before
     if not hit.any():
@@ -167,4 +224,4 @@ def box_blocked(lo, hi, tris: np.ndarray) -> bool:
     return bool(overlapping(lo, hi, tris).any()) or inside(0.5 * (np.asarray(lo) + np.asarray(hi)), tris)
 
 
-__all__ = ["triangles_of", "sweep", "overlapping", "first_hit", "inside", "box_blocked"]
+__all__ = ["Soup", "triangles_of", "sweep", "overlapping", "first_hit", "inside", "box_blocked"]
