@@ -173,3 +173,12 @@ def test_shipped_levels_have_no_solid_4d_object():
     for path in sorted(levels_dir().glob("0[123]_*.toml")):
         level = load_level(path)
         assert not [o.name for o in level.objects if o.solid and o.body == "none"], path.name
+
+
+def test_collision_benchmark_runs_and_reports_both_ways():
+    from across_dimensions.game.bench import bench_collision
+
+    r = bench_collision(ticks=20)
+    for key in ("section_median_ms", "section_p95_ms", "box_median_ms", "box_p95_ms", "triangles"):
+        assert np.isfinite(r[key]) and r[key] >= 0, key
+    assert r["triangles"] > 100  # the 120-cell's section is near the player
