@@ -290,3 +290,32 @@ def test_a_body_on_a_turned_object_follows_it_or_falls_and_never_sinks_in(tmp_pa
         assert y == pytest.approx(0.25, abs=SINK)  # slid off the 45-degree slope onto the floor
     else:
         assert y > 0.6  # still on the table, turned with it through w
+
+
+_PROMPT = """
+import types
+import pyglet
+pyglet.options["headless"] = True  # no X display needed: the window class is only imported
+from across_dimensions.app.settings import default_settings
+from across_dimensions.app.window import GameWindow
+fake = types.SimpleNamespace(settings=default_settings("azerty"))
+print(GameWindow.with_keys(fake, {message!r}))
+"""
+
+
+def test_the_window_shows_the_prompt_with_the_players_own_keys():
+    game = _at_the_edge()
+    game.step(Actions(manipulate=True))
+    message = game.frame().hud.message
+    assert "{move_forward}" in message
+    # In a fresh process: pyglet's import must not meet the suite's GL contexts.
+    out = subprocess.run(
+        [sys.executable, "-c", _PROMPT.format(message=message)], capture_output=True, text=True, timeout=300
+    )
+    if out.returncode != 0 and "pyglet" in out.stderr:
+        pytest.skip(f"pyglet does not import here: {out.stderr.strip().splitlines()[-1]}")
+    assert out.returncode == 0, out.stderr
+    text = out.stdout.strip()
+    # AZERTY: forward is Z, strafing Q/D; the tool stays on F.
+    assert "[Z/UP] [S/DOWN] turn yw (0 deg)" in text and "[D/RIGHT] [Q/LEFT] turn zw (0 deg)" in text, text
+    assert "let go of F to release" in text and "{" not in text

@@ -359,7 +359,7 @@ def _label(d: Manipulable) -> str:
     parts = []
     for i, plane in enumerate(d.planes[: len(AXES)]):
         _, plus, minus = AXES[i]
-        parts.append(f"{{{plus}}}/{{{minus}}} turn {plane} ({d.angle_deg(plane):.0f} deg)")
+        parts.append(f"[{{{plus}}}] [{{{minus}}}] turn {plane} ({d.angle_deg(plane):.0f} deg)")
     return "   ".join(parts)
 
 
