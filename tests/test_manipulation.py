@@ -319,3 +319,39 @@ def test_the_window_shows_the_prompt_with_the_players_own_keys():
     # AZERTY: forward is Z, strafing Q/D; the tool stays on F.
     assert "[Z/UP] [S/DOWN] turn yw (0 deg)" in text and "[D/RIGHT] [Q/LEFT] turn zw (0 deg)" in text, text
     assert "let go of F to release" in text and "{" not in text
+
+
+def test_an_object_may_slide_along_w_paid_like_the_players_own_moves(tmp_path):
+    text = BRIDGE.read_text().replace("reach = 10.0", "reach = 10.0\nslide = [-0.5, 0.2]")
+    text = text.replace("max = 100.0", "max = 100.0\nw_cost = 2.0")
+    p = tmp_path / "slide.toml"
+    p.write_text(text)
+    game = Game(load_level(p))
+    for _ in range(60):
+        game.step(Actions(forward=1.0))
+    for _ in range(8):
+        game.step(Actions(pitch=-0.03))
+    slab = _slab(game)
+    assert slab.data.planes == ["yw", "zw", "w"]
+    start = game.energy.milli
+    w_player = game.player.position[3]
+    for _ in range(60):  # the w keys slide the object now (three key pairs in use), not the player
+        game.step(Actions(manipulate=True, w=-1.0))
+    assert game.player.position[3] == w_player
+    assert slab.data.offsets["w"] == -500_000  # stopped at its limit, half a metre kata
+    assert slab.center(game)[3] == pytest.approx(-0.5, abs=1e-12)
+    assert start - game.energy.milli == 1000  # 0.5 m at 2 per unit of w
+    # Its ghosts preview the slide too, cut at the player's w.
+    previews = manipulation.ghost_offsets(slab.data)
+    assert ("w", 1, {**slab.data.offsets, "w": -250_000}) in previews
+    assert "slide along w" in game.frame().hud.message
+
+
+def test_bad_slide_is_one_line(tmp_path):
+    text = BRIDGE.read_text().replace("reach = 10.0", "reach = 10.0\nslide = [0.3, -0.2]")
+    p = tmp_path / "bad_slide.toml"
+    p.write_text(text)
+    with pytest.raises(LevelError) as info:
+        load_level(p)
+    lines = [line for line in str(info.value).splitlines() if "field 'slide'" in line]
+    assert len(lines) == 1 and "[[manipulable]] #1 'slab'" in lines[0] and str(p) in lines[0]

@@ -53,6 +53,7 @@ MANIPULABLE_TABLE = {
     "speed": Field("number", default=60.0, range=MANIP_SPEED, sign="positive"),
     "cost": Field("number", default=0.0, range=ENERGY, sign="nonnegative"),
     "reach": Field("number", default=6.0, range=MANIP_REACH, sign="positive"),
+    "slide": Field("vector", 2, default=None, range=COORD, names="ab"),
 }
 #: The tables format 2 adds, by top-level key.
 MODELS = {"energy": ENERGY_TABLE, "radar": RADAR_TABLE, "crystal": CRYSTAL_TABLE, "manipulable": MANIPULABLE_TABLE}
@@ -170,6 +171,7 @@ class ManipulableSpec:
     speed: float = 60.0
     cost_milli: int = 0
     reach: float = 6.0
+    slide: tuple | None = None  # (low, high) metres it may move along w from its position; None: it may not
 
 
 def read_manipulables(r, data, objects) -> list[ManipulableSpec]:
@@ -214,7 +216,21 @@ def read_manipulables(r, data, objects) -> list[ManipulableSpec]:
                     "(expected min <= 0 <= max and min < max, in degrees from the object's rotation)",
                 )
             planes[plane] = (lo, hi)
-        if not planes and "min" not in t and "max" not in t:
-            r.problem(where, "no plane to turn in: give 'max' and/or 'min', e.g. max = { xw = 90 }")
-        out.append(ManipulableSpec(name, planes, v["step"], v["speed"], int(round(v["cost"] * MILLI)), v["reach"]))
+        slide = None
+        if v["slide"] is not None:
+            lo, hi = (float(x) for x in v["slide"])
+            if lo > 0.0 or hi < 0.0 or lo >= hi:
+                r.problem(
+                    where,
+                    f"field 'slide': [{lo:g}, {hi:g}] is inverted or empty "
+                    "(expected [low, high] metres with low <= 0 <= high and low < high)",
+                )
+            elif len(planes) > 2:
+                r.problem(where, "field 'slide': an object with three planes has no keys left to slide it")
+            slide = (lo, hi)
+        if not planes and slide is None and "min" not in t and "max" not in t:
+            r.problem(where, "nothing to do: give 'max' and/or 'min', e.g. max = { xw = 90 }, or 'slide'")
+        out.append(
+            ManipulableSpec(name, planes, v["step"], v["speed"], int(round(v["cost"] * MILLI)), v["reach"], slide)
+        )
     return out

@@ -12,6 +12,11 @@ the walking keys turn it instead of moving the player:
 - the third with ``w_ana`` / ``w_kata``; with fewer than three planes those keys
   still move the player along w, so the ghosts can be watched changing with w.
 
+An object whose table has ``slide = [low, high]`` may also move along w (by
+``low`` to ``high`` metres, at :data:`SLIDE_SPEED`, paid like the player's own
+moves along w, ``[energy] w_cost``): the slide takes the key pair after its
+planes (``"w"`` in :attr:`Manipulable.planes`).
+
 The HUD shows these keys with the player's own bindings (``{action}``
 placeholders the window fills in, as for hints). Turning is smooth at the
 table's ``speed``; with a ``step``, a turn that is let go of carries on to the
@@ -70,7 +75,10 @@ AXES = (("forward", "move_forward", "move_back"), ("right", "strafe_right", "str
 #: Metres around an object's section that still count as aiming at it: a crosshair
 #: a hand's width off a thin beam should still grab it.
 AIM_MARGIN = 0.25
-DEAD_ZONE = 0.5  # an axis must be pushed past this to turn (keys give 0 or 1)
+DEAD_ZONE = 0.5
+SLIDE_UNIT = 1_000_000  # a slide along w is kept in whole micrometres (exact, like angles in millidegrees)
+SLIDE_SPEED = 1.0  # metres per second along w
+SLIDE_PREVIEW = 0.25  # metres a slide's ghost previews  # an axis must be pushed past this to turn (keys give 0 or 1)
 
 
 @dataclass
@@ -97,23 +105,35 @@ class Manipulable:
     box_center: np.ndarray = field(default_factory=lambda: np.zeros(4))  # mesh bounds' centre, object frame
     box_size: np.ndarray = field(default_factory=lambda: np.ones(4))  # mesh bounds' size, scaled
 
+    slid: int = 0  # micrometres slid along w so far, and the thousandths of energy paid for them
+    slide_paid: int = 0
+
     @property
     def planes(self) -> list[str]:
-        return [p for p in PLANES if p in self.spec.planes]
+        """The allowed planes in ``xy xz yz xw yw zw`` order, then ``"w"`` when it may slide along w."""
+        return [p for p in PLANES if p in self.spec.planes] + (["w"] if self.spec.slide is not None else [])
 
     def limits(self, plane: str) -> tuple[int, int]:
+        """Limits of a plane in millidegrees, or of the slide (``"w"``) in micrometres."""
+        if plane == "w":
+            lo, hi = self.spec.slide
+            return int(round(lo * SLIDE_UNIT)), int(round(hi * SLIDE_UNIT))
         lo, hi = self.spec.planes[plane]
         return int(round(lo * 1000)), int(round(hi * 1000))
 
     def model(self, offsets: dict | None = None) -> np.ndarray:
         """Object-to-world ``(5, 5) float64`` with ``offsets`` (millidegrees; default: the current ones)."""
         offsets = self.offsets if offsets is None else offsets
-        planes = set(self.rotation_deg) | set(offsets)
+        planes = (set(self.rotation_deg) | set(offsets)) - {"w"}
         angles = {p: np.radians(self.rotation_deg.get(p, 0.0) + offsets.get(p, 0) / 1000.0) for p in planes}
-        return pose(self.position, angles, self.scale)
+        position = self.position.copy()
+        position[3] += offsets.get("w", 0) / SLIDE_UNIT
+        return pose(position, angles, self.scale)
 
     def angle_deg(self, plane: str) -> float:
-        """The object's rotation in ``plane`` now, degrees."""
+        """The object's rotation in ``plane`` now, degrees (for ``"w"``: its w, metres)."""
+        if plane == "w":
+            return float(self.position[3] + self.offsets.get("w", 0) / SLIDE_UNIT)
         return self.rotation_deg.get(plane, 0.0) + self.offsets.get(plane, 0) / 1000.0
 
 
@@ -139,7 +159,7 @@ def setup(game) -> None:
             np.array(obj.position, dtype=np.float64),
             dict(obj.rotation_deg),
             np.array(obj.scale, dtype=np.float64),
-            offsets={p: 0 for p in PLANES if p in spec.planes},
+            offsets={p: 0 for p in [*PLANES, "w"] if p in spec.planes or (p == "w" and spec.slide is not None)},
         )
         data.direction = dict.fromkeys(data.offsets, 0)
         data.moving = dict.fromkeys(data.offsets, False)
@@ -200,7 +220,8 @@ def state_bytes(game) -> bytes:
     rows = [t.held or 0]
     for e in ents:
         d = e.data
-        rows += [e.id, d.turned, d.paid] + [d.offsets[p] for p in d.planes] + [d.direction[p] for p in d.planes]
+        rows += [e.id, d.turned, d.paid] + ([d.slid, d.slide_paid] if d.spec.slide is not None else [])
+        rows += [d.offsets[p] for p in d.planes] + [d.direction[p] for p in d.planes]
     return np.array(rows, dtype=np.int64).tobytes()
 
 
@@ -232,25 +253,35 @@ def aimed_at(game) -> int | None:
     return best
 
 
-def _affordable(game, d: Manipulable, mdeg: int) -> int:
-    """How many of ``mdeg`` millidegrees the bar can pay for (all when turning is free)."""
-    cost = d.spec.cost_milli
-    if cost <= 0 or game.energy is None:
-        return mdeg
-    # Largest m with ceil(cost * (turned + m) / 1000) - paid <= bar.
-    m = ((game.energy.milli + d.paid) * 1000) // cost - d.turned
-    return int(max(0, min(mdeg, m)))
+def _rate(game, d: Manipulable, plane: str) -> tuple[int, int, int, int]:
+    """``(cost, per, done, paid)``: thousandths of energy per ``per`` units (millidegrees, or
+    micrometres for a slide), the units moved so far and the thousandths paid for them."""
+    if plane == "w":  # sliding along w costs what moving the player along w does
+        cost = game.level.energy.w_cost_milli if game.energy is not None else 0
+        return cost, SLIDE_UNIT, d.slid, d.slide_paid
+    return d.spec.cost_milli, 1000, d.turned, d.paid
 
 
-def _pay(game, d: Manipulable, mdeg: int) -> None:
-    d.turned += mdeg
-    cost = d.spec.cost_milli
+def _affordable(game, d: Manipulable, plane: str, units: int) -> int:
+    """How many of ``units`` the bar can pay for (all when moving is free)."""
+    cost, per, done, paid = _rate(game, d, plane)
     if cost <= 0 or game.energy is None:
-        return
-    due = -((-cost * d.turned) // 1000) - d.paid  # ceil, in whole integers: exact
+        return units
+    # Largest m with ceil(cost * (done + m) / per) - paid <= bar.
+    m = ((game.energy.milli + paid) * per) // cost - done
+    return int(max(0, min(units, m)))
+
+
+def _pay(game, d: Manipulable, plane: str, units: int) -> None:
+    cost, per, done, paid = _rate(game, d, plane)
+    done += units
+    due = -((-cost * done) // per) - paid if cost > 0 and game.energy is not None else 0  # ceil, exact integers
     if due > 0:
-        paid = game.energy.spend_up_to(game, due, "manipulate")
-        d.paid += paid
+        paid += game.energy.spend_up_to(game, due, "manipulate")
+    if plane == "w":
+        d.slid, d.slide_paid = done, paid
+    else:
+        d.turned, d.paid = done, paid
 
 
 def _turn(game, e, plane: str, want: int) -> int:
@@ -259,7 +290,7 @@ def _turn(game, e, plane: str, want: int) -> int:
     lo, hi = d.limits(plane)
     cur = d.offsets[plane]
     target = min(max(cur + want, lo), hi)
-    amount = _affordable(game, d, abs(target - cur))
+    amount = _affordable(game, d, plane, abs(target - cur))
     if amount == 0:
         return 0
     new = cur + int(np.copysign(amount, target - cur))
@@ -268,7 +299,7 @@ def _turn(game, e, plane: str, want: int) -> int:
     if _swallows_player(game, e, offsets):
         return 0
     d.offsets = offsets
-    _pay(game, d, amount)
+    _pay(game, d, plane, amount)
     return new - cur
 
 
@@ -288,7 +319,7 @@ def _swallows_player(game, e, offsets: dict) -> bool:
 
 def _snap_target(d: Manipulable, plane: str) -> int | None:
     """Where an unheld plane settles: the next step multiple in its last direction (None: already there)."""
-    if d.spec.step is None:
+    if d.spec.step is None or plane == "w":
         return None
     step = int(round(d.spec.step * 1000))
     cur = d.offsets[plane]
@@ -322,7 +353,7 @@ def step(game, actions):
             push = 0.0
             if e is held and i < len(AXES):
                 push = getattr(actions, AXES[i][0])
-            rate = int(round(d.spec.speed * 1000 * game.dt))
+            rate = int(round((SLIDE_SPEED * SLIDE_UNIT if plane == "w" else d.spec.speed * 1000) * game.dt))
             turned = 0
             if abs(push) > DEAD_ZONE:
                 d.direction[plane] = 1 if push > 0 else -1
@@ -359,7 +390,10 @@ def _label(d: Manipulable) -> str:
     parts = []
     for i, plane in enumerate(d.planes[: len(AXES)]):
         _, plus, minus = AXES[i]
-        parts.append(f"[{{{plus}}}] [{{{minus}}}] turn {plane} ({d.angle_deg(plane):.0f} deg)")
+        if plane == "w":
+            parts.append(f"[{{{plus}}}] [{{{minus}}}] slide along w (w = {d.angle_deg(plane):+.2f})")
+        else:
+            parts.append(f"[{{{plus}}}] [{{{minus}}}] turn {plane} ({d.angle_deg(plane):.0f} deg)")
     return "   ".join(parts)
 
 
@@ -367,15 +401,19 @@ def ghost_offsets(d: Manipulable) -> list[tuple[str, int, dict]]:
     """The previews: ``(plane, direction, offsets)`` for the next step each way in each allowed plane
     (directions already at their limit have none)."""
     out = []
-    step = int(round((d.spec.step or PREVIEW_DEG) * 1000))
     for plane in d.planes:
         lo, hi = d.limits(plane)
         cur = d.offsets[plane]
+        snapping = d.spec.step is not None and plane != "w"
+        if plane == "w":
+            step = int(round(SLIDE_PREVIEW * SLIDE_UNIT))
+        else:
+            step = int(round((d.spec.step or PREVIEW_DEG) * 1000))
         for sign in (1, -1):
             if sign > 0:
-                nxt = (cur // step + 1) * step if d.spec.step else cur + step
+                nxt = (cur // step + 1) * step if snapping else cur + step
             else:
-                nxt = -((-cur) // step + 1) * step if d.spec.step else cur - step
+                nxt = -((-cur) // step + 1) * step if snapping else cur - step
             nxt = min(max(nxt, lo), hi)
             if nxt != cur:
                 out.append((plane, sign, {**d.offsets, plane: nxt}))
