@@ -11,6 +11,7 @@ Settings live in one TOML file, ``settings.toml`` in the per-user config folder
     fullscreen = false
     vsync = true
     show_fps = false
+    ghosts = true                # ghost previews while manipulating a 4D object
     width = 1280
     height = 720
 
@@ -296,6 +297,7 @@ _RULES: dict[str, _Rule] = {
     "fullscreen": _Rule("true or false", _boolean),
     "vsync": _Rule("true or false", _boolean),
     "show_fps": _Rule("true or false", _boolean),
+    "ghosts": _Rule("true or false", _boolean),
     "width": _Rule(f"a whole number of pixels from 320 to {_MAX_SIZE}", _integer(320, _MAX_SIZE)),
     "height": _Rule(f"a whole number of pixels from 240 to {_MAX_SIZE}", _integer(240, _MAX_SIZE)),
     "radar": _Rule("true or false", _boolean),
@@ -369,6 +371,8 @@ class Settings:
         Vertical field of view, degrees, in [50, 120].
     fullscreen, vsync, show_fps : bool
         Display options.
+    ghosts : bool
+        Show the ghost previews while manipulating a 4D object.
     width, height : int
         Window size in pixels, at least 320 x 240.
     radar : bool
@@ -393,6 +397,7 @@ class Settings:
     fullscreen: bool = False
     vsync: bool = True
     show_fps: bool = False
+    ghosts: bool = True
     width: int = 1280
     height: int = 720
     radar: bool = True

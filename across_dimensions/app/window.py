@@ -119,6 +119,7 @@ class GameWindow(pyglet.window.Window):
         self.renderer.forget_meshes()  # a new world: its meshes reuse the old one's keys and revisions
         s = self.settings
         self.game.radar_view = RadarView(s.radar, s.radar_range_scale, s.radar_height_scale)
+        self.game.show_ghosts = self.settings.ghosts  # a view option: not part of the simulation's state
         self.level_time = 0.0
         self.finished_for = 0.0
         self.set_caption(f"Across Dimensions - {self.game.level.name}")
@@ -358,6 +359,8 @@ class GameWindow(pyglet.window.Window):
         """The game's frame with the app's HUD additions (fps, pause, notices)."""
         frame = self.game.frame(alpha=self.accumulator / DT, fov_y_deg=self.settings.fov_deg)
         hud = frame.hud
+        if hud.message:  # the game's prompts name actions ({manipulate}); show the player's keys
+            hud.message = self.with_keys(hud.message)
         hud.fps = self.fps if self.show_fps else None
         hud.paused = self.paused
         if self.paused and not (self.notice[1] > 0 and self.notice[0]):
@@ -373,6 +376,10 @@ class GameWindow(pyglet.window.Window):
 
     def hint(self, i: int) -> str:
         """Level hint ``i`` with ``{action}`` replaced by the keys bound to it."""
+        return self.with_keys(self.game.level.hints[i])
+
+    def with_keys(self, text: str) -> str:
+        """``text`` with each ``{action}`` replaced by the keys bound to it."""
         keys = {
             a: "/".join(
                 k.replace("MOUSE_", "mouse ").lower() if k.startswith("MOUSE_") else k.lstrip("_")
@@ -381,7 +388,10 @@ class GameWindow(pyglet.window.Window):
             or "(unbound)"
             for a in self.settings.bindings
         }
-        return self.game.level.hints[i].format_map(_Missing(keys))
+        try:
+            return text.format_map(_Missing(keys))
+        except (ValueError, IndexError):  # a stray brace in a game prompt: show it as written
+            return text
 
     def on_draw(self):
         # One update per drawn frame: the wall clock is read here, in the app,

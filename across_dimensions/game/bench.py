@@ -16,8 +16,13 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.shapes import make_shape
+from ..core.transform import pose
 from ..world.level import load_level
+from ..world.resources import levels_dir
 from .actions import Actions
+from .entities import Placed, reach
+from .player import step_player
 from .sim import Game
 
 _HEADER = """
@@ -86,4 +91,95 @@ def bench_entities(n: int = 200, ticks: int = 600) -> dict:
             _time_game(game, 60)  # warm-up: kernels and caches
             out[f"{label}_step_ms"], out[f"{label}_frame_ms"] = _time_game(game, ticks)
     out["entities"] = n
+    return out
+
+
+# ------------------------------------------------------------------ walker collision
+# The walker against true sections, next to the bounding boxes it used before, in the
+# same run. The scene is the Bridge level with a solid 120-cell (3240 tetrahedra)
+# turning beside the player and the level's slab turning too: both change every
+# tick, so every tick slices them again (the worst case for the section caches).
+# Each tick times one walker step (``game.player.step_player``), once against the
+# sections' triangles (the game's way) and once against the sections' bounding
+# boxes, slicing included in both.
+
+
+def _collision_scene() -> tuple[Game, list]:
+    game = Game(load_level(levels_dir() / "05_bridge.toml"))
+    mesh = make_shape("120-cell")
+    turning = Placed(pose((1.2, 1.0, 1.8, 0.0), {}, np.full(4, 0.8)))
+    game.entities.spawn("object", "cell", mesh, turning, solid=True, radius=reach(mesh, 0.8))
+    game.player.position = np.array([-1.0, 0.0, 1.5, 0.0])
+    return game, [turning]
+
+
+def _turn_solids(game: Game, movers: list, k: int) -> None:
+    """Turn everything a little: the 120-cell in xw and yz, the slab in zw back and forth."""
+    movers[0].move(pose((1.2, 1.0, 1.8, 0.0), {"xw": 0.03 * k, "yz": 0.017 * k}, np.full(4, 0.8)))
+    slab = game.entities.named("slab")
+    slab.data.offsets["zw"] = int(45000 + 40000 * np.sin(0.05 * k))
+    slab.motion.move(slab.data.model())
+    game.pose_version += 1  # the walker's per-tick caches see the new poses
+
+
+def _section_bounds_colliders(game: Game):
+    """The old walker's colliders: the level's boxes plus each solid section's bounds."""
+
+    def colliders(w: float) -> np.ndarray:
+        extra = []
+        for e in game.entities:
+            if e.solid and e.reaches_slice(game, w):
+                key = f"bench:{e.id}"
+                game.sections.section(key, e.mesh, e.model(game), w)
+                extra.append(game.sections.bounds(key)[None])
+        return np.concatenate([game.colliders_at(w), *extra]) if extra else game.colliders_at(w)
+
+    return colliders
+
+
+def bench_collision(ticks: int = 300) -> dict:
+    """Time the walker's collision per 60 Hz tick with the level's solid objects turning every tick.
+
+    Returns
+    -------
+    dict
+        ``section_median_ms`` / ``section_p95_ms`` / ``section_cpu_median_ms``: a
+        walker step against the sections' triangles (wall clock, and process CPU
+        time); ``box_*``: the same against the sections' bounding boxes; ``triangles``: mean section triangles near
+        the player per tick; ``tick_budget_ms``: 1000 / 60.
+    """
+    out = {}
+    for mode in ("section", "box"):
+        game, movers = _collision_scene()
+        boxes = _section_bounds_colliders(game)
+        times = np.empty(ticks)
+        cpu = np.empty(ticks)
+        tris = np.empty(ticks)
+        g = float(game.level.gravity[1])
+        _turn_solids(game, movers, 0)
+        game.sections_at(0.0)  # warm-up: the slicing kernels' first call
+        for k in range(ticks):
+            _turn_solids(game, movers, k)
+            # Walk back and forth across the platform's edge, beside the turning solids.
+            a = Actions(right=1.0 if (k // 60) % 2 == 0 else -1.0, forward=0.3)
+            c0 = time.process_time()
+            t0 = time.perf_counter()
+            if mode == "section":
+                step_player(game.player, a, game.dt, g, game.level.w_range, game.colliders_at, None, np.inf,
+                            game.sections_at)  # fmt: skip
+            else:
+                step_player(game.player, a, game.dt, g, game.level.w_range, boxes)
+            times[k] = time.perf_counter() - t0
+            cpu[k] = time.process_time() - c0
+            tris[k] = sum(len(t) for t in game.sections_at(float(game.player.position[3])))
+            if game.player.position[1] < -2.0:  # fell off: back onto the platform
+                game.player.position = np.array([-1.0, 0.0, 1.5, 0.0])
+                game.player.velocity[:] = 0.0
+        out[f"{mode}_median_ms"] = 1e3 * float(np.median(times))
+        out[f"{mode}_p95_ms"] = 1e3 * float(np.percentile(times, 95))
+        out[f"{mode}_cpu_median_ms"] = 1e3 * float(np.median(cpu))  # less sensitive to other load
+        if mode == "section":
+            out["triangles"] = float(tris.mean())
+    out["ticks"] = ticks
+    out["tick_budget_ms"] = 1000.0 / 60.0
     return out

@@ -247,3 +247,51 @@ class WeaponSelected(Event):
     kind: ClassVar[str] = "weapon_selected"
     slot: int
     weapon: str
+
+
+@dataclass(frozen=True)
+class ManipulationStarted(Event):
+    """The player grabbed a manipulable 4D object with the manipulation tool.
+
+    Attributes
+    ----------
+    entity : int
+    """
+
+    kind: ClassVar[str] = "manipulation_started"
+    entity: int
+
+
+@dataclass(frozen=True)
+class Manipulated(Event):
+    """A turn of a held object in one plane settled (the key was let go, a snap finished, a limit was hit).
+
+    Attributes
+    ----------
+    entity : int
+    plane : str
+        One of ``xy xz yz xw yw zw``.
+    angle_deg : float
+        The object's rotation in that plane now, degrees.
+    offset_deg : float
+        How far it is turned from the level's rotation, degrees.
+    """
+
+    kind: ClassVar[str] = "manipulated"
+    entity: int
+    plane: str
+    angle_deg: float
+    offset_deg: float
+
+
+@dataclass(frozen=True)
+class ManipulationEnded(Event):
+    """The player let go of the held object.
+
+    Attributes
+    ----------
+    entity : int
+    """
+
+    kind: ClassVar[str] = "manipulation_ended"
+    entity: int

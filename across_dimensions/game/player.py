@@ -2,8 +2,10 @@
 
 The player is an axis-aligned box (``2 * HALF_WIDTH`` wide, ``HEIGHT`` tall,
 feet at ``position[1]``) living in the 3D slice at ``w = position[3]``. It
-collides with axis-aligned boxes: the 3D world's boxes and, for 4D geometry, the
-bounds of its cross-section at the player's w (see ``world.scene``).
+collides with axis-aligned boxes (the 3D world's boxes, the extended worlds'
+parts) and with the true cross-section of solid 4D objects at the player's w:
+the section's triangles, swept exactly (:mod:`.section_collision`), so a turned
+slab is a ramp and an arch's doorway is open.
 
 Why not pymunk (which the design suggested for the walker's collisions in the
 ground plane): a walker here needs the third axis too (jumping onto ledges,
@@ -25,6 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import section_collision
 from .actions import Actions
 
 HALF_WIDTH = 0.3
@@ -89,10 +92,30 @@ def overlapping(lo, hi, boxes: np.ndarray) -> np.ndarray:
     return np.all((lo < boxes[:, 1]) & (hi > boxes[:, 0]), axis=1)
 
 
-def move_axis(pos: np.ndarray, axis: int, delta: float, boxes: np.ndarray) -> tuple[np.ndarray, bool]:
-    """Move along one axis, stopping flush at the first box entered."""
+def move_axis(pos: np.ndarray, axis: int, delta: float, boxes: np.ndarray, tris=None) -> tuple[np.ndarray, bool]:
+    """Move along one axis, stopping flush at the first box or section triangle entered.
+
+    ``tris`` is ``(t, 3, 3) float64`` or a :class:`.section_collision.Soup`
+    (triangles of solid 4D objects' sections) or None.
+    """
     if delta == 0.0:
         return pos, False
+    new, hit = _move_boxes(pos, axis, delta, boxes)
+    if tris is not None and len(tris):
+        lo0, hi0 = player_box(pos)
+        s = section_collision.first_hit(lo0, hi0, axis, delta, tris)
+        if s is not None:
+            # Stop SKIN short of the contact, never behind the start.
+            along = s * abs(delta) - SKIN
+            stop = pos[axis] + np.copysign(max(along, 0.0), delta)
+            if (delta > 0 and stop < new[axis]) or (delta < 0 and stop > new[axis]):
+                new = pos.copy()
+                new[axis] = stop
+            hit = True
+    return new, hit
+
+
+def _move_boxes(pos: np.ndarray, axis: int, delta: float, boxes: np.ndarray) -> tuple[np.ndarray, bool]:
     lo0, hi0 = player_box(pos)
     before = overlapping(lo0, hi0, boxes)
     new = pos.copy()
@@ -116,18 +139,31 @@ def move_axis(pos: np.ndarray, axis: int, delta: float, boxes: np.ndarray) -> tu
     return new, True
 
 
-def _move_horizontal(pos, dx: float, dz: float, boxes, on_ground: bool) -> np.ndarray:
-    """Walk in x then z; when blocked on the ground, also try stepping up a ledge."""
-    flat, hit_x = move_axis(pos, 0, dx, boxes)
-    flat, hit_z = move_axis(flat, 2, dz, boxes)
+def _move_horizontal(pos, dx: float, dz: float, boxes, on_ground: bool, tris=None) -> np.ndarray:
+    """Walk in x then z; when blocked on the ground, also try stepping up a ledge (or a ramp's slope)."""
+    flat, hit_x = move_axis(pos, 0, dx, boxes, tris)
+    flat, hit_z = move_axis(flat, 2, dz, boxes, tris)
     if not (on_ground and (hit_x or hit_z)):
         return flat
-    up, _ = move_axis(pos, 1, STEP_HEIGHT, boxes)
-    stepped, _ = move_axis(up, 0, dx, boxes)
-    stepped, _ = move_axis(stepped, 2, dz, boxes)
-    stepped, _ = move_axis(stepped, 1, pos[1] - up[1], boxes)  # back down onto the ledge
+    up, _ = move_axis(pos, 1, STEP_HEIGHT, boxes, tris)
+    stepped, _ = move_axis(up, 0, dx, boxes, tris)
+    stepped, _ = move_axis(stepped, 2, dz, boxes, tris)
+    stepped, _ = move_axis(stepped, 1, pos[1] - up[1], boxes, tris)  # back down onto the ledge
     moved = lambda p: (p[0] - pos[0]) ** 2 + (p[2] - pos[2]) ** 2  # noqa: E731
     return stepped if moved(stepped) > moved(flat) + 1e-12 else flat
+
+
+def _enters_section(lo, hi, now: list, then: list) -> bool:
+    """Would the box ``(lo, hi)`` be in a solid's section at the new w that it is not in now?
+
+    ``now`` and ``then`` list the same objects' sections (one ``(t, 3, 3)`` each)
+    at the current and the new w; an object already touching the box is not
+    counted (the player may leave it, as with boxes).
+    """
+    for a, b in zip(now, then):
+        if section_collision.box_blocked(lo, hi, b) and not section_collision.box_blocked(lo, hi, a):
+            return True
+    return False
 
 
 def step_player(
@@ -139,6 +175,7 @@ def step_player(
     colliders_at,
     blocked_w=None,
     w_budget: float = np.inf,
+    sections_at=None,
 ) -> str | None:
     """Advance the player one tick.
 
@@ -161,6 +198,10 @@ def step_player(
     w_budget : float
         The farthest the player may move along w this tick (what the energy
         bar can pay for); unlimited by default.
+    sections_at : callable, optional
+        ``sections_at(w) -> list of (t, 3, 3) float64``: the closed triangle
+        surfaces of solid 4D objects' sections in the slice at w, one array per
+        object (see :mod:`.section_collision`). None: boxes only.
 
     Returns
     -------
@@ -207,6 +248,8 @@ def step_player(
         lo, hi = player_box(pos)
         if (overlapping(lo, hi, colliders_at(w_new)) & ~overlapping(lo, hi, colliders_at(pos[3]))).any():
             w_new, cut = float(pos[3]), "wall"
+        elif sections_at is not None and _enters_section(lo, hi, sections_at(pos[3]), sections_at(w_new)):
+            w_new, cut = float(pos[3]), "wall"
         elif blocked_w is not None and blocked_w(pos, w_new):
             w_new, cut = float(pos[3]), "body"
     if w_new != w_target:  # stopped by the range's end, the energy or a wall appearing
@@ -214,8 +257,12 @@ def step_player(
     pos[3] = w_new
 
     boxes = colliders_at(pos[3])
-    pos_new = _move_horizontal(pos, v[0] * dt, v[2] * dt, boxes, player.on_ground)
-    pos_new, hit_y = move_axis(pos_new, 1, v[1] * dt, boxes)
+    tris = None
+    if sections_at is not None:
+        found = [t for t in sections_at(pos[3]) if len(t)]
+        tris = section_collision.Soup(np.concatenate(found)) if found else None  # prepared once for every move
+    pos_new = _move_horizontal(pos, v[0] * dt, v[2] * dt, boxes, player.on_ground, tris)
+    pos_new, hit_y = move_axis(pos_new, 1, v[1] * dt, boxes, tris)
     # Velocity along an axis we were stopped on is gone.
     for axis in (0, 2):
         if abs(pos_new[axis] - (pos[axis] + v[axis] * dt)) > 1e-9:

@@ -30,7 +30,8 @@ from .events import Event
 from .frame import Camera3, Frame, Hud
 from .player import HALF_WIDTH, HEIGHT, Player
 from .player_bodies import bodies_block
-from .systems import SYSTEMS, crystals
+from .section_collision import triangles_of
+from .systems import SYSTEMS, crystals, manipulation
 
 TICK_RATE = 60
 DT = 1.0 / TICK_RATE
@@ -85,6 +86,9 @@ class Game:
         self._table_key: tuple | None = None
         self._colliders_key: tuple | None = None
         self._colliders: dict[float, np.ndarray] = {}
+        self._sections: dict[float, list] = {}
+        self._triangles: dict[str, tuple] = {}  # section key -> (TriMesh3, its (t, 3, 3) triangles)
+        self.pose_version = 0  # bumped by systems that move solid objects within a tick (manipulation)
         self.entity_of_body: dict[int, int] = {}
         for i, obj in enumerate(self.scene.objects):
             if i in body_of:
@@ -119,6 +123,7 @@ class Game:
         self.outcome: str | None = None  # "complete" once the goal is reached
         self.completed_tick: int | None = None
         self.player = self._spawned()
+        manipulation.setup(self)
         self.player_w_blocked = False
         self.respawns = 0
         self._prev_eye = self.player.eye()
@@ -157,24 +162,43 @@ class Game:
         return self._table
 
     def colliders_at(self, w: float) -> np.ndarray:
-        """Boxes ``(k, 2, 3)`` solid in the slice at ``w``: the 3D world, the
-        extended worlds and the bounds of solid 4D objects' sections. The rows
-        are the same things at every w; a thing absent at ``w`` is NaN.
+        """Boxes ``(k, 2, 3)`` solid in the slice at ``w``: the 3D world and the
+        extended worlds' parts. The rows are the same things at every w; a thing
+        absent at ``w`` is NaN. Solid 4D objects collide by their true section
+        instead (:meth:`sections_at`).
 
         Nothing moves within a tick, so the answer for a w is kept until the
         tick (or the set of entities) changes: the walker asks for the slice it
         is in and the one it steps to several times a tick.
         """
-        key = (self.tick, self.entities.version)
-        if self._colliders_key != key:
-            self._colliders_key, self._colliders = key, {}
+        self._fresh_colliders()
         boxes = self._colliders.get(w)
         if boxes is None:
-            boxes = self._colliders[w] = self._colliders_now(w)
+            boxes = self._colliders[w] = np.concatenate([self.scene.static_boxes, self.scene.world_boxes_at(w)])
         return boxes
 
-    def _colliders_now(self, w: float) -> np.ndarray:
-        parts = [self.scene.static_boxes, self.scene.world_boxes_at(w)]
+    def sections_at(self, w: float) -> list:
+        """The triangles of each solid 4D object's section at ``w``: one
+        ``(t, 3, 3) float64`` array per solid entity, in spawn order, empty where
+        the object is absent from the slice or beyond the player's reach.
+
+        Sections are recomputed only when an object's pose or the slice changed
+        (``game.sections`` compares both), and the list for a w is kept for the
+        tick.
+        """
+        self._fresh_colliders()
+        found = self._sections.get(w)
+        if found is None:
+            found = self._sections[w] = self._sections_now(w)
+        return found
+
+    def _fresh_colliders(self) -> None:
+        key = (self.tick, self.entities.version, self.pose_version)
+        if self._colliders_key != key:
+            self._colliders_key, self._colliders, self._sections = key, {}, {}
+
+    def _sections_now(self, w: float) -> list:
+        out = []
         feet = self.player.position
         for e in self.entities:
             if not e.solid:
@@ -184,11 +208,16 @@ class Game:
             # reach of the player's box in space, and of the slice in w.
             near = np.all(np.abs(e.center(self)[:3] - feet[:3]) <= e.radius + COLLIDE_MARGIN)
             if near and e.reaches_slice(self, w):
-                self.sections.section(key, e.mesh, e.model(self), w)
+                tri, _ = self.sections.section(key, e.mesh, e.model(self), w)
+                cached = self._triangles.get(key)
+                if cached is None or cached[0] is not tri:  # a new section: its triangles once
+                    cached = self._triangles[key] = (tri, triangles_of(tri))
+                out.append(cached[1])
             else:
-                self.sections.forget(key)  # absent at w: bounds are NaN
-            parts.append(self.sections.bounds(key)[None])
-        return np.concatenate(parts)
+                self.sections.forget(key)
+                self._triangles.pop(key, None)
+                out.append(np.zeros((0, 3, 3)))
+        return out
 
     def bodies_block_w(self, position, w: float) -> bool:
         """Would stepping to ``w`` put the player inside a rigid body?"""
@@ -202,7 +231,9 @@ class Game:
         self.events = []
         for system in SYSTEMS:
             if hasattr(system, "step"):
-                system.step(self, actions)
+                changed = system.step(self, actions)
+                if changed is not None:  # a system took some of the input (see systems/__init__.py)
+                    actions = changed
         self.tick += 1
 
     def _spawned(self) -> Player:
@@ -233,6 +264,7 @@ class Game:
         h.update(repr(self.rng.bit_generator.state).encode())
         if self.physics is not None:
             h.update(self.physics.state_bytes())
+        h.update(manipulation.state_bytes(self))  # nothing when the level has no manipulable object
         return h.hexdigest()[:16]
 
     # ------------------------------------------------------------------ frame

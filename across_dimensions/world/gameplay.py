@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core.transform import PLANES as PLANE_ORDER
 from .fields import Field
 from .limits import (
     AMMO,
@@ -38,6 +39,9 @@ from .limits import (
 CRYSTAL_SHAPES = ("16-cell", "24-cell", "5-cell", "tesseract", "600-cell")
 CRYSTAL_COLOR = (0.35, 1.0, 0.85, 1.0)
 CRYSTAL_SPIN = {"xw": 50.0, "yw": 35.0, "zw": 65.0}  # degrees/s: turning in the three w planes
+MANIP_STEP = Range(0.1, 360.0, "degrees")  # a snapping step; zero is refused (no step: leave it out)
+MANIP_SPEED = Range(1.0, 720.0, "degrees/s")
+MANIP_REACH = Range(0.5, 100.0, "m")
 MILLI = 1000  # energy is counted in thousandths (see game.energy)
 
 ENERGY_TABLE = {
@@ -112,13 +116,26 @@ TARGET_TABLE = {
     "opens": Field("text", default="", range=Range(0, MAX_NAME_CHARS)),
     "disguised": Field("bool", default=False),
 }
+MANIPULABLE_TABLE = {
+    "object": Field("text", range=Range(0, MAX_NAME_CHARS)),
+    "min": Field("angles", default=None, range=ANGLE),
+    "max": Field("angles", default=None, range=ANGLE),
+    "step": Field("number", default=None, range=MANIP_STEP, sign="positive"),
+    "speed": Field("number", default=60.0, range=MANIP_SPEED, sign="positive"),
+    "cost": Field("number", default=0.0, range=ENERGY, sign="nonnegative"),
+    "reach": Field("number", default=6.0, range=MANIP_REACH, sign="positive"),
+    "slide": Field("vector", 2, default=None, range=COORD, names="ab"),
+}
 #: The tables format 2 adds, by top-level key.
+#: Which of them are arrays of tables (``[[crystal]]``); the others are single tables.
+ARRAY_TABLES = ("crystal", "weapon", "target", "manipulable")
 MODELS = {
     "energy": ENERGY_TABLE,
     "radar": RADAR_TABLE,
     "crystal": CRYSTAL_TABLE,
     "weapon": WEAPON_TABLE,
     "target": TARGET_TABLE,
+    "manipulable": MANIPULABLE_TABLE,
 }
 
 
@@ -329,5 +346,87 @@ def read_targets(r, data, object_names) -> list[TargetSpec]:
                 v["opens"],
                 v["disguised"],
             )
+        )
+    return out
+
+
+@dataclass
+class ManipulableSpec:
+    """A ``[[manipulable]]``: a 4D object the player may turn with the manipulation tool.
+
+    ``planes`` maps each plane the object may turn in to its limits
+    ``(low, high)`` in degrees, as offsets from the object's ``rotation``
+    (``low <= 0 <= high``); ``step`` the snapping step in degrees (None: turn
+    freely); ``speed`` degrees per second; ``cost_milli`` energy per degree in
+    thousandths; ``reach`` how far (metres) the player may aim at it from.
+    """
+
+    object: str
+    planes: dict
+    step: float | None = None
+    speed: float = 60.0
+    cost_milli: int = 0
+    reach: float = 6.0
+    slide: tuple | None = None  # (low, high) metres it may move along w from its position; None: it may not
+
+
+def read_manipulables(r, data, objects) -> list[ManipulableSpec]:
+    """The ``[[manipulable]]`` tables; ``objects`` are the level's :class:`ObjectSpec` s.
+
+    A plane is allowed when it appears in ``min`` or ``max`` (a missing side is
+    0: ``max = { xw = 90 }`` turns from 0 to 90 degrees). Each table must name a
+    solid 4D object that is not a rigid body and does not spin, once.
+    """
+    out = []
+    by_name = {o.name: o for o in objects}
+    if "manipulable" in data:
+        tables = r.array_of_tables(data, "manipulable", "top level")[: len(objects) + 1]
+    else:
+        tables = []
+    seen = set()
+    for i, t in enumerate(tables, 1):
+        where = f"[[manipulable]] #{i}"
+        r.unknown(t, MANIPULABLE_TABLE, where)
+        name = r.read(t, MANIPULABLE_TABLE, where, keys=("object",))["object"]
+        if name:
+            where = f"[[manipulable]] #{i} '{name}'"
+        v = r.read(t, MANIPULABLE_TABLE, where, keys=[k for k in MANIPULABLE_TABLE if k != "object"])
+        o = by_name.get(name)
+        if "object" in t and name and o is None:
+            r.problem(where, f"field 'object': no [[object]] is named '{name}'")
+        elif o is not None:
+            if o.body != "none":
+                r.problem(where, f"field 'object': '{name}' is a rigid body; only objects with body = \"none\" turn")
+            if any(x != 0.0 for x in o.spin_deg.values()):
+                r.problem(where, f"field 'object': '{name}' has a spin; a manipulable object must not spin")
+            if name in seen:
+                r.problem(where, f"field 'object': '{name}' is already manipulable (one table per object)")
+            seen.add(name)
+        planes = {}
+        for plane in sorted(set(v["min"]) | set(v["max"]), key=PLANE_ORDER.index):
+            lo, hi = v["min"].get(plane, 0.0), v["max"].get(plane, 0.0)
+            if lo > 0.0 or hi < 0.0 or lo >= hi:
+                r.problem(
+                    where,
+                    f"plane '{plane}': limits min = {lo:g}, max = {hi:g} are inverted or empty "
+                    "(expected min <= 0 <= max and min < max, in degrees from the object's rotation)",
+                )
+            planes[plane] = (lo, hi)
+        slide = None
+        if v["slide"] is not None:
+            lo, hi = (float(x) for x in v["slide"])
+            if lo > 0.0 or hi < 0.0 or lo >= hi:
+                r.problem(
+                    where,
+                    f"field 'slide': [{lo:g}, {hi:g}] is inverted or empty "
+                    "(expected [low, high] metres with low <= 0 <= high and low < high)",
+                )
+            elif len(planes) > 2:
+                r.problem(where, "field 'slide': an object with three planes has no keys left to slide it")
+            slide = (lo, hi)
+        if not planes and slide is None and "min" not in t and "max" not in t:
+            r.problem(where, "nothing to do: give 'max' and/or 'min', e.g. max = { xw = 90 }, or 'slide'")
+        out.append(
+            ManipulableSpec(name, planes, v["step"], v["speed"], int(round(v["cost"] * MILLI)), v["reach"], slide)
         )
     return out

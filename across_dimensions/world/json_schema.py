@@ -18,12 +18,10 @@ from __future__ import annotations
 from ..core.shapes import SHAPE_PARAM_RULES
 from ..core.transform import PLANES
 from .fields import REQUIRED, Field
-from .level import FORMATS, MODELS
+from .level import ARRAY_TABLES, FORMATS, MODELS
 from .limits import MAX_COUNTS, MAX_NAME_CHARS
 
 SCHEMA_URI = "https://json-schema.org/draft/2020-12/schema"
-#: Top-level keys written ``[[key]]`` (arrays of tables); the others are ``[key]`` tables.
-ARRAYS = ("box", "mesh", "world", "object", "crystal")
 #: Nested arrays of tables inside a table, and the model each entry follows.
 NESTED = {("world", "box"): "box", ("world", "mesh"): "mesh"}
 
@@ -98,7 +96,7 @@ def level_schema() -> dict:
     defs = {name: _table(name, model) for name, model in MODELS.items()}
     props = {}
     for name in MODELS:
-        if name in ARRAYS:
+        if name in ARRAY_TABLES:
             limit, _ = MAX_COUNTS.get(name, (None, None))
             arr = {"type": "array", "items": {"$ref": f"#/$defs/{name}"}}
             if limit is not None:

@@ -151,6 +151,8 @@ MODELS = {
     **gameplay.MODELS,
 }
 FORMATS = (1, 2)  # format 2 adds the tables of gameplay.MODELS
+#: Top-level keys written ``[[key]]`` (arrays of tables); the others are ``[key]`` tables.
+ARRAY_TABLES = ("box", "mesh", "world", "object", *gameplay.ARRAY_TABLES)
 
 # Shape parameters: how each is checked (the builders in core/shapes.py take these names).
 # One table of rules for the core's builders and for levels (core.shapes.SHAPE_PARAM_RULES);
@@ -287,6 +289,7 @@ class Level:
     tets: int = 0  # estimated tetrahedra of the 4D content (objects and worlds)
     weapons: list[gameplay.WeaponSpec] = field(default_factory=list)
     targets: list[gameplay.TargetSpec] = field(default_factory=list)
+    manipulables: list[gameplay.ManipulableSpec] = field(default_factory=list)
 
     @property
     def bodies(self) -> int:
@@ -834,6 +837,7 @@ def load_level(path, source: bytes | None = None) -> Level:
     crystals = gameplay.read_crystals(r, data, w_range if w_ok else None)
     weapons = gameplay.read_weapons(r, data)
     targets = gameplay.read_targets(r, data, {o.name for o in objects})
+    manipulables = gameplay.read_manipulables(r, data, objects)
 
     if r.problems:
         raise LevelError(path, r.problems)
@@ -860,4 +864,5 @@ def load_level(path, source: bytes | None = None) -> Level:
         radar=radar,
         weapons=weapons,
         targets=targets,
+        manipulables=manipulables,
     )

@@ -3,7 +3,10 @@
 A system is a module with either or both of
 
 ``step(game, actions)``
-    Advance its part of the simulation by one tick. Systems run in the order of
+    Advance its part of the simulation by one tick. It may return a replacement
+    :class:`~across_dimensions.game.actions.Actions` that the systems after it see
+    this tick (manipulation takes the walking keys while an object is held);
+    returning None leaves the actions as they are. Systems run in the order of
     :data:`SYSTEMS` every tick; a later system sees what earlier ones did this
     tick (the player has moved before crystals are checked for pickup).
 ``draw(game, frame, alpha)``
@@ -17,11 +20,38 @@ their state on the game (``game.energy``) or on entities (``entity.data``), neve
 in module globals, so two games never share anything.
 """
 
-from . import bullets, crystals, energy, outcome, player, push, radar, rigid_bodies, scenery, sections, weapons
+from . import (
+    bullets,
+    crystals,
+    energy,
+    manipulation,
+    outcome,
+    player,
+    push,
+    radar,
+    rigid_bodies,
+    scenery,
+    sections,
+    weapons,
+)
 
-#: Tick order: energy first (new tick), the player moves, pushes bodies, physics
-#: runs, pickups, then the outcome. Frame order: scenery, entities, radar, HUD.
-#: Weapons fire and steer bullets before physics; bullets read its contacts after.
-SYSTEMS = (energy, player, push, weapons, rigid_bodies, bullets, crystals, outcome, scenery, sections, radar)
+#: Tick order: energy first (new tick), manipulation (it turns objects and takes the
+#: walking keys while one is held), the player moves, pushes bodies, weapons fire and
+#: steer bullets before physics runs, bullets read its contacts after, pickups, then
+#: the outcome. Frame order: manipulation (ghosts, HUD line), scenery, entities, radar, HUD.
+SYSTEMS = (
+    energy,
+    manipulation,
+    player,
+    push,
+    weapons,
+    rigid_bodies,
+    bullets,
+    crystals,
+    outcome,
+    scenery,
+    sections,
+    radar,
+)
 
 __all__ = ["SYSTEMS"]

@@ -33,6 +33,7 @@ def step(game, actions) -> None:
         game.colliders_at,
         game.bodies_block_w if game.physics is not None else None,
         _w_budget(game),
+        game.sections_at,
     )
     travelled = abs(float(p.position[3]) - w_before)
     if game.energy is not None and travelled > 0.0 and game.level.energy.w_cost_milli > 0:

@@ -1,0 +1,184 @@
+"""The walker against the true cross-sections of solid 4D objects.
+
+Tolerances: the walker keeps ``SKIN`` (1e-4 m) from surfaces, and section
+vertices are float32 (about 1e-6 m at these sizes), so heights are compared to
+analytic truth within 2e-4 m plus SKIN.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from across_dimensions.core import lift, shapes
+from across_dimensions.core.mesh import concatenate
+from across_dimensions.core.transform import pose
+from across_dimensions.game import section_collision as sc
+from across_dimensions.game.actions import Actions
+from across_dimensions.game.entities import Placed, reach
+from across_dimensions.game.player import HALF_WIDTH, SKIN
+from across_dimensions.game.sim import Game
+from across_dimensions.world.level import load_level
+from across_dimensions.world.resources import levels_dir
+
+TOL = 2e-4 + SKIN
+
+
+def test_sweep_stops_where_a_falling_box_meets_a_flat_triangle():
+    tri = np.array([[[-5.0, 1.0, -5.0], [5.0, 1.0, -5.0], [0.0, 1.0, 5.0]]])
+    lo, hi = np.array([-0.3, 2.0, -0.3]), np.array([0.3, 3.75, 0.3])
+    s = sc.first_hit(lo, hi, 1, -4.0, tri)
+    assert s == pytest.approx(0.25, abs=1e-12)  # 1 m of a 4 m fall
+    assert sc.first_hit(lo, hi, 1, -0.5, tri) is None  # stops short of the triangle
+    assert sc.first_hit(lo, hi, 0, 3.0, tri) is None  # sideways above it: never touches
+
+
+def test_sweep_against_a_slanted_triangle_and_its_edge():
+    # A triangle in the plane y = x (45 degrees), the box above it (y > x).
+    tri = np.array([[[-5.0, -5.0, -5.0], [5.0, 5.0, -5.0], [0.0, 0.0, 5.0]]])
+    lo, hi = np.array([-3.0, 0.0, -0.3]), np.array([-2.0, 1.0, 0.3])
+    # Moving +x, the lower right edge (x = -2, y = 0) meets y = x first, after 2 m of 6.
+    s = sc.first_hit(lo, hi, 0, 6.0, tri)
+    assert s == pytest.approx(1.0 / 3.0, abs=1e-12)
+    assert sc.overlapping(lo + [3.0, 0, 0], hi + [3.0, 0, 0], tri).all()
+    assert not sc.overlapping(lo, hi, tri).any()
+
+
+def test_inside_a_closed_section():
+    cube = np.array([[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]])
+    from across_dimensions.core.section import cross_section
+
+    tris = sc.triangles_of(cross_section(shapes.tesseract(), model=pose((0, 0, 0, 0), {}, np.full(4, 2.0))))
+    assert sc.inside([0.1, 0.2, 0.3], tris)
+    assert not sc.inside([0.1, 1.5, 0.3], tris)
+    assert not sc.inside([3.0, 0.0, 0.0], tris)
+    assert sc.box_blocked(cube[0] * 0.1, cube[1] * 0.1, tris)  # wholly inside: blocked though no triangle is hit
+
+
+def _slab_level(tmp_path, angle_deg: float, plane: str = "xy"):
+    text = f"""
+[level]
+format = 2
+w_range = [-0.5, 0.5]
+[spawn]
+position = [-2.0, 0.0, 0.0, 0.0]
+yaw = 90.0
+[goal]
+center = [30.0, 1.0, 0.0]
+size = [1.0, 2.0, 1.0]
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [20.0, 1.0, 20.0]
+[[object]]
+name = "slab"
+shape = "tesseract"
+position = [2.0, 0.0, 0.0, 0.0]
+rotation = {{ {plane} = {angle_deg} }}
+scale = [6.0, 0.2, 3.0, 1.0]
+solid = true
+"""
+    p = tmp_path / "slab.toml"
+    p.write_text(text)
+    return Game(load_level(p))
+
+
+def test_player_stands_on_a_slab_turned_20_degrees_at_its_section_height(tmp_path):
+    game = _slab_level(tmp_path, 20.0)
+    t = np.radians(20.0)
+    # Drop the player onto the slope and let them settle.
+    game.player.position = np.array([2.5, 3.0, 0.0, 0.0])
+    for _ in range(120):
+        game.step(Actions())
+    p = game.player.position
+    assert game.player.on_ground
+    # Top face of the turned slab: y = tan(t) (x - 2) + 0.1 / cos(t); the player's box
+    # rests on it with its uphill bottom edge, at x + HALF_WIDTH.
+    top = np.tan(t) * (p[0] + HALF_WIDTH - 2.0) + 0.1 / np.cos(t)
+    assert p[1] == pytest.approx(top, abs=TOL)
+    assert p[1] > top  # never inside
+
+
+def test_a_turned_slab_is_a_ramp_the_player_walks_up(tmp_path):
+    game = _slab_level(tmp_path, 15.0)
+    t = np.radians(15.0)
+    heights = []
+    for _ in range(80):  # walk along +x, from the floor onto the ramp and up it (it ends at x = 4.9)
+        game.step(Actions(forward=1.0))
+        heights.append(game.player.position[1])
+    p = game.player.position
+    assert 3.5 < p[0] < 4.6, "the walker stopped at the foot of the ramp or ran off its end"
+    top = np.tan(t) * (p[0] + HALF_WIDTH - 2.0) + 0.1 / np.cos(t)
+    # Each tick climbs the slope by stepping up and settling down onto it; gravity may
+    # leave the walker a fall of one tick (under 1 cm) above the surface.
+    assert top - 0.01 < p[1] < top + 0.01 + TOL
+    assert np.all(np.diff(heights) > -0.01)  # climbs steadily, never drops back
+
+
+def test_the_same_slab_turned_in_xw_is_flat_and_stood_on(tmp_path):
+    # Turned through w, its section at w = 0 is a longer flat box: its top stays at y = 0.1.
+    game = _slab_level(tmp_path, 20.0, plane="xw")
+    game.player.position = np.array([2.0, 1.0, 0.0, 0.0])
+    for _ in range(90):
+        game.step(Actions())
+    assert game.player.position[1] == pytest.approx(0.1 + SKIN, abs=TOL)
+
+
+def _arch_game(tmp_path):
+    game = _slab_level(tmp_path, 0.0)
+    game.remove(game.entities.named("slab").id)
+    parts = []
+    pillar, lintel = [0.4, 2.2, 0.6], [2.4, 0.4, 0.6]
+    for c, s in (([-1.0, 1.1, 4.0], pillar), ([1.0, 1.1, 4.0], pillar), ([0.0, 2.401, 4.0], lintel)):
+        v, t = lift.box_solid(c, s)
+        parts.append(lift.extrude(v, t, [-0.5, 0.5]))
+    mesh = concatenate(parts)
+    game.entities.spawn("object", "arch", mesh, Placed(np.eye(5)), solid=True, radius=reach(mesh))
+    game.player.position = np.array([0.0, 0.0, 1.0, 0.0])
+    game.player.yaw = 0.0  # looking along +z, at the arch
+    return game
+
+
+def test_an_arch_lets_the_player_through_its_doorway(tmp_path):
+    game = _arch_game(tmp_path)
+    for _ in range(90):
+        game.step(Actions(forward=1.0))
+    assert game.player.position[2] > 5.0  # walked through the 1.6 m wide, 2.2 m high doorway
+
+
+def test_an_arch_blocks_the_player_at_its_pillars(tmp_path):
+    game = _arch_game(tmp_path)
+    game.player.position[0] = -1.0  # in line with the left pillar
+    for _ in range(90):
+        game.step(Actions(forward=1.0))
+    assert game.player.position[2] == pytest.approx(4.0 - 0.3 - HALF_WIDTH - SKIN, abs=TOL)
+    assert game.player.position[1] == pytest.approx(0.0, abs=1e-9)  # not climbed: 2.2 m is no step
+
+
+def test_a_step_along_w_into_a_section_is_refused(tmp_path):
+    game = _slab_level(tmp_path, 0.0)
+    game.remove(game.entities.named("slab").id)
+    mesh = shapes.tesseract()
+    model = pose((0.0, 1.0, 0.0, 0.45), {}, np.array([3.0, 3.0, 3.0, 0.4]))  # exists for 0.25 < w < 0.65
+    game.entities.spawn("object", "block", mesh, Placed(model), solid=True, radius=reach(mesh, [3, 3, 3, 0.4]))
+    game.player.position = np.array([0.0, 0.0, 0.0, 0.0])  # the block would appear around the player
+    for _ in range(60):
+        game.step(Actions(w=1.0))
+    assert game.player.position[3] < 0.25
+    assert game.event_counts["w_blocked"] >= 1
+
+
+def test_shipped_levels_have_no_solid_4d_object():
+    # Section collision replaced bounding boxes only for solid, non-body 4D objects;
+    # the shipped levels before the Bridge have none, so their replays are unchanged.
+    for path in sorted(levels_dir().glob("0[123]_*.toml")):
+        level = load_level(path)
+        assert not [o.name for o in level.objects if o.solid and o.body == "none"], path.name
+
+
+def test_collision_benchmark_runs_and_reports_both_ways():
+    from across_dimensions.game.bench import bench_collision
+
+    r = bench_collision(ticks=20)
+    for key in ("section_median_ms", "section_p95_ms", "box_median_ms", "box_p95_ms", "triangles"):
+        assert np.isfinite(r[key]) and r[key] >= 0, key
+    assert r["triangles"] > 100  # the 120-cell's section is near the player
