@@ -34,9 +34,10 @@ def _tinted(mesh: TriMesh3, near, far) -> TriMesh3:
 
 
 def icon_frame() -> Frame:
-    """The icon's scene: the tesseract turned in the xw and yz planes, 3 units
+    """The icon's scene: the tesseract turned in four planes, 3 units
     in front of the 4D camera along w."""
-    model = compose(translation((0.0, 0.0, 0.0, 3.2)), rotation("xw", 0.5), rotation("yw", 0.35), rotation("xz", 0.6), rotation("yz", 0.3))
+    turns = (rotation("xw", 0.5), rotation("yw", 0.35), rotation("xz", 0.6), rotation("yz", 0.3))
+    model = compose(translation((0.0, 0.0, 0.0, 3.2)), *turns)
     projected = frustum_project(shapes.tesseract(), model=model, fov_deg=80.0)
     mesh = _tinted(projected, (0.35, 0.95, 1.0), (0.75, 0.35, 1.0))
     # Frame the projection: look along +z at its bounding box's centre, from
