@@ -1,8 +1,8 @@
 """The standalone build: ``python -m across_dimensions.app.freeze`` and the folder it makes.
 
-Slow (a PyInstaller build, then a cold compile of the kernels inside the
+The build tests are slow (a PyInstaller build, then a cold compile of the kernels inside the
 frozen game: about four minutes on two cores), and skipped when PyInstaller
-(the ``standalone`` extra) is not installed. Run it with::
+(the ``standalone`` extra) is not installed. Run them with::
 
     pip install -e '.[standalone]'
     python -m pytest tests/test_freeze.py -m slow -v -p no:cacheprovider
@@ -23,19 +23,37 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("PyInstaller", reason="the standalone extra (PyInstaller) is not installed")
-
-pytestmark = pytest.mark.slow
-
 ROOT = Path(__file__).resolve().parents[1]
 REPLAYS = sorted((ROOT / "levels" / "replays").glob("*.json"))
 #: Where the base system's shared libraries live (glibc, libGL/libEGL, X11).
 SYSTEM_LIBS = ("/lib/", "/lib64/", "/usr/lib/", "/usr/lib64/", "/usr/local/lib/")
 
 
+def _freeze(*args, blocked_pyinstaller=False):
+    code = "import runpy, sys\n"
+    if blocked_pyinstaller:
+        code += "sys.modules['PyInstaller'] = None  # import PyInstaller now raises ImportError\n"
+    code += "runpy.run_module('across_dimensions.app.freeze', run_name='__main__')\n"
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    return subprocess.run([sys.executable, "-c", code, *args], env=env, capture_output=True, text=True, timeout=120)
+
+
+def test_freeze_help():
+    done = _freeze("--help")
+    assert done.returncode == 0, done.stderr
+    assert "--no-archive" in done.stdout
+
+
+def test_freeze_without_pyinstaller_says_which_extra_to_install():
+    done = _freeze("--dist", "unused", blocked_pyinstaller=True)
+    assert done.returncode == 2
+    assert done.stderr.count("\n") == 1 and "pip install -e '.[standalone]'" in done.stderr
+
+
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
     """Build once: (folder, archive, player home)."""
+    pytest.importorskip("PyInstaller", reason="the standalone extra (PyInstaller) is not installed")
     tmp = tmp_path_factory.mktemp("freeze")
     cmd = [sys.executable, "-m", "across_dimensions.app.freeze"]
     cmd += ["--dist", str(tmp / "dist"), "--work", str(tmp / "work")]
@@ -79,6 +97,7 @@ def _installed(*args):
     return subprocess.run([sys.executable, "-m", "across_dimensions", *args], env=env, capture_output=True, text=True)
 
 
+@pytest.mark.slow
 def test_folder_holds_the_game_levels_assets_and_desktop_entry(built):
     folder, archive, _ = built
     data = folder / "_internal"
@@ -100,6 +119,7 @@ def test_folder_holds_the_game_levels_assets_and_desktop_entry(built):
         assert "across-dimensions/_internal/levels/01_first_steps.toml" in names
 
 
+@pytest.mark.slow
 def test_libraries_resolve_inside_the_folder_or_the_base_system(built):
     folder, _, _ = built
     outside = []
@@ -118,6 +138,7 @@ def test_libraries_resolve_inside_the_folder_or_the_base_system(built):
     assert not [o for o in outside if "not found" in o and "tbb" not in o], outside
 
 
+@pytest.mark.slow
 def test_help_and_errors_match_the_installed_command(built):
     frozen, installed = _run(built, "--help"), _installed("--help")
     assert frozen.returncode == 0 == installed.returncode
@@ -128,6 +149,7 @@ def test_help_and_errors_match_the_installed_command(built):
         assert frozen.stderr == installed.stderr
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("replay", REPLAYS, ids=[p.stem for p in REPLAYS])
 def test_every_shipped_replay_reaches_its_recorded_hashes(built, replay):
     folder, _, _ = built
@@ -140,6 +162,7 @@ def test_every_shipped_replay_reaches_its_recorded_hashes(built, replay):
     assert (result["hash"], result["ticks"], result["outcome"]) == (final["hash"], final["ticks"], final["outcome"])
 
 
+@pytest.mark.slow
 def test_demo_writes_screenshots_and_kernels_cache_in_the_players_folder(built, tmp_path):
     _, _, home = built
     shots = tmp_path / "shots"
@@ -152,3 +175,19 @@ def test_demo_writes_screenshots_and_kernels_cache_in_the_players_folder(built, 
     assert all(p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for p in pngs)
     caches = list((home / ".cache" / "across-dimensions").glob("numba-*"))
     assert len(caches) == 1 and any(caches[0].rglob("*.nbi")), "kernels were not cached in the player's folder"
+
+
+@pytest.mark.slow
+def test_desktop_entry_installs_for_this_user_and_is_removed(built, tmp_path):
+    folder, _, _ = built
+    env = {"HOME": str(tmp_path), "XDG_DATA_HOME": str(tmp_path / "share"), "PATH": "/usr/bin:/bin"}
+    script = str(folder / "install-desktop-entry.sh")
+    done = subprocess.run([script], env=env, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    entry = tmp_path / "share" / "applications" / "across-dimensions.desktop"
+    lines = entry.read_text().splitlines()
+    assert f'Exec="{folder / "across-dimensions"}"' in lines
+    icon = next(line.split("=", 1)[1] for line in lines if line.startswith("Icon="))
+    assert Path(icon).read_bytes() == (folder / "across-dimensions.png").read_bytes()
+    done = subprocess.run([script, "--remove"], env=env, capture_output=True, text=True)
+    assert done.returncode == 0 and not entry.exists() and not Path(icon).exists()

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import importlib.metadata
-import importlib.util
 import os
 import platform
 import shutil
@@ -73,8 +72,11 @@ def _version() -> str:
 
 
 def _check_ready() -> None:
-    if importlib.util.find_spec("PyInstaller") is None:
-        raise FreezeError("PyInstaller is not installed; install the standalone extra: pip install -e '.[standalone]'")
+    try:
+        import PyInstaller  # noqa: F401  (run as a child process below; imported here only to check)
+    except ImportError:
+        hint = "install the standalone extra: pip install -e '.[standalone]'"
+        raise FreezeError(f"PyInstaller is not installed; {hint}") from None
     if not SPEC.is_file():
         raise FreezeError(f"no {SPEC}: the standalone build runs from a source checkout of the game")
 
