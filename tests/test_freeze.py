@@ -21,6 +21,7 @@ import sys
 import tarfile
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -191,3 +192,17 @@ def test_desktop_entry_installs_for_this_user_and_is_removed(built, tmp_path):
     assert Path(icon).read_bytes() == (folder / "across-dimensions.png").read_bytes()
     done = subprocess.run([script, "--remove"], env=env, capture_output=True, text=True)
     assert done.returncode == 0 and not entry.exists() and not Path(icon).exists()
+
+
+@pytest.mark.slow
+def test_lift_runs_the_tetrahedralizer_child_inside_the_frozen_game(built, tmp_path):
+    # A frozen executable is no Python: the tetrahedralizer's child process
+    # (sys.executable -c WORKER) must still be served by the game itself.
+    folder, _, _ = built
+    out = tmp_path / "crate.npz"
+    crate = folder / "_internal" / "assets" / "meshes" / "crate.obj"
+    done = _run(built, "lift", str(crate), "--depth", "0.5", "-o", str(out))
+    assert done.returncode == 0, done.stderr
+    with np.load(out) as d:
+        assert d["vertices"].shape[1] == 4 and d["tets"].shape[1] == 4 and len(d["tets"]) > 0
+        assert d["tets"].max() < len(d["vertices"])
