@@ -7,6 +7,9 @@ frozen game: about four minutes on two cores), and skipped when PyInstaller
     pip install -e '.[standalone]'
     python -m pytest tests/test_freeze.py -m slow -v -p no:cacheprovider
 
+With ``DISPLAY`` set (``Xvfb :1 & DISPLAY=:1 python -m pytest ...``) it also
+opens the game in a window.
+
 The frozen executable runs with an empty environment and a PATH that holds no
 Python, in a fresh home folder, so it can only use what the folder carries and
 the system's base libraries (which ``ldd`` checks for every library in it).
@@ -148,6 +151,18 @@ def test_help_and_errors_match_the_installed_command(built):
         frozen, installed = _run(built, *args), _installed(*args)
         assert frozen.returncode == installed.returncode == 2, (args, frozen.stderr)
         assert frozen.stderr == installed.stderr
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not os.environ.get("DISPLAY"), reason="needs an X display (Xvfb is enough)")
+def test_game_opens_in_a_window(built):
+    # Runs before the other game commands, so this is the first start: the
+    # kernels compile behind the notice window, then the game's window opens.
+    _, _, home = built
+    done = _run(built, "play", "--screenshot-after", "0.001", "--quit-after", "1")
+    assert done.returncode == 0, done.stderr
+    shots = list((home / "screenshots").glob("*.png"))
+    assert len(shots) == 1 and shots[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 @pytest.mark.slow
