@@ -2,18 +2,31 @@
 
 In a source checkout (or an editable install) they sit at the repository's top
 level; a wheel carries them inside the package as ``_data/levels`` and
-``_data/assets``. Everything else asks this module, never ``__file__``.
+``_data/assets``. A standalone build (PyInstaller, see
+:mod:`across_dimensions.app.freeze`) unpacks them next to its libraries, in the
+folder ``sys._MEIPASS`` names. Everything else asks this module, never ``__file__``.
 """
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 _PACKAGE = Path(__file__).resolve().parent.parent
 
 
+def _bundle_dir() -> Path | None:
+    """The standalone build's data folder, or None when not frozen."""
+    if not getattr(sys, "frozen", False):
+        return None
+    meipass = getattr(sys, "_MEIPASS", None)
+    return Path(meipass) if meipass else Path(sys.executable).resolve().parent
+
+
 def _data_dir(name: str) -> Path:
-    for candidate in (_PACKAGE / "_data" / name, _PACKAGE.parent / name):
+    bundle = _bundle_dir()
+    frozen = (bundle / name,) if bundle is not None else ()
+    for candidate in (*frozen, _PACKAGE / "_data" / name, _PACKAGE.parent / name):
         if candidate.is_dir():
             return candidate
     return _PACKAGE.parent / name
