@@ -263,7 +263,7 @@ def bench(args) -> int:
 
 def _bench_game(args) -> None:
     """The game's own machinery: entities and systems per tick, HUD and radar per frame."""
-    from ..game.bench import bench_entities
+    from ..game.bench import bench_collision, bench_entities
 
     _out("")
     _out("Game systems, 200 entities (100 crystals, 100 spinning 5-cells) vs the same level empty:")
@@ -275,6 +275,14 @@ def _bench_game(args) -> None:
     _out(
         f"  Game.frame: {res['entities_frame_ms']:.3f} ms per frame  (baseline: {res['baseline_frame_ms']:.3f} ms; "
         "sections of what reaches the slice included)"
+    )
+    col = bench_collision(120 if args.quick else 300)
+    _out("")
+    _out(f"Walker collision per tick, solid 4D objects turning every tick (~{col['triangles']:.0f} section triangles):")
+    _out(
+        f"  true sections {col['section_median_ms']:.3f} ms median, {col['section_p95_ms']:.3f} ms p95   "
+        f"(baseline, their bounding boxes: {col['box_median_ms']:.3f} ms median; a tick is "
+        f"{col['tick_budget_ms']:.1f} ms)"
     )
     try:
         from ..render.bench_hud import bench_hud
