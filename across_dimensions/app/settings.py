@@ -13,6 +13,11 @@ Settings live in one TOML file, ``settings.toml`` in the per-user config folder
     show_fps = false
     width = 1280
     height = 720
+    ghosts = true                # ghosts of what lies just off the slice along w
+    ghost_distance = 1.0         # times the level's ghost distance
+    ghost_strength = 1.0         # times the ghosts' opacity
+    ghost_layers = 1             # 1 or 2 per side
+    reduce_motion = false        # seek jumps instead of gliding
 
     [bindings]                   # only the actions that differ from the preset
     jump = ["SPACE", "MOUSE_RIGHT"]
@@ -97,6 +102,9 @@ ACTION_DESCRIPTIONS: dict[str, str] = {
     "debug_draw": "Show or hide the physics debug overlay (colliders, contacts, sleeping bodies)",
     "toggle_fullscreen": "Switch between windowed and fullscreen",
     "pause": "Pause the game and open the menu",
+    "seek": "Move along w to the nearest thing of interest; press again for the next one",
+    "seek_jump": "Seek without the glide: jump straight to the thing's w",
+    "toggle_ghosts": "Show or hide the ghosts of what lies just off the slice along w",
 }
 
 #: The bindable action names, in menu order.
@@ -181,6 +189,9 @@ _COMMON = {
     "debug_draw": ("F4",),
     "toggle_fullscreen": ("F11",),
     "pause": ("ESCAPE",),
+    "seek": ("T",),
+    "seek_jump": ("Y",),
+    "toggle_ghosts": ("V",),
 }
 
 #: Base key layouts. pyglet reports key *symbols*, which follow the keyboard
@@ -294,6 +305,11 @@ _RULES: dict[str, _Rule] = {
     "show_fps": _Rule("true or false", _boolean),
     "width": _Rule(f"a whole number of pixels from 320 to {_MAX_SIZE}", _integer(320, _MAX_SIZE)),
     "height": _Rule(f"a whole number of pixels from 240 to {_MAX_SIZE}", _integer(240, _MAX_SIZE)),
+    "ghosts": _Rule("true or false", _boolean),
+    "ghost_distance": _Rule("a factor of the level's ghost distance from 0.25 to 4", _number(0.25, 4.0)),
+    "ghost_strength": _Rule("a factor of the ghosts' opacity from 0 to 3", _number(0.0, 3.0)),
+    "ghost_layers": _Rule("1 or 2 (ghost layers on each side)", _integer(1, 2)),
+    "reduce_motion": _Rule("true or false", _boolean),
 }
 
 
@@ -364,6 +380,16 @@ class Settings:
         Display options.
     width, height : int
         Window size in pixels, at least 320 x 240.
+    ghosts : bool
+        Draw the ghosts of what lies just off the slice along w (a key toggles them).
+    ghost_distance : float
+        Factor on the level's ghost distance along w, in [0.25, 4].
+    ghost_strength : float
+        Factor on the ghosts' opacity, in [0, 3].
+    ghost_layers : int
+        Ghost layers on each side of the slice, 1 or 2.
+    reduce_motion : bool
+        Seek jumps to its w instead of gliding there.
 
     Raises
     ------
@@ -383,6 +409,11 @@ class Settings:
     show_fps: bool = False
     width: int = 1280
     height: int = 720
+    ghosts: bool = True
+    ghost_distance: float = 1.0
+    ghost_strength: float = 1.0
+    ghost_layers: int = 1
+    reduce_motion: bool = False
 
     def __post_init__(self) -> None:
         for name, rule in _RULES.items():

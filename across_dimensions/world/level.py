@@ -283,6 +283,8 @@ class Level:
     crystals: list[gameplay.CrystalSpec] = field(default_factory=list)
     energy: gameplay.EnergySpec = field(default_factory=gameplay.EnergySpec)
     radar: gameplay.RadarSpec | None = None
+    ghosts: gameplay.GhostsSpec = field(default_factory=gameplay.GhostsSpec)
+    seek: gameplay.SeekSpec = field(default_factory=gameplay.SeekSpec)
     rolling_resistance: float = 0.0
     tets: int = 0  # estimated tetrahedra of the 4D content (objects and worlds)
 
@@ -826,6 +828,8 @@ def load_level(path) -> Level:
     energy = gameplay.read_energy(r, data)
     radar = gameplay.read_radar(r, data)
     crystals = gameplay.read_crystals(r, data, w_range if w_ok else None)
+    ghosts = gameplay.read_ghosts(r, data)
+    seek = gameplay.read_seek(r, data)
 
     if r.problems:
         raise LevelError(path, r.problems)
@@ -850,4 +854,6 @@ def load_level(path) -> Level:
         crystals=crystals,
         energy=energy,
         radar=radar,
+        ghosts=ghosts,
+        seek=seek,
     )

@@ -17,10 +17,10 @@ their state on the game (``game.energy``) or on entities (``entity.data``), neve
 in module globals, so two games never share anything.
 """
 
-from . import crystals, energy, outcome, player, push, radar, rigid_bodies, scenery, sections
+from . import crystals, energy, ghosts, outcome, player, push, radar, rigid_bodies, scenery, sections, seek
 
 #: Tick order: energy first (new tick), the player moves, pushes bodies, physics
 #: runs, pickups, then the outcome. Frame order: scenery, entities, radar, HUD.
-SYSTEMS = (energy, player, push, rigid_bodies, crystals, outcome, scenery, sections, radar)
+SYSTEMS = (energy, player, push, rigid_bodies, crystals, outcome, scenery, sections, radar, seek, ghosts)
 
 __all__ = ["SYSTEMS"]
