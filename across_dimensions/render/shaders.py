@@ -87,12 +87,12 @@ float ghost_pattern(vec2 px) {
         // Diagonal stripes, 9 px period, 4 px wide, anti-aliased by fwidth.
         float t = (px.x + px.y) / 9.0;
         float d = abs(fract(t) - 0.5) * 9.0;
-        return 0.3 + 0.7 * (1.0 - smoothstep(1.5, 2.5, d));
+        return 0.35 + 0.65 * (1.0 - smoothstep(1.5, 2.5, d));
     }
     if (u_pattern == 2) {
         // Dots on an 8 px grid, radius 2.2 px.
         vec2 c = (fract(px / 8.0) - 0.5) * 8.0;
-        return 0.3 + 0.7 * (1.0 - smoothstep(1.7, 2.7, length(c)));
+        return 0.35 + 0.65 * (1.0 - smoothstep(1.7, 2.7, length(c)));
     }
     return 1.0;
 }
@@ -147,6 +147,11 @@ void main() {
   #endif
 #endif
 
+#ifdef STYLE_GHOST
+    // A little of the tint as light of its own: a ghost must read as "ana" or "kata"
+    // even where the sun leaves its surface dark.
+    lit += u_tint.rgb * u_tint.a * 0.3;
+#endif
     vec3 color = to_display(lit);
     float fd = dist * u_fog_density;
     float fog = 1.0 - exp(-fd * fd);

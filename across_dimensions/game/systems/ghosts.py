@@ -28,15 +28,18 @@ from ..frame import Drawable
 from ..player import W_SPEED
 
 #: Ana (+w) ghosts: warm, striped. Tint is linear RGB and how far the colour is pulled to it.
-ANA_TINT = (1.0, 0.45, 0.12, 0.6)
+ANA_TINT = (1.0, 0.4, 0.08, 0.75)
 #: Kata (-w) ghosts: cool, dotted.
-KATA_TINT = (0.15, 0.55, 1.0, 0.6)
+KATA_TINT = (0.1, 0.5, 1.0, 0.75)
 ANA_PATTERN = "stripes"
 KATA_PATTERN = "dots"
 #: While moving along w at full speed, the side moved towards is this much more
 #: opaque (x2) and the other side this much less (x0.5): the preview of issue 18.
 PREVIEW_GAIN = 1.0
 PREVIEW_DIM = 0.5
+#: Opacity of the nearest layer at rest, times the renderer's ghost alpha (0.35): a
+#: ghost must read against a bright floor, and still never look solid (under 0.6).
+BASE_OPACITY = 2.0
 #: Most layers per side: beyond two the ghosts of one object pile up into a blur.
 MAX_LAYERS = 2
 #: Keys of the ghost sections in ``game.sections``.
@@ -121,7 +124,7 @@ def layers_of(game) -> list[Layer]:
             towards = max(0.0, side * lean)
             away = max(0.0, -side * lean)
             emphasis = (1.0 + PREVIEW_GAIN * towards) * (1.0 - PREVIEW_DIM * away)
-            out.append(Layer(side, k, wg, view.strength * fade(k, n) * emphasis))
+            out.append(Layer(side, k, wg, BASE_OPACITY * view.strength * fade(k, n) * emphasis))
     return out
 
 
