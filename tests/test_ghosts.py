@@ -201,3 +201,17 @@ def test_tumbling_hall_bodies_stay_visible_as_ghosts():
                 assert f"entity:{e.id}" in ghost, (t, e.name)
                 lost += 1
     assert lost > 0, "some body left the slice and was followed by its ghost"
+
+
+def test_ghost_of_a_wall_that_would_block_a_step_along_w_is_stronger(ghost_level):
+    game = Game(ghost_level)
+    wall = game.entities.named("wall")
+    key = f"ghost+1:entity:{wall.id}"
+    away = ghost_drawables(game.frame())[key].opacity
+    game.player.position[:3] = [0.0, 0.0, 3.0]  # inside the wall's footprint (absent at w = 0)
+    inside = ghost_drawables(game.frame())[key].opacity
+    assert inside == pytest.approx(away * ghosts.BLOCK_GAIN)
+    # And it does block: a step ana is refused there.
+    for _ in range(30):
+        game.step(Actions(w=1.0))
+    assert game.player.position[3] < 0.6 - 0.25 + 1e-9

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..frame import Drawable
-from ..player import W_SPEED
+from ..player import W_SPEED, overlapping, player_box
 
 #: Ana (+w) ghosts: warm, striped. Tint is linear RGB and how far the colour is pulled to it.
 ANA_TINT = (1.0, 0.4, 0.08, 0.75)
@@ -40,6 +40,9 @@ PREVIEW_DIM = 0.5
 #: Opacity of the nearest layer at rest, times the renderer's ghost alpha (0.35): a
 #: ghost must read against a bright floor, and still never look solid (under 0.6).
 BASE_OPACITY = 2.0
+#: A ghost of something solid that would stand where the player stands (a wall that
+#: would block a step along w) is drawn this much stronger: the warning comes first.
+BLOCK_GAIN = 1.6
 #: Most layers per side: beyond two the ghosts of one object pile up into a blur.
 MAX_LAYERS = 2
 #: Keys of the ghost sections in ``game.sections``.
@@ -131,17 +134,24 @@ def layers_of(game) -> list[Layer]:
 def draw(game, frame, alpha) -> None:
     used: set[str] = set()
     table = game.entity_table() if game.entities else None
+    lo, hi = player_box(game.player.position)
     for layer in layers_of(game):
         tag = layer.tag
         shown = table.reaching(layer.w) if table is not None else []
-        things = [(f"{tag}:{e.id}", f"{tag}:entity:{e.id}", e.mesh, e.model(game, alpha)) for e in shown]
+        things = [
+            (f"{tag}:{e.id}", f"{tag}:entity:{e.id}", e.mesh, e.model(game, alpha), e.solid or e.kind == "body")
+            for e in shown
+        ]
         worlds = enumerate(game.scene.worlds)
-        things += [(f"{tag}:world:{i}", f"{tag}:world:{i}", wd.mesh, np.eye(5)) for i, wd in worlds]
-        for key, draw_key, mesh, model in things:
+        things += [(f"{tag}:world:{i}", f"{tag}:world:{i}", wd.mesh, np.eye(5), True) for i, wd in worlds]
+        for key, draw_key, mesh, model, solid in things:
             tri, rev = game.sections.section(key, mesh, model, layer.w)
             used.add(key)
             if tri.is_empty:
                 continue
-            look = {"tint": layer.tint, "pattern": layer.pattern, "opacity": layer.opacity}
+            opacity = layer.opacity
+            if solid and overlapping(lo, hi, game.sections.bounds(key)[None]).any():
+                opacity *= BLOCK_GAIN  # it would block a step to this w: say so first
+            look = {"tint": layer.tint, "pattern": layer.pattern, "opacity": opacity}
             frame.drawables.append(Drawable(draw_key, rev, tri, style="ghost", **look))
     game.sections.keep(PREFIX, used)  # layers or entities that went away
