@@ -21,6 +21,8 @@ from . import crystals, energy, ghosts, outcome, player, push, radar, rigid_bodi
 
 #: Tick order: energy first (new tick), the player moves, pushes bodies, physics
 #: runs, pickups, then the outcome. Frame order: scenery, entities, radar, HUD.
-SYSTEMS = (energy, player, push, rigid_bodies, crystals, outcome, scenery, sections, radar, seek, ghosts)
+#: Seek reads its presses before the player moves (the glide starts on the tick of the
+#: press); ghosts draw last, after everything solid.
+SYSTEMS = (energy, seek, player, push, rigid_bodies, crystals, outcome, scenery, sections, radar, ghosts)
 
 __all__ = ["SYSTEMS"]
