@@ -215,3 +215,16 @@ def test_ghost_of_a_wall_that_would_block_a_step_along_w_is_stronger(ghost_level
     for _ in range(30):
         game.step(Actions(w=1.0))
     assert game.player.position[3] < 0.6 - 0.25 + 1e-9
+
+
+def test_levels_readme_ghosts_and_seek_snippet_loads(tmp_path):
+    import re
+
+    text = (LEVELS / "README.md").read_text(encoding="utf-8")
+    (snippet,) = [b for b in re.findall(r"^``` ?toml\n(.*?)^```", text, re.S | re.M) if "[ghosts]" in b]
+    base = GHOST_LEVEL.split("[ghosts]")[0]  # format 2, without its own [ghosts]
+    rest = GHOST_LEVEL.split("distance = 0.6", 1)[1]
+    path = tmp_path / "snippet.toml"
+    path.write_text(base + rest + "\n" + snippet)
+    level = load_level(path)
+    assert level.ghosts.enabled and level.ghosts.distance == 0.3 and not level.seek.enabled
