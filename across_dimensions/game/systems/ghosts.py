@@ -43,6 +43,9 @@ BASE_OPACITY = 2.0
 #: A ghost of something solid that would stand where the player stands (a wall that
 #: would block a step along w) is drawn this much stronger: the warning comes first.
 BLOCK_GAIN = 1.6
+#: Metres beyond an entity's reach within which the player's feet may be for its ghost
+#: to block: the player's height (the box reaches 1.75 m above the feet).
+BLOCK_REACH = 2.0
 #: Most layers per side: beyond two the ghosts of one object pile up into a blur.
 MAX_LAYERS = 2
 #: Keys of the ghost sections in ``game.sections``.
@@ -131,15 +134,26 @@ def layers_of(game) -> list[Layer]:
     return out
 
 
+def _may_block(game, e, feet) -> bool:
+    """Could the entity's section stand where the player stands? (cheap test on its reach)"""
+    if not (e.solid or e.kind == "body"):
+        return False
+    c = e.center(game)
+    return bool(np.all(np.abs(c[:3] - feet[:3]) <= e.radius + BLOCK_REACH))
+
+
 def draw(game, frame, alpha) -> None:
     used: set[str] = set()
     table = game.entity_table() if game.entities else None
-    lo, hi = player_box(game.player.position)
+    feet = game.player.position
+    lo, hi = player_box(feet)
     for layer in layers_of(game):
         tag = layer.tag
         shown = table.reaching(layer.w) if table is not None else []
+        # Only solid things within reach of the player's box can block it (the bounds
+        # test is then skipped for the rest, which is most of them).
         things = [
-            (f"{tag}:{e.id}", f"{tag}:entity:{e.id}", e.mesh, e.model(game, alpha), e.solid or e.kind == "body")
+            (f"{tag}:{e.id}", f"{tag}:entity:{e.id}", e.mesh, e.model(game, alpha), _may_block(game, e, feet))
             for e in shown
         ]
         worlds = enumerate(game.scene.worlds)
