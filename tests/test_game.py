@@ -9,6 +9,7 @@ import pytest
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.replay import Recorder, Replay, play
 from across_dimensions.game.sim import TICK_RATE, Game
+from across_dimensions.game.systems.ghosts import GhostView
 from across_dimensions.world.level import load_level
 from across_dimensions.world.resources import levels_dir
 
@@ -152,6 +153,8 @@ def draw(gl_ctx):
     target = Offscreen(gl_ctx, 160, 90)
 
     def image(game, hud=True):
+        # The slice itself, without the w ghosts (tests/test_ghosts*.py look at those).
+        game.ghost_view = GhostView(enabled=False)
         target.use()
         renderer.draw(game.frame(), target.viewport, hud=hud)
         return target.read_rgb()

@@ -11,9 +11,16 @@ Settings live in one TOML file, ``settings.toml`` in the per-user config folder
     fullscreen = false
     vsync = true
     show_fps = false
-    ghosts = true                # ghost previews while manipulating a 4D object
     width = 1280
     height = 720
+    radar = true                 # the radar, in levels that have one
+    radar_range_scale = 1.0      # times the level's radar range
+    radar_height_scale = 1.0     # times the level's pin heights
+    ghosts = true                # ghosts: of what lies just off the slice along w, and manipulation previews
+    ghost_distance = 1.0         # times the level's ghost distance
+    ghost_strength = 1.0         # times the ghosts' opacity
+    ghost_layers = 1             # 1 or 2 per side
+    reduce_motion = false        # seek jumps instead of gliding
 
     [bindings]                   # only the actions that differ from the preset
     jump = ["SPACE", "MOUSE_RIGHT"]
@@ -100,6 +107,9 @@ ACTION_DESCRIPTIONS: dict[str, str] = {
     "pause": "Pause the game and open the menu",
     "editor": "Open the level editor, or return from it to the game",
     "editor_play_here": "In the level editor: play from the editor's camera and w",
+    "seek": "Move along w to the nearest thing of interest; press again for the next one",
+    "seek_jump": "Seek without the glide: jump straight to the thing's w",
+    "toggle_ghosts": "Show or hide the ghosts of what lies just off the slice along w",
 }
 
 #: The bindable action names, in menu order.
@@ -186,6 +196,9 @@ _COMMON = {
     "pause": ("ESCAPE",),
     "editor": ("F2",),
     "editor_play_here": ("F5",),
+    "seek": ("T",),
+    "seek_jump": ("Y",),
+    "toggle_ghosts": ("V",),
 }
 
 #: Base key layouts. pyglet reports key *symbols*, which follow the keyboard
@@ -303,6 +316,10 @@ _RULES: dict[str, _Rule] = {
     "radar": _Rule("true or false", _boolean),
     "radar_range_scale": _Rule("a number from 0.25 to 4", _number(0.25, 4.0)),
     "radar_height_scale": _Rule("a number from 0.25 to 4", _number(0.25, 4.0)),
+    "ghost_distance": _Rule("a factor of the level's ghost distance from 0.25 to 4", _number(0.25, 4.0)),
+    "ghost_strength": _Rule("a factor of the ghosts' opacity from 0 to 3", _number(0.0, 3.0)),
+    "ghost_layers": _Rule("1 or 2 (ghost layers on each side)", _integer(1, 2)),
+    "reduce_motion": _Rule("true or false", _boolean),
 }
 
 
@@ -371,8 +388,6 @@ class Settings:
         Vertical field of view, degrees, in [50, 120].
     fullscreen, vsync, show_fps : bool
         Display options.
-    ghosts : bool
-        Show the ghost previews while manipulating a 4D object.
     width, height : int
         Window size in pixels, at least 320 x 240.
     radar : bool
@@ -380,6 +395,17 @@ class Settings:
     radar_range_scale, radar_height_scale : float
         Multiply the level's radar range and pin heights (0.25 to 4): a player
         who wants to see farther, or read small w offsets more easily.
+    ghosts : bool
+        Draw ghosts: of what lies just off the slice along w (a key toggles
+        them), and the previews while manipulating a 4D object.
+    ghost_distance : float
+        Factor on the level's ghost distance along w, in [0.25, 4].
+    ghost_strength : float
+        Factor on the ghosts' opacity, in [0, 3].
+    ghost_layers : int
+        Ghost layers on each side of the slice, 1 or 2.
+    reduce_motion : bool
+        Seek jumps to its w instead of gliding there.
 
     Raises
     ------
@@ -397,12 +423,16 @@ class Settings:
     fullscreen: bool = False
     vsync: bool = True
     show_fps: bool = False
-    ghosts: bool = True
     width: int = 1280
     height: int = 720
     radar: bool = True
     radar_range_scale: float = 1.0
     radar_height_scale: float = 1.0
+    ghosts: bool = True
+    ghost_distance: float = 1.0
+    ghost_strength: float = 1.0
+    ghost_layers: int = 1
+    reduce_motion: bool = False
 
     def __post_init__(self) -> None:
         for name, rule in _RULES.items():

@@ -22,6 +22,7 @@ from ..core.fileio import FileProblem, check_folder
 from ..game.actions import MAX_PRESSES, PRESSES, Actions
 from ..game.replay import Recorder
 from ..game.sim import DT, Game, RadarView
+from ..game.systems.ghosts import GhostView
 from ..render.context import Offscreen, RenderError, wrap_current_context
 from ..render.debug_draw import DebugOverlay
 from ..render.renderer import Renderer
@@ -95,6 +96,9 @@ class GameWindow(pyglet.window.Window):
         self.show_fps = settings.show_fps
         self.debug_overlay: DebugOverlay | None = None  # made on first use, drawn while on
         self.show_debug_draw = False
+        self.ghost_view = GhostView(
+            settings.ghosts, settings.ghost_distance, settings.ghost_strength, settings.ghost_layers
+        )
         self.fps = 0.0
         self.notice = ("; ".join(warnings), 8.0) if warnings else ("", 0.0)
         self.look = [0.0, 0.0]
@@ -120,6 +124,7 @@ class GameWindow(pyglet.window.Window):
         s = self.settings
         self.game.radar_view = RadarView(s.radar, s.radar_range_scale, s.radar_height_scale)
         self.game.show_ghosts = self.settings.ghosts  # a view option: not part of the simulation's state
+        self.game.ghost_view = self.ghost_view  # drawing only: never part of a replay
         self.level_time = 0.0
         self.finished_for = 0.0
         self.set_caption(f"Across Dimensions - {self.game.level.name}")
@@ -206,6 +211,8 @@ class GameWindow(pyglet.window.Window):
             return
         for action, codes in self.bindings.items():
             if (kind, code) in codes:
+                if action == "seek" and self.settings.reduce_motion:
+                    action = "seek_jump"  # a press of its own, so replays land the same way
                 if action in PRESSES:
                     self.presses[action] = min(self.presses.get(action, 0) + times, MAX_PRESSES)
                 elif kind == "wheel":
@@ -269,6 +276,9 @@ class GameWindow(pyglet.window.Window):
             self.set_fullscreen(not self.fullscreen)
         elif action == "toggle_fps":
             self.show_fps = not self.show_fps
+        elif action == "toggle_ghosts":
+            self.ghost_view.enabled = not self.ghost_view.enabled
+            self.say("Ghosts on" if self.ghost_view.enabled else "Ghosts off", 1.5)
         elif action == "debug_draw":
             self.show_debug_draw = not self.show_debug_draw
         elif action == "screenshot":

@@ -35,6 +35,8 @@ PRESSES = (
     "weapon_1",
     "weapon_2",
     "weapon_3",
+    "seek",
+    "seek_jump",
 )
 #: Most presses of one action in one tick that a replay may carry (a key repeat
 #: or a wheel spin gives a few; more is a corrupt file).

@@ -295,3 +295,38 @@ class ManipulationEnded(Event):
 
     kind: ClassVar[str] = "manipulation_ended"
     entity: int
+
+
+@dataclass(frozen=True)
+class SeekStarted(Event):
+    """A seek press chose a thing to move to along w.
+
+    Attributes
+    ----------
+    entity : int
+        The thing's entity id, or -1 for the goal.
+    w : float
+        The w the seek heads for (inside the level's w range).
+    """
+
+    kind: ClassVar[str] = "seek_started"
+    entity: int
+    w: float
+
+
+@dataclass(frozen=True)
+class SeekArrived(Event):
+    """A seek landed exactly on its thing's w (``entity`` -1: the goal)."""
+
+    kind: ClassVar[str] = "seek_arrived"
+    entity: int
+    w: float
+
+
+@dataclass(frozen=True)
+class SeekBlocked(Event):
+    """A seek stopped short at ``w``, the nearest reachable w; ``reason`` as in :class:`WBlocked`."""
+
+    kind: ClassVar[str] = "seek_blocked"
+    reason: str
+    w: float

@@ -93,6 +93,14 @@ class Drawable:
     style : str
         ``"solid"`` lit opaque, ``"ghost"`` translucent (previews, frustum
         views), ``"wire"`` edges only, ``"glow"`` emissive (crystals).
+    tint : (4,) float or None
+        Ghosts only: linear RGB the colour is pulled towards, and how far (the
+        fourth number, 0 to 1). The w ghosts tint ana and kata differently.
+    pattern : str
+        Ghosts only: ``""`` plain, ``"stripes"`` or ``"dots"``, a screen-space
+        pattern in the opacity so two kinds of ghost differ in more than hue.
+    opacity : float
+        Ghosts only: times the renderer's ghost opacity (fading, emphasis).
     """
 
     key: str
@@ -100,6 +108,9 @@ class Drawable:
     mesh: TriMesh3
     model: np.ndarray = field(default_factory=lambda: np.eye(4))
     style: str = "solid"
+    tint: tuple | None = None
+    pattern: str = ""
+    opacity: float = 1.0
 
 
 @dataclass
@@ -207,6 +218,8 @@ class RadarPin:
         negative (kata) hangs below it, 0 lies on the disc (visible in the slice now).
     visible : bool
         The entity's cross-section is in the player's slice this frame.
+    sought : bool
+        The entity the player's seek is heading for (or last headed for).
     """
 
     kind: str
@@ -214,6 +227,7 @@ class RadarPin:
     z: float
     height: float
     visible: bool
+    sought: bool = False
 
 
 @dataclass

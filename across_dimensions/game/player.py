@@ -39,6 +39,13 @@ AIR_ACCEL = 8.0
 JUMP_SPEED = 5.2  # m/s: a 1.4 m jump under 9.81 m/s^2
 W_SPEED = 1.2  # w units/s
 W_ACCEL = 8.0
+#: Seek (a glide along w to a chosen w): top speed, acceleration, and an ease-out
+#: that slows it in proportion to the gap left (per second), never below
+#: SEEK_MIN_SPEED so it always arrives.
+SEEK_SPEED = 2.4  # w units/s: twice walking, a glide rather than a crawl
+SEEK_ACCEL = 16.0
+SEEK_EASE = 5.0
+SEEK_MIN_SPEED = 0.25
 MAX_PITCH = np.radians(89.0)
 STEP_HEIGHT = 0.35  # ledges up to this high are climbed without jumping
 SKIN = 1e-4  # gap kept to surfaces so resting contact is not overlap
@@ -166,6 +173,19 @@ def _enters_section(lo, hi, now: list, then: list) -> bool:
     return False
 
 
+def _seek_w(pos: np.ndarray, v: np.ndarray, dt: float, goal: float, jump: bool) -> float:
+    """Where a seek puts the player along w this tick; sets ``v[3]`` (0 once it arrives)."""
+    gap = float(goal) - float(pos[3])
+    if not jump and gap != 0.0:
+        want = np.copysign(min(SEEK_SPEED, SEEK_EASE * abs(gap) + SEEK_MIN_SPEED), gap)
+        v[3] += float(np.clip(want - v[3], -SEEK_ACCEL * dt, SEEK_ACCEL * dt))
+        if v[3] * gap <= 0.0 or abs(v[3]) * dt < abs(gap):
+            return float(pos[3] + v[3] * dt)
+    # Arrived (or jumping): exactly the goal, with no w speed left to overshoot it.
+    v[3] = 0.0
+    return float(goal)
+
+
 def step_player(
     player: Player,
     actions: Actions,
@@ -176,6 +196,7 @@ def step_player(
     blocked_w=None,
     w_budget: float = np.inf,
     sections_at=None,
+    w_goal: tuple[float, bool] | None = None,
 ) -> str | None:
     """Advance the player one tick.
 
@@ -202,6 +223,13 @@ def step_player(
         ``sections_at(w) -> list of (t, 3, 3) float64``: the closed triangle
         surfaces of solid 4D objects' sections in the slice at w, one array per
         object (see :mod:`.section_collision`). None: boxes only.
+
+
+    w_goal : (float, bool), optional
+        Seek: glide towards this w (or, when the flag is true, jump to it in one
+        tick) instead of following ``actions.w``. The move lands exactly on the
+        goal and stops there; range, energy, walls and bodies cut it exactly as
+        they cut a held w key.
 
     Returns
     -------
@@ -234,11 +262,14 @@ def step_player(
         v[1] = JUMP_SPEED
     v[1] += gravity_y * dt
 
-    # Along w: smooth acceleration to the wanted speed, inside the level's range.
-    dw = np.clip(actions.w * W_SPEED - v[3], -W_ACCEL * dt, W_ACCEL * dt)
-    v[3] += dw
     pos = player.position
-    w_target = pos[3] + v[3] * dt
+    if w_goal is None:
+        # Along w: smooth acceleration to the wanted speed, inside the level's range.
+        dw = np.clip(actions.w * W_SPEED - v[3], -W_ACCEL * dt, W_ACCEL * dt)
+        v[3] += dw
+        w_target = pos[3] + v[3] * dt
+    else:
+        w_target = _seek_w(pos, v, dt, *w_goal)
     w_new = float(np.clip(w_target, *w_range))
     cut = "range" if w_new != w_target else None
     if abs(w_new - pos[3]) > w_budget:

@@ -20,7 +20,8 @@ Pieces
 * per pin: a foot dot on the disc, a stem from the disc to the head, and a head whose shape
   depends on the kind (:data:`HEAD_SHAPES`), coloured by kind (:data:`KIND_COLORS`); pins whose
   cross-section is visible get a bright ring round the foot and a glowing head; heads beyond
-  :data:`HEIGHT_CLAMP` stop there with an arrow pointing on (up or down).
+  :data:`HEIGHT_CLAMP` stop there with an arrow pointing on (up or down); the pin a seek heads
+  for (``RadarPin.sought``) gets wide bright rings round its head and its foot.
 
 Drawing (:class:`RadarRenderer`): its own programs and buffers, in its own viewport (the corner
 rectangle from :meth:`~across_dimensions.render.hud.HudMetrics.radar_rect`), after the main view:
@@ -107,6 +108,8 @@ WEDGE_COLOR = (0.7, 0.95, 1.0, 0.14)
 FORWARD_COLOR = (0.85, 1.0, 1.0, 0.95)
 PLAYER_COLOR = (1.0, 1.0, 1.0, 1.0)
 BACKDROP_COLOR = (0.0, 0.02, 0.05, 0.5)
+#: Rings round the pin a seek heads for.
+SOUGHT_COLOR = (1.0, 0.97, 0.55)
 
 
 @dataclass
@@ -210,6 +213,15 @@ def radar_geometry(radar: Radar, px_per_radius: float = 120.0) -> RadarGeometry:
         ring = np.repeat(np.maximum(1.7 * size[seen], 6.0 * px)[:, None], 3, axis=1)
         ring_rgb = 0.3 * color[seen] + 0.7
         inst["seen_ring"] = rows(np.stack([x[seen], 0.006 + 0 * x[seen], z[seen]], 1), ring, ring_rgb, 1.0)
+    sought = np.fromiter((getattr(p, "sought", False) for p in pins), bool, n)
+    if sought.any():
+        # The seek's target: two wide bright rings, round its head and round its foot,
+        # so it stands out by shape (rings) and brightness, not by colour alone.
+        big = np.repeat(np.maximum(2.6 * size[sought], 9.0 * px)[:, None], 3, axis=1)
+        xs, zs = x[sought], z[sought]
+        at = [np.stack([xs, y[sought], zs], 1), np.stack([xs, 0.008 + 0 * xs, zs], 1)]
+        rings = [rows(pos, big, np.tile(SOUGHT_COLOR, (len(pos), 1)), 1.0) for pos in at]
+        inst["seen_ring"] = np.concatenate([inst.get("seen_ring", rings[0][:0]), *rings])
     if clamped.any():
         sgn = np.sign(h[clamped])
         ay = y[clamped] + sgn * size[clamped] * 1.45

@@ -16,8 +16,12 @@ Styles
     lines) on the world plane the surface faces. Added by the render package;
     the frame module documents only the other three.
 ``"ghost"``
-    Translucent (alpha ~0.35 times the vertex alpha), lit like solid, drawn after
-    all opaque geometry with depth writes off, drawables sorted back to front.
+    Translucent (alpha ~0.35 times the vertex alpha and the drawable's
+    ``opacity``), lit like solid, drawn after all opaque geometry with depth
+    writes off, drawables sorted back to front. A drawable's ``tint`` pulls its
+    colour towards a hue and its ``pattern`` (:data:`GHOST_PATTERNS`) modulates
+    the opacity in screen space, so the ghosts of the two sides of the slice
+    differ in pattern as well as hue.
 ``"wire"``
     Unlit lines along the mesh's feature edges (edges between coplanar
     triangles, e.g. quad diagonals, are dropped), derived on upload.
@@ -46,6 +50,9 @@ from .radar import RadarRenderer
 from .shaders import program_source
 
 STYLES = ("solid", "floor", "wire", "ghost", "glow")
+#: Ghost patterns by name, as the shader's ``u_pattern`` codes.
+GHOST_PATTERNS = {"": 0, "stripes": 1, "dots": 2}
+_NO_TINT = (0.0, 0.0, 0.0, 0.0)
 #: Bytes per vertex in the interleaved buffer: position 3f, normal 3f, colour 4f.
 _STRIDE = 40
 _ATTRS = (("in_pos", "3f", 12), ("in_normal", "3f", 12), ("in_color", "4f", 16))
@@ -362,6 +369,8 @@ class Renderer:
         for d in frame.drawables:
             if d.style not in STYLES:
                 raise RenderError(f"drawable {d.key!r}: unknown style {d.style!r}; expected one of {', '.join(STYLES)}")
+            if d.style == "ghost" and d.pattern not in GHOST_PATTERNS:
+                raise RenderError(f"drawable {d.key!r}: unknown ghost pattern {d.pattern!r}; expected stripes or dots")
             if d.key in seen:
                 raise RenderError(f"two drawables share the key {d.key!r}; keys must be unique within a frame")
             seen.add(d.key)
@@ -425,7 +434,11 @@ class Renderer:
             # Keep destination alpha at 1 so screenshots stay opaque.
             ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
             fbo.depth_mask = False
-            for _, _d, gm, model in ghosts:
+            prog = self._programs["ghost"]
+            for _, d, gm, model in ghosts:
+                self._set(prog, "u_tint", tuple(float(x) for x in (d.tint or _NO_TINT)))
+                self._set(prog, "u_pattern", GHOST_PATTERNS[d.pattern])
+                self._set(prog, "u_opacity", max(0.0, float(d.opacity)))
                 self._draw_mesh("ghost", gm, model, moderngl.TRIANGLES, gm.n_indices)
             fbo.depth_mask = True
             ctx.disable(moderngl.BLEND)

@@ -45,6 +45,11 @@ uniform vec3 u_light_dir;   // toward the light, normalised on the CPU
 uniform vec3 u_sky;         // display-space sky colour (fog target)
 uniform float u_fog_density;
 uniform float u_alpha;      // ghost opacity
+#ifdef STYLE_GHOST
+uniform vec4 u_tint;        // rgb the ghost's colour is pulled to, and how far (a)
+uniform int u_pattern;      // 0 plain, 1 stripes, 2 dots (screen space)
+uniform float u_opacity;    // per-drawable factor (fading along w, preview emphasis)
+#endif
 
 in vec3 v_world;
 in vec3 v_normal;
@@ -73,8 +78,31 @@ float grid_lines(vec2 uv, float spacing) {
 }
 #endif
 
+#ifdef STYLE_GHOST
+// Screen-space patterns, so the two sides of the slice differ in texture as well as
+// hue (never colour alone) at any distance and on any surface. 1 on the pattern's
+// marks, a faint floor between them so the ghost's shape still reads.
+float ghost_pattern(vec2 px) {
+    if (u_pattern == 1) {
+        // Diagonal stripes, 9 px period, 4 px wide, anti-aliased by fwidth.
+        float t = (px.x + px.y) / 9.0;
+        float d = abs(fract(t) - 0.5) * 9.0;
+        return 0.35 + 0.65 * (1.0 - smoothstep(1.5, 2.5, d));
+    }
+    if (u_pattern == 2) {
+        // Dots on an 8 px grid, radius 2.2 px.
+        vec2 c = (fract(px / 8.0) - 0.5) * 8.0;
+        return 0.35 + 0.65 * (1.0 - smoothstep(1.7, 2.7, length(c)));
+    }
+    return 1.0;
+}
+#endif
+
 void main() {
     vec3 albedo = v_color.rgb;
+#ifdef STYLE_GHOST
+    albedo = mix(albedo, u_tint.rgb, u_tint.a);
+#endif
     vec3 to_eye = u_eye - v_world;
     float dist = length(to_eye);
     vec3 V = to_eye / max(dist, 1e-6);
@@ -119,6 +147,11 @@ void main() {
   #endif
 #endif
 
+#ifdef STYLE_GHOST
+    // A little of the tint as light of its own: a ghost must read as "ana" or "kata"
+    // even where the sun leaves its surface dark.
+    lit += u_tint.rgb * u_tint.a * 0.3;
+#endif
     vec3 color = to_display(lit);
     float fd = dist * u_fog_density;
     float fog = 1.0 - exp(-fd * fd);
@@ -129,7 +162,7 @@ void main() {
 
 #ifdef STYLE_GHOST
     // Slightly more opaque at grazing angles so a ghost's silhouette reads.
-    float alpha = u_alpha * v_color.a * (1.0 + 0.6 * pow(1.0 - ndv, 2.0));
+    float alpha = u_alpha * u_opacity * v_color.a * (1.0 + 0.6 * pow(1.0 - ndv, 2.0)) * ghost_pattern(gl_FragCoord.xy);
     f_color = vec4(color, clamp(alpha, 0.0, 1.0));
 #else
     f_color = vec4(color, 1.0);

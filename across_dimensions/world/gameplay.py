@@ -126,9 +126,19 @@ MANIPULABLE_TABLE = {
     "reach": Field("number", default=6.0, range=MANIP_REACH, sign="positive"),
     "slide": Field("vector", 2, default=None, range=COORD, names="ab"),
 }
-#: The tables format 2 adds, by top-level key.
-#: Which of them are arrays of tables (``[[crystal]]``); the others are single tables.
+#: How far off the slice a level may set its ghosts: past a few units a ghost no
+#: longer says "just off the slice", and below 2 cm it coincides with the section.
+GHOST_DISTANCE = Range(0.02, 5.0, "units of w")
+GHOSTS_TABLE = {
+    "enabled": Field("bool", default=True),
+    "distance": Field("number", default=0.3, range=GHOST_DISTANCE, sign="positive"),
+}
+SEEK_TABLE = {
+    "enabled": Field("bool", default=True),
+}
+#: Which of the tables below are arrays of tables (``[[crystal]]``); the others are single tables.
 ARRAY_TABLES = ("crystal", "weapon", "target", "manipulable")
+#: The tables format 2 adds, by top-level key.
 MODELS = {
     "energy": ENERGY_TABLE,
     "radar": RADAR_TABLE,
@@ -136,6 +146,8 @@ MODELS = {
     "weapon": WEAPON_TABLE,
     "target": TARGET_TABLE,
     "manipulable": MANIPULABLE_TABLE,
+    "ghosts": GHOSTS_TABLE,
+    "seek": SEEK_TABLE,
 }
 
 
@@ -178,6 +190,42 @@ class RadarSpec:
 
     range: float = 20.0
     w_scale: float = 0.5
+
+
+@dataclass
+class GhostsSpec:
+    """``[ghosts]``: whether the level shows ghosts of what lies just off the slice, and how
+    far off (units of w; the player's settings may scale it). On when the table is absent."""
+
+    enabled: bool = True
+    distance: float = 0.3
+
+
+@dataclass
+class SeekSpec:
+    """``[seek]``: whether the seek key works in this level. On when the table is absent."""
+
+    enabled: bool = True
+
+
+def read_ghosts(r, data) -> GhostsSpec:
+    """The ``[ghosts]`` table (defaults when absent)."""
+    if "ghosts" not in data:
+        return GhostsSpec()
+    t = r.table(data, "ghosts", "[ghosts]")
+    r.unknown(t, GHOSTS_TABLE, "[ghosts]")
+    v = r.read(t, GHOSTS_TABLE, "[ghosts]")
+    return GhostsSpec(v["enabled"], v["distance"])
+
+
+def read_seek(r, data) -> SeekSpec:
+    """The ``[seek]`` table (defaults when absent)."""
+    if "seek" not in data:
+        return SeekSpec()
+    t = r.table(data, "seek", "[seek]")
+    r.unknown(t, SEEK_TABLE, "[seek]")
+    v = r.read(t, SEEK_TABLE, "[seek]")
+    return SeekSpec(v["enabled"])
 
 
 def read_energy(r, data) -> EnergySpec:

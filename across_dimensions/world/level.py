@@ -285,6 +285,8 @@ class Level:
     crystals: list[gameplay.CrystalSpec] = field(default_factory=list)
     energy: gameplay.EnergySpec = field(default_factory=gameplay.EnergySpec)
     radar: gameplay.RadarSpec | None = None
+    ghosts: gameplay.GhostsSpec = field(default_factory=gameplay.GhostsSpec)
+    seek: gameplay.SeekSpec = field(default_factory=gameplay.SeekSpec)
     rolling_resistance: float = 0.0
     tets: int = 0  # estimated tetrahedra of the 4D content (objects and worlds)
     weapons: list[gameplay.WeaponSpec] = field(default_factory=list)
@@ -838,6 +840,8 @@ def load_level(path, source: bytes | None = None) -> Level:
     weapons = gameplay.read_weapons(r, data)
     targets = gameplay.read_targets(r, data, {o.name for o in objects})
     manipulables = gameplay.read_manipulables(r, data, objects)
+    ghosts = gameplay.read_ghosts(r, data)
+    seek = gameplay.read_seek(r, data)
 
     if r.problems:
         raise LevelError(path, r.problems)
@@ -865,4 +869,6 @@ def load_level(path, source: bytes | None = None) -> Level:
         weapons=weapons,
         targets=targets,
         manipulables=manipulables,
+        ghosts=ghosts,
+        seek=seek,
     )

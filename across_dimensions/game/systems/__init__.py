@@ -24,6 +24,7 @@ from . import (
     bullets,
     crystals,
     energy,
+    ghosts,
     manipulation,
     outcome,
     player,
@@ -32,15 +33,19 @@ from . import (
     rigid_bodies,
     scenery,
     sections,
+    seek,
     weapons,
 )
 
-#: Tick order: energy first (new tick), manipulation (it turns objects and takes the
-#: walking keys while one is held), the player moves, pushes bodies, weapons fire and
-#: steer bullets before physics runs, bullets read its contacts after, pickups, then
-#: the outcome. Frame order: manipulation (ghosts, HUD line), scenery, entities, radar, HUD.
+#: Tick order: energy first (new tick); seek reads its presses before the player moves
+#: (the glide starts on the tick of the press); manipulation (it turns objects and takes
+#: the walking keys while one is held); the player moves, pushes bodies; weapons fire and
+#: steer bullets before physics runs, bullets read its contacts after; pickups; the outcome.
+#: Frame order: manipulation (its ghost previews, HUD line), scenery, entities, radar, HUD,
+#: then the ghosts along w, after everything solid.
 SYSTEMS = (
     energy,
+    seek,
     manipulation,
     player,
     push,
@@ -52,6 +57,7 @@ SYSTEMS = (
     scenery,
     sections,
     radar,
+    ghosts,
 )
 
 __all__ = ["SYSTEMS"]

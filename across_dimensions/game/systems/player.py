@@ -11,6 +11,7 @@ import numpy as np
 
 from ..events import Respawned, WBlocked
 from ..player import step_player
+from . import seek
 
 FALL_LIMIT = -30.0  # below this y the player has fallen out of the level
 
@@ -34,7 +35,9 @@ def step(game, actions) -> None:
         game.bodies_block_w if game.physics is not None else None,
         _w_budget(game),
         game.sections_at,
+        seek.w_goal(game),  # a seek glides through the same w motion, checks and payment
     )
+    seek.moved(game, cut)
     travelled = abs(float(p.position[3]) - w_before)
     if game.energy is not None and travelled > 0.0 and game.level.energy.w_cost_milli > 0:
         # Round up so that no run of tiny steps is free, but never past what the bar holds.

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..frame import Radar, RadarPin
+from .seek import sought_id
 
 
 def draw(game, frame, alpha) -> None:
@@ -35,8 +36,9 @@ def draw(game, frame, alpha) -> None:
     height = (c[:, 3] - float(game.player.position[3])) * w_scale
     inside = x * x + z * z <= 1.0
     pins = []
+    sought = sought_id(game)
     for k in np.flatnonzero(inside):
         e = table.entities[tracked[k]]
         visible = game.sections.has_section(f"draw:{e.id}")  # the sections system sliced it this frame
-        pins.append(RadarPin(e.radar, float(x[k]), float(z[k]), float(height[k]), visible))
+        pins.append(RadarPin(e.radar, float(x[k]), float(z[k]), float(height[k]), visible, e.id == sought))
     frame.radar = Radar(reach, w_scale, pins)

@@ -1,0 +1,171 @@
+"""Ghosts: what lies just off the slice, drawn translucent so the player sees along w.
+
+Every 4D entity and every extended world is also sliced at ``w + k d`` and
+``w - k d`` (``k = 1`` or ``1, 2``; ``d`` is the level's ``[ghosts] distance``
+times the player's setting) and drawn with the renderer's ``"ghost"`` style:
+translucent, hidden by solid geometry, never hiding anything. The two sides
+differ in tint *and* pattern (ana, +w: warm stripes; kata, -w: cool dots), so
+they never rely on colour alone. A ghost fades with its distance along w, and
+while the player moves along w the side it moves towards grows stronger (a
+preview of what is about to appear) and the other side fainter.
+
+Draw only: ghosts have their own section-cache keys (``ghost+1:...``), so the
+walker's colliders (``tick:`` keys), the radar and every ray cast never see
+them; nothing here changes the simulation or its state hash.
+
+The player's choices (on or off, distance, strength, layers) are a
+:class:`GhostView` the window puts on the game as ``game.ghost_view``; a game
+without one (replays, tests, benchmarks) uses the defaults.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..frame import Drawable
+from ..player import W_SPEED, overlapping, player_box
+
+#: Ana (+w) ghosts: warm, striped. Tint is linear RGB and how far the colour is pulled to it.
+ANA_TINT = (1.0, 0.4, 0.08, 0.75)
+#: Kata (-w) ghosts: cool, dotted.
+KATA_TINT = (0.1, 0.5, 1.0, 0.75)
+ANA_PATTERN = "stripes"
+KATA_PATTERN = "dots"
+#: While moving along w at full speed, the side moved towards is this much more
+#: opaque (x2) and the other side this much less (x0.5): the preview of issue 18.
+PREVIEW_GAIN = 1.0
+PREVIEW_DIM = 0.5
+#: Opacity of the nearest layer at rest, times the renderer's ghost alpha (0.35): a
+#: ghost must read against a bright floor, and still never look solid (under 0.6).
+BASE_OPACITY = 2.0
+#: A ghost of something solid that would stand where the player stands (a wall that
+#: would block a step along w) is drawn this much stronger: the warning comes first.
+BLOCK_GAIN = 1.6
+#: Metres beyond an entity's reach within which the player's feet may be for its ghost
+#: to block: the player's height (the box reaches 1.75 m above the feet).
+BLOCK_REACH = 2.0
+#: Most layers per side: beyond two the ghosts of one object pile up into a blur.
+MAX_LAYERS = 2
+#: Keys of the ghost sections in ``game.sections``.
+PREFIX = "ghost"
+#: A ghost layer may sit this far past the level's w range and still be drawn:
+#: round-off in ``w + k d`` must not hide the last layer at the range's end.
+RANGE_SLACK = 1e-9
+
+
+@dataclass
+class GhostView:
+    """The player's ghost settings.
+
+    Parameters
+    ----------
+    enabled : bool
+        Ghosts drawn at all (a key toggles it).
+    distance : float
+        Factor on the level's ghost distance (1: the level's own).
+    strength : float
+        Factor on the ghosts' opacity (1: the default look).
+    layers : int
+        Ghost layers on each side, 1 or 2.
+    """
+
+    enabled: bool = True
+    distance: float = 1.0
+    strength: float = 1.0
+    layers: int = 1
+
+
+@dataclass(frozen=True)
+class Layer:
+    """One ghost layer: the slice at ``w`` (``side`` +1 ana, -1 kata; ``k``-th from the player)."""
+
+    side: int
+    k: int
+    w: float
+    opacity: float
+
+    @property
+    def tag(self) -> str:
+        return f"{PREFIX}{'+' if self.side > 0 else '-'}{self.k}"
+
+    @property
+    def tint(self) -> tuple:
+        return ANA_TINT if self.side > 0 else KATA_TINT
+
+    @property
+    def pattern(self) -> str:
+        return ANA_PATTERN if self.side > 0 else KATA_PATTERN
+
+
+def view_of(game) -> GhostView:
+    """The game's :class:`GhostView` (the defaults when the window set none)."""
+    return getattr(game, "ghost_view", None) or GhostView()
+
+
+def fade(k: int, layers: int) -> float:
+    """Opacity factor of the ``k``-th layer of ``layers``: fainter the farther along w."""
+    return 1.0 - k / (layers + 1.0) + 0.5 / (layers + 1.0)
+
+
+def layers_of(game) -> list[Layer]:
+    """The ghost layers to draw this frame, nearest first, ana before kata; empty when off."""
+    view, spec = view_of(game), game.level.ghosts
+    if not (view.enabled and spec.enabled) or view.strength <= 0.0:
+        return []
+    d = spec.distance * view.distance
+    n = int(min(max(view.layers, 1), MAX_LAYERS))
+    p = game.player
+    w = float(p.position[3])
+    lo, hi = game.level.w_range
+    # Moving along w (held key or seek): lean in [-1, 1], + towards ana.
+    lean = float(np.clip(p.velocity[3] / W_SPEED, -1.0, 1.0))
+    out = []
+    for k in range(1, n + 1):
+        for side in (1, -1):
+            wg = w + side * k * d
+            if not lo - RANGE_SLACK <= wg <= hi + RANGE_SLACK:
+                continue  # beyond the level's w range: nowhere the player can go
+            towards = max(0.0, side * lean)
+            away = max(0.0, -side * lean)
+            emphasis = (1.0 + PREVIEW_GAIN * towards) * (1.0 - PREVIEW_DIM * away)
+            out.append(Layer(side, k, wg, BASE_OPACITY * view.strength * fade(k, n) * emphasis))
+    return out
+
+
+def _may_block(game, e, feet) -> bool:
+    """Could the entity's section stand where the player stands? (cheap test on its reach)"""
+    if not (e.solid or e.kind == "body"):
+        return False
+    c = e.center(game)
+    return bool(np.all(np.abs(c[:3] - feet[:3]) <= e.radius + BLOCK_REACH))
+
+
+def draw(game, frame, alpha) -> None:
+    used: set[str] = set()
+    table = game.entity_table() if game.entities else None
+    feet = game.player.position
+    lo, hi = player_box(feet)
+    for layer in layers_of(game):
+        tag = layer.tag
+        shown = table.reaching(layer.w) if table is not None else []
+        # Only solid things within reach of the player's box can block it (the bounds
+        # test is then skipped for the rest, which is most of them).
+        things = [
+            (f"{tag}:{e.id}", f"{tag}:entity:{e.id}", e.mesh, e.model(game, alpha), _may_block(game, e, feet))
+            for e in shown
+        ]
+        worlds = enumerate(game.scene.worlds)
+        things += [(f"{tag}:world:{i}", f"{tag}:world:{i}", wd.mesh, np.eye(5), True) for i, wd in worlds]
+        for key, draw_key, mesh, model, solid in things:
+            tri, rev = game.sections.section(key, mesh, model, layer.w)
+            used.add(key)
+            if tri.is_empty:
+                continue
+            opacity = layer.opacity
+            if solid and overlapping(lo, hi, game.sections.bounds(key)[None]).any():
+                opacity *= BLOCK_GAIN  # it would block a step to this w: say so first
+            look = {"tint": layer.tint, "pattern": layer.pattern, "opacity": opacity}
+            frame.drawables.append(Drawable(draw_key, rev, tri, style="ghost", **look))
+    game.sections.keep(PREFIX, used)  # layers or entities that went away

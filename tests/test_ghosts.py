@@ -1,0 +1,230 @@
+"""Ghosts: sections just off the slice, drawn only (issue 18, points 1, 2 and 4)."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from across_dimensions.core.section import cross_section
+from across_dimensions.core.transform import translation
+from across_dimensions.game.actions import Actions
+from across_dimensions.game.sim import Game
+from across_dimensions.game.systems import ghosts
+from across_dimensions.game.systems.ghosts import GhostView
+from across_dimensions.world.level import LevelError, load_level
+
+LEVELS = Path(__file__).parent.parent / "levels"
+
+GHOST_LEVEL = """
+[level]
+format = 2
+name = "Ghost test"
+w_range = [-1.5, 1.5]
+
+[spawn]
+position = [0.0, 0.0, 0.0, 0.0]
+
+[goal]
+center = [0.0, 1.0, 40.0]
+size = [2.0, 2.0, 2.0]
+
+[ghosts]
+distance = 0.6
+
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [40.0, 1.0, 100.0]
+
+[[object]]   # a solid wall a little ana: absent at w = 0, present at w = 0.6
+name = "wall"
+shape = "tesseract"
+position = [0.0, 1.0, 3.0, 0.6]
+scale = [3.0, 2.0, 0.5, 0.5]
+color = [0.8, 0.2, 0.2]
+
+[[object]]   # a rigid body a little kata
+name = "ball"
+shape = "hypersphere"
+params = { subdivisions = 1 }
+position = [0.0, 0.5, 5.0, -0.6]
+scale = 0.5
+color = [0.2, 0.6, 1.0]
+body = "hypersphere"
+mass = 1.0
+
+[[world]]
+name = "veil"
+w = 0.6
+depth = 0.8
+profile = "prism"
+color = [0.3, 1.0, 0.4]
+
+  [[world.box]]
+  center = [0.0, 1.0, 8.0]
+  size = [4.0, 2.0, 0.3]
+"""
+
+
+@pytest.fixture
+def ghost_level(tmp_path):
+    path = tmp_path / "ghosts.toml"
+    path.write_text(GHOST_LEVEL)
+    return load_level(path)
+
+
+def ghost_drawables(frame):
+    return {d.key: d for d in frame.drawables if d.style == "ghost"}
+
+
+def test_ghost_at_w_plus_d_is_the_section_at_w_plus_d_tinted(ghost_level):
+    game = Game(ghost_level)
+    game.step(Actions())
+    frame = game.frame(alpha=1.0)
+    shown = ghost_drawables(frame)
+    wall, ball = game.entities.named("wall"), game.entities.named("ball")
+    d = ghost_level.ghosts.distance
+    for entity, key, w in ((wall, f"ghost+1:entity:{wall.id}", d), (ball, f"ghost-1:entity:{ball.id}", -d)):
+        assert key in shown
+        truth = cross_section(entity.mesh, translation((0.0, 0.0, 0.0, w)), entity.model(game, 1.0))
+        assert not truth.is_empty
+        # The same kernel on the same inputs: equal to float32 round-off.
+        np.testing.assert_allclose(shown[key].mesh.vertices, truth.vertices, atol=1e-6)
+        np.testing.assert_array_equal(shown[key].mesh.faces, truth.faces)
+    # The extended world exists at w = 0.6 (and not at 0): its ana ghost is drawn.
+    assert "ghost+1:world:0" in shown and "ghost-1:world:0" not in shown
+    assert shown[f"ghost+1:entity:{wall.id}"].tint == ghosts.ANA_TINT
+    assert shown[f"ghost-1:entity:{ball.id}"].tint == ghosts.KATA_TINT
+    # Neither is in the slice itself: without ghosts the player would see nothing of them.
+    solid_keys = {d.key for d in frame.drawables if d.style != "ghost" and not d.mesh.is_empty}
+    assert f"entity:{wall.id}" not in solid_keys and f"entity:{ball.id}" not in solid_keys
+
+
+def test_ghost_sides_differ_in_pattern_as_well_as_hue(ghost_level):
+    game = Game(ghost_level)
+    frame = game.frame()
+    ana = [d for d in frame.drawables if d.key.startswith("ghost+")]
+    kata = [d for d in frame.drawables if d.key.startswith("ghost-")]
+    assert ana and kata
+    assert {d.pattern for d in ana} == {"stripes"} and {d.pattern for d in kata} == {"dots"}
+    a, k = np.array(ghosts.ANA_TINT[:3]), np.array(ghosts.KATA_TINT[:3])
+    assert np.abs(a - k).max() > 0.5  # clearly different hues too (warm vs cool)
+
+
+def test_ghosts_take_part_in_no_collision_or_ray_cast(ghost_level):
+    moves = [Actions(forward=1.0)] * 90 + [Actions(w=1.0)] * 40 + [Actions(forward=1.0, w=-1.0)] * 60
+    drawn, plain = Game(ghost_level), Game(ghost_level)
+    plain.ghost_view = GhostView(enabled=False)
+    for a in moves:
+        drawn.step(a)
+        plain.step(a)
+        frame = drawn.frame()
+        assert plain.frame().drawables and not ghost_drawables(plain.frame())
+    assert ghost_drawables(frame), "ghosts were drawn all along"
+    assert drawn.state_hash() == plain.state_hash()
+
+    game = Game(ghost_level)
+    game.frame()
+    wall = game.entities.named("wall")
+    assert f"ghost+1:entity:{wall.id}" in ghost_drawables(game.frame())
+    # The wall's ghost is straight ahead, but the slice at w = 0 has nothing there to walk into...
+    boxes = game.colliders_at(0.0)
+    ahead = np.isfinite(boxes).all(axis=(1, 2)) & (boxes[:, 0, 2] > 1.0) & (boxes[:, 1, 2] < 4.0)
+    assert not ahead.any()
+    for _ in range(80):
+        game.step(Actions(forward=1.0))
+    assert game.player.position[2] > 3.0, "walked straight through where the ghost is drawn"
+    # ...and a ray in the slice passes the ball's ghost (the ball is kata, at w = -0.6).
+    ball = game.entities.named("ball")
+    centre = ball.center(game)
+    origin = np.array([centre[0], centre[1], centre[2] - 3.0, 0.0])
+    hit = game.physics.raycast(origin, (0.0, 0.0, 1.0, 0.0), 6.0, include_world=False)
+    assert hit is None
+    hit = game.physics.raycast(origin + [0, 0, 0, centre[3]], (0.0, 0.0, 1.0, 0.0), 6.0, include_world=False)
+    assert hit is not None, "the same ray at the ball's w does hit it"
+
+
+def test_ghosts_fade_with_distance_and_the_side_moved_towards_grows(ghost_level):
+    game = Game(ghost_level)
+    game.ghost_view = GhostView(layers=2)
+    layers = ghosts.layers_of(game)
+    by = {(lay.side, lay.k): lay for lay in layers}
+    assert by[(1, 1)].opacity > by[(1, 2)].opacity > 0
+    assert by[(1, 1)].w == pytest.approx(0.6) and by[(-1, 2)].w == pytest.approx(-1.2)
+    still = by[(1, 1)].opacity
+    for _ in range(10):  # full w speed after 9 ticks; w is then about 0.1
+        game.step(Actions(w=1.0))
+    moving = {(lay.side, lay.k): lay for lay in ghosts.layers_of(game)}
+    assert moving[(1, 1)].opacity > 1.5 * still, "ana grows while moving ana"
+    assert moving[(-1, 1)].opacity < still
+    # The ghost of the wall about to appear is drawn stronger than the same ghost at rest.
+    wall = game.entities.named("wall")
+    frame = game.frame()
+    assert ghost_drawables(frame)[f"ghost+1:entity:{wall.id}"].opacity > 1.5 * still
+
+
+def test_ghost_layers_stay_inside_the_w_range_and_switch_off(ghost_level):
+    game = Game(ghost_level)
+    game.player.position[3] = 1.2  # 1.2 + 0.6 is past the range's end (1.5)
+    assert [lay.side for lay in ghosts.layers_of(game)] == [-1]
+    game.ghost_view = GhostView(enabled=False)
+    assert ghosts.layers_of(game) == []
+    assert not ghost_drawables(game.frame())
+    assert not any(k.startswith("ghost") for k in game.sections._entries), "their sections are freed"
+
+
+def test_level_can_turn_ghosts_off_and_checks_the_table(tmp_path):
+    path = tmp_path / "off.toml"
+    path.write_text(GHOST_LEVEL.replace("distance = 0.6", "enabled = false"))
+    game = Game(load_level(path))
+    assert not ghost_drawables(game.frame())
+    path.write_text(GHOST_LEVEL.replace("distance = 0.6", "distance = -1\nlayers = 3"))
+    with pytest.raises(LevelError) as e:
+        load_level(path)
+    text = str(e.value)
+    assert "[ghosts]" in text and "distance" in text and "layers" in text
+
+
+def test_tumbling_hall_bodies_stay_visible_as_ghosts():
+    """Level 3 (and the issue's level-2 complaint): bodies that roll out of the slice are still seen."""
+    game = Game(load_level(LEVELS / "03_tumbling_hall.toml"))
+    lost = 0
+    for t in range(600):
+        game.step(Actions())
+        if t % 30:
+            continue
+        frame = game.frame()
+        solid = {d.key for d in frame.drawables if d.style != "ghost"}
+        ghost = {d.key.split(":", 1)[1] for d in frame.drawables if d.style == "ghost"}
+        for e in game.entities.of_kind("body"):
+            near_w = abs(e.center(game)[3] - game.player.position[3]) <= e.radius + game.level.ghosts.distance
+            if near_w and f"entity:{e.id}" not in solid:
+                assert f"entity:{e.id}" in ghost, (t, e.name)
+                lost += 1
+    assert lost > 0, "some body left the slice and was followed by its ghost"
+
+
+def test_ghost_of_a_wall_that_would_block_a_step_along_w_is_stronger(ghost_level):
+    game = Game(ghost_level)
+    wall = game.entities.named("wall")
+    key = f"ghost+1:entity:{wall.id}"
+    away = ghost_drawables(game.frame())[key].opacity
+    game.player.position[:3] = [0.0, 0.0, 3.0]  # inside the wall's footprint (absent at w = 0)
+    inside = ghost_drawables(game.frame())[key].opacity
+    assert inside == pytest.approx(away * ghosts.BLOCK_GAIN)
+    # And it does block: a step ana is refused there.
+    for _ in range(30):
+        game.step(Actions(w=1.0))
+    assert game.player.position[3] < 0.6 - 0.25 + 1e-9
+
+
+def test_levels_readme_ghosts_and_seek_snippet_loads(tmp_path):
+    import re
+
+    text = (LEVELS / "README.md").read_text(encoding="utf-8")
+    (snippet,) = [b for b in re.findall(r"^``` ?toml\n(.*?)^```", text, re.S | re.M) if "[ghosts]" in b]
+    base = GHOST_LEVEL.split("[ghosts]")[0]  # format 2, without its own [ghosts]
+    rest = GHOST_LEVEL.split("distance = 0.6", 1)[1]
+    path = tmp_path / "snippet.toml"
+    path.write_text(base + rest + "\n" + snippet)
+    level = load_level(path)
+    assert level.ghosts.enabled and level.ghosts.distance == 0.3 and not level.seek.enabled
