@@ -285,12 +285,13 @@ def _bench_game(args) -> None:
         f"{col['tick_budget_ms']:.1f} ms)"
     )
     try:
+        from ..render.bench_ghosts import bench_ghosts
         from ..render.bench_hud import bench_hud
         from ..render.context import RenderError, create_offscreen_context
 
         ctx = create_offscreen_context()
     except (ImportError, RenderError) as e:
-        _out(f"HUD and radar: skipped (no OpenGL context: {e})")
+        _out(f"HUD, radar and ghosts: skipped (no OpenGL context: {e})")
         return
     _out("")
     _out("HUD and radar at 1280x720, CPU time per frame (target < 1 ms):")
@@ -304,3 +305,11 @@ def _bench_game(args) -> None:
             )
     finally:
         ctx.release()
+    g = bench_ghosts(frames=60 if args.quick else 120)
+    _out("")
+    _out(f"Ghosts along w on {g['level']}, moving along w, 1280x720, median per frame (budget: 2x the slice's cost):")
+    _out(
+        f"  ghosts on: sections {g['on']['sections']:.2f} ms, frame {g['on']['frame']:.1f} ms   (baseline, ghosts off: "
+        f"sections {g['off']['sections']:.2f} ms, frame {g['off']['frame']:.1f} ms); ghosts cost "
+        f"{g['ghost_section_ratio']:.2f}x the slice's own projection"
+    )
