@@ -273,3 +273,26 @@ def test_player_settings_scale_and_hide_the_radar(crystal_level):
     assert sorted(p.z for p in scaled.pins) == pytest.approx(sorted(0.5 * p.z for p in base.pins))
     game.radar_view = RadarView(False)
     assert game.frame().radar is None
+
+
+def test_ten_thousand_spawned_and_removed_entities_leave_the_physics_arrays_bounded():
+    """Entities come and go all game long (bullets, crystals growing back): removing one frees
+    its rigid body's slot, so the physics arrays stop growing."""
+    from across_dimensions.game.entities import Rigid
+    from across_dimensions.physics import BodyDef
+    from across_dimensions.world.resources import levels_dir
+
+    game = Game(load_level(levels_dir() / "03_tumbling_hall.toml"))
+    start_capacity = game.physics.bodies.alive.shape[0]
+    live = []
+    for k in range(10_000):
+        body = game.physics.add_body(BodyDef("hypersphere", radius=0.1, position=(k % 7 - 3.0, 3.0, 0.0, 0.0)))
+        e = game.entities.spawn("bullet", motion=Rigid(body, np.ones(4)))
+        game.entity_of_body[body] = e.id
+        live.append(e.id)
+        if len(live) > 5:  # a few live at a time, as a gun's bullets are
+            game.remove(live.pop(0))
+        if k % 50 == 0:
+            game.step(Actions())
+    assert game.physics.bodies.alive.shape[0] <= max(start_capacity, 64)
+    assert len(game.entities) < 40 and game.entities.next_id > 10_000
