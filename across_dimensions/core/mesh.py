@@ -582,7 +582,7 @@ class TriMesh3:
         return self.vertices.min(axis=0), self.vertices.max(axis=0)
 
     def save(self, path) -> tuple[int, int]:
-        """Write ``.obj``, ``.ply`` (ASCII, no dependencies) or ``.glb`` (needs trimesh), welded and indexed.
+        """Write ``.obj``, ``.ply`` (ASCII) or ``.glb`` (binary glTF), welded and indexed, with numpy alone.
 
         Returns
         -------

@@ -12,9 +12,8 @@ Blender or trimesh sees as open. Before writing, :func:`indexed_mesh`
    nor (beyond :data:`COLOR_TOL`) the colours, so the tesseract's section is written as 8
    points and 12 triangles.
 
-OBJ and PLY are written here with numpy alone, without normals (every viewer
-derives them from the welded faces); GLB goes through trimesh, imported only
-when asked for (the core's one deliberate optional import). Every writer goes
+OBJ, PLY and GLB (binary glTF 2.0) are written here with numpy alone, without
+normals (every viewer derives them from the welded faces). Every writer goes
 through :func:`~.fileio.atomic_writer`: the file is whole or absent.
 """
 
@@ -283,21 +282,51 @@ def _write_ply(f, vertices: np.ndarray, faces: np.ndarray, colors: np.ndarray) -
         np.savetxt(f, np.hstack([np.full((m, 1), 3), faces]), fmt="%d %d %d %d")
 
 
+# glTF 2.0 constants: component types and buffer-view targets.
+_FLOAT, _UNSIGNED_BYTE, _UNSIGNED_INT = 5126, 5121, 5125
+_ARRAY_BUFFER, _ELEMENT_ARRAY_BUFFER = 34962, 34963
+
+
 def _glb_bytes(vertices: np.ndarray, faces: np.ndarray, colors: np.ndarray) -> bytes:
-    if not len(faces):
-        return _empty_glb()
-    import trimesh  # optional: only GLB export needs it
+    """A binary glTF 2.0 file: one indexed triangle mesh with per-vertex RGBA colours.
 
-    rgba = np.clip(colors * 255 + 0.5, 0, 255).astype(np.uint8)
-    t = trimesh.Trimesh(vertices=vertices, faces=faces, vertex_colors=rgba, process=False)
-    return t.export(file_type="glb")
-
-
-def _empty_glb() -> bytes:
-    """A valid binary glTF 2.0 file holding one empty scene (trimesh refuses to export one)."""
-    doc = json.dumps(
-        {"asset": {"version": "2.0", "generator": "across-dimensions"}, "scene": 0, "scenes": [{"nodes": []}]},
-        separators=(",", ":"),
-    ).encode()
-    doc += b" " * (-len(doc) % 4)  # chunks are 4-byte aligned, JSON padded with spaces
-    return struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(doc)) + struct.pack("<I4s", len(doc), b"JSON") + doc
+    Written here with numpy (positions float32, colours normalised uint8, indices
+    uint32, each in its own 4-byte aligned buffer view) so the core needs no mesh
+    library; an empty mesh gives a valid file holding one empty scene.
+    """
+    doc: dict = {"asset": {"version": "2.0", "generator": "across-dimensions"}, "scene": 0}
+    binary = b""
+    if len(faces):
+        pos = np.ascontiguousarray(vertices, np.float32)
+        rgba = np.clip(colors * 255 + 0.5, 0, 255).astype(np.uint8)
+        idx = np.ascontiguousarray(faces, np.uint32).ravel()
+        views, chunks, offset = [], [], 0
+        for data, target in ((pos, _ARRAY_BUFFER), (rgba, _ARRAY_BUFFER), (idx, _ELEMENT_ARRAY_BUFFER)):
+            raw = data.tobytes()
+            views.append({"buffer": 0, "byteOffset": offset, "byteLength": len(raw), "target": target})
+            raw += b"\0" * (-len(raw) % 4)
+            chunks.append(raw)
+            offset += len(raw)
+        binary = b"".join(chunks)
+        doc |= {
+            "buffers": [{"byteLength": len(binary)}],
+            "bufferViews": views,
+            "accessors": [
+                {"bufferView": 0, "componentType": _FLOAT, "count": len(pos), "type": "VEC3",
+                 "min": pos.min(axis=0).tolist(), "max": pos.max(axis=0).tolist()},
+                {"bufferView": 1, "componentType": _UNSIGNED_BYTE, "normalized": True, "count": len(rgba),
+                 "type": "VEC4"},
+                {"bufferView": 2, "componentType": _UNSIGNED_INT, "count": len(idx), "type": "SCALAR"},
+            ],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "COLOR_0": 1}, "indices": 2, "mode": 4}]}],
+            "nodes": [{"mesh": 0}],
+            "scenes": [{"nodes": [0]}],
+        }  # fmt: skip
+    else:
+        doc["scenes"] = [{"nodes": []}]
+    text = json.dumps(doc, separators=(",", ":")).encode()
+    text += b" " * (-len(text) % 4)  # chunks are 4-byte aligned, JSON padded with spaces
+    out = struct.pack("<I4s", len(text), b"JSON") + text
+    if binary:
+        out += struct.pack("<I4s", len(binary), b"BIN\0") + binary
+    return struct.pack("<4sII", b"glTF", 2, 12 + len(out)) + out
