@@ -188,18 +188,7 @@ def spawn_target(game, spec: TargetSpec):
     """Put a target in the game: a small polychoron, glowing unless disguised."""
     mesh = make_shape(spec.shape).with_color(spec.color)
     scale = spec.size / max(reach(mesh), 1e-9)  # the target's reach is its size
-    obj = Object4(
-        spec.name,
-        mesh,
-        spec.position.copy(),
-        dict(spec.rotation_deg),
-        np.full(4, scale),
-        dict(spec.spin_deg),
-        solid=False,
-        body="none",
-        mass=1.0,
-        velocity=np.zeros(4),
-    )
+    obj = Object4.prop(spec.name, mesh, spec.position, scale, spec.rotation_deg, spec.spin_deg)
     return game.entities.spawn(
         "target",
         spec.name,

@@ -18,31 +18,11 @@ import numpy as np
 
 from ..game.frame import Camera3
 from ..game.player_bodies import debug_draw_game
+from .shaders import FLAT_FRAGMENT, FLAT_VERTEX
 
 #: Length (m) of a drawn contact normal, and half size of the contact cross.
 NORMAL_LENGTH = 0.3
 CONTACT_SIZE = 0.04
-
-_VERTEX = """
-#version 330
-uniform mat4 u_view_proj;
-in vec3 in_pos;
-in vec4 in_color;
-out vec4 v_color;
-void main() {
-    v_color = in_color;
-    gl_Position = u_view_proj * vec4(in_pos, 1.0);
-}
-"""
-
-_FRAGMENT = """
-#version 330
-in vec4 v_color;
-out vec4 f_color;
-void main() {
-    f_color = v_color;
-}
-"""
 
 # The 12 edges of a box as pairs of corner indices (bit k of a corner = + along axis k).
 _BOX_EDGES = np.array([(c, c | (1 << k)) for k in range(3) for c in range(8) if not c & (1 << k)])
@@ -118,7 +98,7 @@ class DebugOverlay:
 
     def __init__(self, ctx: moderngl.Context):
         self.ctx = ctx
-        self.program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
+        self.program = ctx.program(vertex_shader=FLAT_VERTEX, fragment_shader=FLAT_FRAGMENT)
         self.drawer = LineDrawer()
         self._vbo: moderngl.Buffer | None = None
         self._vao: moderngl.VertexArray | None = None

@@ -48,6 +48,7 @@ import numpy as np
 from ..game.frame import RADAR_KINDS, Camera3, Radar
 from .context import RenderError
 from .hud import HudMetrics
+from .shaders import FLAT_FRAGMENT, FLAT_VERTEX
 
 #: The disc's radius in radar space; pin heights and positions are in these units.
 RADIUS = 1.0
@@ -534,25 +535,6 @@ void main() {
 }
 """
 
-_FLAT_VS = """
-#version 330
-uniform mat4 u_view_proj;
-in vec3 in_pos;
-in vec4 in_color;
-out vec4 v_color;
-void main() {
-    v_color = in_color;
-    gl_Position = u_view_proj * vec4(in_pos, 1.0);
-}
-"""
-
-_FLAT_FS = """
-#version 330
-in vec4 v_color;
-out vec4 f_color;
-void main() { f_color = v_color; }
-"""
-
 
 def _mat4_bytes(m: np.ndarray) -> bytes:
     return np.ascontiguousarray(np.asarray(m, np.float64).T, np.float32).tobytes()
@@ -591,7 +573,7 @@ class RadarRenderer:
         self.ctx = ctx
         try:
             self.shape_prog = ctx.program(vertex_shader=_SHAPE_VS, fragment_shader=_SHAPE_FS)
-            self.flat_prog = ctx.program(vertex_shader=_FLAT_VS, fragment_shader=_FLAT_FS)
+            self.flat_prog = ctx.program(vertex_shader=FLAT_VERTEX, fragment_shader=FLAT_FRAGMENT)
         except Exception as e:
             raise RenderError(f"radar shaders failed to build: {e}") from e
         self._objects: list = [self.shape_prog, self.flat_prog]

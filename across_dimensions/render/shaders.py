@@ -175,3 +175,27 @@ def program_source(style: str) -> tuple[str, str]:
     """Vertex and fragment source for a style (``solid``, ``ghost``, ``wire``, ``floor``, ``glow``)."""
     header = f"#version 330\n#define STYLE_{style.upper()}\n"
     return header + VERTEX, header + FRAGMENT
+
+
+#: Unlit lines and triangles in one colour per vertex (the radar's disc and pins' stems, the
+#: physics debug overlay): positions already in world space, no lighting, no fog.
+FLAT_VERTEX = """
+#version 330
+uniform mat4 u_view_proj;
+in vec3 in_pos;
+in vec4 in_color;
+out vec4 v_color;
+void main() {
+    v_color = in_color;
+    gl_Position = u_view_proj * vec4(in_pos, 1.0);
+}
+"""
+
+FLAT_FRAGMENT = """
+#version 330
+in vec4 v_color;
+out vec4 f_color;
+void main() {
+    f_color = v_color;
+}
+"""

@@ -63,6 +63,23 @@ class Object4:
     mass: float
     velocity: np.ndarray
 
+    @classmethod
+    def prop(cls, name: str, mesh: TetMesh4, position, scale, rotation_deg=None, spin_deg=None) -> Object4:
+        """A 4D thing the game places itself (a crystal, a target): posed and spinning like a
+        level object, never solid and never a rigid body. ``scale`` is a number or ``(4,)``."""
+        return cls(
+            name,
+            mesh,
+            np.array(position, dtype=np.float64),
+            dict(rotation_deg or {}),
+            np.broadcast_to(np.asarray(scale, dtype=np.float64), (4,)).copy(),
+            dict(spin_deg or {}),
+            solid=False,
+            body="none",
+            mass=1.0,
+            velocity=np.zeros(4),
+        )
+
     def model_at(self, t: float, position=None, extra_rotation=None) -> np.ndarray:
         """Object-to-world ``(5, 5)`` at time ``t`` seconds (spin included)."""
         angles = {

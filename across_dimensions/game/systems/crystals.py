@@ -38,18 +38,7 @@ class Crystal:
 def spawn(game, spec: CrystalSpec):
     """Put a crystal in the game: a small polychoron turning in the w planes, glowing."""
     mesh = make_shape(spec.shape).with_color(spec.color)
-    obj = Object4(
-        spec.name,
-        mesh,
-        spec.position.copy(),
-        {},
-        np.full(4, spec.size),
-        dict(spec.spin_deg),
-        solid=False,
-        body="none",
-        mass=1.0,
-        velocity=np.zeros(4),
-    )
+    obj = Object4.prop(spec.name, mesh, spec.position, spec.size, spin_deg=spec.spin_deg)
     return game.entities.spawn(
         "crystal",
         spec.name,
