@@ -29,10 +29,7 @@ REPO = Path(__file__).resolve().parents[1]
 PKG = REPO / "across_dimensions"
 
 CORE_THIRD_PARTY = {"numpy", "numba"}
-#: core/ files allowed a function-level (lazy) import of these modules.
-CORE_LAZY_EXCEPTIONS = {"core/meshio.py": {"trimesh"}}
 DETERMINISTIC = ("game/", "physics/", "world/", "core/")
-#: Benchmarks time themselves; nothing else in the deterministic layers may.
 # Benchmarks time the simulation from outside; nothing they measure reaches its state.
 CLOCK_ALLOWED = {"core/bench.py", "physics/bench.py", "game/bench.py"}
 CLOCK_FUNCS = {
@@ -181,11 +178,6 @@ def core_import_problems(rel: str, source: str) -> list[str]:
             continue
         if imp.module == "across_dimensions.core" or imp.module.startswith("across_dimensions.core."):
             continue
-        if root in CORE_LAZY_EXCEPTIONS.get(rel, ()):
-            if imp.in_function:
-                continue
-            out.append(f"{imp.where()}  ({root} may be imported here only inside a function, lazily)")
-            continue
         out.append(
             f"{imp.where()}  (core may import only numpy, numba, the standard library "
             f"and across_dimensions.core; found {imp.module})"
@@ -255,13 +247,6 @@ def test_the_tree_is_found():
 def test_core_imports_only_numpy_numba_stdlib_and_itself():
     problems = [p for rel, src in SOURCES.items() if rel.startswith("core/") for p in core_import_problems(rel, src)]
     assert not problems, _report(problems)
-
-
-def test_meshio_imports_trimesh_lazily():
-    """The exception is in use as described: trimesh only inside a function of meshio."""
-    found = [i for i in imports("core/meshio.py", SOURCES["core/meshio.py"]) if i.module.split(".")[0] == "trimesh"]
-    assert found, "core/meshio.py no longer imports trimesh; drop it from CORE_LAZY_EXCEPTIONS"
-    assert all(i.in_function for i in found), _report([i.where() for i in found])
 
 
 def test_only_render_imports_moderngl():
