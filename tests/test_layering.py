@@ -1,8 +1,7 @@
 """The package's layering rules, checked on the syntax tree of every module.
 
 * ``core/`` imports only numpy, numba, the standard library and
-  ``across_dimensions.core`` itself; the one exception is the lazy
-  ``import trimesh`` inside a function of ``core/meshio.py`` (GLB export).
+  ``across_dimensions.core`` itself (no exception: even GLB export is numpy).
 * only ``render/`` imports moderngl; only ``app/`` imports pyglet.
 * ``game/``, ``physics/``, ``world/`` and ``core/`` never read the wall clock
   (benchmarks excepted) and never use global random state: randomness comes
@@ -277,8 +276,8 @@ def test_no_global_random_state_in_deterministic_layers():
     [
         ("core/mesh.py", "import trimesh\n", "only numpy"),
         ("core/mesh.py", "def f():\n    import trimesh\n", "only numpy"),
-        ("core/meshio.py", "import trimesh\n", "only inside a function"),
-        ("core/meshio.py", "def f():\n    import trimesh.exchange\n", None),
+        ("core/meshio.py", "import trimesh\n", "only numpy"),
+        ("core/meshio.py", "def f():\n    import trimesh.exchange\n", "only numpy"),
         ("core/mesh.py", "from ..physics import world\n", "across_dimensions.physics"),
         ("core/mesh.py", "from . import transform\nfrom .mesh import TetMesh4\nimport json, numpy as np\n", None),
         ("core/mesh.py", "from across_dimensions.core import transform\nfrom numba import njit\n", None),
