@@ -296,3 +296,21 @@ def test_ten_thousand_spawned_and_removed_entities_leave_the_physics_arrays_boun
             game.step(Actions())
     assert game.physics.bodies.alive.shape[0] <= max(start_capacity, 64)
     assert len(game.entities) < 40 and game.entities.next_id > 10_000
+
+
+def test_a_bad_crystal_reports_every_problem_at_once(tmp_path):
+    from across_dimensions.world.level import LevelError
+
+    path = tmp_path / "bad.toml"
+    path.write_text(
+        '[level]\nformat = 2\n[spawn]\nposition = [0, 0, 0, 0]\n[goal]\ncenter = [0, 1, 5]\nsize = [1, 1, 1]\n'
+        "[radar]\nrange = 0\n[[crystal]]\nposition = [0, 1, 2, 9.0]\nenergy = -1\n",
+        encoding="utf-8",
+    )
+    with pytest.raises(LevelError) as e:
+        load_level(path)
+    problems = e.value.problems
+    assert len(problems) == 3 and all(p.startswith(f"{path}: ") for p in problems)
+    assert any("[radar]: field 'range'" in p for p in problems)
+    assert any("'energy': expected a number > 0" in p for p in problems)
+    assert any("w = 9 is outside the level's w_range [-1, 1]" in p for p in problems)

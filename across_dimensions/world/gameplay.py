@@ -259,12 +259,15 @@ def read_crystals(r, data, w_range) -> list[CrystalSpec]:
         name = r.read(t, CRYSTAL_TABLE, where, keys=("name",), name=f"crystal{i}")["name"]
         where = f"[[crystal]] #{i} '{name}'"
         n = len(r.problems)
-        v = r.read(t, CRYSTAL_TABLE, where, keys=[k for k in CRYSTAL_TABLE if k != "name"], spin=dict(CRYSTAL_SPIN))
+        v = r.read(t, CRYSTAL_TABLE, where, keys=("position",))  # first, so its w is judged whatever else is wrong
         w = v["position"][3]
-        if len(r.problems) == n and w_range is not None and not w_range[0] <= w <= w_range[1]:
+        position_ok = len(r.problems) == n
+        v |= r.read(t, CRYSTAL_TABLE, where, keys=[k for k in CRYSTAL_TABLE if k not in ("name", "position")],
+                    spin=dict(CRYSTAL_SPIN))  # fmt: skip
+        if position_ok and w_range is not None and not w_range[0] <= w <= w_range[1]:
             r.problem(
                 where,
-                f"field 'position': w = {w:g} is outside the level's w_range {list(w_range)}, "
+                f"field 'position': w = {w:g} is outside the level's w_range [{w_range[0]:g}, {w_range[1]:g}], "
                 "so the crystal can never be reached",
             )
         out.append(
