@@ -303,7 +303,7 @@ def test_a_bad_crystal_reports_every_problem_at_once(tmp_path):
 
     path = tmp_path / "bad.toml"
     path.write_text(
-        '[level]\nformat = 2\n[spawn]\nposition = [0, 0, 0, 0]\n[goal]\ncenter = [0, 1, 5]\nsize = [1, 1, 1]\n'
+        "[level]\nformat = 2\n[spawn]\nposition = [0, 0, 0, 0]\n[goal]\ncenter = [0, 1, 5]\nsize = [1, 1, 1]\n"
         "[radar]\nrange = 0\n[[crystal]]\nposition = [0, 1, 2, 9.0]\nenergy = -1\n",
         encoding="utf-8",
     )
