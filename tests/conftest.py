@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
+import shutil
+import subprocess
+import time
 from pathlib import Path
 
 import numpy as np
@@ -129,3 +133,33 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
         cases = sorted({label for label, _ in items})
         tr.write_line(f"{category}: {len(items)} in {len(cases)} case(s), e.g. {', '.join(cases[:4])}")
         tr.write_line(f"    {items[0][1][:300]}")
+
+
+@contextlib.contextmanager
+def xvfb_display(number: int, env_var: str):
+    """A virtual X display ``:number`` for a real window, stopped afterwards.
+
+    Skips the test when Xvfb is not installed, the display is taken (``env_var``
+    chooses another number) or the server does not start.
+    """
+    if shutil.which("Xvfb") is None:
+        pytest.skip("Xvfb is not installed")
+    number = int(os.environ.get(env_var, str(number)))
+    if Path(f"/tmp/.X{number}-lock").exists():
+        pytest.skip(f"display :{number} is in use (set {env_var})")
+    server = subprocess.Popen(
+        ["Xvfb", f":{number}", "-screen", "0", "1280x720x24", "-nolisten", "tcp"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    try:
+        for _ in range(100):
+            if Path(f"/tmp/.X11-unix/X{number}").exists():
+                break
+            time.sleep(0.05)
+        else:
+            pytest.skip("Xvfb did not start")
+        yield f":{number}"
+    finally:
+        server.terminate()
+        server.wait(timeout=10)

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import xvfb_display
 
 from across_dimensions.app.editor import INSTALL_HINT, missing
 from across_dimensions.render.png import read_png
@@ -72,28 +73,11 @@ def test_edit_needs_a_level(env, tmp_path):
 
 @pytest.fixture(scope="module")
 def xvfb():
-    if shutil.which("Xvfb") is None:
-        pytest.skip("Xvfb is not installed")
+    """A virtual X display for a real window; skipped when Xvfb is not installed."""
     if missing():
         pytest.skip(f"the editor extra is not installed ({', '.join(missing())})")
-    number = int(os.environ.get("ACROSS_DIMENSIONS_EDITOR_TEST_DISPLAY", "77"))
-    if Path(f"/tmp/.X{number}-lock").exists():
-        pytest.skip(f"display :{number} is in use (set ACROSS_DIMENSIONS_EDITOR_TEST_DISPLAY)")
-    server = subprocess.Popen(
-        ["Xvfb", f":{number}", "-screen", "0", "1280x720x24", "-nolisten", "tcp"],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    for _ in range(100):
-        if Path(f"/tmp/.X11-unix/X{number}").exists():
-            break
-        time.sleep(0.05)
-    else:
-        server.kill()
-        pytest.skip("Xvfb did not start")
-    yield f":{number}"
-    server.terminate()
-    server.wait(timeout=10)
+    with xvfb_display(77, "ACROSS_DIMENSIONS_EDITOR_TEST_DISPLAY") as display:
+        yield display
 
 
 def _menu_bar(png: Path) -> np.ndarray:

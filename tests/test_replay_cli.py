@@ -12,7 +12,6 @@ import hashlib
 import json
 import math
 import os
-import shutil
 import signal
 import subprocess
 import sys
@@ -20,6 +19,7 @@ import time
 from pathlib import Path
 
 import pytest
+from conftest import xvfb_display
 
 from across_dimensions.game.replay import MAX_TICKS, Replay
 
@@ -219,26 +219,8 @@ def test_record_into_a_missing_folder_is_refused_before_the_window(env, tmp_path
 @pytest.fixture(scope="module")
 def xvfb():
     """A virtual X display for a real window; skipped when Xvfb is not installed."""
-    if shutil.which("Xvfb") is None:
-        pytest.skip("Xvfb is not installed")
-    number = int(os.environ.get("ACROSS_DIMENSIONS_TEST_DISPLAY", "58"))
-    if Path(f"/tmp/.X{number}-lock").exists():
-        pytest.skip(f"display :{number} is in use (set ACROSS_DIMENSIONS_TEST_DISPLAY)")
-    server = subprocess.Popen(
-        ["Xvfb", f":{number}", "-screen", "0", "1280x720x24", "-nolisten", "tcp"],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    for _ in range(100):
-        if Path(f"/tmp/.X11-unix/X{number}").exists():
-            break
-        time.sleep(0.05)
-    else:
-        server.kill()
-        pytest.skip("Xvfb did not start")
-    yield f":{number}"
-    server.terminate()
-    server.wait(timeout=10)
+    with xvfb_display(58, "ACROSS_DIMENSIONS_TEST_DISPLAY") as display:
+        yield display
 
 
 @pytest.mark.slow

@@ -208,33 +208,33 @@ class SeekSpec:
     enabled: bool = True
 
 
+def _table_values(r, data, key: str, model: dict) -> dict | None:
+    """The checked values of the single table ``[key]``, or None when the level leaves it out."""
+    if key not in data:
+        return None
+    where = f"[{key}]"
+    t = r.table(data, key, where)
+    r.unknown(t, model, where)
+    return r.read(t, model, where)
+
+
 def read_ghosts(r, data) -> GhostsSpec:
     """The ``[ghosts]`` table (defaults when absent)."""
-    if "ghosts" not in data:
-        return GhostsSpec()
-    t = r.table(data, "ghosts", "[ghosts]")
-    r.unknown(t, GHOSTS_TABLE, "[ghosts]")
-    v = r.read(t, GHOSTS_TABLE, "[ghosts]")
-    return GhostsSpec(v["enabled"], v["distance"])
+    v = _table_values(r, data, "ghosts", GHOSTS_TABLE)
+    return GhostsSpec() if v is None else GhostsSpec(v["enabled"], v["distance"])
 
 
 def read_seek(r, data) -> SeekSpec:
     """The ``[seek]`` table (defaults when absent)."""
-    if "seek" not in data:
-        return SeekSpec()
-    t = r.table(data, "seek", "[seek]")
-    r.unknown(t, SEEK_TABLE, "[seek]")
-    v = r.read(t, SEEK_TABLE, "[seek]")
-    return SeekSpec(v["enabled"])
+    v = _table_values(r, data, "seek", SEEK_TABLE)
+    return SeekSpec() if v is None else SeekSpec(v["enabled"])
 
 
 def read_energy(r, data) -> EnergySpec:
-    """The ``[energy]`` table (``r`` is the level loader's reader)."""
-    if "energy" not in data:
+    """The ``[energy]`` table (``r`` is the level loader's reader); absent: no energy bar."""
+    v = _table_values(r, data, "energy", ENERGY_TABLE)
+    if v is None:
         return EnergySpec()
-    t = r.table(data, "energy", "[energy]")
-    r.unknown(t, ENERGY_TABLE, "[energy]")
-    v = r.read(t, ENERGY_TABLE, "[energy]")
     if v["start"] > v["max"]:
         r.problem("[energy]", f"field 'start': {v['start']:g} is more than 'max' ({v['max']:g})")
     return EnergySpec(True, min(v["start"], v["max"]), v["max"], v["w_cost"])
@@ -242,12 +242,8 @@ def read_energy(r, data) -> EnergySpec:
 
 def read_radar(r, data) -> RadarSpec | None:
     """The ``[radar]`` table, or None when the level has none (no radar on screen)."""
-    if "radar" not in data:
-        return None
-    t = r.table(data, "radar", "[radar]")
-    r.unknown(t, RADAR_TABLE, "[radar]")
-    v = r.read(t, RADAR_TABLE, "[radar]")
-    return RadarSpec(v["range"], v["w_scale"])
+    v = _table_values(r, data, "radar", RADAR_TABLE)
+    return None if v is None else RadarSpec(v["range"], v["w_scale"])
 
 
 def read_crystals(r, data, w_range) -> list[CrystalSpec]:
