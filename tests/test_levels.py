@@ -84,7 +84,7 @@ SHIPPED = resources.level_files()
 
 def test_there_are_shipped_levels():
     assert SHIPPED, f"no level files in {resources.levels_dir()}"
-    assert SHIPPED[0].name == "01_first_steps.toml"
+    assert SHIPPED[0].name == "00_arrival.toml"
 
 
 @pytest.mark.parametrize("path", SHIPPED, ids=[p.stem for p in SHIPPED])

@@ -138,7 +138,7 @@ def demo(args) -> int:
     args.replay = str(levels_dir() / "replays" / "01_first_steps.json")
     args.no_check = False
     args.json = False
-    _out("Across Dimensions headless demo: a recorded play-through of the first level.")
+    _out("Across Dimensions headless demo: a recorded play-through of 'First Steps', the first level with w.")
     return replay(args)
 
 
