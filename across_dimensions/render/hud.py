@@ -1,8 +1,8 @@
 """The heads-up display, drawn over the 3D scene in pixel coordinates.
 
 Everything on the HUD is an axis-aligned textured quad: text samples glyphs
-from the built-in 5x7 font atlas (:mod:`.font`), and solid rectangles sample a
-fully lit atlas cell. So the whole HUD is one instanced draw call with one
+from the font atlas (:mod:`.font`: DejaVu Sans rasterized by FreeType), and solid
+rectangles sample a fully lit block of the same atlas. So the whole HUD is one instanced draw call with one
 shader, and the layout (:func:`hud_quads`) is plain numpy that can be tested
 without OpenGL.
 
@@ -39,7 +39,8 @@ import moderngl
 import numpy as np
 
 from ..game.frame import EnergyGauge, Hud, Radar, WeaponPanel
-from .font import CELL_H, CELL_W, GLYPH_H, GLYPH_W, SOLID_CELL, build_atlas, cell_origin, glyph_index
+from .font import CELL_W, GLYPH_H, GLYPH_W, default_font, font_px, solid_uv
+from .font import text_width as text_width
 
 CROSSHAIR_COLOR = (0.95, 0.95, 0.95, 1.0)
 OUTLINE_COLOR = (0.0, 0.0, 0.0, 0.55)
@@ -137,28 +138,29 @@ class _QuadList:
 
     def __init__(self):
         self.rows: list[tuple[float, ...]] = []
-        su, sv = cell_origin(SOLID_CELL)
-        # Sample the middle of the solid cell: every texel there is 255.
-        self._solid_uv = (su + CELL_W / 2, sv + CELL_H / 2) * 2
+        self._solid_uv = solid_uv()
 
     def rect(self, x, y, w, h, color) -> None:
         if w > 0 and h > 0 and color[3] > 0:
             self.rows.append((x, y, w, h, *self._solid_uv, *color))
 
     def text(self, s: str, x, y, scale: int, color, shadow: bool = True) -> None:
-        """Text with its top-left at ``(x, y)``; a 1-scale-pixel drop shadow for contrast."""
+        """Text with the top of its capitals at ``(x, y)``; a 1-scale-pixel drop shadow for contrast."""
         if shadow:
             self._glyphs(s, x + scale, y + scale, scale, (0.0, 0.0, 0.0, 0.6 * color[3]))
         self._glyphs(s, x, y, scale, color)
 
     def _glyphs(self, s, x, y, scale, color) -> None:
-        for i, ch in enumerate(s):
-            if ch == " ":
-                continue
-            u, v = cell_origin(glyph_index(ch))
-            self.rows.append(
-                (x + i * CELL_W * scale, y, GLYPH_W * scale, GLYPH_H * scale, u, v, u + GLYPH_W, v + GLYPH_H, *color)
-            )
+        font = default_font()
+        px = font_px(scale)
+        baseline = int(round(y)) + GLYPH_H * int(scale)
+        pen = float(x)
+        for ch in s:
+            g = font.glyph(ch, px)
+            if g.w:
+                gx = int(round(pen)) + g.left
+                self.rows.append((gx, baseline + g.top, g.w, g.h, g.u, g.v, g.u + g.w, g.v + g.h, *color))
+            pen += g.advance
 
     def array(self) -> np.ndarray:
         if not self.rows:
@@ -166,24 +168,35 @@ class _QuadList:
         return np.asarray(self.rows, np.float32)
 
 
-def text_width(s: str, scale: int) -> int:
-    """Pixel width of a line of text at ``scale`` (no trailing gap)."""
-    return max(0, len(s) * CELL_W * scale - scale)
+def quads_text(quads: np.ndarray) -> str:
+    """The characters drawn by ``quads``, in draw order (solid rectangles and spaces give nothing).
+
+    Each glyph bitmap has its own place in the atlas, so a quad's atlas origin names its
+    character: tests read the HUD's words back from its layout with this.
+    """
+    font = default_font()
+    return "".join(ch for q in quads if (ch := font.char_at(q[4], q[5])) is not None)
 
 
-def _wrap(message: str, max_chars: int) -> list[str]:
+def _wrap(message: str, max_width: int, scale: int) -> list[str]:
+    """``message`` broken into lines at most ``max_width`` pixels wide at ``scale`` (words kept whole
+    unless one alone is too wide)."""
     lines: list[str] = []
+    fits = lambda t: text_width(t, scale) <= max_width  # noqa: E731
     for para in message.split("\n"):
         words, line = para.split(" "), ""
         for word in words:
-            while len(word) > max_chars:  # a word longer than a line: hard break
+            while not fits(word) and len(word) > 1:  # a word longer than a line: hard break
                 if line:
                     lines.append(line)
                     line = ""
-                lines.append(word[:max_chars])
-                word = word[max_chars:]
+                cut = len(word) - 1
+                while cut > 1 and not fits(word[:cut]):
+                    cut -= 1
+                lines.append(word[:cut])
+                word = word[cut:]
             cand = f"{line} {word}" if line else word
-            if len(cand) <= max_chars:
+            if fits(cand):
                 line = cand
             else:
                 lines.append(line)
@@ -275,12 +288,10 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
     # --- message (centred, a third of the way down; below PAUSED when paused)
     if hud.message:
         scale = big
-        max_chars = max(1, (W - 2 * m.margin) // (CELL_W * scale))
-        lines = _wrap(hud.message, max_chars)
+        lines = _wrap(hud.message, W - 2 * m.margin, scale)
         if scale > s and len(lines) > 1:  # large text only for one-liners; longer ones use the small size
             scale = s
-            max_chars = max(1, (W - 2 * m.margin) // (CELL_W * scale))
-            lines = _wrap(hud.message, max_chars)
+            lines = _wrap(hud.message, W - 2 * m.margin, scale)
         line_h = (GLYPH_H + 3) * scale
         block_h = len(lines) * line_h
         ytop = H // 2 + GLYPH_H * big + 2 * big if hud.paused else H // 3 - block_h // 2
@@ -398,14 +409,9 @@ class HudRenderer:
     def __init__(self, ctx: moderngl.Context):
         self.ctx = ctx
         self.program = ctx.program(vertex_shader=_HUD_VS, fragment_shader=_HUD_FS)
-        atlas = build_atlas()
-        # Row 0 of the array is uploaded first, so texel row r is array row r:
-        # atlas v coordinates count down from the top like the layout's y.
-        self.atlas = ctx.texture((atlas.shape[1], atlas.shape[0]), 1, atlas.tobytes(), alignment=1)
-        self.atlas.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        self.atlas.repeat_x = self.atlas.repeat_y = False
+        self.atlas = None
+        self._atlas_revision = -1
         self.program["u_atlas"].value = 0
-        self.program["u_atlas_size"].value = (float(atlas.shape[1]), float(atlas.shape[0]))
         corners = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], np.float32)
         self._corner_vbo = ctx.buffer(corners.tobytes())
         self._instances = ctx.buffer(reserve=256 * QUAD_FLOATS * 4, dynamic=True)
@@ -441,10 +447,31 @@ class HudRenderer:
         ctx.enable(moderngl.BLEND)
         ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
         self.program["u_screen"].value = (float(w), float(h))
+        self._upload_atlas()
         self.atlas.use(0)
         self._vao.render(moderngl.TRIANGLE_STRIP, vertices=4, instances=len(quads))
         ctx.disable(moderngl.BLEND)
 
+    def _upload_atlas(self) -> None:
+        """Send the font atlas to the GPU when glyphs were added since the last upload."""
+        font = default_font()
+        if font.revision == self._atlas_revision:
+            return
+        image = font.image
+        size = (image.shape[1], image.shape[0])
+        if self.atlas is None or self.atlas.size != size:
+            if self.atlas is not None:
+                self.atlas.release()
+            self.atlas = self.ctx.texture(size, 1, alignment=1)
+            self.atlas.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            self.atlas.repeat_x = self.atlas.repeat_y = False
+        # Row 0 of the array is uploaded first, so texel row r is array row r:
+        # atlas v coordinates count down from the top like the layout's y.
+        self.atlas.write(np.ascontiguousarray(image).tobytes())
+        self.program["u_atlas_size"].value = (float(size[0]), float(size[1]))
+        self._atlas_revision = font.revision
+
     def release(self) -> None:
         for obj in (self._vao, self._instances, self._corner_vbo, self.atlas, self.program):
-            obj.release()
+            if obj is not None:
+                obj.release()
