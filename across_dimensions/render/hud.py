@@ -26,7 +26,13 @@ Layout (pixels, origin top-left, ``W x H`` the viewport):
 * FPS (when not None): top-left;
 * message: centred horizontally, a third of the way down, on a dark band
   (wrapped to fit);
-* paused: the whole view dimmed, then ``PAUSED`` in large text in the middle.
+* paused: the whole view dimmed, then ``PAUSED`` in large text in the middle;
+* hint (when ``hud.hint``): its own panel at the top centre, wrapped to 60% of the width, with an
+  accent bar on its left and ``hud.hint_label`` in small dim text under it; notices and prompts
+  (``message``) never cover it;
+* warning (when ``hud.warning``): one line at the bottom centre, between the energy bar and the
+  radar, shortened with an ellipsis to fit;
+* card (when ``hud.card``): drawn over everything by :mod:`.cards`.
 
 Colours are display-space RGBA (no gamma applied).
 """
@@ -65,6 +71,11 @@ WEAPON_COLOR = (1.0, 0.9, 0.6, 1.0)
 WEAPON_READY_COLOR = (0.5, 1.0, 0.6, 0.9)
 WEAPON_COOL_COLOR = (1.0, 0.6, 0.2, 0.9)
 HIT_COLOR = (1.0, 0.35, 0.25, 1.0)
+HINT_BAND_COLOR = (0.02, 0.04, 0.08, 0.72)
+HINT_ACCENT_COLOR = (0.3, 0.85, 1.0, 0.95)
+HINT_TEXT_COLOR = (0.95, 0.97, 1.0, 1.0)
+HINT_LABEL_COLOR = (0.6, 0.8, 0.95, 0.8)
+WARNING_COLOR = (1.0, 0.8, 0.35, 0.95)
 #: Width over height of the radar's rectangle (the radar view fits itself to it).
 RADAR_ASPECT = 0.95
 
@@ -285,6 +296,12 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
         label = "PAUSED"
         q.text(label, (W - text_width(label, big)) // 2, H // 2 - (GLYPH_H * big) // 2, big, TEXT_COLOR)
 
+    # --- hint panel (top centre) and the warning line (bottom centre)
+    if hud.hint:
+        _hint_panel(q, hud, m)
+    if hud.warning:
+        _warning_line(q, hud.warning, m)
+
     # --- message (centred, a third of the way down; below PAUSED when paused)
     if hud.message:
         scale = big
@@ -300,7 +317,85 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
         q.rect((W - band_w) // 2, ytop - pad, band_w, block_h + pad, BAND_COLOR)
         for i, ln in enumerate(lines):
             q.text(ln, (W - text_width(ln, scale)) // 2, ytop + i * line_h, scale, TEXT_COLOR)
+
+    # --- teaching card (over everything)
+    if hud.card is not None:
+        from .cards import draw_card
+
+        draw_card(q, hud.card, W, H)
     return q.array()
+
+
+def hint_rect(hud: Hud, width: int, height: int) -> tuple[int, int, int, int]:
+    """The hint panel's band as ``(x, y, w, h)`` pixels (origin top-left); zero size without a hint."""
+    if not hud.hint:
+        return 0, 0, 0, 0
+    m = HudMetrics(int(width), int(height))
+    lines, scale, box_w = _hint_lines(hud.hint, m)
+    s = m.text_scale
+    line_h = (GLYPH_H + 4) * scale
+    label_h = (GLYPH_H + 4) * s if hud.hint_label else 0
+    pad = 3 * s
+    band_w = max(text_width(ln, scale) for ln in lines) + 2 * pad + 2 * s
+    if hud.hint_label:
+        band_w = max(band_w, text_width(hud.hint_label, s) + 2 * pad + 2 * s)
+    band_w = min(band_w, box_w + 2 * pad + 2 * s)
+    band_h = len(lines) * line_h + label_h + 2 * pad - s
+    return (m.width - band_w) // 2, m.margin, band_w, band_h
+
+
+def _hint_lines(text: str, m: HudMetrics) -> tuple[list[str], int, int]:
+    box_w = max(40, int(m.width * 0.6))
+    scale = m.text_scale
+    return _wrap(text, box_w, scale), scale, box_w
+
+
+def _hint_panel(q: _QuadList, hud: Hud, m: HudMetrics) -> None:
+    s = m.text_scale
+    x, y, w, h = hint_rect(hud, m.width, m.height)
+    lines, scale, _ = _hint_lines(hud.hint, m)
+    pad = 3 * s
+    q.rect(x, y, w, h, HINT_BAND_COLOR)
+    q.rect(x, y, max(2, s), h, HINT_ACCENT_COLOR)  # the accent: a hint, not a notice
+    line_h = (GLYPH_H + 4) * scale
+    for i, ln in enumerate(lines):
+        q.text(ln, x + pad + 2 * s, y + pad + i * line_h, scale, HINT_TEXT_COLOR)
+    if hud.hint_label:
+        label = hud.hint_label
+        q.text(label, x + w - pad - text_width(label, s), y + pad + len(lines) * line_h, s, HINT_LABEL_COLOR)
+
+
+def _ellipsized(text: str, max_width: int, scale: int) -> str:
+    """``text`` cut to fit ``max_width`` pixels, with an ellipsis when cut."""
+    if text_width(text, scale) <= max_width:
+        return text
+    while text and text_width(text + "\u2026", scale) > max_width:
+        text = text[:-1]
+    return text.rstrip() + "\u2026"
+
+
+def warning_rect(text: str, width: int, height: int) -> tuple[int, int, int, int]:
+    """The warning line's band as ``(x, y, w, h)`` pixels: bottom centre, clear of the energy bar
+    and the radar."""
+    m = HudMetrics(int(width), int(height))
+    s = m.text_scale
+    ex, _, ew, _ = m.energy_bar()
+    left = ex + ew + m.margin
+    right = m.radar_rect()[0] - m.margin
+    line = _ellipsized(text, max(10, right - left - 4 * s), s)
+    w = min(right - left, text_width(line, s) + 4 * s)
+    h = (GLYPH_H + 4) * s
+    return left + (right - left - w) // 2, m.height - m.margin // 2 - h, w, h
+
+
+def _warning_line(q: _QuadList, text: str, m: HudMetrics) -> None:
+    s = m.text_scale
+    x, y, w, h = warning_rect(text, m.width, m.height)
+    ex, _, ew, _ = m.energy_bar()
+    right = m.radar_rect()[0] - m.margin
+    line = _ellipsized(text, max(10, right - (ex + ew + m.margin) - 4 * s), s)
+    q.rect(x, y, w, h, BAND_COLOR)
+    q.text(line, x + 2 * s, y + 2 * s, s, WARNING_COLOR)
 
 
 def weapon_text(panel: WeaponPanel) -> str:
