@@ -1,0 +1,121 @@
+"""What the window shows a new player: hints, the flat-being card, and the settings warning line.
+
+* Hints (:class:`~across_dimensions.game.hints.HintBook`) stay on screen, in their own panel,
+  until the player does what each asks or dismisses it with the ``hints`` key; the same key shows
+  them again. The window's notices and the game's prompts never replace them.
+* Before the first move along w in a session, the ``"flatland"`` card (drawn by
+  :mod:`across_dimensions.render.cards`) stops the game and teaches the idea with the
+  lower-dimensional analogy; any key or click closes it, and the move then goes ahead.
+  A window recording to a file given on the command line skips the card, so a scripted
+  recording starts as the level does.
+* Settings warnings are one line at the bottom for :data:`WARNING_SECONDS`; their details are in
+  the log file (:func:`~.settings.report_warnings`).
+"""
+
+from __future__ import annotations
+
+from ..game.frame import Card, Hud
+from ..game.hints import HintBook
+
+#: Seconds the settings warning line stays.
+WARNING_SECONDS = 15.0
+#: Keys that close the card besides a click (the ``hints`` and ``jump`` actions close it too).
+CARD_KEYS = ("RETURN", "SPACE", "ESCAPE")
+
+FLATLAND_LINES = (
+    "You are the flat being of a 4D world",
+    "What is there: a ball passes through the plane",
+    "What the flat being sees: only a circle",
+    "A flat being lives in a plane and sees only what lies in it. A ball passing through its plane"
+    " looks to it like a circle that appears, grows, shrinks and vanishes; the rest of the ball is"
+    " out of its world.",
+    "Your world is a 3D slice of a 4D one. {w_ana} and {w_kata} slide your slice along w: 4D things"
+    " change shape, walls appear and fade, and whatever is off your slice is out of sight (the radar"
+    " and the ghosts show where).",
+    "Press {jump} or Enter, or click, to start",
+)
+
+
+class Onboarding:
+    """Hints, the card and the warning line of one window.
+
+    Parameters
+    ----------
+    warning : str
+        The settings warning line, or ``""``.
+    card : bool
+        Whether the flat-being card may be shown this session.
+    """
+
+    def __init__(self, warning: str = "", card: bool = True):
+        self.warning = warning
+        self.warning_left = WARNING_SECONDS if warning else 0.0
+        self.card_allowed = card
+        self.card_time: float | None = None  # seconds the card has been open, None when closed
+        self.book = HintBook([])
+        self.hints_on = True  # False in the editor's play-from-here
+
+    # ----------------------------------------------------------------- events
+    def level_started(self, hints) -> None:
+        self.book = HintBook(list(hints))
+
+    @property
+    def blocking(self) -> bool:
+        """The card is open: the game waits."""
+        return self.card_time is not None
+
+    def before_tick(self, moving_along_w: bool) -> bool:
+        """Called before each tick; opens the card on the session's first push along w.
+
+        Returns True when the game must not step (the card is open).
+        """
+        if moving_along_w and self.card_allowed:
+            self.card_allowed = False
+            self.card_time = 0.0
+        return self.blocking
+
+    def ticked(self, actions, dt: float) -> None:
+        """A tick was simulated with ``actions``."""
+        if self.hints_on:
+            self.book.tick(actions, dt)
+
+    def wall(self, dt: float) -> None:
+        """``dt`` seconds of wall time passed (animations, the warning's time)."""
+        if self.card_time is not None:
+            self.card_time += dt
+        self.warning_left = max(0.0, self.warning_left - dt)
+
+    def key(self, action: str | None, key_name: str = "") -> bool:
+        """A key went down (``action`` it is bound to, if any). True when it was used here."""
+        if action in ("screenshot", "toggle_fullscreen", "toggle_mute"):
+            return False  # these work over the card too
+        if self.card_time is not None:
+            if action in ("hints", "jump", "pause") or key_name in CARD_KEYS or action is None:
+                self.card_time = None
+            return True  # the card swallows every key while open
+        if action == "hints":
+            self.book.toggle()
+            return True
+        if action is not None:
+            self.book.note(action)
+        return False
+
+    def click(self) -> bool:
+        """A mouse button went down; True when it closed the card."""
+        if self.card_time is not None:
+            self.card_time = None
+            return True
+        return False
+
+    # ---------------------------------------------------------------- drawing
+    def decorate(self, hud: Hud, with_keys) -> None:
+        """Fill ``hud``'s hint, warning and card fields; ``with_keys(text)`` fills in the player's keys."""
+        h = self.book.current() if self.hints_on else None
+        if h is not None:
+            hud.hint = with_keys(h.text)
+            i, n = self.book.current_index() + 1, len(self.book.hints)
+            hud.hint_label = f"Hint {i}/{n} \u00b7 {with_keys('{hints}')} hides"
+        if self.warning and self.warning_left > 0:
+            hud.warning = self.warning
+        if self.card_time is not None:
+            hud.card = Card("flatland", self.card_time, tuple(with_keys(t) for t in FLATLAND_LINES))
