@@ -72,6 +72,15 @@ def test_the_hints_key_dismisses_then_shows_them_again():
     assert book.current_index() == 0 and book.remaining() == 2
 
 
+def test_a_key_press_the_simulation_sees_is_judged_by_the_ticks_not_by_the_key():
+    book = HintBook(["Hold {w_ana}.", "Show the frame rate with {toggle_fps}."])
+    book.note("w_ana")  # the key went down: not yet a hold
+    assert book.current_index() == 0
+    book.toggle()
+    book.note("toggle_fps")  # a window-only action: its key press is the doing
+    assert book.current() is None
+
+
 def test_placeholders_name_the_asked_actions_and_braces_stay_literal():
     assert placeholders("Hold {w_ana} ({w_kata} back), {{not}} this") == ("w_ana", "w_kata")
     assert placeholders("stray { brace") == ()

@@ -24,7 +24,7 @@ from __future__ import annotations
 import string
 from dataclasses import dataclass, field
 
-from .actions import Actions
+from .actions import PRESSES, Actions
 
 #: Seconds an input must be held (in total, while the hint shows) to count as done: long enough
 #: that the player saw what it does, short enough not to feel like a chore.
@@ -130,7 +130,10 @@ class HintBook:
         return h.held >= HOLD_SECONDS - 1e-9  # 1e-9: whole ticks of 1/60 s add up to 0.5 s in floating point
 
     def note(self, action: str) -> None:
-        """The player pressed the key of ``action`` (one the simulation does not see)."""
+        """The player pressed the key of ``action``; counts only for actions the simulation does not
+        see (the others are judged by :meth:`tick`, so a tap is not taken for a hold)."""
+        if action in _HELD or action in PRESSES:
+            return
         h = self.current()
         if h is not None and action in h.asks:
             h.done = True
