@@ -189,3 +189,53 @@ def test_the_screen_line_fits_between_the_energy_bar_and_the_radar(tmp_path):
     m = HudMetrics(1280, 720)
     room = m.radar_rect()[0] - m.margin - (m.energy_bar()[0] + m.energy_bar()[2] + m.margin)
     assert text_width(line, m.text_scale) < room
+
+
+# ------------------------------------------------------------- the window
+
+
+@pytest.fixture(scope="module")
+def xvfb():
+    """A virtual X display for a real window; skipped when Xvfb is not installed."""
+    from conftest import xvfb_display
+
+    with xvfb_display(63, "ACROSS_DIMENSIONS_ONBOARDING_TEST_DISPLAY") as display:
+        yield display
+
+
+def test_play_with_a_corrupt_settings_file_warns_once_and_shows_the_hint_clear_of_the_warning(tmp_path, xvfb):
+    from across_dimensions.render.hud import HudMetrics
+    from across_dimensions.render.png import read_png
+
+    bad = tmp_path / "settings.toml"
+    bad.write_text('fov_deg = "wide"\nvolume = 7\nnonsense = 1\n')
+    env = dict(os.environ, DISPLAY=xvfb, ACROSS_DIMENSIONS_LOG_DIR=str(tmp_path / "log"))
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), env.get("PYTHONPATH")) if p)
+    env.pop("WAYLAND_DISPLAY", None)
+    args = ["play", "01_first_steps", "--settings", bad, "--screenshot-after", "1.5", "--quit-after", "3"]
+    r = subprocess.run(
+        [sys.executable, "-m", "across_dimensions", *map(str, args)],
+        capture_output=True,
+        text=True,
+        timeout=240,
+        cwd=tmp_path,
+        env=env,
+    )
+    assert r.returncode == 0, r.stderr
+    warnings = [ln for ln in r.stderr.splitlines() if ln.startswith("warning:")]
+    assert len(warnings) == 1 and "3 problems" in warnings[0] and "Traceback" not in r.stderr
+    assert len((tmp_path / "log" / "settings.log").read_text().splitlines()) == 3
+    shots = sorted((tmp_path / "screenshots").glob("shot_*.png"))
+    assert shots, r.stdout
+    img = read_png(shots[0]).astype(int)
+    h, w = img.shape[:2]
+    hud = Hud(hint=with_keys(load_level(level_files()[0]).hints[0]), hint_label="Hint 1/2 \u00b7 H hides")
+    hx, hy, hw, hh = hint_rect(hud, w, h)
+    # The hint's accent bar is drawn at the panel's left edge, in the accent colour (cyan).
+    bar = img[hy + 2 : hy + hh - 2, hx : hx + max(2, HudMetrics(w, h).text_scale)]
+    assert (bar[..., 2] > 200).mean() > 0.9 and (bar[..., 0] < 120).mean() > 0.9
+    # The warning line's amber text sits at the bottom, below the hint and clear of it.
+    wx, wy, ww, wh = warning_rect("3 problems in settings.toml: see settings.log", w, h)
+    strip = img[wy : wy + wh, wx : wx + ww]
+    amber = (strip[..., 0] > 200) & (strip[..., 1] > 150) & (strip[..., 2] < 140)
+    assert amber.sum() > 50 and wy > hy + hh

@@ -188,8 +188,9 @@ def font_px(scale: int) -> int:
     return max(6, int(GLYPH_H * int(scale) / CAP_EM))  # rounded down: capitals never overshoot
 
 
+@functools.lru_cache(maxsize=4096)
 def text_width(text: str, scale: int) -> int:
-    """Pixel width of a line of ``text`` drawn at ``scale``."""
+    """Pixel width of a line of ``text`` drawn at ``scale`` (cached: HUD lines repeat every frame)."""
     return default_font().width(text, font_px(scale))
 
 

@@ -39,6 +39,7 @@ Colours are display-space RGBA (no gamma applied).
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import moderngl
@@ -145,10 +146,15 @@ class HudMetrics:
 
 
 class _QuadList:
-    """Collects HUD quads as rows of :data:`QUAD_FLOATS` floats."""
+    """Collects HUD quads as rows of :data:`QUAD_FLOATS` floats, in draw order.
+
+    Rectangles are kept as tuples; a line of text is kept as its cached glyph run and offset, and
+    becomes rows only in :meth:`array` (one numpy block per line, no per-glyph Python work).
+    """
 
     def __init__(self):
         self.rows: list[tuple[float, ...]] = []
+        self._runs: list[tuple[int, np.ndarray, int, int, tuple]] = []  # (position in rows, run, x, y, colour)
         self._solid_uv = solid_uv()
 
     def rect(self, x, y, w, h, color) -> None:
@@ -162,21 +168,48 @@ class _QuadList:
         self._glyphs(s, x, y, scale, color)
 
     def _glyphs(self, s, x, y, scale, color) -> None:
-        font = default_font()
-        px = font_px(scale)
-        baseline = int(round(y)) + GLYPH_H * int(scale)
-        pen = float(x)
-        for ch in s:
-            g = font.glyph(ch, px)
-            if g.w:
-                gx = int(round(pen)) + g.left
-                self.rows.append((gx, baseline + g.top, g.w, g.h, g.u, g.v, g.u + g.w, g.v + g.h, *color))
-            pen += g.advance
+        run = _glyph_run(s, int(scale))
+        if len(run):
+            self._runs.append((len(self.rows), run, int(round(x)), int(round(y)), tuple(color)))
 
     def array(self) -> np.ndarray:
-        if not self.rows:
-            return np.zeros((0, QUAD_FLOATS), np.float32)
-        return np.asarray(self.rows, np.float32)
+        rects = np.asarray(self.rows, np.float32).reshape(-1, QUAD_FLOATS)
+        if not self._runs:
+            return rects
+        parts, at = [], 0
+        for pos, run, x, y, color in self._runs:
+            if pos > at:
+                parts.append(rects[at:pos])
+                at = pos
+            block = np.empty((len(run), QUAD_FLOATS), np.float32)
+            block[:, :8] = run
+            block[:, 0] += x
+            block[:, 1] += y
+            block[:, 8:] = color
+            parts.append(block)
+        parts.append(rects[at:])
+        return np.concatenate(parts)
+
+
+@functools.lru_cache(maxsize=4096)
+def _glyph_run(s: str, scale: int) -> np.ndarray:
+    """The glyph quads of one line of text at ``(0, 0)``: ``(n, 8) float64`` rows of rect ``x, y,
+    w, h`` and atlas ``u0, v0, u1, v1``. Cached: HUD lines repeat from frame to frame, and a
+    glyph's place in the atlas never changes once rasterized."""
+    font = default_font()
+    px = font_px(scale)
+    baseline = GLYPH_H * scale
+    pen = 0.0
+    rows = []
+    for ch in s:
+        g = font.glyph(ch, px)
+        if g.w:
+            gx = int(round(pen)) + g.left
+            rows.append((gx, baseline + g.top, g.w, g.h, g.u, g.v, g.u + g.w, g.v + g.h))
+        pen += g.advance
+    run = np.asarray(rows, np.float64).reshape(-1, 8)
+    run.setflags(write=False)
+    return run
 
 
 def quads_text(quads: np.ndarray) -> str:
@@ -189,7 +222,17 @@ def quads_text(quads: np.ndarray) -> str:
     return "".join(ch for q in quads if (ch := font.char_at(q[4], q[5])) is not None)
 
 
+@functools.lru_cache(maxsize=256)
+def _wrap_cached(message: str, max_width: int, scale: int) -> tuple[str, ...]:
+    return tuple(_wrap_lines(message, max_width, scale))
+
+
 def _wrap(message: str, max_width: int, scale: int) -> list[str]:
+    """``message`` broken into lines at most ``max_width`` pixels wide at ``scale`` (cached)."""
+    return list(_wrap_cached(message, int(max_width), int(scale)))
+
+
+def _wrap_lines(message: str, max_width: int, scale: int) -> list[str]:
     """``message`` broken into lines at most ``max_width`` pixels wide at ``scale`` (words kept whole
     unless one alone is too wide)."""
     lines: list[str] = []
