@@ -112,6 +112,7 @@ def test_the_card_opens_before_the_first_move_along_w_and_any_key_closes_it():
     assert hud.card is not None and "E and Q slide your slice" in " ".join(hud.card.lines)
     assert ob.key("move_forward", "W") and ob.blocking  # swallowed, the card stays
     assert ob.key(None, "RETURN") and not ob.blocking
+    assert ob.take_ui_cues() == ["menu_select", "menu_select"] and ob.take_ui_cues() == []  # opened, closed
     assert not ob.before_tick(True)  # once a session
     assert not Onboarding(card=False).before_tick(True)  # a scripted recording skips it
 

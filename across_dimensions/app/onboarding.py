@@ -54,6 +54,7 @@ class Onboarding:
         self.card_time: float | None = None  # seconds the card has been open, None when closed
         self.book = HintBook([])
         self.hints_on = True  # False in the editor's play-from-here
+        self.ui_cues: list[str] = []  # menu sounds to play (app.sound effect names), taken by the window
 
     # ----------------------------------------------------------------- events
     def level_started(self, hints) -> None:
@@ -72,6 +73,7 @@ class Onboarding:
         if moving_along_w and self.card_allowed:
             self.card_allowed = False
             self.card_time = 0.0
+            self.ui_cues.append("menu_select")
         return self.blocking
 
     def ticked(self, actions, dt: float) -> None:
@@ -92,9 +94,11 @@ class Onboarding:
         if self.card_time is not None:
             if action in ("hints", "jump", "pause") or key_name in CARD_KEYS or action is None:
                 self.card_time = None
+                self.ui_cues.append("menu_select")
             return True  # the card swallows every key while open
         if action == "hints":
             self.book.toggle()
+            self.ui_cues.append("menu_move")
             return True
         if action is not None:
             self.book.note(action)
@@ -104,8 +108,14 @@ class Onboarding:
         """A mouse button went down; True when it closed the card."""
         if self.card_time is not None:
             self.card_time = None
+            self.ui_cues.append("menu_select")
             return True
         return False
+
+    def take_ui_cues(self) -> list[str]:
+        """The menu sounds asked for since the last call."""
+        cues, self.ui_cues = self.ui_cues, []
+        return cues
 
     # ---------------------------------------------------------------- drawing
     def decorate(self, hud: Hud, with_keys) -> None:

@@ -334,6 +334,8 @@ class GameWindow(pyglet.window.Window):
             self.set_paused(True)
 
     def set_paused(self, paused: bool) -> None:
+        if paused != self.paused:
+            self.sound.ui("menu_back" if paused else "menu_select")
         self.paused = paused
         self.set_exclusive_mouse(not paused)
         self.mouse_buttons.clear()
@@ -354,6 +356,8 @@ class GameWindow(pyglet.window.Window):
         text, left = self.notice
         self.notice = (text, left - dt)
         self.onboarding.wall(dt)
+        for name in self.onboarding.take_ui_cues():
+            self.sound.ui(name)
         if self.screenshot_after is not None and self.wall_time >= self.screenshot_after:
             self.screenshot_after = None
             self._pending_shot = True
