@@ -103,6 +103,20 @@ def test_onboarding_shows_hints_in_their_panel_with_the_players_keys_and_never_a
     assert not overlap(hint_rect(hud, 1280, 720), warning_rect(hud.warning, 1280, 720))
 
 
+def test_a_hint_done_by_the_player_is_ticked_off_then_the_next_one_shows():
+    ob = Onboarding()
+    ob.level_started(["Hold {jump}.", "Walk to the pad."])
+    for _ in range(int(HOLD_SECONDS / DT) + 2):
+        ob.ticked(Actions(jump=True), DT)
+    hud = Hud()
+    ob.decorate(hud, with_keys)
+    assert hud.hint == "\u2713 Hold SPACE." and hud.hint_label == "Done"
+    ob.wall(1.0)
+    hud = Hud()
+    ob.decorate(hud, with_keys)
+    assert hud.hint == "Walk to the pad." and hud.hint_label.startswith("Hint 2/2")
+
+
 def test_the_card_opens_before_the_first_move_along_w_and_any_key_closes_it():
     ob = Onboarding()
     assert not ob.before_tick(False)

@@ -19,6 +19,8 @@ from ..game.hints import HintBook
 
 #: Seconds the settings warning line stays.
 WARNING_SECONDS = 15.0
+#: Seconds a hint stays ticked off (with a check mark) after the player did what it asked.
+DONE_SECONDS = 0.8
 #: Keys that close the card besides a click (the ``hints`` and ``jump`` actions close it too).
 CARD_KEYS = ("RETURN", "SPACE", "ESCAPE")
 
@@ -54,6 +56,7 @@ class Onboarding:
         self.card_time: float | None = None  # seconds the card has been open, None when closed
         self.book = HintBook([])
         self.hints_on = True  # False in the editor's play-from-here
+        self.done_flash: tuple[str, float] | None = None  # (hint text, seconds left) just done by the player
         self.ui_cues: list[str] = []  # menu sounds to play (app.sound effect names), taken by the window
 
     # ----------------------------------------------------------------- events
@@ -79,12 +82,18 @@ class Onboarding:
     def ticked(self, actions, dt: float) -> None:
         """A tick was simulated with ``actions``."""
         if self.hints_on:
+            before = self.book.current()
             self.book.tick(actions, dt)
+            if before is not None and before.done and before.asks and not self.book.reviewing:
+                self.done_flash = (before.text, DONE_SECONDS)  # done by doing it: tick it off visibly
 
     def wall(self, dt: float) -> None:
         """``dt`` seconds of wall time passed (animations, the warning's time)."""
         if self.card_time is not None:
             self.card_time += dt
+        if self.done_flash is not None:
+            text, left = self.done_flash
+            self.done_flash = (text, left - dt) if left > dt else None
         self.warning_left = max(0.0, self.warning_left - dt)
 
     def key(self, action: str | None, key_name: str = "") -> bool:
@@ -97,6 +106,7 @@ class Onboarding:
                 self.ui_cues.append("menu_select")
             return True  # the card swallows every key while open
         if action == "hints":
+            self.done_flash = None
             self.book.toggle()
             self.ui_cues.append("menu_move")
             return True
@@ -121,7 +131,10 @@ class Onboarding:
     def decorate(self, hud: Hud, with_keys) -> None:
         """Fill ``hud``'s hint, warning and card fields; ``with_keys(text)`` fills in the player's keys."""
         h = self.book.current() if self.hints_on else None
-        if h is not None:
+        if self.done_flash is not None and self.hints_on:
+            hud.hint = "\u2713 " + with_keys(self.done_flash[0])
+            hud.hint_label = "Done"
+        elif h is not None:
             hud.hint = with_keys(h.text)
             i, n = self.book.current_index() + 1, len(self.book.hints)
             hud.hint_label = f"Hint {i}/{n} \u00b7 {with_keys('{hints}')} hides"

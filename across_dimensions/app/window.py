@@ -416,10 +416,6 @@ class GameWindow(pyglet.window.Window):
             hud.message = "REC"
         return frame
 
-    def hint(self, i: int) -> str:
-        """Level hint ``i`` with ``{action}`` replaced by the keys bound to it."""
-        return self.with_keys(self.game.level.hints[i])
-
     def with_keys(self, text: str) -> str:
         """``text`` with each ``{action}`` replaced by the keys bound to it."""
         keys = {
