@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from across_dimensions.app.onboarding import Onboarding
+from across_dimensions.app.onboarding import Onboarding, fill_keys, key_label
 from across_dimensions.app.settings import default_settings, load_settings, report_warnings
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.frame import Hud
@@ -30,9 +30,7 @@ def run(book: HintBook, actions: Actions, seconds: float) -> None:
 
 def with_keys(text: str) -> str:
     """The window's filling of placeholders, with the default QWERTY keys."""
-    s = default_settings()
-    keys = {a: "/".join(s.keys_for(a)) or "(unbound)" for a in s.bindings}
-    return text.format_map(keys)
+    return fill_keys(text, default_settings())
 
 
 # ------------------------------------------------------------------ hints
@@ -81,6 +79,24 @@ def test_a_key_press_the_simulation_sees_is_judged_by_the_ticks_not_by_the_key()
     assert book.current() is None
 
 
+def test_hints_name_the_players_own_keys_in_words():
+    from across_dimensions.app.settings import Settings
+
+    azerty = Settings(preset="azerty", bindings={"fire": ("MOUSE_LEFT", "LCTRL"), "seek": ()})
+    text = "Hold {w_kata}, fire with {fire}, switch with {next_weapon}, seek with {seek}, {nonsense} {{x}}"
+    assert fill_keys(text, azerty) == (
+        "Hold A, fire with left click or Left Ctrl, switch with R or wheel down, seek with (unbound), {nonsense} {x}"
+    )
+    assert fill_keys("a stray { brace", azerty) == "a stray { brace"
+    assert [key_label(k) for k in ("_1", "F3", "SPACE", "NUM_5", "SEMICOLON")] == [
+        "1",
+        "F3",
+        "Space",
+        "keypad 5",
+        "Semicolon",
+    ]
+
+
 def test_placeholders_name_the_asked_actions_and_braces_stay_literal():
     assert placeholders("Hold {w_ana} ({w_kata} back), {{not}} this") == ("w_ana", "w_kata")
     assert placeholders("stray { brace") == ()
@@ -110,7 +126,7 @@ def test_a_hint_done_by_the_player_is_ticked_off_then_the_next_one_shows():
         ob.ticked(Actions(jump=True), DT)
     hud = Hud()
     ob.decorate(hud, with_keys)
-    assert hud.hint == "\u2713 Hold SPACE." and hud.hint_label == "Done"
+    assert hud.hint == "\u2713 Hold Space." and hud.hint_label == "Done"
     ob.wall(1.0)
     hud = Hud()
     ob.decorate(hud, with_keys)

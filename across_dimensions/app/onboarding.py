@@ -14,6 +14,8 @@
 
 from __future__ import annotations
 
+import string
+
 from ..game.frame import Card, Hud
 from ..game.hints import HintBook
 
@@ -36,6 +38,62 @@ FLATLAND_LINES = (
     " and the ghosts show where).",
     "Press {jump} or Enter, or click, to start",
 )
+
+
+#: How key names read in hints (anything else: letters and F-keys as they are, others capitalized).
+KEY_LABELS = {
+    "MOUSE_LEFT": "left click",
+    "MOUSE_RIGHT": "right click",
+    "MOUSE_MIDDLE": "middle click",
+    "MOUSE_4": "mouse button 4",
+    "MOUSE_5": "mouse button 5",
+    "MOUSE_WHEEL_UP": "wheel up",
+    "MOUSE_WHEEL_DOWN": "wheel down",
+    "SPACE": "Space",
+    "RETURN": "Enter",
+    "ESCAPE": "Esc",
+    "TAB": "Tab",
+    "BACKSPACE": "Backspace",
+    "LSHIFT": "Left Shift",
+    "RSHIFT": "Right Shift",
+    "LCTRL": "Left Ctrl",
+    "RCTRL": "Right Ctrl",
+    "LALT": "Left Alt",
+    "RALT": "Right Alt",
+    "UP": "Up",
+    "DOWN": "Down",
+    "LEFT": "Left",
+    "RIGHT": "Right",
+}
+
+
+def key_label(name: str) -> str:
+    """A settings key name as a player reads it: ``"_1"`` -> ``"1"``, ``"MOUSE_LEFT"`` -> ``"left click"``."""
+    if name in KEY_LABELS:
+        return KEY_LABELS[name]
+    if name.startswith("_") and name[1:].isdigit():
+        return name[1:]
+    if name.startswith("NUM_"):
+        return "keypad " + name[4:].lower()
+    if len(name) == 1 or (name[0] == "F" and name[1:].isdigit()):
+        return name
+    return name.capitalize()
+
+
+def fill_keys(text: str, settings) -> str:
+    """A hint with each ``{action}`` replaced by the player's keys for it, in words: ``"E"``,
+    ``"R or wheel down"``; an action with no key reads ``"(unbound)"``, an unknown name stays as
+    written, and a malformed hint is shown as it is."""
+
+    class _Keys(dict):
+        def __missing__(self, key):
+            return "{" + key + "}"
+
+    keys = _Keys({a: " or ".join(key_label(k) for k in settings.keys_for(a)) or "(unbound)" for a in settings.bindings})
+    try:
+        return string.Formatter().vformat(text, (), keys)
+    except (ValueError, IndexError, KeyError):
+        return text
 
 
 class Onboarding:

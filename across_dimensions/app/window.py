@@ -28,7 +28,7 @@ from ..render.debug_draw import DebugOverlay
 from ..render.renderer import Renderer
 from ..world.level import load_level
 from ..world.resources import level_files, resolve_level
-from .onboarding import Onboarding
+from .onboarding import Onboarding, fill_keys
 from .settings import (
     Settings,
     load_settings,
@@ -411,7 +411,7 @@ class GameWindow(pyglet.window.Window):
         if left > 0 and text:
             hud.message = text
         self.onboarding.hints_on = self.level_time < 1e8  # the editor's play-from-here skips them
-        self.onboarding.decorate(hud, self.with_keys)
+        self.onboarding.decorate(hud, lambda text: fill_keys(text, self.settings))
         if self.recorder and not hud.message:
             hud.message = "REC"
         return frame
