@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from across_dimensions.game.frame import Camera3, EnergyGauge, Frame, Hud
-from across_dimensions.render.font import GLYPH_H, GLYPH_W, cell_origin, glyph_index
+from across_dimensions.render.font import GLYPH_H
 from across_dimensions.render.hud import (
     ENERGY_EMPTY_COLOR,
     ENERGY_FILL_COLOR,
@@ -14,6 +14,7 @@ from across_dimensions.render.hud import (
     HudMetrics,
     energy_text,
     hud_quads,
+    quads_text,
 )
 
 SIZES = [(1280, 720), (800, 450), (160, 90)]
@@ -23,20 +24,9 @@ def rows_with_color(quads: np.ndarray, color) -> np.ndarray:
     return quads[np.all(np.isclose(quads[:, 8:12], np.float32(color), atol=1e-6), axis=1)]
 
 
-def glyph_uvs(quads: np.ndarray) -> list[tuple[float, float]]:
-    """Atlas origins of the glyph quads (solid rectangles excluded), in draw order."""
-    out = []
-    for q in quads:
-        if q[6] - q[4] == GLYPH_W and q[7] - q[5] == GLYPH_H:
-            out.append((float(q[4]), float(q[5])))
-    return out
-
-
 def shows_text(quads: np.ndarray, text: str) -> bool:
     """True when the glyphs of ``text`` (spaces skipped) are drawn in order somewhere."""
-    want = [tuple(float(c) for c in cell_origin(glyph_index(ch))) for ch in text if ch != " "]
-    have = glyph_uvs(quads)
-    return any(have[i : i + len(want)] == want for i in range(len(have) - len(want) + 1))
+    return text.replace(" ", "") in quads_text(quads)
 
 
 def fill_rect(hud: Hud, w: int, h: int) -> np.ndarray:

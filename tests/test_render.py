@@ -144,19 +144,31 @@ def test_png_errors():
         encode_png(np.zeros((2, 2, 3), np.float32))
 
 
-def test_font_atlas_has_every_printable_glyph():
-    bm = font.glyph_bitmaps()
-    assert bm.shape == (95, 7, 5)
-    lit = bm.reshape(95, -1).sum(axis=1)
-    assert lit[0] == 0  # space
-    assert (lit[1:] > 0).all()  # every other glyph draws something
-    assert len({b.tobytes() for b in bm}) == 95  # no two glyphs alike
-    atlas = font.build_atlas()
-    u, v = font.cell_origin(font.glyph_index("H"))
-    # 'H': both verticals fully lit, the middle row lit across.
-    g = atlas[v : v + 7, u : u + 5] > 0
-    assert g[:, 0].all() and g[:, 4].all() and g[3].all()
-    assert font.glyph_index("\u00e9") == font.glyph_index("?")
+def test_font_is_a_real_ttf_with_descenders_accents_and_a_licence():
+    f = font.default_font()
+    px = font.font_px(2)
+    assert font.FONT_FILE.suffix == ".ttf" and "Bitstream Vera" in font.FONT_LICENCE.read_text()
+    g, nine, e, e_acute = (f.glyph(ch, px) for ch in "g9e\u00e9")
+    # 'g' hangs below the baseline and '9' does not (the old pixel font drew them alike).
+    assert g.top + g.h > 2 and nine.top + nine.h <= 1
+    # An accent: 'é' reaches higher than 'e', and its bitmap is a different one.
+    assert e_acute.top < e.top - 2 and (e_acute.u, e_acute.v) != (e.u, e.v)
+    bitmap = lambda gl: f.image[gl.v : gl.v + gl.h, gl.u : gl.u + gl.w]  # noqa: E731
+    for ch in "AHWgé€ÅßŁ":
+        gl = f.glyph(ch, px)
+        assert gl.w > 0 and bitmap(gl).max() == 255, ch  # FreeType drew it, anti-aliased to full at its core
+    assert f.missing("Déjà vu, Straße, Łódź, naïve ✓") == set()
+    assert f.missing("a\u6f22") == {"\u6f22"}  # a CJK ideograph: not in DejaVu Sans
+    # Proportional: 'W' is wider than 'i'; widths add up.
+    assert font.text_width("W", 2) > 2 * font.text_width("i", 2)
+    assert abs(font.text_width("WiWi", 2) - 2 * font.text_width("Wi", 2)) <= 1
+
+
+def test_hud_text_reads_back_from_its_quads():
+    from across_dimensions.render.hud import quads_text
+
+    quads = hud_quads(Hud(message="Crème brûlée à 4D"), W, H)
+    assert "Crèmebrûléeà4D" in quads_text(quads)
 
 
 def test_hud_layout_marker_moves_with_w():

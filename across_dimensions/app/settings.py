@@ -21,6 +21,8 @@ Settings live in one TOML file, ``settings.toml`` in the per-user config folder
     ghost_strength = 1.0         # times the ghosts' opacity
     ghost_layers = 1             # 1 or 2 per side
     reduce_motion = false        # seek jumps instead of gliding
+    volume = 0.8                 # sound effects, 0 (silent) to 1
+    mute = false                 # the mute key toggles it while playing
 
     [bindings]                   # only the actions that differ from the preset
     jump = ["SPACE", "MOUSE_RIGHT"]
@@ -110,6 +112,8 @@ ACTION_DESCRIPTIONS: dict[str, str] = {
     "seek": "Move along w to the nearest thing of interest; press again for the next one",
     "seek_jump": "Seek without the glide: jump straight to the thing's w",
     "toggle_ghosts": "Show or hide the ghosts of what lies just off the slice along w",
+    "hints": "Dismiss the hint on screen, or show the level's hints again",
+    "toggle_mute": "Mute or unmute the sound",
 }
 
 #: The bindable action names, in menu order.
@@ -199,6 +203,8 @@ _COMMON = {
     "seek": ("T",),
     "seek_jump": ("Y",),
     "toggle_ghosts": ("V",),
+    "hints": ("H",),
+    "toggle_mute": ("M",),
 }
 
 #: Base key layouts. pyglet reports key *symbols*, which follow the keyboard
@@ -320,6 +326,8 @@ _RULES: dict[str, _Rule] = {
     "ghost_strength": _Rule("a factor of the ghosts' opacity from 0 to 3", _number(0.0, 3.0)),
     "ghost_layers": _Rule("1 or 2 (ghost layers on each side)", _integer(1, 2)),
     "reduce_motion": _Rule("true or false", _boolean),
+    "volume": _Rule("a number from 0 (silent) to 1", _number(0.0, 1.0)),
+    "mute": _Rule("true or false", _boolean),
 }
 
 
@@ -406,6 +414,10 @@ class Settings:
         Ghost layers on each side of the slice, 1 or 2.
     reduce_motion : bool
         Seek jumps to its w instead of gliding there.
+    volume : float
+        Loudness of the sound effects, 0 (silent) to 1.
+    mute : bool
+        No sound at all (the ``toggle_mute`` key flips it while playing).
 
     Raises
     ------
@@ -433,6 +445,8 @@ class Settings:
     ghost_strength: float = 1.0
     ghost_layers: int = 1
     reduce_motion: bool = False
+    volume: float = 0.8
+    mute: bool = False
 
     def __post_init__(self) -> None:
         for name, rule in _RULES.items():
@@ -703,3 +717,61 @@ def save_settings(settings: Settings, path: str | os.PathLike | None = None) -> 
     with atomic_writer(path, "wb") as f:
         f.write(payload)
     return path
+
+
+# --------------------------------------------------------------------------
+# Warnings: one line on screen, every detail in a log file
+# --------------------------------------------------------------------------
+
+#: Environment variable that replaces the log folder (tests, portable installs).
+LOG_DIR_ENV = "ACROSS_DIMENSIONS_LOG_DIR"
+
+
+def log_path() -> Path:
+    """The settings log: ``settings.log`` in platformdirs' per-user log folder (or ``$ACROSS_DIMENSIONS_LOG_DIR``)."""
+    override = os.environ.get(LOG_DIR_ENV, "").strip()
+    folder = Path(override).expanduser() if override else Path(platformdirs.user_log_dir(_APP_NAME))
+    return folder / "settings.log"
+
+
+def report_warnings(warnings: list[str], path: str | os.PathLike | None = None) -> str:
+    """Write every settings warning to the log file and return the one line a player sees.
+
+    Parameters
+    ----------
+    warnings : list of str
+        From :func:`load_settings`.
+    path : path-like, optional
+        The settings file they are about (named in the line); defaults to :func:`settings_path`.
+
+    Returns
+    -------
+    str
+        ``""`` when there is nothing to report; otherwise one line naming the settings file, how
+        many problems it has and where the details are (or that the log could not be written).
+        The log file is replaced on each start: it describes the settings this run uses.
+    """
+    if not warnings:
+        return ""
+    source = Path(path) if path is not None else settings_path()
+    log = log_path()
+    n = len(warnings)
+    what = "a problem" if n == 1 else f"{n} problems"
+    line = f"Settings: {what} in {source}; defaults used for those entries"
+    try:
+        log.parent.mkdir(parents=True, exist_ok=True)  # the game's own log folder
+        with atomic_writer(log, "w") as f:
+            f.write("".join(w + "\n" for w in warnings))
+    except (OSError, FileProblem) as e:
+        return f"{line} (log not written: {e}); first: {warnings[0]}"
+    return f"{line}; details in {log}"
+
+
+def warning_screen_line(warnings: list[str], path: str | os.PathLike | None = None) -> str:
+    """The short form of :func:`report_warnings`' line for the screen: file and log by name only."""
+    if not warnings:
+        return ""
+    source = Path(path) if path is not None else settings_path()
+    n = len(warnings)
+    what = "a problem" if n == 1 else f"{n} problems"
+    return f"{what.capitalize()} in {source.name}: see {log_path().name}"

@@ -28,11 +28,20 @@ from ..render.debug_draw import DebugOverlay
 from ..render.renderer import Renderer
 from ..world.level import load_level
 from ..world.resources import level_files, resolve_level
-from .settings import Settings, load_settings, look_delta, save_settings, settings_path
+from .onboarding import Onboarding, fill_keys
+from .settings import (
+    Settings,
+    load_settings,
+    look_delta,
+    report_warnings,
+    save_settings,
+    settings_path,
+    warning_screen_line,
+)
+from .sound import SoundDirector, SoundOut
 from .warmup import warm_up
 
 MAX_CATCH_UP = 5
-HINT_SECONDS = 7.0
 NEXT_LEVEL_DELAY = 3.0
 
 
@@ -100,7 +109,11 @@ class GameWindow(pyglet.window.Window):
             settings.ghosts, settings.ghost_distance, settings.ghost_strength, settings.ghost_layers
         )
         self.fps = 0.0
-        self.notice = ("; ".join(warnings), 8.0) if warnings else ("", 0.0)
+        self.notice = ("", 0.0)
+        # Settings warnings: one line at the bottom (details in the log), never over a hint.
+        self.onboarding = Onboarding(" ".join(warnings), card=not record)
+        self.sound = SoundOut(settings.volume, settings.mute)
+        self.sound_director = SoundDirector()
         self.look = [0.0, 0.0]
         self.accumulator = 0.0
         self.paused = False
@@ -127,6 +140,8 @@ class GameWindow(pyglet.window.Window):
         self.game.ghost_view = self.ghost_view  # drawing only: never part of a replay
         self.level_time = 0.0
         self.finished_for = 0.0
+        self.onboarding.level_started(self.game.level.hints)
+        self.sound_director.reset()
         self.set_caption(f"Across Dimensions - {self.game.level.name}")
 
     def next_level(self) -> None:
@@ -253,6 +268,8 @@ class GameWindow(pyglet.window.Window):
         self.on_mouse_motion(x, y, dx, dy)
 
     def on_mouse_press(self, x, y, button, modifiers):
+        if self.onboarding.click():
+            return
         if self.paused:
             self.set_paused(False)
             return
@@ -268,9 +285,13 @@ class GameWindow(pyglet.window.Window):
             self.count_press("wheel", 1 if scroll_y > 0 else -1, notches)
 
     def on_key_press(self, symbol, modifiers):
-        self.count_press("key", symbol)
         action = self.pressed_action("key", symbol)
-        if action == "pause":
+        if self.onboarding.key(action, pyglet.window.key.symbol_string(symbol)):
+            return pyglet.event.EVENT_HANDLED  # the card took it, or the hints key
+        self.count_press("key", symbol)
+        if action == "toggle_mute":
+            self.say("Sound muted" if self.sound.toggle_mute() else "Sound on", 1.5)
+        elif action == "pause":
             self.set_paused(not self.paused)
         elif action == "toggle_fullscreen":
             self.set_fullscreen(not self.fullscreen)
@@ -313,6 +334,8 @@ class GameWindow(pyglet.window.Window):
             self.set_paused(True)
 
     def set_paused(self, paused: bool) -> None:
+        if paused != self.paused:
+            self.sound.ui("menu_back" if paused else "menu_select")
         self.paused = paused
         self.set_exclusive_mouse(not paused)
         self.mouse_buttons.clear()
@@ -332,6 +355,9 @@ class GameWindow(pyglet.window.Window):
             self.fps = 0.9 * self.fps + 0.1 / dt if self.fps else 1.0 / dt
         text, left = self.notice
         self.notice = (text, left - dt)
+        self.onboarding.wall(dt)
+        for name in self.onboarding.take_ui_cues():
+            self.sound.ui(name)
         if self.screenshot_after is not None and self.wall_time >= self.screenshot_after:
             self.screenshot_after = None
             self._pending_shot = True
@@ -340,11 +366,17 @@ class GameWindow(pyglet.window.Window):
             return
         if self.paused:
             return
+        if self.onboarding.before_tick(self.held("w_ana") or self.held("w_kata")):
+            self.look = [0.0, 0.0]  # the card is open: the mouse and keys do not reach the game
+            self.presses.clear()
+            return
         self.accumulator += dt
         steps = 0
         while self.accumulator >= DT and steps < MAX_CATCH_UP:
             actions = self.read_actions()
             self.game.step(actions)
+            self.onboarding.ticked(actions, DT)
+            self.sound.play(self.sound_director.cues(self.game, DT))
             if self.recorder:
                 try:
                     self.recorder.record(actions)
@@ -378,15 +410,11 @@ class GameWindow(pyglet.window.Window):
         text, left = self.notice
         if left > 0 and text:
             hud.message = text
-        elif not hud.message and self.level_time < HINT_SECONDS * len(self.game.level.hints):
-            hud.message = self.hint(int(self.level_time // HINT_SECONDS))
+        self.onboarding.hints_on = self.level_time < 1e8  # the editor's play-from-here skips them
+        self.onboarding.decorate(hud, lambda text: fill_keys(text, self.settings))
         if self.recorder and not hud.message:
             hud.message = "REC"
         return frame
-
-    def hint(self, i: int) -> str:
-        """Level hint ``i`` with ``{action}`` replaced by the keys bound to it."""
-        return self.with_keys(self.game.level.hints[i])
 
     def with_keys(self, text: str) -> str:
         """``text`` with each ``{action}`` replaced by the keys bound to it."""
@@ -484,8 +512,9 @@ def check_record_path(path) -> None:
 def run_window(args) -> int:
     """Open the window and play until it closes. Returns the exit status."""
     settings, warnings = load_settings(args.settings)
-    for w in warnings:
-        print(f"warning: {w}", file=sys.stderr)
+    line = report_warnings(warnings, args.settings)
+    if line:  # one line, here and on screen; every detail is in the log file
+        print(f"warning: {line}", file=sys.stderr)
     if args.settings is None and not settings_path().exists():
         try:  # first run: leave a settings file for the player to edit
             save_settings(settings)
@@ -504,7 +533,7 @@ def run_window(args) -> int:
             path,
             seed=args.seed,
             record=args.record,
-            warnings=warnings,
+            warnings=[warning_screen_line(warnings, args.settings)] if line else [],
             screenshot_after=args.screenshot_after,
             quit_after=args.quit_after,
         )

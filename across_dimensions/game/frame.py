@@ -139,6 +139,10 @@ class Hud:
     energy: EnergyGauge | None = None
     weapon: WeaponPanel | None = None
     hit_marker: float = 0.0  # 1 right after a bullet hits a body or a target, fading to 0 (crosshair marks)
+    hint: str = ""  # the level hint on screen (keys filled in), in its own panel at the top: never a message
+    hint_label: str = ""  # the small line under it: which hint, and the key that dismisses it
+    warning: str = ""  # one line at the bottom (settings problems: the details are in the log file)
+    card: Card | None = None  # a teaching card drawn over the view (the flat being), or None
 
 
 @dataclass(frozen=True)
@@ -258,3 +262,22 @@ class Frame:
     radar: Radar | None = None
     sky_color: tuple[float, float, float] = (0.05, 0.06, 0.10)
     light_dir: tuple[float, float, float] = (0.4, 1.0, 0.25)
+
+
+@dataclass(frozen=True)
+class Card:
+    """A teaching card over the view: an animated drawing and a few lines of text.
+
+    Parameters
+    ----------
+    kind : str
+        Which drawing: ``"flatland"`` (a flat being in a plane and a ball passing through it).
+    time : float
+        Seconds since the card opened (drives the animation).
+    lines : tuple of str
+        Captions, first the title; keys already filled in.
+    """
+
+    kind: str
+    time: float
+    lines: tuple = ()

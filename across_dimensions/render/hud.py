@@ -1,8 +1,8 @@
 """The heads-up display, drawn over the 3D scene in pixel coordinates.
 
 Everything on the HUD is an axis-aligned textured quad: text samples glyphs
-from the built-in 5x7 font atlas (:mod:`.font`), and solid rectangles sample a
-fully lit atlas cell. So the whole HUD is one instanced draw call with one
+from the font atlas (:mod:`.font`: DejaVu Sans rasterized by FreeType), and solid
+rectangles sample a fully lit block of the same atlas. So the whole HUD is one instanced draw call with one
 shader, and the layout (:func:`hud_quads`) is plain numpy that can be tested
 without OpenGL.
 
@@ -26,20 +26,28 @@ Layout (pixels, origin top-left, ``W x H`` the viewport):
 * FPS (when not None): top-left;
 * message: centred horizontally, a third of the way down, on a dark band
   (wrapped to fit);
-* paused: the whole view dimmed, then ``PAUSED`` in large text in the middle.
+* paused: the whole view dimmed, then ``PAUSED`` in large text in the middle;
+* hint (when ``hud.hint``): its own panel at the top centre, wrapped to 60% of the width, with an
+  accent bar on its left and ``hud.hint_label`` in small dim text under it; notices and prompts
+  (``message``) never cover it;
+* warning (when ``hud.warning``): one line at the bottom centre, between the energy bar and the
+  radar, shortened with an ellipsis to fit;
+* card (when ``hud.card``): drawn over everything by :mod:`.cards`.
 
 Colours are display-space RGBA (no gamma applied).
 """
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import moderngl
 import numpy as np
 
 from ..game.frame import EnergyGauge, Hud, Radar, WeaponPanel
-from .font import CELL_H, CELL_W, GLYPH_H, GLYPH_W, SOLID_CELL, build_atlas, cell_origin, glyph_index
+from .font import CELL_W, GLYPH_H, GLYPH_W, default_font, font_px, solid_uv
+from .font import text_width as text_width
 
 CROSSHAIR_COLOR = (0.95, 0.95, 0.95, 1.0)
 OUTLINE_COLOR = (0.0, 0.0, 0.0, 0.55)
@@ -64,6 +72,11 @@ WEAPON_COLOR = (1.0, 0.9, 0.6, 1.0)
 WEAPON_READY_COLOR = (0.5, 1.0, 0.6, 0.9)
 WEAPON_COOL_COLOR = (1.0, 0.6, 0.2, 0.9)
 HIT_COLOR = (1.0, 0.35, 0.25, 1.0)
+HINT_BAND_COLOR = (0.02, 0.04, 0.08, 0.72)
+HINT_ACCENT_COLOR = (0.3, 0.85, 1.0, 0.95)
+HINT_TEXT_COLOR = (0.95, 0.97, 1.0, 1.0)
+HINT_LABEL_COLOR = (0.6, 0.8, 0.95, 0.8)
+WARNING_COLOR = (1.0, 0.8, 0.35, 0.95)
 #: Width over height of the radar's rectangle (the radar view fits itself to it).
 RADAR_ASPECT = 0.95
 
@@ -133,57 +146,111 @@ class HudMetrics:
 
 
 class _QuadList:
-    """Collects HUD quads as rows of :data:`QUAD_FLOATS` floats."""
+    """Collects HUD quads as rows of :data:`QUAD_FLOATS` floats, in draw order.
+
+    Rectangles are kept as tuples; a line of text is kept as its cached glyph run and offset, and
+    becomes rows only in :meth:`array` (one numpy block per line, no per-glyph Python work).
+    """
 
     def __init__(self):
         self.rows: list[tuple[float, ...]] = []
-        su, sv = cell_origin(SOLID_CELL)
-        # Sample the middle of the solid cell: every texel there is 255.
-        self._solid_uv = (su + CELL_W / 2, sv + CELL_H / 2) * 2
+        self._runs: list[tuple[int, np.ndarray, int, int, tuple]] = []  # (position in rows, run, x, y, colour)
+        self._solid_uv = solid_uv()
 
     def rect(self, x, y, w, h, color) -> None:
         if w > 0 and h > 0 and color[3] > 0:
             self.rows.append((x, y, w, h, *self._solid_uv, *color))
 
     def text(self, s: str, x, y, scale: int, color, shadow: bool = True) -> None:
-        """Text with its top-left at ``(x, y)``; a 1-scale-pixel drop shadow for contrast."""
+        """Text with the top of its capitals at ``(x, y)``; a 1-scale-pixel drop shadow for contrast."""
         if shadow:
             self._glyphs(s, x + scale, y + scale, scale, (0.0, 0.0, 0.0, 0.6 * color[3]))
         self._glyphs(s, x, y, scale, color)
 
     def _glyphs(self, s, x, y, scale, color) -> None:
-        for i, ch in enumerate(s):
-            if ch == " ":
-                continue
-            u, v = cell_origin(glyph_index(ch))
-            self.rows.append(
-                (x + i * CELL_W * scale, y, GLYPH_W * scale, GLYPH_H * scale, u, v, u + GLYPH_W, v + GLYPH_H, *color)
-            )
+        run = _glyph_run(s, int(scale))
+        if len(run):
+            self._runs.append((len(self.rows), run, int(round(x)), int(round(y)), tuple(color)))
 
     def array(self) -> np.ndarray:
-        if not self.rows:
-            return np.zeros((0, QUAD_FLOATS), np.float32)
-        return np.asarray(self.rows, np.float32)
+        rects = np.asarray(self.rows, np.float32).reshape(-1, QUAD_FLOATS)
+        if not self._runs:
+            return rects
+        parts, at = [], 0
+        for pos, run, x, y, color in self._runs:
+            if pos > at:
+                parts.append(rects[at:pos])
+                at = pos
+            block = np.empty((len(run), QUAD_FLOATS), np.float32)
+            block[:, :8] = run
+            block[:, 0] += x
+            block[:, 1] += y
+            block[:, 8:] = color
+            parts.append(block)
+        parts.append(rects[at:])
+        return np.concatenate(parts)
 
 
-def text_width(s: str, scale: int) -> int:
-    """Pixel width of a line of text at ``scale`` (no trailing gap)."""
-    return max(0, len(s) * CELL_W * scale - scale)
+@functools.lru_cache(maxsize=4096)
+def _glyph_run(s: str, scale: int) -> np.ndarray:
+    """The glyph quads of one line of text at ``(0, 0)``: ``(n, 8) float64`` rows of rect ``x, y,
+    w, h`` and atlas ``u0, v0, u1, v1``. Cached: HUD lines repeat from frame to frame, and a
+    glyph's place in the atlas never changes once rasterized."""
+    font = default_font()
+    px = font_px(scale)
+    baseline = GLYPH_H * scale
+    pen = 0.0
+    rows = []
+    for ch in s:
+        g = font.glyph(ch, px)
+        if g.w:
+            gx = int(round(pen)) + g.left
+            rows.append((gx, baseline + g.top, g.w, g.h, g.u, g.v, g.u + g.w, g.v + g.h))
+        pen += g.advance
+    run = np.asarray(rows, np.float64).reshape(-1, 8)
+    run.setflags(write=False)
+    return run
 
 
-def _wrap(message: str, max_chars: int) -> list[str]:
+def quads_text(quads: np.ndarray) -> str:
+    """The characters drawn by ``quads``, in draw order (solid rectangles and spaces give nothing).
+
+    Each glyph bitmap has its own place in the atlas, so a quad's atlas origin names its
+    character: tests read the HUD's words back from its layout with this.
+    """
+    font = default_font()
+    return "".join(ch for q in quads if (ch := font.char_at(q[4], q[5])) is not None)
+
+
+@functools.lru_cache(maxsize=256)
+def _wrap_cached(message: str, max_width: int, scale: int) -> tuple[str, ...]:
+    return tuple(_wrap_lines(message, max_width, scale))
+
+
+def _wrap(message: str, max_width: int, scale: int) -> list[str]:
+    """``message`` broken into lines at most ``max_width`` pixels wide at ``scale`` (cached)."""
+    return list(_wrap_cached(message, int(max_width), int(scale)))
+
+
+def _wrap_lines(message: str, max_width: int, scale: int) -> list[str]:
+    """``message`` broken into lines at most ``max_width`` pixels wide at ``scale`` (words kept whole
+    unless one alone is too wide)."""
     lines: list[str] = []
+    fits = lambda t: text_width(t, scale) <= max_width  # noqa: E731
     for para in message.split("\n"):
         words, line = para.split(" "), ""
         for word in words:
-            while len(word) > max_chars:  # a word longer than a line: hard break
+            while not fits(word) and len(word) > 1:  # a word longer than a line: hard break
                 if line:
                     lines.append(line)
                     line = ""
-                lines.append(word[:max_chars])
-                word = word[max_chars:]
+                cut = len(word) - 1
+                while cut > 1 and not fits(word[:cut]):
+                    cut -= 1
+                lines.append(word[:cut])
+                word = word[cut:]
             cand = f"{line} {word}" if line else word
-            if len(cand) <= max_chars:
+            if fits(cand):
                 line = cand
             else:
                 lines.append(line)
@@ -272,15 +339,19 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
         label = "PAUSED"
         q.text(label, (W - text_width(label, big)) // 2, H // 2 - (GLYPH_H * big) // 2, big, TEXT_COLOR)
 
+    # --- hint panel (top centre) and the warning line (bottom centre)
+    if hud.hint:
+        _hint_panel(q, hud, m)
+    if hud.warning:
+        _warning_line(q, hud.warning, m)
+
     # --- message (centred, a third of the way down; below PAUSED when paused)
     if hud.message:
         scale = big
-        max_chars = max(1, (W - 2 * m.margin) // (CELL_W * scale))
-        lines = _wrap(hud.message, max_chars)
+        lines = _wrap(hud.message, W - 2 * m.margin, scale)
         if scale > s and len(lines) > 1:  # large text only for one-liners; longer ones use the small size
             scale = s
-            max_chars = max(1, (W - 2 * m.margin) // (CELL_W * scale))
-            lines = _wrap(hud.message, max_chars)
+            lines = _wrap(hud.message, W - 2 * m.margin, scale)
         line_h = (GLYPH_H + 3) * scale
         block_h = len(lines) * line_h
         ytop = H // 2 + GLYPH_H * big + 2 * big if hud.paused else H // 3 - block_h // 2
@@ -289,7 +360,85 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
         q.rect((W - band_w) // 2, ytop - pad, band_w, block_h + pad, BAND_COLOR)
         for i, ln in enumerate(lines):
             q.text(ln, (W - text_width(ln, scale)) // 2, ytop + i * line_h, scale, TEXT_COLOR)
+
+    # --- teaching card (over everything)
+    if hud.card is not None:
+        from .cards import draw_card
+
+        draw_card(q, hud.card, W, H)
     return q.array()
+
+
+def hint_rect(hud: Hud, width: int, height: int) -> tuple[int, int, int, int]:
+    """The hint panel's band as ``(x, y, w, h)`` pixels (origin top-left); zero size without a hint."""
+    if not hud.hint:
+        return 0, 0, 0, 0
+    m = HudMetrics(int(width), int(height))
+    lines, scale, box_w = _hint_lines(hud.hint, m)
+    s = m.text_scale
+    line_h = (GLYPH_H + 4) * scale
+    label_h = (GLYPH_H + 4) * s if hud.hint_label else 0
+    pad = 3 * s
+    band_w = max(text_width(ln, scale) for ln in lines) + 2 * pad + 2 * s
+    if hud.hint_label:
+        band_w = max(band_w, text_width(hud.hint_label, s) + 2 * pad + 2 * s)
+    band_w = min(band_w, box_w + 2 * pad + 2 * s)
+    band_h = len(lines) * line_h + label_h + 2 * pad - s
+    return (m.width - band_w) // 2, m.margin, band_w, band_h
+
+
+def _hint_lines(text: str, m: HudMetrics) -> tuple[list[str], int, int]:
+    box_w = max(40, int(m.width * 0.6))
+    scale = m.text_scale
+    return _wrap(text, box_w, scale), scale, box_w
+
+
+def _hint_panel(q: _QuadList, hud: Hud, m: HudMetrics) -> None:
+    s = m.text_scale
+    x, y, w, h = hint_rect(hud, m.width, m.height)
+    lines, scale, _ = _hint_lines(hud.hint, m)
+    pad = 3 * s
+    q.rect(x, y, w, h, HINT_BAND_COLOR)
+    q.rect(x, y, max(2, s), h, HINT_ACCENT_COLOR)  # the accent: a hint, not a notice
+    line_h = (GLYPH_H + 4) * scale
+    for i, ln in enumerate(lines):
+        q.text(ln, x + pad + 2 * s, y + pad + i * line_h, scale, HINT_TEXT_COLOR)
+    if hud.hint_label:
+        label = hud.hint_label
+        q.text(label, x + w - pad - text_width(label, s), y + pad + len(lines) * line_h, s, HINT_LABEL_COLOR)
+
+
+def _ellipsized(text: str, max_width: int, scale: int) -> str:
+    """``text`` cut to fit ``max_width`` pixels, with an ellipsis when cut."""
+    if text_width(text, scale) <= max_width:
+        return text
+    while text and text_width(text + "\u2026", scale) > max_width:
+        text = text[:-1]
+    return text.rstrip() + "\u2026"
+
+
+def warning_rect(text: str, width: int, height: int) -> tuple[int, int, int, int]:
+    """The warning line's band as ``(x, y, w, h)`` pixels: bottom centre, clear of the energy bar
+    and the radar."""
+    m = HudMetrics(int(width), int(height))
+    s = m.text_scale
+    ex, _, ew, _ = m.energy_bar()
+    left = ex + ew + m.margin
+    right = m.radar_rect()[0] - m.margin
+    line = _ellipsized(text, max(10, right - left - 4 * s), s)
+    w = min(right - left, text_width(line, s) + 4 * s)
+    h = (GLYPH_H + 4) * s
+    return left + (right - left - w) // 2, m.height - m.margin // 2 - h, w, h
+
+
+def _warning_line(q: _QuadList, text: str, m: HudMetrics) -> None:
+    s = m.text_scale
+    x, y, w, h = warning_rect(text, m.width, m.height)
+    ex, _, ew, _ = m.energy_bar()
+    right = m.radar_rect()[0] - m.margin
+    line = _ellipsized(text, max(10, right - (ex + ew + m.margin) - 4 * s), s)
+    q.rect(x, y, w, h, BAND_COLOR)
+    q.text(line, x + 2 * s, y + 2 * s, s, WARNING_COLOR)
 
 
 def weapon_text(panel: WeaponPanel) -> str:
@@ -398,14 +547,9 @@ class HudRenderer:
     def __init__(self, ctx: moderngl.Context):
         self.ctx = ctx
         self.program = ctx.program(vertex_shader=_HUD_VS, fragment_shader=_HUD_FS)
-        atlas = build_atlas()
-        # Row 0 of the array is uploaded first, so texel row r is array row r:
-        # atlas v coordinates count down from the top like the layout's y.
-        self.atlas = ctx.texture((atlas.shape[1], atlas.shape[0]), 1, atlas.tobytes(), alignment=1)
-        self.atlas.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        self.atlas.repeat_x = self.atlas.repeat_y = False
+        self.atlas = None
+        self._atlas_revision = -1
         self.program["u_atlas"].value = 0
-        self.program["u_atlas_size"].value = (float(atlas.shape[1]), float(atlas.shape[0]))
         corners = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], np.float32)
         self._corner_vbo = ctx.buffer(corners.tobytes())
         self._instances = ctx.buffer(reserve=256 * QUAD_FLOATS * 4, dynamic=True)
@@ -441,10 +585,31 @@ class HudRenderer:
         ctx.enable(moderngl.BLEND)
         ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
         self.program["u_screen"].value = (float(w), float(h))
+        self._upload_atlas()
         self.atlas.use(0)
         self._vao.render(moderngl.TRIANGLE_STRIP, vertices=4, instances=len(quads))
         ctx.disable(moderngl.BLEND)
 
+    def _upload_atlas(self) -> None:
+        """Send the font atlas to the GPU when glyphs were added since the last upload."""
+        font = default_font()
+        if font.revision == self._atlas_revision:
+            return
+        image = font.image
+        size = (image.shape[1], image.shape[0])
+        if self.atlas is None or self.atlas.size != size:
+            if self.atlas is not None:
+                self.atlas.release()
+            self.atlas = self.ctx.texture(size, 1, alignment=1)
+            self.atlas.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            self.atlas.repeat_x = self.atlas.repeat_y = False
+        # Row 0 of the array is uploaded first, so texel row r is array row r:
+        # atlas v coordinates count down from the top like the layout's y.
+        self.atlas.write(np.ascontiguousarray(image).tobytes())
+        self.program["u_atlas_size"].value = (float(size[0]), float(size[1]))
+        self._atlas_revision = font.revision
+
     def release(self) -> None:
         for obj in (self._vao, self._instances, self._corner_vbo, self.atlas, self.program):
-            obj.release()
+            if obj is not None:
+                obj.release()
