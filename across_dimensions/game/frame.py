@@ -111,6 +111,7 @@ class Drawable:
     tint: tuple | None = None
     pattern: str = ""
     opacity: float = 1.0
+    w_offset: float | None = None  # 4D things: (w of the thing - w of the slice) / its half extent in w (the w cue)
 
 
 @dataclass
@@ -258,3 +259,5 @@ class Frame:
     radar: Radar | None = None
     sky_color: tuple[float, float, float] = (0.05, 0.06, 0.10)
     light_dir: tuple[float, float, float] = (0.4, 1.0, 0.25)
+    sky: str = "flat"  # "flat": one colour (sky_color); "dome": the renderer's procedural sky
+    time: float = 0.0  # seconds of play, for animated shading (pulses, bands); never read by the game
