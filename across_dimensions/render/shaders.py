@@ -226,9 +226,15 @@ void main() {
     vec2 cell;
     float seam = panel_seams(uv, flat_face ? vec2(2.0) : vec2(1.5, 1.0), cell);
     float h = hash12(cell + floor(v_world.y * 0.25) * 17.0);
-    albedo *= 0.86 + 0.28 * h;
+    // Cool, darker steel than the level's colours say: the emissive trims and the 4D
+    // matter are the brightest things in view, so the eye goes to them.
+    albedo *= vec3(0.70, 0.74, 0.82) * (0.84 + 0.3 * h);
     gloss = 0.5 + h;
-    if (h > 0.9 && !flat_face) {
+    if (!flat_face) {
+        // Walls darken upward, away from the lit trim and the floor's bounce.
+        albedo *= 1.0 - 0.35 * smoothstep(0.3, 4.0, v_world.y);
+    }
+    if (h > 0.95 && !flat_face) {
         // A vent: horizontal slats over the panel's middle.
         vec2 f = fract(uv / vec2(1.5, 1.0));
         float inside = step(0.2, f.x) * step(f.x, 0.8) * step(0.3, f.y) * step(f.y, 0.7);
@@ -267,9 +273,17 @@ void main() {
     vec3 irid = 0.5 + 0.5 * cos(6.2832 * (vec3(0.0, 0.33, 0.67) + 1.3 * fres + 0.05 * u_time));
     vec3 side_tint = u_w_offset >= 0.0 ? u_ana : u_kata;
     float bands = w_bands(N);
-    albedo *= 0.75;
+    // A lattice of glowing diagonal lines: nothing in the scenery looks like it, and it
+    // shows the surface's shape where the rim light cannot (faces seen head on).
+    vec2 huv = an.y > 0.7 ? v_world.xz : (an.x > an.z ? v_world.zy : v_world.xy);
+    vec2 q = vec2(huv.x + huv.y, huv.x - huv.y) * 2.0;
+    vec2 fq = max(fwidth(q), vec2(1e-5));
+    vec2 gq = (0.5 - abs(fract(q) - 0.5)) / fq;
+    float lattice = (1.0 - min(min(gq.x, gq.y) / 1.2, 1.0)) * (1.0 - smoothstep(0.1, 0.35, max(fq.x, fq.y)));
+    albedo *= 0.6;
     gloss = 2.5;
-    emit += albedo * 0.12 + fres * mix(u_hyper_rim, irid, 0.5) * 0.55;
+    emit += albedo * 0.25 + fres * mix(u_hyper_rim, irid, 0.5) * 0.6;
+    emit += lattice * v_pulse * (v_color.rgb * 0.5 + 0.1);
     emit += bands * (0.35 * side_tint + 0.25 * albedo);
     albedo *= 1.0 - 0.45 * bands;
   #endif
