@@ -101,6 +101,12 @@ class Drawable:
         pattern in the opacity so two kinds of ghost differ in more than hue.
     opacity : float
         Ghosts only: times the renderer's ghost opacity (fading, emphasis).
+    w_offset : float or None
+        4D things only (cross-sections of worlds and entities): where the slice cuts the thing
+        along w, ``(w of its middle - w of the slice) / half its extent in w``, so 0 in the
+        middle, positive when the thing lies ana (+w) of the slice, +-1 where it ends. The
+        renderer draws it as 4D matter with bands that encode this (the w cue); None for 3D
+        scenery.
     """
 
     key: str
