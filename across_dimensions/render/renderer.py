@@ -465,6 +465,7 @@ class Renderer:
             self._set(prog, "u_alpha", self.ghost_alpha)
             if scifi:
                 self._set(prog, "u_time", float(frame.time))
+                self._set(prog, "u_pulse", 0.9 + 0.1 * float(np.sin(1.3 * frame.time)))
                 self._set(prog, "u_w_offset", 0.0)
                 self._set(prog, "u_band_scale", 1.0)
                 materials.upload(prog, self.palette, self._set)

@@ -38,12 +38,10 @@ out vec3 v_normal;
 out vec4 v_color;
 #ifdef LOOK_SCIFI
 uniform vec3 u_eye;
-uniform float u_time;
 uniform vec3 u_sky_zenith;
 uniform vec3 u_sky_horizon;
 uniform vec3 u_sky_ground;
 out vec3 v_fog_color;  // the sky behind the vertex: smooth, so per vertex is enough
-out float v_pulse;     // the trims' slow breathing
 SKY_GRADIENT
 #endif
 
@@ -52,7 +50,6 @@ void main() {
     v_world = world.xyz;
 #ifdef LOOK_SCIFI
     v_fog_color = sky_gradient(normalize(world.xyz - u_eye));
-    v_pulse = 0.8 + 0.2 * sin(u_time * 1.3);
 #endif
     v_normal = u_normal_mat * in_normal;
     v_color = in_color;
@@ -77,7 +74,8 @@ uniform int u_pattern;      // 0 plain, 1 stripes, 2 dots (screen space)
 uniform float u_opacity;    // per-drawable factor (fading along w, preview emphasis)
 #endif
 #ifdef LOOK_SCIFI
-uniform float u_time;       // seconds, for slow animation (trims breathe, bands drift)
+uniform float u_time;       // seconds, for slow animation (bands drift)
+uniform float u_pulse;      // the trims' slow breathing, 0.8 to 1 (set once a frame)
 uniform vec3 u_sky_zenith;  // display colours of the sky dome (fog goes to its horizon)
 uniform vec3 u_sky_horizon;
 uniform vec3 u_sky_ground;
@@ -98,7 +96,6 @@ in vec3 v_normal;
 in vec4 v_color;
 #ifdef LOOK_SCIFI
 in vec3 v_fog_color;
-in float v_pulse;
 #endif
 
 out vec4 f_color;
@@ -119,17 +116,6 @@ float hash12(vec2 p) {
     return fract((p3.x + p3.y) * p3.z);
 }
 
-// Anti-aliased seams of a grid of panels `size` metres apart in the plane `uv`: 1 on a
-// seam (about 1.5 px wide at any distance), 0 inside; xy of `cell` gets the panel's index.
-float panel_seams(vec2 uv, vec2 size, out vec2 cell) {
-    vec2 p = uv / size;
-    cell = floor(p);
-    vec2 fw = max(fwidth(p), vec2(1e-5));
-    vec2 g = abs(fract(p - 0.5) - 0.5) / fw;
-    float seam = 1.0 - min(min(g.x, g.y) / 1.5, 1.0);
-    // Seams of panels a few pixels wide would alias into moire: fade them out.
-    return seam * (1.0 - smoothstep(0.08, 0.3, max(fw.x, fw.y)));
-}
 #endif
 
 #ifdef STYLE_FLOOR
@@ -220,43 +206,44 @@ void main() {
   #if defined(LOOK_SCIFI) && (defined(STYLE_SOLID) || defined(STYLE_FLOOR))
     // Scenery is plated: panels on the world plane the surface faces (1.5 x 1 m on
     // walls, 2 m on floors), each a little lighter or darker, with dark seams, and a
-    // few vented panels. Cheap (no textures) and stable in world space.
+    // few vented panels. Cheap (no textures, no branches on the common path, linear
+    // anti-aliasing instead of smoothstep) and stable in world space.
     bool flat_face = an.y >= max(an.x, an.z);
-    vec2 uv = flat_face ? v_world.xz : (an.x >= an.z ? v_world.zy : v_world.xy);
-    vec2 cell;
-    float seam = panel_seams(uv, flat_face ? vec2(2.0) : vec2(1.5, 1.0), cell);
+    float wall = flat_face ? 0.0 : 1.0;
+    vec2 size = flat_face ? vec2(2.0) : vec2(1.5, 1.0);
+    vec2 p = (flat_face ? v_world.xz : (an.x >= an.z ? v_world.zy : v_world.xy)) / size;
+    vec2 cell = floor(p);
+    vec2 fw = max(fwidth(p), vec2(1e-5));
+    // Pixels to the nearest seam on each axis; seams ~1.5 px wide, fading out where panels
+    // shrink below ~10 px (distance, grazing angles) instead of aliasing into moire.
+    vec2 g = (0.5 - abs(fract(p) - 0.5)) / fw;
+    float fade = clamp(4.0 - 13.0 * max(fw.x, fw.y), 0.0, 1.0);
+    vec2 seams = clamp(1.5 - g, 0.0, 1.0) * fade;
     float h = hash12(cell + floor(v_world.y * 0.25) * 17.0);
     // Cool, darker steel than the level's colours say: the emissive trims and the 4D
     // matter are the brightest things in view, so the eye goes to them.
-    albedo *= vec3(0.70, 0.74, 0.82) * (0.84 + 0.3 * h);
+    albedo *= vec3(0.70, 0.74, 0.82) * ((0.84 + 0.3 * h) * (1.0 - 0.6 * max(seams.x, seams.y)));
     gloss = 0.5 + h;
-    if (!flat_face) {
-        // Walls darken upward, away from the lit trim and the floor's bounce.
-        albedo *= 1.0 - 0.35 * smoothstep(0.3, 4.0, v_world.y);
-    }
-    if (h > 0.95 && !flat_face) {
+    if (h > 0.95 && wall > 0.5) {
         // A vent: horizontal slats over the panel's middle.
-        vec2 f = fract(uv / vec2(1.5, 1.0));
+        vec2 f = fract(p);
         float inside = step(0.2, f.x) * step(f.x, 0.8) * step(0.3, f.y) * step(f.y, 0.7);
-        float fy = max(fwidth(uv.y * 16.0), 1e-5);
-        float slat = smoothstep(0.25 - fy, 0.25 + fy, abs(fract(uv.y * 16.0) - 0.5));
+        float slat = clamp((abs(fract(p.y * 16.0) - 0.5) - 0.25) / (16.0 * fw.y) + 0.5, 0.0, 1.0);
         albedo *= 1.0 - 0.55 * inside * slat;
     }
-    albedo *= 1.0 - 0.6 * seam;
     #ifdef STYLE_FLOOR
-    // Lit lines every 10 m: wayfinding at a glance, and scale.
-    float major = grid_lines(v_world.xz, 10.0);
-    emit += u_floor_line * major * 0.9;
+    // Lit lines every 10 m (every fifth seam): wayfinding at a glance, and scale.
+    vec2 major = step(mod(floor(p + 0.5), 5.0), vec2(0.5)) * seams;
+    emit += u_floor_line * (0.9 * max(major.x, major.y));
     #else
-    if (!flat_face) {
-        // An emissive trim a hand above the floor, breathing slowly: the station's power.
-        float y = v_world.y;
-        float fy = max(fwidth(y), 1e-4);
-        float trim = smoothstep(0.10 - fy, 0.10 + fy, y) * (1.0 - smoothstep(0.16 - fy, 0.16 + fy, y));
-        float kick = 1.0 - smoothstep(0.10 - fy, 0.10 + fy, y);  // dark kick plate under it
-        albedo *= 1.0 - 0.5 * kick;
-        emit += u_trim * trim * v_pulse;
-    }
+    // An emissive trim a hand above the floor (y 0.10 to 0.16), breathing slowly, over a
+    // dark kick plate; walls darken upward, away from the trim and the floor's bounce.
+    float y = v_world.y;
+    float fy = max(fwidth(y), 1e-4);
+    float trim = clamp((y - 0.10) / fy + 0.5, 0.0, 1.0) * clamp((0.16 - y) / fy + 0.5, 0.0, 1.0);
+    float kick = clamp((0.10 - y) / fy + 0.5, 0.0, 1.0);
+    albedo *= 1.0 - wall * (0.5 * kick + 0.35 * clamp((y - 0.3) / 3.7, 0.0, 1.0));
+    emit += u_trim * (wall * trim * u_pulse);
     #endif
   #elif defined(STYLE_FLOOR)
     // Grid on the plane most facing the normal: world xz for floors.
@@ -283,7 +270,7 @@ void main() {
     albedo *= 0.6;
     gloss = 2.5;
     emit += albedo * 0.25 + fres * mix(u_hyper_rim, irid, 0.5) * 0.6;
-    emit += lattice * v_pulse * (v_color.rgb * 0.5 + 0.1);
+    emit += lattice * u_pulse * (v_color.rgb * 0.5 + 0.1);
     emit += bands * (0.35 * side_tint + 0.25 * albedo);
     albedo *= 1.0 - 0.45 * bands;
   #endif

@@ -56,7 +56,7 @@ BAND_NORMAL = (0.42, 0.78, -0.46)  # the nebula band's great circle is the plane
 PLANET_DIR = (-0.62, 0.26, 0.74)
 PLANET_RADIUS = 0.17  # radians
 SUN_RADIUS = 0.022  # radians
-N_STARS = 5000
+N_STARS = 6000
 #: Dome resolution: longitude x latitude vertices. Features of the nebula are ~0.2 rad, the
 #: grid ~0.05 rad; latitudes crowd near the horizon, where the gradient changes fastest.
 DOME_GRID = (64, 28)
@@ -205,6 +205,8 @@ class SkyRenderer:
         self.ctx = ctx
         self.prog = ctx.program(vertex_shader=SKY_VERTEX, fragment_shader=SKY_FRAGMENT)
         self.vbo = self.ibo = self.vao = None
+        self.star_ibo = self.points = None
+        self._stars: np.ndarray | None = None  # (n, 3) float64 star directions, for culling
         self._built_for = None
         self._counts = (0, 0, 0, 0)
         self.builds = 0
@@ -222,8 +224,13 @@ class SkyRenderer:
         self.vao = self.ctx.vertex_array(
             self.prog, [(self.vbo, "3f 4f", "in_pos", "in_color")], index_buffer=self.ibo, index_element_size=4
         )
-        self.points = self.ctx.vertex_array(self.prog, [(self.vbo, "3f 4f", "in_pos", "in_color")])
-        self._counts = (behind.size, front.size, star_first, len(verts) - star_first)
+        n_stars = len(verts) - star_first
+        self._stars = verts[star_first:, :3].astype(np.float64)
+        self.star_ibo = self.ctx.buffer(reserve=4 * n_stars, dynamic=True)
+        self.points = self.ctx.vertex_array(
+            self.prog, [(self.vbo, "3f 4f", "in_pos", "in_color")], index_buffer=self.star_ibo, index_element_size=4
+        )
+        self._counts = (behind.size, front.size, star_first, n_stars)
         self._built_for = key
         self.builds += 1
 
@@ -248,6 +255,15 @@ class SkyRenderer:
             Draw calls made.
         """
         self._build(colours, light_dir)
+        # Only the stars in view: llvmpipe sets up every point it is given, seen or not.
+        vp = np.asarray(view_proj, np.float64)
+        clip = self._stars @ vp[:, :3].T  # directions: the eye's translation does not turn them
+        w = clip[:, 3]
+        margin = 1.02 * w
+        seen = (w > 0) & (np.abs(clip[:, 0]) <= margin) & (np.abs(clip[:, 1]) <= margin)
+        idx = (np.flatnonzero(seen) + self._counts[2]).astype(np.uint32)
+        if len(idx):
+            self.star_ibo.write(idx.tobytes())
         set_uniform(self.prog, "u_view_proj", np.ascontiguousarray(np.asarray(view_proj).T, np.float32).tobytes())
         set_uniform(self.prog, "u_eye", tuple(float(x) for x in eye))
         ctx = self.ctx
@@ -256,7 +272,8 @@ class SkyRenderer:
         ctx.fbo.depth_mask = False
         ctx.enable(moderngl.PROGRAM_POINT_SIZE)
         self.vao.render(moderngl.TRIANGLES, vertices=n_behind)
-        self.points.render(moderngl.POINTS, vertices=n_stars, first=star_first)
+        if len(idx):
+            self.points.render(moderngl.POINTS, vertices=len(idx))
         self.vao.render(moderngl.TRIANGLES, vertices=n_front, first=n_behind)
         ctx.disable(moderngl.PROGRAM_POINT_SIZE)
         ctx.fbo.depth_mask = True
@@ -264,7 +281,7 @@ class SkyRenderer:
         return 3
 
     def _release_buffers(self) -> None:
-        for name in ("vao", "points", "vbo", "ibo"):
+        for name in ("vao", "points", "vbo", "ibo", "star_ibo"):
             obj = getattr(self, name, None)
             if obj is not None:
                 obj.release()
