@@ -79,6 +79,10 @@ SHIPPED = {
     "crate.obj": (24, 44, 0.9907413333333336, "c7395286d534c0eb", "5dbda67784f18158"),
     "pillar.obj": (194, 384, 0.6839831799600201, "2312ae30c71f282d", "52d0c16b198da31a"),
     "tree.obj": (182, 360, 2.2545978362538666, "e52c7ec84326df39", "3c0099a7d2ca35eb"),
+    # The props, as make_assets.py writes them.
+    "console.obj": (12, 20, 0.6504300000000001, "6ed9a3198333d1ab", "6bbabd1e0fbe10e3"),
+    "door.obj": (40, 76, 1.548, "4e4a728ce0eb2b6d", "d0e526c8671ecb98"),
+    "plant.obj": (162, 320, 0.3592172678790333, "c22582e267a06fcc", "6256de4092dcde07"),
 }
 
 

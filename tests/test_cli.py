@@ -397,6 +397,10 @@ def test_bench_quick_prints_throughput_and_copy_baseline(cli):
     assert re.search(r"200 radar pins: HUD with energy bar and radar [\d.]+ ms\s+\(baseline, HUD alone", out) or (
         "HUD and radar: skipped" in out
     ), out
+    # The sci-fi look next to the flat look, per shipped level.
+    assert re.search(r"01_first_steps\.toml\s+sci-fi\s+[\d.]+ ms .*\(baseline, flat look: ", out) or (
+        "HUD and radar: skipped" in out
+    ), out
 
 
 # ------------------------------------------------------- welded exports

@@ -44,7 +44,7 @@ def target(gl_ctx):
 
 @pytest.fixture
 def renderer(gl_ctx):
-    r = Renderer(gl_ctx)
+    r = Renderer(gl_ctx, look="flat")  # the base styles; the sci-fi look has its own tests
     yield r
     r.release()
 

@@ -313,3 +313,12 @@ def _bench_game(args) -> None:
         f"sections {g['off']['sections']:.2f} ms, frame {g['off']['frame']:.1f} ms); ghosts cost "
         f"{g['ghost_section_ratio']:.2f}x the slice's own projection"
     )
+    from ..render.bench_look import bench_look
+
+    _out("")
+    _out("Scene look, every shipped level at 1280x720, draw + finish, median per frame (wall, and CPU of all threads):")
+    for row in bench_look(frames=20 if args.quick else 60):
+        _out(
+            f"  {row['level']:24s} sci-fi {row['scifi']:6.1f} ms (CPU {row['scifi_cpu']:5.1f})   "
+            f"(baseline, flat look: {row['flat']:6.1f} ms (CPU {row['flat_cpu']:5.1f}))"
+        )

@@ -101,6 +101,12 @@ class Drawable:
         pattern in the opacity so two kinds of ghost differ in more than hue.
     opacity : float
         Ghosts only: times the renderer's ghost opacity (fading, emphasis).
+    w_offset : float or None
+        4D things only (cross-sections of worlds and entities): where the slice cuts the thing
+        along w, ``(w of its middle - w of the slice) / half its extent in w``, so 0 in the
+        middle, positive when the thing lies ana (+w) of the slice, +-1 where it ends. The
+        renderer draws it as 4D matter with bands that encode this (the w cue); None for 3D
+        scenery.
     """
 
     key: str
@@ -111,6 +117,7 @@ class Drawable:
     tint: tuple | None = None
     pattern: str = ""
     opacity: float = 1.0
+    w_offset: float | None = None  # 4D things: (w of the thing - w of the slice) / its half extent in w (the w cue)
 
 
 @dataclass
@@ -262,6 +269,8 @@ class Frame:
     radar: Radar | None = None
     sky_color: tuple[float, float, float] = (0.05, 0.06, 0.10)
     light_dir: tuple[float, float, float] = (0.4, 1.0, 0.25)
+    sky: str = "flat"  # "flat": one colour (sky_color); "dome": the renderer's procedural sky
+    time: float = 0.0  # seconds of play, for animated shading (pulses, bands); never read by the game
 
 
 @dataclass(frozen=True)

@@ -29,6 +29,13 @@ Styles
     Opaque and emissive, brightest at the silhouette, lightly fogged: things
     that are not scenery (crystals).
 
+Looks
+-----
+:attr:`Renderer.look` is ``"scifi"`` (the game's look: panelled scenery, a sky dome
+when ``Frame.sky`` is ``"dome"``, 4D cross-sections with a ``w_offset`` drawn as alien
+matter banded by w) or ``"flat"`` (the plain look above); colours come from
+:attr:`Renderer.palette` (see :mod:`.materials`).
+
 There is no back-face culling: the view matrix contains a reflection (see
 ``CONVENTIONS.md``, "Axes and handedness"), so "front" winding flips; two-sided
 lighting makes culling unnecessary for correctness.
@@ -44,10 +51,12 @@ import numpy as np
 from ..core.edges import feature_edges
 from ..core.mesh import TriMesh3
 from ..game.frame import Drawable, Frame
+from . import materials
 from .context import RenderError
 from .hud import HudRenderer
 from .radar import RadarRenderer
-from .shaders import program_source
+from .shaders import PROGRAMS, program_source
+from .sky import SkyRenderer
 
 STYLES = ("solid", "floor", "wire", "ghost", "glow")
 #: Ghost patterns by name, as the shader's ``u_pattern`` codes.
@@ -161,6 +170,16 @@ def _frustum_planes(view_proj: np.ndarray) -> np.ndarray:
     return planes / np.maximum(np.linalg.norm(planes[:, :3], axis=1, keepdims=True), 1e-300)
 
 
+class _Cued:
+    """A drawable with a w cue, as drawn: its program (``hyper`` for solids) and band scale."""
+
+    __slots__ = ("key", "style", "w_offset", "band_scale", "tint", "pattern", "opacity")
+
+    def __init__(self, d: Drawable, style: str, band_scale: float):
+        self.key, self.style, self.w_offset, self.band_scale = d.key, style, d.w_offset, band_scale
+        self.tint, self.pattern, self.opacity = d.tint, d.pattern, d.opacity
+
+
 def _mat4_bytes(m: np.ndarray) -> bytes:
     # GLSL matrices are column-major; numpy's are row-major.
     return np.ascontiguousarray(np.asarray(m, np.float64).T, np.float32).tobytes()
@@ -180,9 +199,14 @@ class Renderer:
         ~55% at 50 m, ~96% at 100 m).
     ghost_alpha : float
         Opacity of ``"ghost"`` drawables (times the vertex alpha).
+    look : str
+        ``"scifi"`` or ``"flat"`` (:data:`.materials.LOOKS`); may be changed between draws.
 
     Attributes
     ----------
+    palette : dict
+        Named colours of the sci-fi look (:func:`.materials.palette`); replace it to
+        switch palettes (a colour-blind-safe one, a level's mood).
     stats : RenderStats
     hud : HudRenderer
     radar : RadarRenderer
@@ -198,22 +222,37 @@ class Renderer:
     #: Draws (of any view) after which a view that was not drawn again stops holding its meshes.
     VIEW_TTL = 16
 
-    def __init__(self, ctx: moderngl.Context, fog_density: float = 0.018, ghost_alpha: float = 0.35):
+    def __init__(
+        self, ctx: moderngl.Context, fog_density: float = 0.018, ghost_alpha: float = 0.35, look: str = "scifi"
+    ):
         self.ctx = ctx
         self.fog_density = float(fog_density)
         self.ghost_alpha = float(ghost_alpha)
         self.stats = RenderStats()
         self._meshes: dict[str, _GpuMesh] = {}
-        self._programs: dict[str, moderngl.Program] = {}
-        for style in STYLES:
-            vs, fs = program_source(style)
-            try:
-                self._programs[style] = ctx.program(vertex_shader=vs, fragment_shader=fs)
-            except Exception as e:  # compile/link errors carry the driver's log
-                raise RenderError(f"shader for style {style!r} failed to build: {e}") from e
+        self._all_programs: dict[str, dict[str, moderngl.Program]] = {}  # look -> program name -> program
+        self.palette = materials.palette()
+        self.look = look
+        self._programs = self._look_programs(look)
+        self._sky: SkyRenderer | None = None
         self.hud = HudRenderer(ctx)
         self.radar = RadarRenderer(ctx)
         self._views: dict[str, tuple[int, set[str]]] = {}  # view -> (draw number, keys it used)
+
+    def _look_programs(self, look: str) -> dict[str, moderngl.Program]:
+        """The programs of ``look``, built on first use (a look not used costs nothing)."""
+        if look not in materials.LOOKS:
+            raise RenderError(f"unknown look {look!r}; expected one of {', '.join(materials.LOOKS)}")
+        progs = self._all_programs.get(look)
+        if progs is None:
+            progs = self._all_programs[look] = {}
+            for name in PROGRAMS:
+                vs, fs = program_source(name, look)
+                try:
+                    progs[name] = self.ctx.program(vertex_shader=vs, fragment_shader=fs)
+                except Exception as e:  # compile/link errors carry the driver's log
+                    raise RenderError(f"shader for style {name!r} ({look} look) failed to build: {e}") from e
+        return progs
 
     # ----------------------------------------------------------------- caching
     def cached_keys(self) -> list[str]:
@@ -264,12 +303,13 @@ class Renderer:
             gm.vertices = gm.faces = None  # only needed to derive the edges
             if e.size:
                 gm.ebo, created = _write(self.ctx, gm.ebo, e.tobytes())
-                if created and "wire" in gm.vaos:
-                    gm.vaos.pop("wire").release()
+                if created:
+                    for k in [k for k in gm.vaos if k[1] == "wire"]:
+                        gm.vaos.pop(k).release()
         return gm.n_edge_indices
 
     def _vao(self, gm: _GpuMesh, style: str) -> moderngl.VertexArray:
-        vao = gm.vaos.get(style)
+        vao = gm.vaos.get((self.look, style))
         if vao is None:
             prog = self._programs[style]
             # Attributes a program doesn't use are optimised away by the GLSL
@@ -283,7 +323,7 @@ class Renderer:
                     fmt.append(f"{size}x")
             ibo = gm.ebo if style == "wire" else gm.ibo
             vao = self.ctx.vertex_array(prog, [(gm.vbo, " ".join(fmt), *names)], index_buffer=ibo, index_element_size=4)
-            gm.vaos[style] = vao
+            gm.vaos[(self.look, style)] = vao
         return vao
 
     def release(self) -> None:
@@ -291,9 +331,14 @@ class Renderer:
         for gm in self._meshes.values():
             gm.release()
         self._meshes.clear()
-        for p in self._programs.values():
-            p.release()
-        self._programs.clear()
+        for progs in self._all_programs.values():
+            for p in progs.values():
+                p.release()
+        self._all_programs.clear()
+        self._programs = {}
+        if self._sky is not None:
+            self._sky.release()
+            self._sky = None
         self.hud.release()
         self.radar.release()
 
@@ -347,6 +392,9 @@ class Renderer:
         _, _, w, h = viewport
         if w <= 0 or h <= 0:
             return
+        self._programs = self._look_programs(self.look)
+        scifi = self.look == "scifi"
+        dome = scifi and frame.sky == "dome"
         st = self.stats
         st.frames += 1
         st.draw_calls = st.triangles = st.lines = st.upload_bytes = st.culled = 0
@@ -387,6 +435,9 @@ class Renderer:
                 st.culled += 1
                 continue
             dist2 = float(np.sum((center - eye) ** 2))
+            if d.w_offset is not None:
+                # The w cue: which side of the slice and how far, and the drawable's size for band spacing.
+                d = _Cued(d, "hyper" if d.style == "solid" else d.style, materials.band_scale(radius))
             if d.style == "ghost":
                 ghosts.append((dist2, d, gm, model))
             elif d.style == "wire":
@@ -412,6 +463,15 @@ class Renderer:
             self._set(prog, "u_sky", sky)
             self._set(prog, "u_fog_density", self.fog_density)
             self._set(prog, "u_alpha", self.ghost_alpha)
+            if scifi:
+                self._set(prog, "u_time", float(frame.time))
+                self._set(prog, "u_pulse", 0.9 + 0.1 * float(np.sin(1.3 * frame.time)))
+                self._set(prog, "u_w_offset", 0.0)
+                self._set(prog, "u_band_scale", 1.0)
+                materials.upload(prog, self.palette, self._set)
+                if not dome:  # a one-colour sky: fog fades to it, as in the flat look
+                    for name in ("sky_zenith", "sky_horizon", "sky_ground"):
+                        self._set(prog, f"u_{name}", sky)
 
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
@@ -420,11 +480,16 @@ class Renderer:
         # fragments (the fragment shader is the main cost on a CPU rasterizer).
         opaque.sort(key=lambda o: o[0])
         for _, d, gm, model in opaque:
-            self._draw_mesh(d.style, gm, model, moderngl.TRIANGLES, gm.n_indices)
+            self._draw_mesh(d.style, gm, model, moderngl.TRIANGLES, gm.n_indices, d)
         for _, _d, gm, model in wires:
             n = self._edges(gm)
             if n:
                 self._draw_mesh("wire", gm, model, moderngl.LINES, n)
+        if dome:
+            # After the opaque scene: the sky shades only the pixels nothing covered.
+            if self._sky is None:
+                self._sky = SkyRenderer(ctx)
+            st.draw_calls += self._sky.draw(view_proj, eye, light, self.palette, self._set)
 
         if ghosts:
             # Back to front per drawable; depth test on (solids hide ghosts) but
@@ -449,9 +514,12 @@ class Renderer:
                 st.draw_calls += self.radar.draw_calls
             self.hud.draw(frame.hud, viewport, frame.radar)
 
-    def _draw_mesh(self, style: str, gm: _GpuMesh, model: np.ndarray, mode: int, count: int) -> None:
+    def _draw_mesh(self, style: str, gm: _GpuMesh, model: np.ndarray, mode: int, count: int, d=None) -> None:
         prog = self._programs[style]
         self._set(prog, "u_model", _mat4_bytes(model))
+        if isinstance(d, _Cued):
+            self._set(prog, "u_w_offset", float(d.w_offset))
+            self._set(prog, "u_band_scale", d.band_scale)
         lin = model[:3, :3]
         try:
             nm = np.linalg.inv(lin).T
@@ -460,6 +528,8 @@ class Renderer:
         # mat3 uniform: 9 floats, column-major.
         self._set(prog, "u_normal_mat", np.ascontiguousarray(nm.T, np.float32).tobytes())
         self._vao(gm, style).render(mode, vertices=count)
+        if isinstance(d, _Cued):
+            self._set(prog, "u_w_offset", 0.0)  # the next drawable of this program may have no cue
         self.stats.draw_calls += 1
         if mode == moderngl.LINES:
             self.stats.lines += count // 2

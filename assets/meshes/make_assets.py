@@ -210,7 +210,87 @@ def crate():
     return chamfered_box([1.0, 1.0, 1.0], 0.04)
 
 
-ASSETS = {"pillar": pillar, "arch": arch, "tree": tree, "crate": crate}
+def extrude_convex(profile, width: float) -> tuple[np.ndarray, np.ndarray]:
+    """A convex polygon in the z-y plane, extruded along x and capped: a prism.
+
+    Parameters
+    ----------
+    profile : (p, 2) array_like float
+        ``(z, y)`` corners of a convex polygon, in order.
+    width : float
+        Extent in x, centred on ``x = 0``.
+
+    Returns
+    -------
+    vertices : (2p, 3) float64
+    faces : (f, 3) int64
+    """
+    prof = np.asarray(profile, np.float64)
+    p = len(prof)
+    x = width / 2
+    vertices = np.concatenate([np.c_[np.full(p, sx), prof[:, 1], prof[:, 0]] for sx in (-x, x)])
+    j = np.arange(p)
+    jn = (j + 1) % p
+    sides = np.concatenate([np.c_[j, jn, jn + p], np.c_[j, jn + p, j + p]])
+    caps = [[0, i, i + 1] for i in range(1, p - 1)] + [[p, p + i + 1, p + i] for i in range(1, p - 1)]
+    faces = np.concatenate([sides, np.asarray(caps)])
+    # Orient each face away from the (convex) prism's centre.
+    tri = vertices[faces]
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    inward = np.einsum("ij,ij->i", n, tri.mean(axis=1) - vertices.mean(axis=0)) < 0
+    faces[inward] = faces[inward][:, ::-1]
+    return vertices, faces
+
+
+def console():
+    """A control console 0.9 m wide: a block whose desk slopes toward the user (-z)."""
+    profile = [(-0.30, 0.0), (0.30, 0.0), (0.30, 1.15), (0.12, 1.2), (-0.40, 0.92), (-0.40, 0.80)]
+    return extrude_convex(profile, 0.9)
+
+
+def door():
+    """A bulkhead door frame 2.8 m wide, 3.0 m tall, 0.4 m deep; opening 1.8 m x 2.4 m, chamfered corners."""
+    hi, ho = 2.4, 3.0  # inner and outer heights
+    wi, wo = 0.9, 1.4  # inner and outer half widths
+    c = 0.35  # chamfer of the opening's upper corners
+    legs = np.linspace(0.0, hi - c, 4)
+    inner = np.concatenate(
+        [np.c_[np.full(4, -wi), legs], [[-wi + c, hi], [wi - c, hi]], np.c_[np.full(4, wi), legs[::-1]]]
+    )
+    outer = np.concatenate(
+        [np.c_[np.full(4, -wo), legs], [[-wo + c, ho], [wo - c, ho]], np.c_[np.full(4, wo), legs[::-1]]]
+    )
+    return extrude_strip(inner, outer, 0.4)
+
+
+def plant():
+    """An alien plant in a pot, 0.8 m wide, 1.7 m tall: flared pot, thin stem, a bulb with a spike."""
+    profile = [
+        (0.0, 0.0),
+        (0.24, 0.0),
+        (0.34, 0.55),  # pot
+        (0.30, 0.60),
+        (0.05, 0.62),  # soil, stem
+        (0.05, 0.85),
+        (0.26, 0.95),
+        (0.40, 1.18),  # bulb
+        (0.34, 1.38),
+        (0.16, 1.50),
+        (0.04, 1.56),
+        (0.0, 1.70),  # spike
+    ]
+    return lathe(profile, 16)
+
+
+ASSETS = {
+    "pillar": pillar,
+    "arch": arch,
+    "tree": tree,
+    "crate": crate,
+    "console": console,
+    "door": door,
+    "plant": plant,
+}
 
 
 # ------------------------------------------------------------------------- io

@@ -1,0 +1,295 @@
+"""A procedural sky dome: gradient, nebula band, stars, a planet and a sun, behind the scene.
+
+The dome is geometry, not a per-pixel shader: a sphere of triangles whose vertex colours
+hold the gradient, the nebula and the sun's halo (computed once in numpy, again only when
+the palette or the sun's direction changes), a few thousand stars as points a pixel or two
+wide, a planet and the sun's disc as small fans. Every sky pixel then costs what the
+cheapest shader costs (an interpolated colour), which matters on llvmpipe, where shading is
+done on the CPU and a per-pixel noise sky cost more than the whole scene.
+
+It is drawn *after* the opaque scene, centred on the eye and pushed to the far plane
+(``gl_Position.xyww``), with the depth test ``<=`` against the cleared depth (1.0), so only
+the pixels no surface covered are touched, and it stays put as the player walks.
+
+Every colour comes from the palette (:mod:`.materials`):
+
+- gradient: ground, horizon, zenith (:func:`gradient`, the same function fog uses in the
+  scene shaders, :data:`.shaders.SKY_GRADIENT`, so distant walls fade into the sky behind them);
+- a nebula band along a tilted great circle, two hues through warped sines;
+- stars, denser in the nebula's band, fewer near the horizon;
+- a planet low in the sky, lit from the sun's side, with a thin bright rim;
+- the sun in the key light's direction, a disc and a halo, so the light on the walls has a source.
+"""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+SKY_VERTEX = """
+#version 330
+uniform mat4 u_view_proj;
+uniform vec3 u_eye;
+in vec3 in_pos;     // a direction (unit), or a point on the unit sphere
+in vec4 in_color;   // rgb, and the point size in pixels for stars
+out vec3 v_color;
+void main() {
+    v_color = in_color.rgb;
+    vec4 p = u_view_proj * vec4(u_eye + in_pos * 100.0, 1.0);
+    // z = w: exactly the far plane, so the depth test '<=' keeps what the scene covered.
+    gl_Position = p.xyww;
+    gl_PointSize = in_color.a;
+}
+"""
+
+SKY_FRAGMENT = """
+#version 330
+in vec3 v_color;
+out vec4 f_color;
+void main() {
+    f_color = vec4(v_color, 1.0);
+}
+"""
+
+#: Where things sit on the dome (unit vectors are made from these).
+BAND_NORMAL = (0.42, 0.78, -0.46)  # the nebula band's great circle is the plane normal to this
+PLANET_DIR = (-0.62, 0.26, 0.74)
+PLANET_RADIUS = 0.17  # radians
+SUN_RADIUS = 0.022  # radians
+N_STARS = 6000
+#: Dome resolution: longitude x latitude vertices. Features of the nebula are ~0.2 rad, the
+#: grid ~0.05 rad; latitudes crowd near the horizon, where the gradient changes fastest.
+DOME_GRID = (64, 28)
+
+
+def _unit(v) -> np.ndarray:
+    v = np.asarray(v, np.float64)
+    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
+def _smoothstep(e0, e1, x):
+    t = np.clip((x - e0) / (e1 - e0), 0.0, 1.0)
+    return t * t * (3.0 - 2.0 * t)
+
+
+def gradient(d: np.ndarray, colours) -> np.ndarray:
+    """Sky colour ``(..., 3) float64`` by direction ``d`` ``(..., 3)``: exactly ``sky_gradient`` in GLSL."""
+    y = d[..., 1:2]
+    hor, zen, gnd = (np.asarray(colours[k], np.float64) for k in ("sky_horizon", "sky_zenith", "sky_ground"))
+    up = hor + (zen - hor) * np.sqrt(np.clip(y, 0.0, 1.0))
+    down = hor + (gnd - hor) * _smoothstep(0.0, 0.2, -y)
+    return np.where(y >= 0.0, up, down)
+
+
+def _nebula(d: np.ndarray, colours) -> np.ndarray:
+    q = d * 3.0
+    q = q + 0.7 * np.sin(q[..., [1, 2, 0]] * 1.7 + np.array([1.3, 4.1, 2.7]))
+    q = q + 0.4 * np.sin(q[..., [2, 0, 1]] * 3.3 + np.array([5.2, 0.7, 3.3]))
+    shape = 0.5 + 0.5 * np.sin(q[..., 0]) * np.sin(q[..., 1] + 0.5) * np.sin(q[..., 2] + 1.0)
+    across = d @ _unit(BAND_NORMAL)
+    band = np.exp(-across * across / 0.09)
+    hue = (0.5 + 0.5 * np.sin((d @ np.array([2.1, -1.3, 3.7])) * 2.0))[..., None]
+    a, b = (np.asarray(colours[k], np.float64) for k in ("nebula_a", "nebula_b"))
+    above = _smoothstep(-0.15, 0.1, d[..., 1])
+    return (a + (b - a) * hue) * (band * _smoothstep(0.3, 0.95, shape) * 0.55 * above)[..., None]
+
+
+def _sun_halo(d: np.ndarray, light: np.ndarray, colours) -> np.ndarray:
+    sd = np.clip(d @ light, 0.0, 1.0)
+    return np.asarray(colours["sun"], np.float64) * (sd**12 * 0.12 + sd**200 * 0.5)[..., None]
+
+
+def _fan(center: np.ndarray, radius: float, rings: int, segments: int):
+    """A disc on the unit sphere around ``center``: vertices ``(v, 3)``, triangles ``(t, 3)``,
+    and each vertex's distance from the centre in disc radii ``(v,)``."""
+    c = _unit(center)
+    e1 = _unit(np.cross(c, [0.0, 1.0, 0.0]) if abs(c[1]) < 0.9 else np.cross(c, [1.0, 0.0, 0.0]))
+    e2 = np.cross(c, e1)
+    r = np.linspace(0.0, 1.0, rings + 1)[1:]
+    ang = 2 * np.pi * np.arange(segments) / segments
+    rr, aa = np.meshgrid(r, ang, indexing="ij")
+    ring = c + np.tan(radius * rr)[..., None] * (np.cos(aa)[..., None] * e1 + np.sin(aa)[..., None] * e2)
+    verts = np.concatenate([c[None], _unit(ring.reshape(-1, 3))])
+    j = np.arange(segments)
+    jn = (j + 1) % segments
+    tris = [np.c_[np.zeros(segments, int), 1 + j, 1 + jn]]
+    for i in range(rings - 1):
+        a, b = 1 + i * segments + j, 1 + i * segments + jn
+        tris += [np.c_[a, a + segments, b], np.c_[b, a + segments, b + segments]]
+    return verts, np.concatenate(tris), np.concatenate([[0.0], rr.ravel()])
+
+
+def build_dome(colours, light_dir) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """The sky's geometry for a palette and a sun direction.
+
+    Returns
+    -------
+    vertices : (v, 7) float32
+        Direction xyz, colour rgb (display space), point size (stars; 1 elsewhere).
+    behind : (t, 3) uint32
+        Dome triangles (drawn first).
+    front : (u, 3) uint32
+        Planet and sun triangles (drawn after the stars, over them).
+    star_first : int
+        Index of the first star vertex; the stars are the last :data:`N_STARS` vertices.
+    """
+    light = _unit(light_dir)
+    n_lon, n_lat = DOME_GRID
+    t = np.linspace(-1.0, 1.0, n_lat)
+    lat = np.sign(t) * np.abs(t) ** 1.6 * (np.pi / 2)
+    lon = 2 * np.pi * np.arange(n_lon) / n_lon
+    la, lo = np.meshgrid(lat, lon, indexing="ij")
+    d = np.stack([np.cos(la) * np.sin(lo), np.sin(la), np.cos(la) * np.cos(lo)], axis=-1).reshape(-1, 3)
+    col = gradient(d, colours) + _nebula(d, colours) + _sun_halo(d, light, colours)
+    i, j = np.meshgrid(np.arange(n_lat - 1), np.arange(n_lon), indexing="ij")
+    a = (i * n_lon + j).ravel()
+    b = (i * n_lon + (j + 1) % n_lon).ravel()
+    behind = np.concatenate([np.c_[a, a + n_lon, b], np.c_[b, a + n_lon, b + n_lon]])
+    parts_v, parts_c, front = [d], [col], []
+    base = len(d)
+
+    # The planet: a sphere seen from afar, lit by the sun, its rim catching the light.
+    pv, pt, pr = _fan(np.asarray(PLANET_DIR), PLANET_RADIUS, 10, 48)
+    pc = _unit(PLANET_DIR)
+    off = pv - pc * (pv @ pc)[:, None]
+    offn = off / np.maximum(np.linalg.norm(off, axis=1, keepdims=True), 1e-9)
+    normal = offn * pr[:, None] - pc * np.sqrt(np.clip(1 - pr * pr, 0.0, 1.0))[:, None]
+    lit = np.clip(normal @ light, 0.0, 1.0) * 0.85 + 0.06
+    stripes = 0.88 + 0.12 * np.sin(pv[:, 1] * 70.0)
+    rim = _smoothstep(0.8, 1.0, pr) * 0.35
+    planet = np.asarray(colours["planet"]) * (lit * stripes + rim)[:, None] + gradient(pv, colours) * 0.3
+    parts_v.append(pv)
+    parts_c.append(planet)
+    front.append(pt + base)
+    base += len(pv)
+
+    # The sun's disc, white-hot in the middle.
+    sv, st, sr = _fan(light, SUN_RADIUS, 2, 20)
+    sun = np.asarray(colours["sun"]) * (1.6 - 0.5 * sr)[:, None] + 0.25
+    parts_v.append(sv)
+    parts_c.append(sun)
+    front.append(st + base)
+    base += len(sv)
+
+    # Stars: a fixed random sky (its own generator: rendering only, never the simulation's).
+    rng = np.random.default_rng(20211)
+    sd = _unit(rng.normal(size=(N_STARS, 3)))
+    bright = rng.random(N_STARS) ** 3
+    across = sd @ _unit(BAND_NORMAL)
+    bright *= (0.45 + 0.55 * _smoothstep(-0.1, 0.2, sd[:, 1])) * (1.0 - 0.4 * np.exp(-across * across / 0.09))
+    star = np.asarray(colours["star"]) * (0.25 + 0.75 * bright)[:, None]
+    star = gradient(sd, colours) + star
+    parts_v.append(sd)
+    parts_c.append(star)
+    star_first = base
+
+    v = np.concatenate(parts_v)
+    c = np.clip(np.concatenate(parts_c), 0.0, 1.0)
+    size = np.ones(len(v))
+    size[star_first:] = np.where(bright > 0.55, 2.0, 1.0)
+    verts = np.concatenate([v, c, size[:, None]], axis=1).astype(np.float32)
+    return verts, behind.astype(np.uint32), np.concatenate(front).astype(np.uint32), star_first
+
+
+class SkyRenderer:
+    """Draws the sky dome into the bound framebuffer, behind what is already drawn.
+
+    Attributes
+    ----------
+    builds : int
+        How many times the dome's geometry was (re)built: once, and again after a palette or
+        sun change.
+    """
+
+    def __init__(self, ctx: moderngl.Context):
+        self.ctx = ctx
+        self.prog = ctx.program(vertex_shader=SKY_VERTEX, fragment_shader=SKY_FRAGMENT)
+        self.vbo = self.ibo = self.vao = None
+        self.star_ibo = self.points = None
+        self._stars: np.ndarray | None = None  # (n, 3) float64 star directions, for culling
+        self._built_for = None
+        self._counts = (0, 0, 0, 0)
+        self.builds = 0
+
+    def _build(self, colours, light_dir) -> None:
+        light = tuple(round(float(x), 6) for x in light_dir)
+        key = (tuple(sorted((k, tuple(v)) for k, v in colours.items())), light)
+        if key == self._built_for:
+            return
+        verts, behind, front, star_first = build_dome(colours, light)
+        self._release_buffers()
+        self.vbo = self.ctx.buffer(verts.tobytes())
+        # One index buffer: dome, then planet and sun; stars are drawn from the vertex range.
+        self.ibo = self.ctx.buffer(np.concatenate([behind.ravel(), front.ravel()]).tobytes())
+        self.vao = self.ctx.vertex_array(
+            self.prog, [(self.vbo, "3f 4f", "in_pos", "in_color")], index_buffer=self.ibo, index_element_size=4
+        )
+        n_stars = len(verts) - star_first
+        self._stars = verts[star_first:, :3].astype(np.float64)
+        self.star_ibo = self.ctx.buffer(reserve=4 * n_stars, dynamic=True)
+        self.points = self.ctx.vertex_array(
+            self.prog, [(self.vbo, "3f 4f", "in_pos", "in_color")], index_buffer=self.star_ibo, index_element_size=4
+        )
+        self._counts = (behind.size, front.size, star_first, n_stars)
+        self._built_for = key
+        self.builds += 1
+
+    def draw(self, view_proj: np.ndarray, eye: np.ndarray, light_dir, colours, set_uniform) -> int:
+        """Draw the sky where the depth buffer is still clear (depth test on, cleared to 1.0).
+
+        Parameters
+        ----------
+        view_proj : (4, 4) float64
+            The scene's projection times view.
+        eye : (3,) float64
+        light_dir : (3,) float
+            Unit vector towards the key light (the sun is drawn there).
+        colours : dict
+            The palette (:mod:`.materials`).
+        set_uniform : callable
+            ``set_uniform(prog, name, value)``, tolerant of names the compiler dropped.
+
+        Returns
+        -------
+        int
+            Draw calls made.
+        """
+        self._build(colours, light_dir)
+        # Only the stars in view: llvmpipe sets up every point it is given, seen or not.
+        vp = np.asarray(view_proj, np.float64)
+        clip = self._stars @ vp[:, :3].T  # directions: the eye's translation does not turn them
+        w = clip[:, 3]
+        margin = 1.02 * w
+        seen = (w > 0) & (np.abs(clip[:, 0]) <= margin) & (np.abs(clip[:, 1]) <= margin)
+        idx = (np.flatnonzero(seen) + self._counts[2]).astype(np.uint32)
+        if len(idx):
+            self.star_ibo.write(idx.tobytes())
+        set_uniform(self.prog, "u_view_proj", np.ascontiguousarray(np.asarray(view_proj).T, np.float32).tobytes())
+        set_uniform(self.prog, "u_eye", tuple(float(x) for x in eye))
+        ctx = self.ctx
+        n_behind, n_front, star_first, n_stars = self._counts
+        ctx.depth_func = "<="
+        ctx.fbo.depth_mask = False
+        ctx.enable(moderngl.PROGRAM_POINT_SIZE)
+        self.vao.render(moderngl.TRIANGLES, vertices=n_behind)
+        if len(idx):
+            self.points.render(moderngl.POINTS, vertices=len(idx))
+        self.vao.render(moderngl.TRIANGLES, vertices=n_front, first=n_behind)
+        ctx.disable(moderngl.PROGRAM_POINT_SIZE)
+        ctx.fbo.depth_mask = True
+        ctx.depth_func = "<"
+        return 3
+
+    def _release_buffers(self) -> None:
+        for name in ("vao", "points", "vbo", "ibo", "star_ibo"):
+            obj = getattr(self, name, None)
+            if obj is not None:
+                obj.release()
+            setattr(self, name, None)
+
+    def release(self) -> None:
+        self._release_buffers()
+        self.prog.release()
+
+
+__all__ = ["SkyRenderer", "build_dome", "gradient", "SKY_VERTEX", "SKY_FRAGMENT"]

@@ -1,0 +1,238 @@
+"""The sci-fi look: palettes, the sky dome, fog toward it, panelled scenery and the w cue of
+4D matter, drawn offscreen and judged from pixels; and what the game hands the renderer for it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from across_dimensions.game.actions import Actions
+from across_dimensions.game.frame import Camera3, Drawable, Frame, Hud
+from across_dimensions.render import materials
+from across_dimensions.render.context import Offscreen, RenderError
+from across_dimensions.render.demo import box_mesh, plane_mesh
+from across_dimensions.render.renderer import Renderer
+from across_dimensions.render.sky import build_dome, gradient
+
+LEVELS = Path(__file__).resolve().parent.parent / "levels"
+W, H = 320, 180
+
+
+@pytest.fixture
+def target(gl_ctx):
+    t = Offscreen(gl_ctx, W, H)
+    t.use()
+    yield t
+    t.release()
+
+
+@pytest.fixture
+def renderer(gl_ctx):
+    r = Renderer(gl_ctx)  # the sci-fi look is the default
+    yield r
+    r.release()
+
+
+def draw(renderer, target, frame) -> np.ndarray:
+    renderer.draw(frame, hud=False)
+    return target.read_rgb().astype(float)
+
+
+def luminance(img: np.ndarray) -> np.ndarray:
+    return img @ np.array([0.2126, 0.7152, 0.0722])
+
+
+#: A palette without the dome's features, so pixels can be compared with the gradient alone.
+PLAIN_SKY = dict(nebula_a=(0, 0, 0), nebula_b=(0, 0, 0), star=(0, 0, 0), sun=(0, 0, 0), planet=(0, 0, 0))
+
+
+# ------------------------------------------------------------------ palettes
+def test_palettes_name_every_colour_and_reject_bad_ones():
+    for name in materials.PALETTES:
+        assert set(materials.palette(name)) == set(materials.DEFAULT), name
+    p = materials.palette("default", trim=(1.0, 0.0, 0.0))
+    assert p["trim"] == (1.0, 0.0, 0.0) and materials.DEFAULT["trim"] != p["trim"]
+    with pytest.raises(materials.PaletteError, match="'nope'"):
+        materials.palette("nope")
+    with pytest.raises(materials.PaletteError, match="'glow'"):
+        materials.palette("default", glow=(1, 1, 1))
+    with pytest.raises(materials.PaletteError, match="three numbers in 0-1"):
+        materials.palette("default", trim=(1.0, 2.0, 0.0))
+
+
+def test_colorblind_palette_keeps_ana_and_kata_apart_in_lightness():
+    # Lightness survives every kind of colour blindness; hue may not.
+    p = materials.palette("colorblind")
+    la, lk = (float(np.dot(p[k], [0.2126, 0.7152, 0.0722])) for k in ("ana", "kata"))
+    assert abs(la - lk) > 0.15, (la, lk)
+
+
+def test_unknown_look_is_a_render_error(gl_ctx):
+    with pytest.raises(RenderError, match="unknown look 'neon'"):
+        Renderer(gl_ctx, look="neon")
+
+
+# ------------------------------------------------------------------------ sky
+def test_dome_geometry_is_finite_and_coloured_by_the_gradient():
+    p = materials.palette()
+    verts, behind, front, star_first = build_dome(p, (0.4, 1.0, 0.25))
+    assert verts.dtype == np.float32 and verts.shape[1] == 7 and np.isfinite(verts).all()
+    assert np.allclose(np.linalg.norm(verts[:, :3], axis=1), 1.0, atol=1e-5)  # directions
+    assert behind.max() < star_first and front.max() < star_first <= len(verts)
+    # The gradient: zenith straight up, horizon level, ground below.
+    d = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+    assert np.allclose(gradient(d, p), [p["sky_zenith"], p["sky_horizon"], p["sky_ground"]])
+
+
+@pytest.mark.gl
+def test_sky_dome_is_a_gradient_behind_the_scene(gl_ctx, target, renderer):
+    renderer.palette = materials.palette("default", **PLAIN_SKY)
+    p = renderer.palette
+    # Looking away from the sun and the planet (-z), level with the horizon.
+    cam = Camera3(position=np.zeros(3), yaw=np.pi, fov_y_deg=90.0)
+    img = draw(renderer, target, Frame(cam, hud=Hud(crosshair=False), sky="dome"))
+    horizon = np.round(np.array(p["sky_horizon"]) * 255)
+    assert np.abs(img[H // 2, W // 2] - horizon).max() <= 3, (img[H // 2, W // 2], horizon)
+    # Not one colour: the top row (45 degrees up) is nearer the zenith than the horizon is.
+    top = np.round(gradient(np.array([0.0, 1.0, -1.0]) / np.sqrt(2), p) * 255)
+    assert np.abs(img[0, W // 2] - top).max() <= 4, (img[0, W // 2], top)
+    assert np.abs(img[0, W // 2] - img[H // 2, W // 2]).max() > 10
+    # Scene geometry covers it: a near cube in the middle is drawn, the sky stays around it.
+    cube = Drawable("c", 0, box_mesh((0.0, 0.0, -3.0), (1.0, 1.0, 1.0), (0.9, 0.2, 0.1, 1.0)))
+    img2 = draw(renderer, target, Frame(cam, [cube], hud=Hud(crosshair=False), sky="dome"))
+    assert img2[H // 2, W // 2, 0] > img2[H // 2, W // 2, 2] + 40  # red cube, not blue sky
+    assert np.abs(img2[2, 2] - img[2, 2]).max() <= 1
+
+
+@pytest.mark.gl
+def test_sky_has_stars(gl_ctx, target, renderer):
+    cam = Camera3(position=np.zeros(3), yaw=np.pi, pitch=0.9, fov_y_deg=90.0)
+    img = draw(renderer, target, Frame(cam, hud=Hud(crosshair=False), sky="dome"))
+    lum = luminance(img)
+    # Points far brighter than the sky around them, a pixel or two each.
+    bright = lum > np.median(lum) + 60
+    assert 50 < bright.sum() < 0.05 * lum.size, bright.sum()
+
+
+@pytest.mark.gl
+def test_fog_fades_far_things_into_the_sky_behind_them(gl_ctx, target, renderer):
+    renderer.palette = materials.palette("default", **PLAIN_SKY)
+    cam = Camera3(position=np.zeros(3), yaw=np.pi, fov_y_deg=90.0)
+
+    def centre(z):
+        cube = Drawable(f"c{z}", 0, box_mesh((0.0, 0.0, z), (1.0, 1.0, 1.0), (0.9, 0.2, 0.1, 1.0)))
+        return draw(renderer, target, Frame(cam, [cube], hud=Hud(crosshair=False), sky="dome"))[H // 2, W // 2]
+
+    sky = np.round(np.array(renderer.palette["sky_horizon"]) * 255)
+    near, far = centre(-3.0), centre(-150.0)
+    assert np.abs(near - sky).max() > 30
+    assert np.abs(far - sky).max() < 8, (far, sky)
+
+
+# ------------------------------------------------------------------ scenery
+def _row_contrast(img: np.ndarray, row: int) -> float:
+    r = img[row].sum(axis=1)
+    return float(np.abs(r[1:-1] - 0.5 * (r[:-2] + r[2:])).max())
+
+
+@pytest.mark.gl
+def test_scifi_scenery_is_panelled_and_the_flat_look_is_not(gl_ctx, target):
+    cam = Camera3(position=np.array([0.3, 1.6, 0.2]), pitch=-0.5)
+    frame = Frame(cam, [Drawable("f", 0, plane_mesh(30.0))], hud=Hud(crosshair=False))
+    contrast = {}
+    for look in materials.LOOKS:
+        r = Renderer(gl_ctx, look=look)
+        contrast[look] = _row_contrast(draw(r, target, frame), int(H * 0.85))
+        r.release()
+    # Lighting is smooth; panel seams are not.
+    assert contrast["scifi"] > 20 and contrast["flat"] < 8, contrast
+
+
+@pytest.mark.gl
+def test_walls_carry_an_emissive_trim_near_the_floor(gl_ctx, target, renderer):
+    # A wall facing the camera, lit from behind it (the sun does not reach its face).
+    cam = Camera3(position=np.array([0.0, 0.4, -2.0]), pitch=-0.1)
+    wall = Drawable("w", 0, box_mesh((0.0, 1.5, 0.0), (6.0, 3.0, 0.2), (0.3, 0.3, 0.3, 1.0)))
+    frame = Frame(cam, [wall], hud=Hud(crosshair=False), light_dir=(0.0, 0.3, 1.0))
+    img = draw(renderer, target, frame)
+    col = img[:, W // 3]
+    trim = np.asarray(renderer.palette["trim"])
+    # The brightest pixel of the column is trim-coloured: blue-green over red.
+    y = int(np.argmax(col.sum(axis=1)))
+    assert col[y, 2] > col[y, 0] + 60 and col[y].sum() > 2 * np.median(col.sum(axis=1)), (y, col[y])
+    assert trim[2] > trim[0]
+
+
+# ------------------------------------------------------------------ the w cue
+def _cued(w_offset: float, time: float = 0.0) -> Frame:
+    cam = Camera3(position=np.array([0.0, 1.0, -2.2]))
+    box = Drawable("x", 0, box_mesh((0.0, 1.0, 0.0), (2.0, 2.0, 2.0), (0.4, 0.5, 0.9, 1.0)), w_offset=w_offset)
+    return Frame(cam, [box], hud=Hud(crosshair=False), time=time)
+
+
+def _transitions(bands: np.ndarray) -> int:
+    """Light-dark changes along a column of pixels (band edges): crossings of its mean."""
+    hi = bands > bands.mean()
+    return int(np.count_nonzero(hi[1:] != hi[:-1]))
+
+
+@pytest.mark.gl
+def test_w_cue_bands_grow_denser_towards_the_edge_of_a_4d_thing(gl_ctx, target, renderer):
+    base = luminance(draw(renderer, target, _cued(0.0)))
+    column = (slice(H // 8, 7 * H // 8), W // 2 + 7)
+    changes = {}
+    for off in (0.05, 0.35, 0.95):
+        bands = luminance(draw(renderer, target, _cued(off))) - base  # the lattice cancels out
+        changes[off] = (np.abs(bands[column]).mean(), _transitions(bands[column]))
+    # No bands near the thing's centre along w, then more the farther the slice is from it.
+    assert changes[0.05][0] < 1.0 and changes[0.35][0] > 5.0, changes
+    assert 2 <= changes[0.35][1] and changes[0.95][1] >= 2 * changes[0.35][1] + 4, changes
+
+
+@pytest.mark.gl
+def test_w_cue_tells_ana_from_kata_without_colour(gl_ctx, target, renderer):
+    # Ana and kata in one colour: the patterns must still differ (solid versus dotted bands).
+    renderer.palette = materials.palette("default", ana=(0.5, 0.5, 0.5), kata=(0.5, 0.5, 0.5))
+    base = luminance(draw(renderer, target, _cued(0.0)))  # the surface without bands
+    ana = luminance(draw(renderer, target, _cued(0.8))) - base
+    kata = luminance(draw(renderer, target, _cued(-0.8))) - base
+    box = (slice(H // 5, 4 * H // 5), slice(W // 3, 2 * W // 3))
+    assert np.abs(ana[box]).mean() > 5 and np.abs(kata[box]).mean() > 5  # both banded
+    # Along each row inside the box, solid bands are even; dotted bands break up.
+    assert kata[box].std(axis=1).mean() > 3 * ana[box].std(axis=1).mean()
+
+
+@pytest.mark.gl
+def test_w_cue_bands_move_with_time(gl_ctx, target, renderer):
+    a = luminance(draw(renderer, target, _cued(0.8, time=0.0)))
+    b = luminance(draw(renderer, target, _cued(0.8, time=0.4)))
+    assert np.abs(a - b).mean() > 1.0
+
+
+# -------------------------------------------------------- what the game hands over
+def test_game_frames_ask_for_the_dome_and_cue_4d_things_by_w():
+    from across_dimensions.game.sim import DT, Game
+    from across_dimensions.world.level import load_level
+
+    game = Game(load_level(LEVELS / "01_first_steps.toml"))
+    frame = game.frame()
+    assert frame.sky == "dome"
+    worlds = {d.key: d for d in frame.drawables if d.key.startswith("world:")}
+    # The blue world is centred on the player's w = 0; the static scenery has no cue.
+    assert worlds["world:0"].w_offset == pytest.approx(0.0, abs=1e-9)
+    assert next(d for d in frame.drawables if d.key == "static").w_offset is None
+    for _ in range(30):
+        game.step(Actions(w=1.0))
+    w = float(game.player.position[3])
+    assert w > 0.2
+    frame = game.frame(alpha=0.5)
+    assert frame.time == pytest.approx((game.tick + 0.5) * DT)
+    cues = {d.key: d.w_offset for d in frame.drawables if d.w_offset is not None}
+    # Blue (w = 0, depth 1.6) now lies kata of the slice, green (w = 1.2) ana: sign is the side,
+    # size the distance in half depths.
+    assert cues["world:0"] == pytest.approx((0.0 - w) / 0.8, rel=0.05)
+    assert cues["world:1"] == pytest.approx((1.2 - w) / 0.8, rel=0.05)
+    beacon = [v for k, v in cues.items() if k.startswith("entity:")]
+    assert beacon and all(0.0 < v <= 1.0 for v in beacon), beacon  # the beacon, at w = 0.9
