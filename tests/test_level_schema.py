@@ -44,7 +44,8 @@ def test_every_table_of_the_format_is_in_the_schema():
 
 
 @pytest.mark.parametrize(
-    "path", sorted((ROOT / "levels").glob("*.toml")) + [ROOT / "tests" / "data" / "crystals.toml"], ids=lambda p: p.stem
+    "path",
+    sorted(p for p in (ROOT / "levels").glob("*.toml") if p.name != "campaign.toml") + [ROOT / "tests" / "data" / "crystals.toml"], ids=lambda p: p.stem
 )
 def test_shipped_levels_validate(validator, path):
     assert errors(validator, path.read_text()) == []

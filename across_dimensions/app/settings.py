@@ -21,6 +21,9 @@ Settings live in one TOML file, ``settings.toml`` in the per-user config folder
     ghost_strength = 1.0         # times the ghosts' opacity
     ghost_layers = 1             # 1 or 2 per side
     reduce_motion = false        # seek jumps instead of gliding
+    render_scale = 1.0           # draw at this fraction of the window's resolution (0.5 to 1)
+    volume = 0.8                 # 0 (silent) to 1
+    colour_blind = false         # a palette that never tells things apart by red and green alone
 
     [bindings]                   # only the actions that differ from the preset
     jump = ["SPACE", "MOUSE_RIGHT"]
@@ -320,6 +323,9 @@ _RULES: dict[str, _Rule] = {
     "ghost_strength": _Rule("a factor of the ghosts' opacity from 0 to 3", _number(0.0, 3.0)),
     "ghost_layers": _Rule("1 or 2 (ghost layers on each side)", _integer(1, 2)),
     "reduce_motion": _Rule("true or false", _boolean),
+    "render_scale": _Rule("a fraction of the window's resolution from 0.5 to 1", _number(0.5, 1.0)),
+    "volume": _Rule("a number from 0 (silent) to 1", _number(0.0, 1.0)),
+    "colour_blind": _Rule("true or false", _boolean),
 }
 
 
@@ -406,6 +412,12 @@ class Settings:
         Ghost layers on each side of the slice, 1 or 2.
     reduce_motion : bool
         Seek jumps to its w instead of gliding there.
+    render_scale : float
+        Fraction of the window's resolution the scene is drawn at, in [0.5, 1].
+    volume : float
+        Sound volume, in [0, 1].
+    colour_blind : bool
+        A colour-blind-safe palette.
 
     Raises
     ------
@@ -433,6 +445,9 @@ class Settings:
     ghost_strength: float = 1.0
     ghost_layers: int = 1
     reduce_motion: bool = False
+    render_scale: float = 1.0
+    volume: float = 0.8
+    colour_blind: bool = False
 
     def __post_init__(self) -> None:
         for name, rule in _RULES.items():

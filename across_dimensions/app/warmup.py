@@ -1,41 +1,150 @@
-"""Compile the numba kernels before play starts, and say so when it is slow.
+"""Compile the numba kernels before play starts, in steps that report progress.
 
 The first run after an install compiles every kernel (about a minute on a
 2-core machine; later runs load them from the on-disk cache in well under a
-second). Doing it up front, with a notice, beats a window that freezes on its
-first frame or on entering the first level with rigid bodies.
+second). The window opens first and runs :class:`BackgroundWarmUp` behind the
+title screen, which shows :attr:`BackgroundWarmUp.done` of :attr:`~BackgroundWarmUp.total`
+steps; a level starts only when it has finished, so no frame freezes on a
+compile. Commands without a window call :func:`warm_up`, which says so on the
+terminal when it is slow.
+
+Each step calls the kernels of one part of the game once on tiny inputs; the
+last one plays a few ticks of a small level, which reaches the kernels only the
+game's systems use (the walker's collision against true sections, the radar...).
 """
 
 from __future__ import annotations
 
 import sys
 import threading
+import time
+from collections.abc import Callable
 
 NOTICE_AFTER = 1.5  # seconds: a cache hit finishes well before this
 
 
-def warm_up() -> None:
-    """Run each kernel the game uses once on a tiny input."""
-    from ..core import cross_section, frustum_project, shapes
+def _sections() -> None:
+    from ..core import cross_section, shapes
+
+    cross_section(shapes.tesseract())
+
+
+def _frustum() -> None:
+    from ..core import frustum_project, shapes
     from ..core.transform import translation
+
+    frustum_project(shapes.tesseract(), translation((0.0, 0.0, 0.0, -3.0)))
+
+
+def _physics_world():
     from ..physics import BodyDef, PhysicsWorld
 
-    notice = threading.Timer(
-        NOTICE_AFTER,
-        lambda: print("Compiling the 4D kernels (first run only, about a minute)...", file=sys.stderr, flush=True),
-    )
-    notice.daemon = True
-    notice.start()
+    world = PhysicsWorld(ground=False)
+    world.set_static_boxes([((0.0, -0.5, 0.0), (5.0, 0.5, 5.0))])
+    world.add_body(BodyDef("hypersphere", radius=0.5, position=(0.0, 0.5, 0.0, 0.0)))
+    world.add_body(BodyDef("hypercube", size=1.0, position=(0.2, 1.6, 0.0, 0.0)))
+    return world
+
+
+def _contacts() -> None:
+    _physics_world().tick()
+
+
+def _queries() -> None:
+    world = _physics_world()
+    world.push_box_out((0.0, 0.875, 0.0, 0.0), (0.3, 0.875, 0.3, 0.05))
+    world.raycast((0.0, 3.0, 0.0, 0.0), (0.0, -1.0, 0.0, 0.0))
+
+
+def _game() -> None:
+    from ..game.actions import Actions
+    from ..game.sim import Game
+    from ..world.level import load_level
+    from ..world.resources import levels_dir
+
+    path = levels_dir() / "02_crystal_cache.toml"  # small, with crystals, radar and w walls
+    if not path.is_file():
+        return
+    game = Game(load_level(path))
+    for _ in range(3):
+        game.step(Actions(forward=1.0, w=1.0))
+    game.frame()
+
+
+#: The warm-up, one step per part of the game: ``(what the title screen says, function)``.
+STEPS: tuple[tuple[str, Callable[[], None]], ...] = (
+    ("cross-sections", _sections),
+    ("the 4D camera", _frustum),
+    ("4D physics", _contacts),
+    ("collision queries", _queries),
+    ("a first level", _game),
+)
+
+
+def warm_up(progress: Callable[[int, int, str], None] | None = None) -> None:
+    """Run each kernel the game uses once on a tiny input.
+
+    Parameters
+    ----------
+    progress : callable, optional
+        Called as ``progress(done, total, label)`` before each step and once at the end;
+        without it, a terminal notice appears when the compile takes longer than a cache hit.
+    """
+    notice = None
+    if progress is None:
+        notice = threading.Timer(
+            NOTICE_AFTER,
+            lambda: print("Compiling the 4D kernels (first run only, about a minute)...", file=sys.stderr, flush=True),
+        )
+        notice.daemon = True
+        notice.start()
     try:
-        mesh = shapes.tesseract()
-        cross_section(mesh)
-        frustum_project(mesh, translation((0.0, 0.0, 0.0, -3.0)))
-        world = PhysicsWorld(ground=False)
-        world.set_static_boxes([((0.0, -0.5, 0.0), (5.0, 0.5, 5.0))])
-        world.add_body(BodyDef("hypersphere", radius=0.5, position=(0.0, 0.5, 0.0, 0.0)))
-        world.add_body(BodyDef("hypercube", size=1.0, position=(0.2, 1.6, 0.0, 0.0)))
-        world.tick()
-        world.push_box_out((0.0, 0.875, 0.0, 0.0), (0.3, 0.875, 0.3, 0.05))
-        world.raycast((0.0, 3.0, 0.0, 0.0), (0.0, -1.0, 0.0, 0.0))
+        for i, (label, step) in enumerate(STEPS):
+            if progress:
+                progress(i, len(STEPS), label)
+            step()
+        if progress:
+            progress(len(STEPS), len(STEPS), "ready")
     finally:
-        notice.cancel()
+        if notice is not None:
+            notice.cancel()
+
+
+class BackgroundWarmUp(threading.Thread):
+    """:func:`warm_up` on a daemon thread, its progress readable from the window's thread.
+
+    Attributes
+    ----------
+    done, total : int
+        Steps finished and steps in all.
+    label : str
+        The step running.
+    error : BaseException or None
+        What stopped it, if anything (the game then meets the problem again, and reports it, in play).
+    seconds : float or None
+        How long it took, once finished.
+    """
+
+    def __init__(self):
+        super().__init__(name="kernel warm-up", daemon=True)
+        self.done, self.total, self.label = 0, len(STEPS), STEPS[0][0]
+        self.error: BaseException | None = None
+        self.seconds: float | None = None
+        self.finished = threading.Event()
+
+    def _progress(self, done: int, total: int, label: str) -> None:
+        self.done, self.total, self.label = done, total, label
+
+    def run(self) -> None:
+        start = time.perf_counter()
+        try:
+            warm_up(self._progress)
+        except Exception as e:  # noqa: BLE001 - reported by the window, met again in play
+            self.error = e
+        finally:
+            self.seconds = time.perf_counter() - start
+            self.finished.set()
+
+    @property
+    def ready(self) -> bool:
+        return self.finished.is_set()
