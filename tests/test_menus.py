@@ -46,7 +46,9 @@ def test_campaign_order_skips_missing_files_and_every_entry_loads():
 def test_bad_campaign_names_file_and_entry(tmp_path):
     (tmp_path / "a.toml").write_text("")
     bad = tmp_path / "campaign.toml"
-    bad.write_text('[[level]]\nfile = "../x"\ntitle = "X"\n[[level]]\nfile = "a"\n[[level]]\nfile = "zz"\ntitle = "Z"\n')
+    bad.write_text(
+        '[[level]]\nfile = "../x"\ntitle = "X"\n[[level]]\nfile = "a"\n[[level]]\nfile = "zz"\ntitle = "Z"\n'
+    )
     with pytest.raises(CampaignError) as e:
         load_campaign(bad)
     lines = str(e.value).splitlines()
@@ -118,13 +120,19 @@ def _menu(progress=None, settings=None):
     return menu, changed
 
 
-def _select(menu, key):
-    """Move with the keyboard to the row ``key`` and press Enter, as a player would."""
+def _goto(menu, key):
+    """Move with the keyboard to the row ``key``, as a player would."""
     for _ in range(len(menu.items()) + 1):
         if menu.items()[menu.selected[menu.screen]].key == key:
-            return menu.input("select")
+            return
         menu.input("down")
     raise AssertionError(f"no row {key!r} reachable on {menu.screen}: {[i.key for i in menu.items()]}")
+
+
+def _select(menu, key):
+    """Move to the row ``key`` and press Enter."""
+    _goto(menu, key)
+    return menu.input("select")
 
 
 def test_title_to_level_select_shows_locked_and_finished():
@@ -172,7 +180,7 @@ def test_settings_apply_at_once_by_keyboard_and_mouse():
     for name in ("mouse_sensitivity", "invert_x", "invert_y", "fov_deg", "render_scale", "volume"):
         assert f"set:{name}" in keys
     assert "set:colour_blind" in keys and "set:reduce_motion" in keys
-    _select(menu, "set:fov_deg")
+    _goto(menu, "set:fov_deg")
     menu.input("right")
     assert s.fov_deg == 80.0 and changed[-1] == "fov_deg"
     for _ in range(20):
@@ -186,7 +194,7 @@ def test_settings_apply_at_once_by_keyboard_and_mouse():
     menu.click(keys.index("set:invert_y"))
     assert s.invert_y is True and changed[-1] == "invert_y"
     _select(menu, "set:reduce_motion")
-    assert s.reduce_motion is True
+    assert s.reduce_motion is True and changed[-1] == "reduce_motion"
     menu.input("left")
     assert s.reduce_motion is False
     Settings(**{f: getattr(s, f) for f in ("fov_deg", "render_scale", "volume", "mouse_sensitivity")})  # all valid
@@ -228,11 +236,12 @@ def test_rebinding_conflicts_and_presets(tmp_path):
     _select(menu, "swap")
     assert s.keys_for("w_kata") == ("F",) and s.keys_for("w_ana") == ("Q",) and s.conflicts() == {}
     # Backspace unbinds.
-    _select(menu, "bind:screenshot")
+    _goto(menu, "bind:screenshot")
     menu.input("clear")
     assert s.keys_for("screenshot") == ()
     # The preset row resets every key to AZERTY, and back.
-    _select(menu, "preset")
+    _goto(menu, "preset")
+    menu.input("select")
     assert s.preset == "azerty" and s.keys_for("move_forward") == PRESETS["azerty"]["move_forward"]
     menu.input("right")
     assert s.preset == "qwerty" and all(s.keys_for(a) == PRESETS["qwerty"].get(a, ()) for a in ACTIONS)
@@ -273,7 +282,8 @@ def test_menu_verbs_follow_the_players_keys():
 # ---- the window's flow, headless (a fresh process: see test_input.py) ---------------------
 _FLOW = r"""
 import os, sys
-from pathlib import Path
+import pyglet
+pyglet.options["headless"] = True
 try:
     from across_dimensions.app.settings import Settings
     from across_dimensions.app.window import GameWindow
@@ -299,7 +309,8 @@ t = w.game.tick
 w.update(DT * 1.0001)
 assert w.game.tick == t                                           # paused: no ticks
 w.on_key_press(key.DOWN, 0); w.on_key_press(key.DOWN, 0); w.on_key_press(key.RETURN, 0)   # Settings
-w.on_key_press(key.DOWN, 0); w.on_key_press(key.DOWN, 0); w.on_key_press(key.DOWN, 0)
+for _ in range(4):
+    w.on_key_press(key.DOWN, 0)
 w.on_key_press(key.RIGHT, 0)                                      # field of view 75 -> 80, saved at once
 assert w.settings.fov_deg == 80.0
 w.on_key_press(key.ESCAPE, 0); w.on_key_press(key.ESCAPE, 0)      # back, resume

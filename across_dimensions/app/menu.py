@@ -245,7 +245,8 @@ class Menu:
         items = self.items()
         keep = self.selected.get(screen, 0)
         if screen in ("conflict", "title", "pause") or not (0 <= keep < len(items) and items[keep].enabled):
-            self.selected[screen] = self._first_enabled(items)
+            keep = self._first_enabled(items)
+        self.selected[screen] = keep
         self._scroll_to_selected()
 
     def pop(self) -> str | None:

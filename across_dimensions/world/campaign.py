@@ -101,7 +101,8 @@ def load_campaign(path: Path | None = None) -> list[CampaignEntry]:
             if key not in ("file", "title", "teaches"):
                 problems.append(f"{where}: unknown key {key!r}: expected file, title and teaches")
         if not isinstance(stem, str) or not stem or "/" in stem or "\\" in stem or stem.startswith("."):
-            problems.append(f"{where}: file = {stem!r}: expected a level name in {path.parent} such as '01_first_steps'")
+            expected = f"a level name in {path.parent} such as '01_first_steps'"
+            problems.append(f"{where}: file = {stem!r}: expected {expected}")
             continue
         if not isinstance(title, str) or not title.strip():
             problems.append(f"{where} ({stem}): title = {title!r}: expected the name shown to the player")
