@@ -39,7 +39,7 @@ from .settings import ACTION_DESCRIPTIONS, ACTIONS, PRESETS, Settings
 #: What the window tells the menu. ``clear`` unbinds a key in the controls list.
 VERBS = ("up", "down", "left", "right", "select", "back", "clear")
 #: Rows of items visible at once; longer lists scroll.
-VISIBLE_ROWS = 12
+VISIBLE_ROWS = 10
 
 #: Keys that always work in the menus, whatever the bindings.
 _FIXED_VERBS = {

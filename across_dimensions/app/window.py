@@ -203,6 +203,8 @@ class GameWindow(pyglet.window.Window):
                 self.start_recording()
             self.set_exclusive_mouse(True)
         self.last_draw: float | None = None
+        self.level_drawn = False
+        _timing("window open")
 
     # ----------------------------------------------------------------- levels
     def load(self, path: Path, checkpoint: int | None = None) -> None:
@@ -266,6 +268,8 @@ class GameWindow(pyglet.window.Window):
             return
         path, checkpoint = self.pending
         self.pending = None
+        if self.warm is not None and self.warm.seconds is not None:
+            _timing(f"kernels ready after {self.warm.seconds:.1f} s of warm-up")
         self.load(path, checkpoint)
         if self.record_path:
             self.start_recording()
@@ -666,6 +670,9 @@ class GameWindow(pyglet.window.Window):
         fw, fh = self.get_framebuffer_size()
         self.ctx.screen.use()
         self.draw_view((0, 0, fw, fh))
+        if self.game is not None and not self.level_drawn:
+            self.level_drawn = True
+            _timing("first level frame")
         if getattr(self, "_pending_shot", False):
             self._pending_shot = False
             self.screenshot()
@@ -709,6 +716,13 @@ class GameWindow(pyglet.window.Window):
         print(f"screenshot saved: {path}", flush=True)
         self.say(f"Screenshot saved: {path}", 2.0)
         return path
+
+
+def _timing(what: str) -> None:
+    """With ``ACROSS_DIMENSIONS_TIMING`` set, print when ``what`` happened (Unix time), for the
+    start-up measurements in the README."""
+    if os.environ.get("ACROSS_DIMENSIONS_TIMING"):
+        print(f"timing: {what} at {time.time():.3f}", flush=True)
 
 
 class _Missing(dict):

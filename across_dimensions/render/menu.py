@@ -62,17 +62,24 @@ def _scales(view, height: int) -> tuple[int, int, int]:
 
 
 def _panel(view, width: int, height: int) -> tuple[int, int, int, int]:
+    """The panel's rectangle: as tall as its rows (up to the space under the title)."""
     s_title, s_row, s_small = _scales(view, height)
-    pw = min(width - 2 * max(8, width // 40), max(CELL_W * s_row * 64, width // 2))
+    chars = 40 if view.screen in ("title", "pause", "conflict") else 64
+    pw = min(width - 2 * max(8, width // 40), max(CELL_W * s_row * chars, width // 3))
     top = int(height * 0.22)
     bottom = height - 3 * CELL_H * s_small
-    return (width - pw) // 2, top, pw, bottom - top
+    pad = CELL_W * s_row
+    rows = min(view.rows, len(view.items))
+    content = 2 * pad + rows * _row_height(view, height) + (3 * CELL_H * s_row if view.progress is not None else 0)
+    if view.prompt:
+        content += 6 * CELL_H * s_row
+    return (width - pw) // 2, top, pw, min(bottom - top, max(content, 8 * CELL_H * s_row))
 
 
 def _row_height(view, height: int) -> int:
     _, s_row, s_small = _scales(view, height)
     two_lines = view.screen in ("levels", "controls")
-    return CELL_H * s_row + (CELL_H * s_small if two_lines else 0) + CELL_H * s_row // 2
+    return CELL_H * s_row + (CELL_H * s_small + 2 if two_lines else 0) + CELL_H * s_row * 5 // 8
 
 
 def menu_layout(view, width: int, height: int) -> list[RowBox]:
@@ -186,7 +193,8 @@ def menu_quads(view, width: int, height: int) -> np.ndarray:
             q.rect(bx, by, int(round(bw * item.fraction)), bh, FILL_COLOR)
         if item.note and view.screen in ("levels", "controls"):
             ncol = WARN_COLOR if item.warn else NOTE_COLOR
-            q.text(_fit(item.note, rw - 2 * pad, s_small), rx + pad, y + CELL_H * s_row, s_small, ncol)
+            ncol = ncol if item.enabled else DISABLED_COLOR
+            q.text(_fit(item.note, rw - 2 * pad, s_small), rx + pad, y + CELL_H * s_row + 2, s_small, ncol)
     # More rows above or below: arrows at the panel's right edge.
     if view.first > 0:
         q.text("^", px + pw - pad, py + 2, s_row, ACCENT_COLOR)
