@@ -340,3 +340,28 @@ def test_window_flow_title_level_pause_settings(tmp_path):
     saved = json.loads((tmp_path / "progress.json").read_text())
     assert saved["current"] == {"level": "01_first_steps", "checkpoint": None}
     assert levels_dir().is_dir()
+
+
+def test_checkpoint_adapter_resumes_where_the_game_can():
+    from across_dimensions.app.saves import checkpoint_of, resume_at_checkpoint
+
+    class NoCheckpoints:
+        pass
+
+    class WithCheckpoints:
+        checkpoint = None
+
+        def restart_at_checkpoint(self, index):
+            if index >= 2:
+                raise IndexError(index)
+            self.checkpoint = index
+
+    assert checkpoint_of(NoCheckpoints()) is None
+    assert not resume_at_checkpoint(NoCheckpoints(), 1)  # a level without checkpoints: its start
+    game = WithCheckpoints()
+    assert checkpoint_of(game) is None
+    assert resume_at_checkpoint(game, 1) and checkpoint_of(game) == 1
+    assert not resume_at_checkpoint(game, 5)  # the level changed since the save: its start
+    assert not resume_at_checkpoint(game, None)
+    game.checkpoint = True  # not an index
+    assert checkpoint_of(game) is None

@@ -17,6 +17,7 @@ does not spiral; the frame is drawn interpolated by the remainder.
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 import signal
 import sys
@@ -39,7 +40,7 @@ from ..world.campaign import CampaignEntry, CampaignError, load_campaign, next_i
 from ..world.level import load_level
 from ..world.resources import level_files, resolve_level
 from .menu import Menu, menu_verb
-from .saves import load_progress, save_progress
+from .saves import checkpoint_of, load_progress, resume_at_checkpoint, save_progress
 from .settings import KEY_NAMES, Settings, load_settings, look_delta, save_settings, settings_path
 from .warmup import BackgroundWarmUp, warm_up
 
@@ -63,30 +64,14 @@ def _key_name(kind: str, code) -> str | None:
         return "MOUSE_WHEEL_UP" if code > 0 else "MOUSE_WHEEL_DOWN"
     if kind == "mouse":
         return next((n for n, attr in _MOUSE.items() if getattr(pyglet.window.mouse, attr) == code), None)
-    return _KEY_NAMES_BY_CODE.get(code)
+    return _key_names_by_code().get(code)
 
 
-#: pyglet key code -> the settings' name for it (pyglet has aliases: RETURN is ENTER, GRAVE is QUOTELEFT).
-_KEY_NAMES_BY_CODE = {getattr(pyglet.window.key, n): n for n in sorted(KEY_NAMES) if not n.startswith("MOUSE_")}
-
-
-def checkpoint_of(game) -> int | None:
-    """The index of the last checkpoint the player reached, or None (the level's start, or a
-    level without checkpoints). An adapter: checkpoints belong to the enemies' systems."""
-    index = getattr(game, "checkpoint", None)
-    return index if isinstance(index, int) and not isinstance(index, bool) and index >= 0 else None
-
-
-def resume_at_checkpoint(game, index: int | None) -> bool:
-    """Put the player at checkpoint ``index`` if the game knows how; False leaves them at the start."""
-    restart = getattr(game, "restart_at_checkpoint", None)
-    if index is None or restart is None:
-        return False
-    try:
-        restart(index)
-    except (IndexError, ValueError):  # the level changed since the save: its start, then
-        return False
-    return True
+@functools.cache
+def _key_names_by_code() -> dict[int, str]:
+    """pyglet key code -> the settings' name for it (pyglet has aliases: RETURN is ENTER, GRAVE is
+    QUOTELEFT). Built on first use: ``pyglet.window`` needs a display the moment it is imported."""
+    return {getattr(pyglet.window.key, n): n for n in sorted(KEY_NAMES) if not n.startswith("MOUSE_")}
 
 
 def _key_code(name: str):
@@ -111,6 +96,9 @@ class GameWindow(pyglet.window.Window):
         Compile the kernels behind a loading screen before ``level_path`` starts.
     settings_file : path, optional
         Where menu changes are saved (``--settings``); the default settings file otherwise.
+    warm : BackgroundWarmUp, optional
+        A warm-up already running (started before the window, so the two overlap); one is
+        started here when needed and not given.
     """
 
     def __init__(
@@ -124,6 +112,7 @@ class GameWindow(pyglet.window.Window):
         quit_after: float | None = None,
         warm_first: bool = False,
         settings_file=None,
+        warm: BackgroundWarmUp | None = None,
     ):
         config = pyglet.gl.Config(
             major_version=3, minor_version=3, forward_compatible=True, depth_size=24, double_buffer=True
@@ -187,8 +176,8 @@ class GameWindow(pyglet.window.Window):
         self.pending: tuple[Path, int | None] | None = None  # a level waiting for the warm-up
         self.crystals_found = 0
         self.completed_saved = False
-        self.warm: BackgroundWarmUp | None = None
-        if level_path is None or warm_first:
+        self.warm: BackgroundWarmUp | None = warm
+        if (level_path is None or warm_first) and warm is None:
             self.warm = BackgroundWarmUp()
             self.warm.start()
         if level_path is None:
@@ -781,8 +770,12 @@ def run_window(args) -> int:
     if args.record:
         check_record_path(args.record)
     editing = getattr(args, "edit", False)
+    warm = None
     if editing:  # the editor builds games of its own from its first frame: compile before it opens
         warm_up()
+    else:  # started first, so loading the kernels overlaps with opening the window
+        warm = BackgroundWarmUp()
+        warm.start()
     try:
         # The window opens at once; the kernels compile behind its title (or loading) screen.
         window = GameWindow(
@@ -795,6 +788,7 @@ def run_window(args) -> int:
             quit_after=args.quit_after,
             warm_first=path is not None and not editing,
             settings_file=args.settings,
+            warm=warm,
         )
         if editing:
             window.open_editor(from_play=False)
