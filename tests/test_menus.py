@@ -323,6 +323,39 @@ for _ in range(3):
 w.on_key_press(key.RETURN, 0)                                     # quit to title
 assert w.menu.screen == "title"
 print("current", w.progress.current)
+# The mouse: hover and click rows where they are drawn (window coordinates, origin bottom-left).
+from across_dimensions.render.menu import menu_layout
+from pyglet.window import mouse
+def click(index):
+    fw, fh = w.get_framebuffer_size()
+    box = next(b for b in menu_layout(w.menu.view(), fw, fh) if b.index == index)
+    x, y = box.rect[0] + 5, box.rect[1] + box.rect[3] // 2
+    sx, sy = w.width / fw, w.height / fh
+    w.on_mouse_motion(x * sx, w.height - y * sy, 0, 0)
+    assert w.menu.selected[w.menu.screen] == index
+    w.on_mouse_press(x * sx, w.height - y * sy, mouse.LEFT, 0)
+click(1)
+assert w.menu.screen == "levels"
+click(0)
+w.update(DT)
+assert w.menu.screen is None and w.game is not None
+# Finishing a level through the window: level 2's shipped replay, fed as the player's input.
+from across_dimensions.game.replay import Replay
+from across_dimensions.world.resources import levels_dir
+from across_dimensions.game.actions import Actions
+frames = iter(Replay.load(levels_dir() / "replays" / "02_crystal_cache.json").actions)
+w.start_level(levels_dir() / "02_crystal_cache.toml")
+w.read_actions = lambda: next(frames, Actions())
+for _ in range(100000):
+    if w.game.outcome == "complete":
+        break
+    w.update(DT)
+assert w.game.outcome == "complete"
+p = w.progress
+print("finished", sorted(p.finished), "crystals", p.crystals, "current", p.current)
+for _ in range(int(4 / DT)):                                      # the next level follows the campaign
+    w.update(DT * 1.0001)
+print("next", w.level_path.stem)
 """
 
 
@@ -338,7 +371,9 @@ def test_window_flow_title_level_pause_settings(tmp_path):
     settings, warnings = load_settings(tmp_path / "settings.toml")
     assert warnings == [] and settings.fov_deg == 80.0
     saved = json.loads((tmp_path / "progress.json").read_text())
-    assert saved["current"] == {"level": "01_first_steps", "checkpoint": None}
+    assert "finished ['02_crystal_cache'] crystals {'02_crystal_cache': (2, 3)} current 03_tumbling_hall" in r.stdout
+    assert "next 03_tumbling_hall" in r.stdout
+    assert saved["finished"]["02_crystal_cache"] > 0 and saved["crystals"] == {"02_crystal_cache": [2, 3]}  # the replay takes 2 of 3
     assert levels_dir().is_dir()
 
 
