@@ -79,7 +79,7 @@ def _panel(view, width: int, height: int) -> tuple[int, int, int, int]:
 def _row_height(view, height: int) -> int:
     _, s_row, s_small = _scales(view, height)
     two_lines = view.screen in ("levels", "controls")
-    return CELL_H * s_row + (CELL_H * s_small + 2 if two_lines else 0) + CELL_H * s_row * 5 // 8
+    return CELL_H * s_row + (CELL_H * s_small + 2 if two_lines else 0) + CELL_H * s_row * (7 if two_lines else 5) // 8
 
 
 def menu_layout(view, width: int, height: int) -> list[RowBox]:
