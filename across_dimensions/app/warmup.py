@@ -8,6 +8,14 @@ steps; a level starts only when it has finished, so no frame freezes on a
 compile. Commands without a window call :func:`warm_up`, which says so on the
 terminal when it is slow.
 
+The compile itself runs in a child process (``python -m across_dimensions.app.warmup``)
+that fills the on-disk cache and reports each step on its standard output; the
+window's process then loads the kernels from that cache. A compile on a thread
+of the window's own process would hold the interpreter lock for most of a
+minute, and the window (whose every OpenGL call through ctypes gives the lock
+up and waits to get it back) would stop answering. A frozen build, which has no
+interpreter to start, compiles on the thread.
+
 Each step calls the kernels of one part of the game once on tiny inputs; the
 last one plays a few ticks of a small level, which reaches the kernels only the
 game's systems use (the walker's collision against true sections, the radar...).
@@ -15,6 +23,8 @@ game's systems use (the walker's collision against true sections, the radar...).
 
 from __future__ import annotations
 
+import atexit
+import subprocess
 import sys
 import threading
 import time
@@ -135,10 +145,41 @@ class BackgroundWarmUp(threading.Thread):
     def _progress(self, done: int, total: int, label: str) -> None:
         self.done, self.total, self.label = done, total, label
 
+    def _loading(self, done: int, total: int, label: str) -> None:
+        # Loading from the cache the child filled: quick; the bar stays full until it is done.
+        self.label = "loading" if done < total else label
+
+    def _compile_in_child(self) -> None:
+        """Fill the kernel cache from a child process, following its progress; on any failure
+        the in-process warm-up that follows compiles (and reports) instead."""
+        if getattr(sys, "frozen", False):
+            return
+        try:
+            child = subprocess.Popen(
+                [sys.executable, "-m", "across_dimensions.app.warmup"],
+                stdout=subprocess.PIPE,
+                stderr=subprocess.DEVNULL,
+                stdin=subprocess.DEVNULL,
+                text=True,
+            )
+        except OSError:
+            return
+        # The game may close mid-compile: the child goes with it.
+        stop = atexit.register(lambda: child.poll() is None and child.kill())
+        try:
+            for line in child.stdout:  # blocks in a read that releases the interpreter lock
+                parts = line.split(maxsplit=3)
+                if len(parts) >= 3 and parts[0] == "step" and parts[1].isdigit() and parts[2].isdigit():
+                    self._progress(int(parts[1]), int(parts[2]), parts[3].strip() if len(parts) > 3 else "")
+            child.wait()
+        finally:
+            atexit.unregister(stop)
+
     def run(self) -> None:
         start = time.perf_counter()
         try:
-            warm_up(self._progress)
+            self._compile_in_child()
+            warm_up(self._loading)
         except Exception as e:  # noqa: BLE001 - reported by the window, met again in play
             self.error = e
         finally:
@@ -148,3 +189,15 @@ class BackgroundWarmUp(threading.Thread):
     @property
     def ready(self) -> bool:
         return self.finished.is_set()
+
+
+def main() -> int:
+    """The child process's work: each step, announced as ``step DONE TOTAL LABEL`` on stdout."""
+    warm_up(lambda done, total, label: print(f"step {done} {total} {label}", flush=True))
+    return 0
+
+
+if __name__ == "__main__":
+    # Imported as part of the package (``-m``), so ``across_dimensions.app`` has already pointed
+    # numba's cache at the game's folder, the same one the window's process reads.
+    sys.exit(main())

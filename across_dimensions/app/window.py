@@ -45,6 +45,10 @@ from .settings import KEY_NAMES, Settings, load_settings, look_delta, save_setti
 from .warmup import BackgroundWarmUp, warm_up
 
 MAX_CATCH_UP = 5
+#: Seconds between redraws of a menu that has not changed (no level running): a software
+#: rasterizer would otherwise redraw a still screen 120 times a second, taking the CPU the
+#: kernel compile behind the title needs. Below ``update``'s 0.25 s clamp, so time keeps pace.
+IDLE_REDRAW = 0.2
 HINT_SECONDS = 7.0
 NEXT_LEVEL_DELAY = 3.0
 
@@ -193,6 +197,7 @@ class GameWindow(pyglet.window.Window):
             self.set_exclusive_mouse(True)
         self.last_draw: float | None = None
         self.level_drawn = False
+        self._drawn_signature, self._drawn_times, self._drawn_at = None, 0, 0.0
         _timing("window open")
 
     # ----------------------------------------------------------------- levels
@@ -479,7 +484,9 @@ class GameWindow(pyglet.window.Window):
             elif action in ("screenshot", "toggle_fullscreen"):
                 self.screenshot() if action == "screenshot" else self.set_fullscreen(not self.fullscreen)
             return pyglet.event.EVENT_HANDLED  # keep Esc from closing the window
-        if self.game is None:
+        if self.game is None:  # a level waiting for the kernels
+            if action == "screenshot":
+                self.screenshot()
             return pyglet.event.EVENT_HANDLED
         self.count_press("key", symbol)
         if action == "pause":
@@ -649,6 +656,21 @@ class GameWindow(pyglet.window.Window):
             return text.format_map(_Missing(keys))
         except (ValueError, IndexError):  # a stray brace in a game prompt: show it as written
             return text
+
+    def draw(self, dt: float) -> None:
+        """pyglet's redraw, skipped (no draw, no buffer swap) while a still menu is on screen."""
+        if self.game is None or self.menu.screen:
+            self._start_pending()
+            if self.warm is not None:
+                self.menu.progress_bar = None if self.warm.ready else (self.warm.done, self.warm.total, self.warm.label)
+            signature = (repr(self.menu.view()), self.pending is None, self.notice[0])
+            now = time.perf_counter()
+            fresh = signature != self._drawn_signature
+            if not fresh and self._drawn_times >= 2 and now - self._drawn_at < IDLE_REDRAW:
+                return  # both buffers already hold this picture
+            self._drawn_times = 1 if fresh else self._drawn_times + 1
+            self._drawn_signature, self._drawn_at = signature, now
+        super().draw(dt)
 
     def on_draw(self):
         # One update per drawn frame: the wall clock is read here, in the app,
