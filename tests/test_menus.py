@@ -401,3 +401,16 @@ def test_checkpoint_adapter_resumes_where_the_game_can():
     assert not resume_at_checkpoint(game, None)
     game.checkpoint = True  # not an index
     assert checkpoint_of(game) is None
+
+
+def test_warm_up_child_reports_every_step():
+    """The child process the title screen starts: one ``step`` line per step, then done."""
+    from across_dimensions.app.warmup import STEPS
+
+    r = subprocess.run(
+        [sys.executable, "-m", "across_dimensions.app.warmup"], capture_output=True, text=True, timeout=900
+    )
+    assert r.returncode == 0, r.stdout + r.stderr
+    lines = r.stdout.splitlines()
+    n = len(STEPS)
+    assert lines == [f"step {i} {n} {label}" for i, (label, _) in enumerate(STEPS)] + [f"step {n} {n} ready"]
