@@ -533,8 +533,8 @@ class GameWindow(pyglet.window.Window):
 
     def set_paused(self, paused: bool) -> None:
         """Pause (opening the pause menu) or resume play."""
-        if self.game is None:
-            return
+        if self.game is None or (paused and self.paused and self.menu.screen):
+            return  # already paused: losing focus in a sub-menu keeps it open
         self.paused = paused
         if paused:
             self.menu.open("pause")
