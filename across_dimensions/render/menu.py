@@ -165,7 +165,7 @@ def menu_quads(view, width: int, height: int) -> np.ndarray:
     if view.progress is not None:
         done, total, label = view.progress
         y = py + pad
-        line = f"Preparing the 4D world: {label} ({done}/{total})" if done < total else "Ready"
+        line = f"Preparing the 4D world {done}/{total}: {label}" if done < total else "Ready"
         q.text(_fit(line, pw - 2 * pad, s_row), px + pad, y, s_row, PROMPT_COLOR if done < total else VALUE_COLOR)
         bar = (px + pad, y + CELL_H * s_row + 4, pw - 2 * pad, max(3, CELL_H * s_row // 3))
         q.rect(*bar, TRACK_COLOR)
