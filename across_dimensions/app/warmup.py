@@ -14,7 +14,10 @@ window's process then loads the kernels from that cache. A compile on a thread
 of the window's own process would hold the interpreter lock for most of a
 minute, and the window (whose every OpenGL call through ctypes gives the lock
 up and waits to get it back) would stop answering. A frozen build, which has no
-interpreter to start, compiles on the thread.
+interpreter to start, compiles on the thread. Once a warm-up has finished, a
+stamp in the cache folder (:func:`stamp_path`, named by a hash of the package's
+sources as numba keys its own cache) says later starts need no child: they load
+the kernels on the thread in about a second.
 
 Each step calls the kernels of one part of the game once on tiny inputs; the
 last one plays a few ticks of a small level, which reaches the kernels only the
@@ -24,11 +27,14 @@ game's systems use (the walker's collision against true sections, the radar...).
 from __future__ import annotations
 
 import atexit
+import hashlib
+import os
 import subprocess
 import sys
 import threading
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 NOTICE_AFTER = 1.5  # seconds: a cache hit finishes well before this
 
@@ -120,6 +126,37 @@ def warm_up(progress: Callable[[int, int, str], None] | None = None) -> None:
             notice.cancel()
 
 
+def stamp_path() -> Path | None:
+    """The file whose presence says the kernel cache is warm for these sources, or None when numba
+    keeps its cache in its default places (no ``NUMBA_CACHE_DIR``).
+
+    Its name hashes the Python and numba versions and the path, size and modification time of
+    every module of the package, which is what numba's own cache is keyed by.
+    """
+    folder = os.environ.get("NUMBA_CACHE_DIR")
+    if not folder:
+        return None
+    import numba
+
+    package = Path(__file__).resolve().parents[1]
+    h = hashlib.sha256(f"{sys.version}|{numba.__version__}|{package}".encode())
+    for path in sorted(package.rglob("*.py")):
+        st = path.stat()
+        h.update(f"{path.relative_to(package)}|{st.st_size}|{st.st_mtime_ns}\n".encode())
+    return Path(folder) / f"warm-{h.hexdigest()[:16]}.stamp"
+
+
+def _write_stamp() -> None:
+    from ..core.fileio import FileProblem, atomic_write
+
+    path = stamp_path()
+    if path is not None and path.parent.is_dir():
+        try:
+            atomic_write(path, "the kernels in this folder were compiled for these sources\n")
+        except (FileProblem, OSError):  # only costs the next start a child process
+            pass
+
+
 class BackgroundWarmUp(threading.Thread):
     """:func:`warm_up` on a daemon thread, its progress readable from the window's thread.
 
@@ -154,6 +191,9 @@ class BackgroundWarmUp(threading.Thread):
         the in-process warm-up that follows compiles (and reports) instead."""
         if getattr(sys, "frozen", False):
             return
+        stamp = stamp_path()
+        if stamp is not None and stamp.exists():  # warm: loading on the thread takes a second
+            return
         try:
             child = subprocess.Popen(
                 [sys.executable, "-m", "across_dimensions.app.warmup"],
@@ -180,6 +220,7 @@ class BackgroundWarmUp(threading.Thread):
         try:
             self._compile_in_child()
             warm_up(self._loading)
+            _write_stamp()
         except Exception as e:  # noqa: BLE001 - reported by the window, met again in play
             self.error = e
         finally:
