@@ -174,6 +174,8 @@ class GameWindow(pyglet.window.Window):
             self.campaign = [CampaignEntry(p.stem, p.stem, "", p) for p in level_files()]
         self.menu = Menu(settings, self.progress, self.campaign, on_change=self.setting_changed)
         self.menu_renderer = MenuRenderer(self.renderer.hud)
+        if settings.colour_blind:
+            self.apply_palette()
         self.notice = ("; ".join(warnings), 8.0) if warnings else ("", 0.0)
         self.game: Game | None = None
         self.level_path = Path(level_path) if level_path is not None else None
@@ -295,13 +297,17 @@ class GameWindow(pyglet.window.Window):
         if name == "bindings":
             self.bindings = {a: [_key_code(k) for k in s.keys_for(a)] for a in s.bindings}
         if name == "colour_blind":
-            set_palette = getattr(self.renderer, "set_palette", None)  # the renderer's palette hook, if any
-            if set_palette is not None:
-                set_palette("colour_blind" if s.colour_blind else "default")
+            self.apply_palette()
         try:
             save_settings(s, self.settings_file)
         except (OSError, InputError, ValueError) as e:
             self.say(f"Settings not saved: {e}", 6.0)
+
+    def apply_palette(self) -> None:
+        """Switch the renderer's palette, through its hook when it has one (``set_palette(name)``)."""
+        set_palette = getattr(self.renderer, "set_palette", None)
+        if set_palette is not None:
+            set_palette("colour_blind" if self.settings.colour_blind else "default")
 
     def save_progress(self) -> None:
         try:
