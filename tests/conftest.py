@@ -163,3 +163,12 @@ def xvfb_display(number: int, env_var: str):
     finally:
         server.terminate()
         server.wait(timeout=10)
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _own_data_folder(tmp_path_factory):
+    """The game's saves (progress.json) go to a folder of the test run, never the player's own;
+    child processes inherit it through the environment."""
+    if not os.environ.get("ACROSS_DIMENSIONS_DATA_DIR"):
+        os.environ["ACROSS_DIMENSIONS_DATA_DIR"] = str(tmp_path_factory.mktemp("data"))
+    yield

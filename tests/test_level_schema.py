@@ -43,9 +43,10 @@ def test_every_table_of_the_format_is_in_the_schema():
         assert set(schema["$defs"][name]["properties"]) == set(model)
 
 
-@pytest.mark.parametrize(
-    "path", sorted((ROOT / "levels").glob("*.toml")) + [ROOT / "tests" / "data" / "crystals.toml"], ids=lambda p: p.stem
-)
+LEVEL_FILES = sorted(p for p in (ROOT / "levels").glob("*.toml") if p.name != "campaign.toml")
+
+
+@pytest.mark.parametrize("path", LEVEL_FILES + [ROOT / "tests" / "data" / "crystals.toml"], ids=lambda p: p.stem)
 def test_shipped_levels_validate(validator, path):
     assert errors(validator, path.read_text()) == []
 

@@ -17,7 +17,7 @@ from across_dimensions.game.hints import HOLD_SECONDS, HintBook, placeholders, r
 from across_dimensions.render.font import missing_glyphs
 from across_dimensions.render.hud import hint_rect, hud_quads, quads_text, warning_rect
 from across_dimensions.world.level import load_level
-from across_dimensions.world.resources import level_files
+from across_dimensions.world.resources import level_files, resolve_level
 
 DT = 1.0 / 60.0
 ROOT = Path(__file__).resolve().parents[1]
@@ -260,7 +260,8 @@ def test_play_with_a_corrupt_settings_file_warns_once_and_shows_the_hint_clear_o
     assert shots, r.stdout
     img = read_png(shots[0]).astype(int)
     h, w = img.shape[:2]
-    hud = Hud(hint=with_keys(load_level(level_files()[0]).hints[0]), hint_label="Hint 1/2 \u00b7 H hides")
+    first_hint = load_level(resolve_level("01_first_steps")).hints[0]
+    hud = Hud(hint=with_keys(first_hint), hint_label="Hint 1/2 \u00b7 H hides")
     hx, hy, hw, hh = hint_rect(hud, w, h)
     # The hint's accent bar is drawn at the panel's left edge, in the accent colour (cyan).
     bar = img[hy + 2 : hy + hh - 2, hx : hx + max(2, HudMetrics(w, h).text_scale)]

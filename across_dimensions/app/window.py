@@ -1,5 +1,13 @@
 """The game window: pyglet for the window and input, the renderer for pixels.
 
+Flow: the window opens at once on the title screen (or, with a level named on
+the command line, straight into it) while the kernels compile behind it
+(:class:`~.warmup.BackgroundWarmUp`); levels start only once that is done.
+Esc opens the pause menu; the menus (:mod:`.menu`, drawn by
+:mod:`across_dimensions.render.menu`) lead to the level select, the settings
+(applied and saved at once) and back to the title. Progress (:mod:`.saves`) is
+saved when a level starts, reaches a checkpoint, is finished or left.
+
 The main loop is a fixed-tick accumulator: wall-clock time (measured here, in
 the app, never in the simulation) fills an accumulator that is drained in
 steps of ``1 / TICK_RATE``, at most ``MAX_CATCH_UP`` per frame so a long stall
@@ -9,6 +17,7 @@ does not spiral; the frame is drawn interpolated by the remainder.
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 import signal
 import sys
@@ -25,11 +34,17 @@ from ..game.sim import DT, Game, RadarView
 from ..game.systems.ghosts import GhostView
 from ..render.context import Offscreen, RenderError, wrap_current_context
 from ..render.debug_draw import DebugOverlay
+from ..render.menu import MenuRenderer, hit
 from ..render.renderer import Renderer
+from ..world.campaign import CampaignEntry, CampaignError, load_campaign, next_in_campaign
 from ..world.level import load_level
 from ..world.resources import level_files, resolve_level
+from . import pyglet_options  # noqa: F401  (before pyglet.window or pyglet.gl load)
+from .menu import Menu, menu_verb
 from .onboarding import Onboarding, fill_keys
+from .saves import checkpoint_of, load_progress, resume_at_checkpoint, save_progress
 from .settings import (
+    KEY_NAMES,
     Settings,
     load_settings,
     look_delta,
@@ -39,9 +54,13 @@ from .settings import (
     warning_screen_line,
 )
 from .sound import SoundDirector, SoundOut
-from .warmup import warm_up
+from .warmup import BackgroundWarmUp, warm_up
 
 MAX_CATCH_UP = 5
+#: Seconds between redraws of a menu that has not changed (no level running): a software
+#: rasterizer would otherwise redraw a still screen 120 times a second, taking the CPU the
+#: kernel compile behind the title needs. Below ``update``'s 0.25 s clamp, so time keeps pace.
+IDLE_REDRAW = 0.2
 NEXT_LEVEL_DELAY = 3.0
 
 
@@ -54,6 +73,22 @@ _MOUSE = {
 }
 
 
+def _key_name(kind: str, code) -> str | None:
+    """The settings name of a pyglet key, mouse button or wheel direction (None if it has none)."""
+    if kind == "wheel":
+        return "MOUSE_WHEEL_UP" if code > 0 else "MOUSE_WHEEL_DOWN"
+    if kind == "mouse":
+        return next((n for n, attr in _MOUSE.items() if getattr(pyglet.window.mouse, attr) == code), None)
+    return _key_names_by_code().get(code)
+
+
+@functools.cache
+def _key_names_by_code() -> dict[int, str]:
+    """pyglet key code -> the settings' name for it (pyglet has aliases: RETURN is ENTER, GRAVE is
+    QUOTELEFT). Built on first use: ``pyglet.window`` needs a display the moment it is imported."""
+    return {getattr(pyglet.window.key, n): n for n in sorted(KEY_NAMES) if not n.startswith("MOUSE_")}
+
+
 def _key_code(name: str):
     """pyglet code for a settings key name: ('key', code), ('mouse', button) or ('wheel', +1 | -1)."""
     if name in ("MOUSE_WHEEL_UP", "MOUSE_WHEEL_DOWN"):
@@ -64,17 +99,35 @@ def _key_code(name: str):
 
 
 class GameWindow(pyglet.window.Window):
-    """One window playing levels in order, starting from ``level_path``."""
+    """One window: the title screen and menus, and the levels of the campaign.
+
+    Parameters
+    ----------
+    settings : Settings
+    level_path : Path or None
+        A level to play at once (loaded here, before the warm-up, unless ``warm_first``);
+        None opens the title screen.
+    warm_first : bool
+        Compile the kernels behind a loading screen before ``level_path`` starts.
+    settings_file : path, optional
+        Where menu changes are saved (``--settings``); the default settings file otherwise.
+    warm : BackgroundWarmUp, optional
+        A warm-up already running (started before the window, so the two overlap); one is
+        started here when needed and not given.
+    """
 
     def __init__(
         self,
         settings: Settings,
-        level_path: Path,
+        level_path: Path | None,
         seed: int = 0,
         record: str | None = None,
         warnings=(),
         screenshot_after: float | None = None,
         quit_after: float | None = None,
+        warm_first: bool = False,
+        settings_file=None,
+        warm: BackgroundWarmUp | None = None,
     ):
         config = pyglet.gl.Config(
             major_version=3, minor_version=3, forward_compatible=True, depth_size=24, double_buffer=True
@@ -110,8 +163,6 @@ class GameWindow(pyglet.window.Window):
         )
         self.fps = 0.0
         self.notice = ("", 0.0)
-        # Settings warnings: one line at the bottom (details in the log), never over a hint.
-        self.onboarding = Onboarding(" ".join(warnings), card=not record)
         self.sound = SoundOut(settings.volume, settings.mute)
         self.sound_director = SoundDirector()
         self.look = [0.0, 0.0]
@@ -123,16 +174,57 @@ class GameWindow(pyglet.window.Window):
         self.finished_for = 0.0
         self.terminated_by: int | None = None
         self.editor = None  # the level editor (app/editor), made on first use
-        self.load(level_path)
-        if record:
-            self.start_recording()
-        self.set_exclusive_mouse(True)
+        self.settings_file = settings_file
+        self.progress, progress_warnings = load_progress()
+        self.save_problem_said = False
+        for w in progress_warnings:
+            print(f"warning: {w}", file=sys.stderr, flush=True)
+        # Settings and save warnings: one line at the bottom (details in the log and on the
+        # terminal), never over a hint.
+        self.onboarding = Onboarding(" ".join([*warnings, *progress_warnings]), card=not record)
+        try:
+            self.campaign = load_campaign()
+        except CampaignError as e:  # still playable: every shipped level, in file order
+            print(f"warning: {e}", file=sys.stderr, flush=True)
+            self.campaign = [CampaignEntry(p.stem, p.stem, "", p) for p in level_files()]
+        self.menu = Menu(settings, self.progress, self.campaign, on_change=self.setting_changed)
+        self.menu_renderer = MenuRenderer(self.renderer.hud)
+        if settings.colour_blind:
+            self.apply_palette()
+        self.game: Game | None = None
+        self.level_path = Path(level_path) if level_path is not None else None
+        self.pending: tuple[Path, int | None] | None = None  # a level waiting for the warm-up
+        self.crystals_found = 0
+        self.completed_saved = False
+        self.warm: BackgroundWarmUp | None = warm
+        if (level_path is None or warm_first) and warm is None:
+            self.warm = BackgroundWarmUp()
+            self.warm.start()
+        if level_path is None:
+            self.menu.open("title")
+            self.set_exclusive_mouse(False)
+        elif warm_first:
+            self.pending = (Path(level_path), None)
+            self.set_exclusive_mouse(True)
+        else:
+            self.load(level_path)
+            if record:
+                self.start_recording()
+            self.set_exclusive_mouse(True)
         self.last_draw: float | None = None
+        self.level_drawn = False
+        self._drawn_signature, self._drawn_times, self._drawn_at = None, 0, 0.0
+        _timing("window open")
 
     # ----------------------------------------------------------------- levels
-    def load(self, path: Path) -> None:
+    def load(self, path: Path, checkpoint: int | None = None) -> None:
         self.level_path = Path(path)
         self.game = Game(load_level(path), seed=self.seed)
+        self.crystals_found = 0
+        self.completed_saved = False
+        resume_at_checkpoint(self.game, checkpoint)
+        self.progress.current, self.progress.checkpoint = self.level_path.stem, checkpoint_of(self.game)
+        self.save_progress()
         self.renderer.forget_meshes()  # a new world: its meshes reuse the old one's keys and revisions
         s = self.settings
         self.game.radar_view = RadarView(s.radar, s.radar_range_scale, s.radar_height_scale)
@@ -145,15 +237,101 @@ class GameWindow(pyglet.window.Window):
         self.set_caption(f"Across Dimensions - {self.game.level.name}")
 
     def next_level(self) -> None:
-        files = level_files()
-        try:
-            i = [f.resolve() for f in files].index(self.level_path.resolve())
-        except ValueError:
-            i = len(files)
-        if i + 1 < len(files):
-            self.load(files[i + 1])
+        """The next level of the campaign (of the shipped files, for a level outside it); after the
+        last one, the title screen."""
+        stem = self.level_path.stem
+        if stem in [e.stem for e in self.campaign]:
+            entry = next_in_campaign(self.campaign, stem)
+            following = entry.path if entry else None
         else:
-            self.say("All levels complete - thanks for playing!", 1e9)
+            files = level_files()
+            names = [f.resolve() for f in files]
+            i = names.index(self.level_path.resolve()) if self.level_path.resolve() in names else len(files)
+            following = files[i + 1] if i + 1 < len(files) else None
+        if following is not None:
+            self.load(following)
+        else:
+            self.progress.current, self.progress.checkpoint = None, None
+            self.save_progress()
+            self.to_title()
+            self.menu.message = "Campaign complete - thanks for playing!"
+
+    # ----------------------------------------------------------------- menus
+    def to_title(self) -> None:
+        """Leave the level (its place is saved for Continue) for the title screen."""
+        self.stop_recording()
+        self.save_progress()
+        self.game = None
+        self.paused = True
+        self.menu.message = ""
+        self.menu.open("title")
+        self.set_exclusive_mouse(False)
+
+    def start_level(self, path: Path, checkpoint: int | None = None) -> None:
+        """Play ``path`` from ``checkpoint`` as soon as the kernels are ready."""
+        self.menu.close()
+        self.pending = (Path(path), checkpoint)
+        self.paused = False
+        self.set_exclusive_mouse(True)
+        self._start_pending()
+
+    def _start_pending(self) -> None:
+        if self.pending is None or (self.warm is not None and not self.warm.ready):
+            return
+        path, checkpoint = self.pending
+        self.pending = None
+        if self.warm is not None and self.warm.seconds is not None:
+            _timing(f"kernels ready after {self.warm.seconds:.1f} s of warm-up")
+        self.load(path, checkpoint)
+        if self.record_path:
+            self.start_recording()
+        self.accumulator = 0.0
+
+    def run_command(self, command: str | None) -> None:
+        """Do what a menu row asked for (see :class:`~.menu.Menu`)."""
+        if command is None:
+            return
+        if command == "resume":
+            self.set_paused(False)
+        elif command == "restart":
+            self.stop_recording()
+            self.start_level(self.level_path)
+        elif command == "quit_to_title":
+            self.to_title()
+        elif command == "quit":
+            pyglet.app.exit()
+        elif command == "continue":
+            stem, checkpoint = self.progress.continue_level([e.stem for e in self.campaign])
+            if stem is not None:
+                self.start_level(next(e.path for e in self.campaign if e.stem == stem), checkpoint)
+        elif command.startswith("play:"):
+            self.start_level(next(e.path for e in self.campaign if e.stem == command[5:]))
+
+    def setting_changed(self, name: str) -> None:
+        """A menu changed a setting: apply it now and save the settings file atomically."""
+        s = self.settings
+        if name == "bindings":
+            self.bindings = {a: [_key_code(k) for k in s.keys_for(a)] for a in s.bindings}
+        if name == "colour_blind":
+            self.apply_palette()
+        try:
+            save_settings(s, self.settings_file)
+        except (OSError, InputError, ValueError) as e:
+            self.say(f"Settings not saved: {e}", 6.0)
+
+    def apply_palette(self) -> None:
+        """Switch the renderer's palette, through its hook when it has one (``set_palette(name)``)."""
+        set_palette = getattr(self.renderer, "set_palette", None)
+        if set_palette is not None:
+            set_palette("colour_blind" if self.settings.colour_blind else "default")
+
+    def save_progress(self) -> None:
+        try:
+            save_progress(self.progress)
+        except (FileProblem, OSError) as e:
+            if not self.save_problem_said:  # once: a read-only folder must not flood the screen
+                self.save_problem_said = True
+                self._recording_failed(f"Progress not saved: {e}")
 
     def say(self, text: str, seconds: float = 4.0) -> None:
         self.notice = (text, seconds)
@@ -222,7 +400,7 @@ class GameWindow(pyglet.window.Window):
 
     def count_press(self, kind: str, code, times: int = 1) -> None:
         """A key, button or wheel notch went down: count it for every one-shot action bound to it."""
-        if self.paused:
+        if self.paused or self.game is None:
             return
         for action, codes in self.bindings.items():
             if (kind, code) in codes:
@@ -258,7 +436,21 @@ class GameWindow(pyglet.window.Window):
         self.wheel_held.clear()
         return actions
 
+    def _menu_hit(self, x, y):
+        """The menu row under the pointer (window coordinates, origin bottom-left) and a slider fraction."""
+        view = self.menu.view()
+        if view is None:
+            return None
+        fw, fh = self.get_framebuffer_size()
+        sx, sy = fw / max(1, self.width), fh / max(1, self.height)
+        return hit(view, fw, fh, x * sx, fh - y * sy)
+
     def on_mouse_motion(self, x, y, dx, dy):
+        if self.menu.screen:
+            found = self._menu_hit(x, y)
+            if found is not None:
+                self.menu.point(found[0])
+            return
         if not self.paused:
             dyaw, dpitch = look_delta(self.settings, dx, dy)
             self.look[0] += dyaw
@@ -268,6 +460,18 @@ class GameWindow(pyglet.window.Window):
         self.on_mouse_motion(x, y, dx, dy)
 
     def on_mouse_press(self, x, y, button, modifiers):
+        if self.menu.screen:
+            if self.menu.capturing:
+                name = _key_name("mouse", button)
+                if name:
+                    self.menu.capture(name)
+                return
+            found = self._menu_hit(x, y)
+            if found is not None and button == pyglet.window.mouse.LEFT:
+                self.run_command(self.menu.click(*found))
+            elif button == pyglet.window.mouse.RIGHT:
+                self.run_command(self.menu.input("back"))
+            return
         if self.onboarding.click():
             return
         if self.paused:
@@ -280,12 +484,34 @@ class GameWindow(pyglet.window.Window):
         self.mouse_buttons.discard(button)
 
     def on_mouse_scroll(self, x, y, scroll_x, scroll_y):
+        if self.menu.screen:
+            if self.menu.capturing and scroll_y:
+                self.menu.capture(_key_name("wheel", scroll_y))
+            elif scroll_y:
+                self.menu.scroll(-1 if scroll_y > 0 else 1)
+            return
         if scroll_y:
             notches = max(1, round(abs(scroll_y)))
             self.count_press("wheel", 1 if scroll_y > 0 else -1, notches)
 
     def on_key_press(self, symbol, modifiers):
         action = self.pressed_action("key", symbol)
+        if self.menu.screen:
+            name = _key_name("key", symbol)
+            if self.menu.capturing:
+                if name:
+                    self.menu.capture(name)
+                return pyglet.event.EVENT_HANDLED
+            verb = menu_verb(name, self.settings) if name else None
+            if verb:
+                self.run_command(self.menu.input(verb))
+            elif action in ("screenshot", "toggle_fullscreen"):
+                self.screenshot() if action == "screenshot" else self.set_fullscreen(not self.fullscreen)
+            return pyglet.event.EVENT_HANDLED  # keep Esc from closing the window
+        if self.game is None:  # a level waiting for the kernels
+            if action == "screenshot":
+                self.screenshot()
+            return pyglet.event.EVENT_HANDLED
         if self.onboarding.key(action, pyglet.window.key.symbol_string(symbol)):
             return pyglet.event.EVENT_HANDLED  # the card took it, or the hints key
         self.count_press("key", symbol)
@@ -334,9 +560,17 @@ class GameWindow(pyglet.window.Window):
             self.set_paused(True)
 
     def set_paused(self, paused: bool) -> None:
+        """Pause (opening the pause menu) or resume play."""
+        if self.game is None or (paused and self.paused and self.menu.screen):
+            return  # already paused: losing focus in a sub-menu keeps it open
         if paused != self.paused:
             self.sound.ui("menu_back" if paused else "menu_select")
         self.paused = paused
+        if paused:
+            self.menu.open("pause")
+            self.save_progress()  # quitting from here (closing the window) keeps the level to continue
+        else:
+            self.menu.close()
         self.set_exclusive_mouse(not paused)
         self.mouse_buttons.clear()
         self.presses.clear()
@@ -345,6 +579,8 @@ class GameWindow(pyglet.window.Window):
 
     def on_close(self):
         self.stop_recording()
+        if self.game is not None:
+            self.save_progress()
         super().on_close()
 
     # ------------------------------------------------------------------- loop
@@ -364,7 +600,13 @@ class GameWindow(pyglet.window.Window):
         if self.quit_after is not None and self.wall_time >= self.quit_after:
             pyglet.app.exit()
             return
-        if self.paused:
+        if self.warm is not None:
+            self.menu.progress_bar = None if self.warm.ready else (self.warm.done, self.warm.total, self.warm.label)
+            if self.warm.ready and self.warm.error is not None:
+                self.say(f"Kernel warm-up failed: {self.warm.error}", 8.0)
+                self.warm.error = None
+        self._start_pending()
+        if self.paused or self.game is None or self.menu.screen:
             return
         if self.onboarding.before_tick(self.held("w_ana") or self.held("w_kata")):
             self.look = [0.0, 0.0]  # the card is open: the mouse and keys do not reach the game
@@ -377,6 +619,7 @@ class GameWindow(pyglet.window.Window):
             self.game.step(actions)
             self.onboarding.ticked(actions, DT)
             self.sound.play(self.sound_director.cues(self.game, DT))
+            self.crystals_found += sum(e.kind == "crystal_collected" for e in self.game.events)
             if self.recorder:
                 try:
                     self.recorder.record(actions)
@@ -390,12 +633,32 @@ class GameWindow(pyglet.window.Window):
         if steps == MAX_CATCH_UP:
             self.accumulator = 0.0  # too far behind: drop time rather than spiral
         self.level_time += steps * DT
+        checkpoint = checkpoint_of(self.game)
+        if checkpoint != self.progress.checkpoint and self.game.outcome != "complete":
+            self.progress.checkpoint = checkpoint
+            self.save_progress()
         if self.game.outcome == "complete":
+            if not self.completed_saved:
+                self.completed_saved = True
+                self.level_complete()
             if self.recorder:
                 self.stop_recording()
             self.finished_for += steps * DT
             if self.finished_for >= NEXT_LEVEL_DELAY:
                 self.next_level()
+
+    def level_complete(self) -> None:
+        """Save the finished level: best time, crystals, and the next level for Continue."""
+        stem = self.level_path.stem
+        best = self.progress.finish(stem, self.game.time)
+        total = len(getattr(self.game.level, "crystals", ()))
+        if total:
+            self.progress.found_crystals(stem, self.crystals_found, total)
+        entry = next_in_campaign(self.campaign, stem)
+        self.progress.current, self.progress.checkpoint = (entry.stem if entry else None), None
+        self.save_progress()
+        text = f"Level complete in {self.game.time:.1f} s" + (" - best time!" if best else "")
+        self.say(text, NEXT_LEVEL_DELAY)
 
     def current_frame(self):
         """The game's frame with the app's HUD additions (fps, pause, notices)."""
@@ -404,9 +667,7 @@ class GameWindow(pyglet.window.Window):
         if hud.message:  # the game's prompts name actions ({manipulate}); show the player's keys
             hud.message = self.with_keys(hud.message)
         hud.fps = self.fps if self.show_fps else None
-        hud.paused = self.paused
-        if self.paused and not (self.notice[1] > 0 and self.notice[0]):
-            hud.message = "Click to resume"
+        hud.paused = False  # the pause menu dims the view and says so
         text, left = self.notice
         if left > 0 and text:
             hud.message = text
@@ -431,22 +692,56 @@ class GameWindow(pyglet.window.Window):
         except (ValueError, IndexError):  # a stray brace in a game prompt: show it as written
             return text
 
+    def draw(self, dt: float) -> None:
+        """pyglet's redraw, skipped (no draw, no buffer swap) while a still menu is on screen."""
+        if self.game is None or self.menu.screen:
+            self._start_pending()
+            if self.warm is not None:
+                self.menu.progress_bar = None if self.warm.ready else (self.warm.done, self.warm.total, self.warm.label)
+            signature = (repr(self.menu.view()), self.pending is None, self.notice[0])
+            now = time.perf_counter()
+            fresh = signature != self._drawn_signature
+            if not fresh and self._drawn_times >= 2 and now - self._drawn_at < IDLE_REDRAW:
+                return  # both buffers already hold this picture
+            self._drawn_times = 1 if fresh else self._drawn_times + 1
+            self._drawn_signature, self._drawn_at = signature, now
+        super().draw(dt)
+
     def on_draw(self):
         # One update per drawn frame: the wall clock is read here, in the app,
         # and reaches the simulation only as a whole number of fixed ticks.
         now = time.perf_counter()
         self.update(0.0 if self.last_draw is None else min(now - self.last_draw, 0.25))
         self.last_draw = now
-        frame = self.current_frame()
         fw, fh = self.get_framebuffer_size()
         self.ctx.screen.use()
-        self.renderer.draw(frame, (0, 0, fw, fh))
-        if self.show_debug_draw:
-            self.debug_overlay = self.debug_overlay or DebugOverlay(self.ctx)
-            self.debug_overlay.draw_game(self.game, frame.camera, (0, 0, fw, fh))
+        self.draw_view((0, 0, fw, fh))
+        if self.game is not None and not self.level_drawn:
+            self.level_drawn = True
+            _timing("first level frame")
         if getattr(self, "_pending_shot", False):
             self._pending_shot = False
             self.screenshot()
+
+    def draw_view(self, viewport) -> None:
+        """The level (when one is loaded or paused), then the menus over it, or a loading screen."""
+        view = self.menu.view()
+        if self.game is not None:
+            frame = self.current_frame()
+            self.renderer.draw(frame, viewport, hud=view is None)
+            if self.show_debug_draw and view is None:
+                self.debug_overlay = self.debug_overlay or DebugOverlay(self.ctx)
+                self.debug_overlay.draw_game(self.game, frame.camera, viewport)
+        else:
+            self.ctx.clear(0.02, 0.03, 0.06, 1.0)
+        if view is None and self.game is None:  # a level waiting for the kernels: the title's backdrop
+            from .menu import MenuView
+
+            w = self.warm
+            progress = (w.done, w.total, w.label) if w is not None and not w.ready else (1, 1, "ready")
+            view = MenuView("title", "ACROSS DIMENSIONS", [], 0, 0, 0, "Starting...", progress=progress)
+        if view is not None:
+            self.menu_renderer.draw(view, viewport)
 
     def screenshot(self) -> Path:
         """Save what the window shows as a PNG in ./screenshots/.
@@ -461,15 +756,19 @@ class GameWindow(pyglet.window.Window):
         path = folder / f"shot_{len(list(folder.glob('shot_*.png'))):04d}.png"
         with Offscreen(self.ctx, fw, fh) as target:
             target.use()
-            frame = self.current_frame()
-            self.renderer.draw(frame, target.viewport)
-            if self.show_debug_draw and self.debug_overlay is not None:
-                self.debug_overlay.draw_game(self.game, frame.camera, target.viewport)
+            self.draw_view(target.viewport)
             target.save_png(path)
         self.ctx.screen.use()
         print(f"screenshot saved: {path}", flush=True)
         self.say(f"Screenshot saved: {path}", 2.0)
         return path
+
+
+def _timing(what: str) -> None:
+    """With ``ACROSS_DIMENSIONS_TIMING`` set, print when ``what`` happened (Unix time), for the
+    start-up measurements in the README."""
+    if os.environ.get("ACROSS_DIMENSIONS_TIMING"):
+        print(f"timing: {what} at {time.time():.3f}", flush=True)
 
 
 class _Missing(dict):
@@ -522,12 +821,21 @@ def run_window(args) -> int:
             print(f"warning: could not write {settings_path()} ({e}); playing with the defaults", file=sys.stderr)
     if args.fullscreen:
         settings.fullscreen = True
-    path = resolve_level(args.level) if args.level else level_files()[0]
-    load_level(path)  # a broken level is reported before a window opens
+    path = None
+    if args.level or args.record or getattr(args, "edit", False):  # a level named, or needed: straight into it
+        path = resolve_level(args.level) if args.level else level_files()[0]
+        load_level(path)  # a broken level is reported before a window opens
     if args.record:
         check_record_path(args.record)
-    warm_up()
+    editing = getattr(args, "edit", False)
+    warm = None
+    if editing:  # the editor builds games of its own from its first frame: compile before it opens
+        warm_up()
+    else:  # started first, so loading the kernels overlaps with opening the window
+        warm = BackgroundWarmUp()
+        warm.start()
     try:
+        # The window opens at once; the kernels compile behind its title (or loading) screen.
         window = GameWindow(
             settings,
             path,
@@ -536,8 +844,11 @@ def run_window(args) -> int:
             warnings=[warning_screen_line(warnings, args.settings)] if line else [],
             screenshot_after=args.screenshot_after,
             quit_after=args.quit_after,
+            warm_first=path is not None and not editing,
+            settings_file=args.settings,
+            warm=warm,
         )
-        if getattr(args, "edit", False):
+        if editing:
             window.open_editor(from_play=False)
     except (pyglet.window.NoSuchConfigException, pyglet.gl.ContextException, RenderError) as e:
         print(

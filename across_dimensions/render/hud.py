@@ -573,8 +573,16 @@ class HudRenderer:
         _, _, w, h = (int(v) for v in viewport)
         quads = hud_quads(hud, w, h, radar)
         self.last_quads = quads
+        self.draw_quads(quads, viewport)
+
+    def draw_quads(self, quads: np.ndarray, viewport: tuple[int, int, int, int]) -> None:
+        """Draw HUD quads (``(n, QUAD_FLOATS)`` float32, see :func:`hud_quads`) over ``viewport``.
+
+        The menus share it: one instanced call with the font atlas, uploaded when glyphs were added.
+        """
         if len(quads) == 0:
             return
+        _, _, w, h = (int(v) for v in viewport)
         data = quads.tobytes()
         if len(data) > self._instances.size:
             self._instances.orphan(len(data) * 2)

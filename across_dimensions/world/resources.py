@@ -43,8 +43,8 @@ def assets_dir() -> Path:
 
 
 def level_files() -> list[Path]:
-    """Shipped levels in play order (sorted by file name)."""
-    return sorted(levels_dir().glob("*.toml"))
+    """Shipped levels sorted by file name (the campaign file beside them is not a level)."""
+    return sorted(p for p in levels_dir().glob("*.toml") if p.name != "campaign.toml")
 
 
 def resolve_asset(relative: str) -> Path:

@@ -31,7 +31,7 @@ from .mutate import pick
 __all__ = ["Case", "CATALOGUE", "schedule", "build_case", "write_case", "SPECIAL_KINDS"]
 
 REPO = Path(__file__).resolve().parents[2]
-LEVELS = sorted((REPO / "levels").glob("*.toml"))
+LEVELS = sorted(p for p in (REPO / "levels").glob("*.toml") if p.name != "campaign.toml")
 REPLAYS = sorted((REPO / "levels" / "replays").glob("*.json"))
 SMALL_MESHES = [REPO / "assets" / "meshes" / "crate.obj", REPO / "assets" / "meshes" / "arch.obj"]
 

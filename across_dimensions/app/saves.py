@@ -1,0 +1,228 @@
+"""The player's progress: levels finished, best times, crystals found, where to continue.
+
+One JSON file, ``progress.json`` in the platform's per-user data folder
+(``platformdirs.user_data_dir("across-dimensions")``; ``$ACROSS_DIMENSIONS_DATA_DIR``
+replaces the folder, for tests and portable installs)::
+
+    {"format": "across-dimensions-progress", "version": 1,
+     "finished": {"01_first_steps": 41.5},            # level -> best time, seconds
+     "crystals": {"02_crystal_cache": [3, 3]},        # level -> [most found in one run, in the level]
+     "current": {"level": "03_tumbling_hall", "checkpoint": null}}
+
+``current`` is where *Continue* resumes: the level being played when the game
+was left, and the index of the last checkpoint reached in it (``null``: the
+level's start, also when the level has no checkpoints).
+
+Writing is atomic (:func:`~across_dimensions.core.fileio.atomic_write`): a crash
+leaves the old file or the new one. A file that cannot be read as a progress
+file of this version is never overwritten: it is moved aside as
+``progress.corrupt-N.json``, one warning names both files, and the player
+starts fresh.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..core.fileio import FileProblem, atomic_write, read_text
+
+FORMAT = "across-dimensions-progress"
+#: Bumped when the file's meaning changes; an older reader refuses (and keeps aside) a newer file.
+VERSION = 1
+DATA_DIR_ENV = "ACROSS_DIMENSIONS_DATA_DIR"
+PROGRESS_FILE = "progress.json"
+#: Largest progress file read, in bytes: a full campaign's is well under 2 kB.
+PROGRESS_MAX_BYTES = 1024 * 1024
+#: Longest best time kept, seconds (a day): beyond it a time is a corrupt file, not a run.
+MAX_TIME = 86400.0
+
+
+def data_folder() -> Path:
+    """The game's per-user data folder (``$ACROSS_DIMENSIONS_DATA_DIR`` when set and non-empty)."""
+    override = os.environ.get(DATA_DIR_ENV, "").strip()
+    if override:
+        return Path(override).expanduser()
+    import platformdirs
+
+    return Path(platformdirs.user_data_dir("across-dimensions"))
+
+
+def progress_path() -> Path:
+    """Where the progress file lives (see :func:`data_folder`)."""
+    return data_folder() / PROGRESS_FILE
+
+
+@dataclass
+class Progress:
+    """What the player has done.
+
+    Attributes
+    ----------
+    finished : dict of str to float
+        Level stem -> best time in seconds from the level's start to its goal.
+    crystals : dict of str to (int, int)
+        Level stem -> (most crystals found in one run, crystals in the level).
+    current : str or None
+        The level *Continue* resumes.
+    checkpoint : int or None
+        The last checkpoint reached in ``current`` (None: its start).
+    """
+
+    finished: dict[str, float] = field(default_factory=dict)
+    crystals: dict[str, tuple[int, int]] = field(default_factory=dict)
+    current: str | None = None
+    checkpoint: int | None = None
+
+    def finish(self, level: str, seconds: float) -> bool:
+        """Record a finished run; returns True when it is a new best time."""
+        best = self.finished.get(level)
+        if best is None or seconds < best:
+            self.finished[level] = float(seconds)
+            return True
+        return False
+
+    def found_crystals(self, level: str, found: int, total: int) -> None:
+        """Keep the most crystals found in one run of ``level`` (capped by ``total``)."""
+        old = self.crystals.get(level, (0, total))[0]
+        self.crystals[level] = (max(old, min(found, total)), total)
+
+    def unlocked(self, stems: list[str]) -> list[bool]:
+        """Which campaign levels may be played: the first, every finished one, and the one after each."""
+        result = []
+        for i, stem in enumerate(stems):
+            result.append(i == 0 or stem in self.finished or stems[i - 1] in self.finished)
+        return result
+
+    def continue_level(self, stems: list[str]) -> tuple[str | None, int | None]:
+        """Where *Continue* goes: the level left mid-way and its checkpoint, else the first
+        unfinished level, else None (the campaign is done)."""
+        if self.current in stems:
+            return self.current, self.checkpoint
+        for stem in stems:
+            if stem not in self.finished:
+                return stem, None
+        return None, None
+
+    def to_json(self) -> str:
+        return json.dumps(
+            {
+                "format": FORMAT,
+                "version": VERSION,
+                "finished": self.finished,
+                "crystals": {k: list(v) for k, v in self.crystals.items()},
+                "current": None if self.current is None else {"level": self.current, "checkpoint": self.checkpoint},
+            },
+            indent=1,
+            sort_keys=True,
+        )
+
+    @classmethod
+    def from_json(cls, text: str) -> Progress:
+        """Parse a progress file; raises ``ValueError`` saying what is wrong."""
+        data = json.loads(text)
+        if not isinstance(data, dict) or data.get("format") != FORMAT:
+            raise ValueError(f"expected a JSON object with format {FORMAT!r}")
+        if data.get("version") != VERSION:
+            raise ValueError(f"version {data.get('version')!r}, expected {VERSION}")
+        progress = cls()
+        finished = data.get("finished", {})
+        if not isinstance(finished, dict):
+            raise ValueError("finished: expected an object of level -> seconds")
+        for level, t in finished.items():
+            if isinstance(t, bool) or not isinstance(t, (int, float)) or not (0 <= t <= MAX_TIME and math.isfinite(t)):
+                raise ValueError(f"finished.{level}: expected seconds from 0 to {MAX_TIME:g}, got {t!r}")
+            progress.finished[level] = float(t)
+        crystals = data.get("crystals", {})
+        if not isinstance(crystals, dict):
+            raise ValueError("crystals: expected an object of level -> [found, total]")
+        for level, pair in crystals.items():
+            ok = isinstance(pair, list) and len(pair) == 2 and all(type(n) is int and n >= 0 for n in pair)
+            if not ok or pair[0] > pair[1]:
+                raise ValueError(f"crystals.{level}: expected [found, total] with 0 <= found <= total, got {pair!r}")
+            progress.crystals[level] = (pair[0], pair[1])
+        current = data.get("current")
+        if current is not None:
+            level, cp = (current.get("level"), current.get("checkpoint")) if isinstance(current, dict) else (None, 0)
+            if not isinstance(level, str) or not (cp is None or (type(cp) is int and cp >= 0)):
+                raise ValueError('current: expected {"level": name, "checkpoint": null or an index}')
+            progress.current, progress.checkpoint = level, cp
+        return progress
+
+
+def checkpoint_of(game) -> int | None:
+    """The index of the last checkpoint the player reached, or None (the level's start, or a
+    level without checkpoints). An adapter: checkpoints belong to the
+    enemies' systems, which expose ``game.checkpoint``."""
+    index = getattr(game, "checkpoint", None)
+    return index if isinstance(index, int) and not isinstance(index, bool) and index >= 0 else None
+
+
+def resume_at_checkpoint(game, index: int | None) -> bool:
+    """Put the player at checkpoint ``index`` if the game knows how; False leaves them at the start."""
+    restart = getattr(game, "restart_at_checkpoint", None)
+    if index is None or restart is None:
+        return False
+    try:
+        restart(index)
+    except (IndexError, ValueError):  # the level changed since the save: its start, then
+        return False
+    return True
+
+
+def _aside(path: Path) -> Path:
+    """A free name beside ``path`` for keeping a corrupt file: progress.corrupt-N.json."""
+    n = 1
+    while True:
+        candidate = path.with_name(f"{path.stem}.corrupt-{n}{path.suffix}")
+        if not os.path.lexists(candidate):
+            return candidate
+        n += 1
+
+
+def load_progress(path: Path | None = None) -> tuple[Progress, list[str]]:
+    """Read the progress file, never raising.
+
+    Returns
+    -------
+    progress : Progress
+        Fresh when the file is missing or corrupt.
+    warnings : list of str
+        Empty, or one line: the file was corrupt (or of another version), where
+        it was kept aside, and that the player starts fresh.
+    """
+    path = Path(path) if path is not None else progress_path()
+    if not os.path.lexists(path):
+        return Progress(), []
+    try:
+        return Progress.from_json(read_text(path, limit=PROGRESS_MAX_BYTES, what="progress")), []
+    except (FileProblem, ValueError, RecursionError) as e:  # json.JSONDecodeError is a ValueError
+        why = str(e).replace(f"{path}: ", "").splitlines()[0]
+        try:
+            kept = _aside(path)
+            os.replace(path, kept)
+            where = f"kept as {kept.name}"
+        except OSError as move:
+            where = f"could not be moved aside ({move.strerror or move}) and will be overwritten"
+        return Progress(), [f"{path}: not a progress file this game can read ({why}); {where}; starting fresh"]
+
+
+def save_progress(progress: Progress, path: Path | None = None) -> Path:
+    """Write the progress file atomically; the game's own data folder is created when missing.
+
+    Raises
+    ------
+    FileProblem
+        When it cannot be written (the old file stays as it was).
+    """
+    own_folder = path is None
+    path = Path(path) if path is not None else progress_path()
+    if own_folder:
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)  # the game's own folder: ours to create
+        except OSError as e:
+            raise FileProblem(f"{path.parent}: cannot create the game's data folder ({e.strerror or e})") from None
+    return atomic_write(path, progress.to_json() + "\n")
