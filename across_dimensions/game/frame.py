@@ -139,6 +139,9 @@ class Hud:
     energy: EnergyGauge | None = None
     weapon: WeaponPanel | None = None
     hit_marker: float = 0.0  # 1 right after a bullet hits a body or a target, fading to 0 (crosshair marks)
+    health: HealthGauge | None = None  # the player's health bar (levels with enemies)
+    damage_flash: float = 0.0  # 1 when the player is hit, fading to 0 (the view flashes red)
+    damage_dir: float | None = None  # where the last hit came from: radians from straight ahead, + to the right
 
 
 @dataclass(frozen=True)
@@ -258,3 +261,23 @@ class Frame:
     radar: Radar | None = None
     sky_color: tuple[float, float, float] = (0.05, 0.06, 0.10)
     light_dir: tuple[float, float, float] = (0.4, 1.0, 0.25)
+
+
+@dataclass(frozen=True)
+class HealthGauge:
+    """The player's health bar.
+
+    Parameters
+    ----------
+    value, maximum : float
+        ``0 <= value <= maximum``.
+    flash : float
+        1 right after a hit, fading to 0.
+    safe : bool
+        True while the player cannot be hurt (just after coming back from a death).
+    """
+
+    value: float
+    maximum: float
+    flash: float = 0.0
+    safe: bool = False

@@ -26,7 +26,11 @@ Layout (pixels, origin top-left, ``W x H`` the viewport):
 * FPS (when not None): top-left;
 * message: centred horizontally, a third of the way down, on a dark band
   (wrapped to fit);
-* paused: the whole view dimmed, then ``PAUSED`` in large text in the middle.
+* paused: the whole view dimmed, then ``PAUSED`` in large text in the middle;
+* health (when ``hud.health`` is not None): top-left, a bar green when full turning red when low,
+  ``HEALTH`` (``SAFE`` just after a death) above its left end and the value above its right end;
+  ``damage_flash`` washes the whole view red for a moment after a hit, and ``damage_dir`` puts a
+  red arc of marks round the crosshair on the side the hit came from (up is ahead).
 
 Colours are display-space RGBA (no gamma applied).
 """
@@ -38,7 +42,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from ..game.frame import EnergyGauge, Hud, Radar, WeaponPanel
+from ..game.frame import EnergyGauge, HealthGauge, Hud, Radar, WeaponPanel
 from .font import CELL_H, CELL_W, GLYPH_H, GLYPH_W, SOLID_CELL, build_atlas, cell_origin, glyph_index
 
 CROSSHAIR_COLOR = (0.95, 0.95, 0.95, 1.0)
@@ -64,6 +68,12 @@ WEAPON_COLOR = (1.0, 0.9, 0.6, 1.0)
 WEAPON_READY_COLOR = (0.5, 1.0, 0.6, 0.9)
 WEAPON_COOL_COLOR = (1.0, 0.6, 0.2, 0.9)
 HIT_COLOR = (1.0, 0.35, 0.25, 1.0)
+HEALTH_FULL_COLOR = (0.35, 0.95, 0.45, 0.95)
+HEALTH_LOW_COLOR = (1.0, 0.2, 0.15, 0.95)
+HEALTH_TRACK_COLOR = (1.0, 0.4, 0.35, 0.18)
+HEALTH_SAFE_COLOR = (0.6, 0.9, 1.0, 1.0)
+DAMAGE_FLASH_COLOR = (0.9, 0.05, 0.0, 0.35)
+DAMAGE_CUE_COLOR = (1.0, 0.2, 0.1, 0.9)
 #: Width over height of the radar's rectangle (the radar view fits itself to it).
 RADAR_ASPECT = 0.95
 
@@ -211,6 +221,11 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
     s = m.text_scale
     W, H = m.width, m.height
 
+    # --- a hit: the view flashes red (first, so everything else stays readable on top)
+    if hud.damage_flash > 0:
+        k = min(float(hud.damage_flash), 1.0)
+        q.rect(0, 0, W, H, DAMAGE_FLASH_COLOR[:3] + (DAMAGE_FLASH_COLOR[3] * k,))
+
     # --- w indicator (right edge)
     x0, y0, bw, th = m.w_track()
     q.rect(x0 - 1, y0 - 1, bw + 2, th + 2, OUTLINE_COLOR)
@@ -240,6 +255,12 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
     # --- weapon panel (above the energy bar) and hit marks round the crosshair
     if hud.weapon is not None:
         _weapon_panel(q, hud.weapon, m)
+
+    # --- health bar (top-left) and where the last hit came from
+    if hud.health is not None:
+        _health_bar(q, hud.health, m)
+    if hud.damage_dir is not None:
+        _damage_cue(q, float(hud.damage_dir), m)
 
     # --- radar labels
     if radar is not None:
@@ -448,3 +469,50 @@ class HudRenderer:
     def release(self) -> None:
         for obj in (self._vao, self._instances, self._corner_vbo, self.atlas, self.program):
             obj.release()
+
+
+def health_bar_rect(m: HudMetrics) -> tuple[int, int, int, int]:
+    """The health bar's track as ``(x, y, w, h)`` pixels: top-left, below the FPS line."""
+    bar_h = max(5, m.height // 45)
+    bar_w = max(40, int(round(m.width * 0.2)))
+    return m.margin, m.margin + 2 * (GLYPH_H + 3) * m.text_scale, bar_w, bar_h
+
+
+def health_fill_width(gauge: HealthGauge, inner_w: int) -> int:
+    """Pixels of the bar's inner width filled: ``value / maximum`` of it."""
+    frac = 0.0 if gauge.maximum <= 0 else min(max(gauge.value / gauge.maximum, 0.0), 1.0)
+    return int(round(frac * inner_w))
+
+
+def _health_bar(q: _QuadList, gauge: HealthGauge, m: HudMetrics) -> None:
+    s = m.text_scale
+    x, y, w, h = health_bar_rect(m)
+    pad = max(1, h // 5)
+    frac = 0.0 if gauge.maximum <= 0 else min(max(gauge.value / gauge.maximum, 0.0), 1.0)
+    fill = _mix(HEALTH_LOW_COLOR, HEALTH_FULL_COLOR, frac)
+    fill = _mix(fill, (1.0, 1.0, 1.0, 1.0), 0.6 * min(gauge.flash, 1.0))
+    q.rect(x - 1, y - 1, w + 2, h + 2, OUTLINE_COLOR)
+    q.rect(x, y, w, h, HEALTH_TRACK_COLOR)
+    q.rect(x + pad, y + pad, health_fill_width(gauge, w - 2 * pad), h - 2 * pad, fill)
+    label = "SAFE" if gauge.safe else "HEALTH"
+    top = y - GLYPH_H * s - 3 * s
+    q.text(label, x, top, s, HEALTH_SAFE_COLOR if gauge.safe else TEXT_COLOR)
+    val = f"{gauge.value:.0f}/{gauge.maximum:.0f}"
+    q.text(val, x + w - text_width(val, s), top, s, TEXT_COLOR)
+
+
+def damage_cue_points(angle: float, m: HudMetrics) -> list[tuple[int, int]]:
+    """Centres of the cue's marks: an arc round the crosshair centred on ``angle`` (0 up, + right)."""
+    r = max(12, int(round(m.height * 0.16)))
+    cx, cy = m.width // 2, m.height // 2
+    return [
+        (int(round(cx + r * np.sin(angle + d))), int(round(cy - r * np.cos(angle + d))))
+        for d in np.radians([-20.0, -10.0, 0.0, 10.0, 20.0])
+    ]
+
+
+def _damage_cue(q: _QuadList, angle: float, m: HudMetrics) -> None:
+    size = max(3, m.height // 80)
+    for i, (px, py) in enumerate(damage_cue_points(angle, m)):
+        grow = size // 2 if i == 2 else 0  # the middle mark is bigger: the exact direction
+        q.rect(px - size // 2 - grow, py - size // 2 - grow, size + 2 * grow, size + 2 * grow, DAMAGE_CUE_COLOR)
