@@ -23,10 +23,10 @@ Behaviour is a small deterministic state machine per enemy (see
     off the slice, at least :data:`HIDE_W` from the player's w, drifting near its
     post in all four dimensions (draws from ``game.rng`` only);
 ``approaching``
-    the player is within ``sight`` of its post: it moves towards them (never
+    the player is within ``sight`` of its post: it moves to the standoff from them (never
     further than :data:`LEASH` from the post) and into the player's w;
 ``attacking``
-    in the slice and within ``reach``: it glows and flickers for
+    in the slice and within ``reach`` (it keeps 0.6 of its reach from the player): it glows and flickers for
     :data:`WINDUP` seconds, then fires a slow glowing shot at the player's
     chest at the player's w. The player sees it coming and can step aside or
     out of the slice along w. After :data:`BURST` shots it leaves;

@@ -213,12 +213,18 @@ def _think(game, foe: en.Foe) -> None:
 
 
 def _post_target(foe: en.Foe, player_pos) -> np.ndarray:
-    """Where it attacks from: towards the player from its post, at its reach's standoff, on a leash."""
+    """Where it attacks from: its reach's standoff from the player, on the player's side of
+    its post (so it comes towards a player far away and backs off from one too near), on a
+    leash from the post, at the post's height and the player's w."""
     home = foe.spec.position
-    d = player_pos[[0, 2]] - home[[0, 2]]
+    d = home[[0, 2]] - player_pos[[0, 2]]
     n = float(np.linalg.norm(d))
-    go = 0.0 if n < 1e-9 else min(max(n - foe.spec.reach * en.STANDOFF, 0.0), en.LEASH)
-    xz = home[[0, 2]] + (d / n * go if n >= 1e-9 else 0.0)
+    u = d / n if n > 1e-9 else np.array([0.0, 1.0])
+    xz = player_pos[[0, 2]] + u * foe.spec.reach * en.STANDOFF
+    off = xz - home[[0, 2]]
+    k = float(np.linalg.norm(off))
+    if k > en.LEASH:
+        xz = home[[0, 2]] + off * (en.LEASH / k)
     return np.array([xz[0], home[1], xz[1], float(player_pos[3])])
 
 
