@@ -467,3 +467,17 @@ def test_hive_replay_finishes_with_enemies_defeated():
     assert summary["divergence"] is None
     assert summary["events"]["enemy_defeated"] >= 3
     assert summary["events"]["enemy_hit"] >= summary["events"]["enemy_defeated"]
+
+
+def test_the_level_readme_example_loads_and_plays(tmp_path):
+    import re
+
+    text = (ROOT / "levels" / "README.md").read_text(encoding="utf-8")
+    block = next(b for b in re.findall(r"^```toml\n(.*?)^```", text, re.S | re.M) if 'name = "Warden"' in b)
+    path = tmp_path / "warden.toml"
+    path.write_text(block, encoding="utf-8")
+    game = Game(load_level(path))
+    run(game, 2)
+    warden = enemy(game)
+    assert warden.data.spec.weak_spot is not None and [k.time for k in warden.data.keys] == [0.0, 2.0, 4.0]
+    assert [c.name for c in game.level.checkpoints] == ["midway"]
