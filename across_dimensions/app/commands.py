@@ -276,7 +276,7 @@ def _bench_game(args) -> None:
         f"  Game.frame: {res['entities_frame_ms']:.3f} ms per frame  (baseline: {res['baseline_frame_ms']:.3f} ms; "
         "sections of what reaches the slice included)"
     )
-    from ..game.bench_enemies import bench_enemies
+    from ..game.bench import bench_enemies
 
     foes = bench_enemies(10, ticks=120 if args.quick else 300)
     _out("")

@@ -331,6 +331,7 @@ def _defeat(game, e) -> None:
     _set_state(game, foe, "dying")
     foe.pull = None
     game.hive.defeated += 1
+    game.hive.armour_tick = -(10**9)  # its armour is no longer the news
     opened = ""
     door = game.entities.named(foe.spec.opens) if foe.spec.opens else None
     if door is not None and door.kind in ("object", "body"):
