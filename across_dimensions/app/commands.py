@@ -276,6 +276,19 @@ def _bench_game(args) -> None:
         f"  Game.frame: {res['entities_frame_ms']:.3f} ms per frame  (baseline: {res['baseline_frame_ms']:.3f} ms; "
         "sections of what reaches the slice included)"
     )
+    from ..game.bench import bench_enemies
+
+    foes = bench_enemies(10, ticks=120 if args.quick else 300)
+    _out("")
+    _out(
+        f"Enemies: {foes['enemies']} animated in view ({foes['tets']:,} tetrahedra), each re-sliced every tick "
+        f"({foes['sections_per_frame']:.1f} sections per frame):"
+    )
+    _out(
+        f"  Game.step {foes['enemies_step_ms']:.2f} ms, Game.frame {foes['enemies_frame_ms']:.2f} ms   "
+        f"(baseline, the hall without them: {foes['baseline_step_ms']:.2f} ms, {foes['baseline_frame_ms']:.2f} ms; "
+        "a 60 Hz frame is 16.7 ms)"
+    )
     col = bench_collision(120 if args.quick else 300)
     _out("")
     _out(f"Walker collision per tick, solid 4D objects turning every tick (~{col['triangles']:.0f} section triangles):")

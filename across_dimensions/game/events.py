@@ -330,3 +330,92 @@ class SeekBlocked(Event):
     kind: ClassVar[str] = "seek_blocked"
     reason: str
     w: float
+
+
+@dataclass(frozen=True)
+class EnemyHit(Event):
+    """A bullet hit an enemy.
+
+    Attributes
+    ----------
+    entity : int
+        The enemy's entity id.
+    bullet : int
+        The bullet's entity id (spent by the hit).
+    damage : int
+        Health it took: 0 when it struck the armoured body of an enemy that can only be
+        hurt at its weak spot.
+    weak_spot : bool
+        The bullet hit the weak spot (at its own w).
+    """
+
+    kind: ClassVar[str] = "enemy_hit"
+    entity: int
+    bullet: int
+    damage: int
+    weak_spot: bool
+
+
+@dataclass(frozen=True)
+class EnemyDefeated(Event):
+    """An enemy's health reached zero (its body bursts and goes).
+
+    Attributes
+    ----------
+    entity : int
+    name : str
+    opened : str
+        The ``[[object]]`` its defeat removed, or "".
+    """
+
+    kind: ClassVar[str] = "enemy_defeated"
+    entity: int
+    name: str
+    opened: str
+
+
+@dataclass(frozen=True)
+class PlayerHit(Event):
+    """An enemy's shot hit the player.
+
+    Attributes
+    ----------
+    damage : float
+        Health taken.
+    direction : tuple of float
+        Unit ``(x, z)`` from the player towards where the shot came from (the HUD's cue).
+    source : int
+        The enemy's entity id.
+    """
+
+    kind: ClassVar[str] = "player_hit"
+    damage: float
+    direction: tuple
+    source: int
+
+
+@dataclass(frozen=True)
+class PlayerDied(Event):
+    """The player's health reached zero; they come back at ``checkpoint`` ("" for the spawn point)."""
+
+    kind: ClassVar[str] = "player_died"
+    checkpoint: str
+
+
+@dataclass(frozen=True)
+class LootReleased(Event):
+    """A crystal hidden in an enemy came out: ``crystal`` is the new crystal's entity id and
+    ``reason`` is ``"defeated"`` or ``"forced"`` (a blast moved the enemy so the crystal's w crossed the slice)."""
+
+    kind: ClassVar[str] = "loot_released"
+    entity: int
+    crystal: int
+    reason: str
+
+
+@dataclass(frozen=True)
+class CheckpointReached(Event):
+    """The player touched a checkpoint: dying now brings them back there."""
+
+    kind: ClassVar[str] = "checkpoint_reached"
+    name: str

@@ -150,6 +150,9 @@ class Hud:
     hint_label: str = ""  # the small line under it: which hint, and the key that dismisses it
     warning: str = ""  # one line at the bottom (settings problems: the details are in the log file)
     card: Card | None = None  # a teaching card drawn over the view (the flat being), or None
+    health: HealthGauge | None = None  # the player's health bar (levels with enemies)
+    damage_flash: float = 0.0  # 1 when the player is hit, fading to 0 (the view flashes red)
+    damage_dir: float | None = None  # where the last hit came from: radians from straight ahead, + to the right
 
 
 @dataclass(frozen=True)
@@ -290,3 +293,23 @@ class Card:
     kind: str
     time: float
     lines: tuple = ()
+
+
+@dataclass(frozen=True)
+class HealthGauge:
+    """The player's health bar.
+
+    Parameters
+    ----------
+    value, maximum : float
+        ``0 <= value <= maximum``.
+    flash : float
+        1 right after a hit, fading to 0.
+    safe : bool
+        True while the player cannot be hurt (just after coming back from a death).
+    """
+
+    value: float
+    maximum: float
+    flash: float = 0.0
+    safe: bool = False

@@ -24,6 +24,7 @@ import numpy as np
 from ..world.level import Level
 from ..world.scene import Scene, SectionCache, build_physics, build_scene
 from .actions import Actions
+from .enemies import state_bytes as enemy_state_bytes
 from .energy import EnergyBar
 from .entities import EntityStore, EntityTable, Rigid, Scripted, reach
 from .events import Event
@@ -265,6 +266,7 @@ class Game:
         if self.physics is not None:
             h.update(self.physics.state_bytes())
         h.update(manipulation.state_bytes(self))  # nothing when the level has no manipulable object
+        h.update(enemy_state_bytes(self))  # nothing when the level has no enemies and no health
         return h.hexdigest()[:16]
 
     # ------------------------------------------------------------------ frame

@@ -33,6 +33,10 @@ Layout (pixels, origin top-left, ``W x H`` the viewport):
 * warning (when ``hud.warning``): one line at the bottom centre, between the energy bar and the
   radar, shortened with an ellipsis to fit;
 * card (when ``hud.card``): drawn over everything by :mod:`.cards`.
+* health (when ``hud.health`` is not None): top-left, a bar green when full turning red when low,
+  ``HEALTH`` (``SAFE`` just after a death) above its left end and the value above its right end;
+  ``damage_flash`` washes the whole view red for a moment after a hit, and ``damage_dir`` puts a
+  red arc of marks round the crosshair on the side the hit came from (up is ahead).
 
 Colours are display-space RGBA (no gamma applied).
 """
@@ -45,7 +49,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from ..game.frame import EnergyGauge, Hud, Radar, WeaponPanel
+from ..game.frame import EnergyGauge, HealthGauge, Hud, Radar, WeaponPanel
 from .font import CELL_W, GLYPH_H, GLYPH_W, default_font, font_px, solid_uv
 from .font import text_width as text_width
 
@@ -77,6 +81,12 @@ HINT_ACCENT_COLOR = (0.3, 0.85, 1.0, 0.95)
 HINT_TEXT_COLOR = (0.95, 0.97, 1.0, 1.0)
 HINT_LABEL_COLOR = (0.6, 0.8, 0.95, 0.8)
 WARNING_COLOR = (1.0, 0.8, 0.35, 0.95)
+HEALTH_FULL_COLOR = (0.35, 0.95, 0.45, 0.95)
+HEALTH_LOW_COLOR = (1.0, 0.2, 0.15, 0.95)
+HEALTH_TRACK_COLOR = (1.0, 0.4, 0.35, 0.18)
+HEALTH_SAFE_COLOR = (0.6, 0.9, 1.0, 1.0)
+DAMAGE_FLASH_COLOR = (0.9, 0.05, 0.0, 0.35)
+DAMAGE_CUE_COLOR = (1.0, 0.2, 0.1, 0.9)
 #: Width over height of the radar's rectangle (the radar view fits itself to it).
 RADAR_ASPECT = 0.95
 
@@ -278,6 +288,11 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
     s = m.text_scale
     W, H = m.width, m.height
 
+    # --- a hit: the view flashes red (first, so everything else stays readable on top)
+    if hud.damage_flash > 0:
+        k = min(float(hud.damage_flash), 1.0)
+        q.rect(0, 0, W, H, DAMAGE_FLASH_COLOR[:3] + (DAMAGE_FLASH_COLOR[3] * k,))
+
     # --- w indicator (right edge)
     x0, y0, bw, th = m.w_track()
     q.rect(x0 - 1, y0 - 1, bw + 2, th + 2, OUTLINE_COLOR)
@@ -307,6 +322,12 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
     # --- weapon panel (above the energy bar) and hit marks round the crosshair
     if hud.weapon is not None:
         _weapon_panel(q, hud.weapon, m)
+
+    # --- health bar (top-left) and where the last hit came from
+    if hud.health is not None:
+        _health_bar(q, hud.health, m)
+    if hud.damage_dir is not None:
+        _damage_cue(q, float(hud.damage_dir), m)
 
     # --- radar labels
     if radar is not None:
@@ -621,3 +642,50 @@ class HudRenderer:
         for obj in (self._vao, self._instances, self._corner_vbo, self.atlas, self.program):
             if obj is not None:
                 obj.release()
+
+
+def health_bar_rect(m: HudMetrics) -> tuple[int, int, int, int]:
+    """The health bar's track as ``(x, y, w, h)`` pixels: top-left, below the FPS line."""
+    bar_h = max(5, m.height // 45)
+    bar_w = max(40, int(round(m.width * 0.2)))
+    return m.margin, m.margin + 2 * (GLYPH_H + 3) * m.text_scale, bar_w, bar_h
+
+
+def health_fill_width(gauge: HealthGauge, inner_w: int) -> int:
+    """Pixels of the bar's inner width filled: ``value / maximum`` of it."""
+    frac = 0.0 if gauge.maximum <= 0 else min(max(gauge.value / gauge.maximum, 0.0), 1.0)
+    return int(round(frac * inner_w))
+
+
+def _health_bar(q: _QuadList, gauge: HealthGauge, m: HudMetrics) -> None:
+    s = m.text_scale
+    x, y, w, h = health_bar_rect(m)
+    pad = max(1, h // 5)
+    frac = 0.0 if gauge.maximum <= 0 else min(max(gauge.value / gauge.maximum, 0.0), 1.0)
+    fill = _mix(HEALTH_LOW_COLOR, HEALTH_FULL_COLOR, frac)
+    fill = _mix(fill, (1.0, 1.0, 1.0, 1.0), 0.6 * min(gauge.flash, 1.0))
+    q.rect(x - 1, y - 1, w + 2, h + 2, OUTLINE_COLOR)
+    q.rect(x, y, w, h, HEALTH_TRACK_COLOR)
+    q.rect(x + pad, y + pad, health_fill_width(gauge, w - 2 * pad), h - 2 * pad, fill)
+    label = "SAFE" if gauge.safe else "HEALTH"
+    top = y - GLYPH_H * s - 3 * s
+    q.text(label, x, top, s, HEALTH_SAFE_COLOR if gauge.safe else TEXT_COLOR)
+    val = f"{gauge.value:.0f}/{gauge.maximum:.0f}"
+    q.text(val, x + w - text_width(val, s), top, s, TEXT_COLOR)
+
+
+def damage_cue_points(angle: float, m: HudMetrics) -> list[tuple[int, int]]:
+    """Centres of the cue's marks: an arc round the crosshair centred on ``angle`` (0 up, + right)."""
+    r = max(12, int(round(m.height * 0.16)))
+    cx, cy = m.width // 2, m.height // 2
+    return [
+        (int(round(cx + r * np.sin(angle + d))), int(round(cy - r * np.cos(angle + d))))
+        for d in np.radians([-20.0, -10.0, 0.0, 10.0, 20.0])
+    ]
+
+
+def _damage_cue(q: _QuadList, angle: float, m: HudMetrics) -> None:
+    size = max(3, m.height // 80)
+    for i, (px, py) in enumerate(damage_cue_points(angle, m)):
+        grow = size // 2 if i == 2 else 0  # the middle mark is bigger: the exact direction
+        q.rect(px - size // 2 - grow, py - size // 2 - grow, size + 2 * grow, size + 2 * grow, DAMAGE_CUE_COLOR)

@@ -292,6 +292,9 @@ class Level:
     weapons: list[gameplay.WeaponSpec] = field(default_factory=list)
     targets: list[gameplay.TargetSpec] = field(default_factory=list)
     manipulables: list[gameplay.ManipulableSpec] = field(default_factory=list)
+    enemies: list[gameplay.EnemySpec] = field(default_factory=list)
+    checkpoints: list[gameplay.CheckpointSpec] = field(default_factory=list)
+    health: gameplay.HealthSpec | None = None  # None: the player cannot be hurt
 
     @property
     def bodies(self) -> int:
@@ -842,6 +845,10 @@ def load_level(path, source: bytes | None = None) -> Level:
     manipulables = gameplay.read_manipulables(r, data, objects)
     ghosts = gameplay.read_ghosts(r, data)
     seek = gameplay.read_seek(r, data)
+    animations = gameplay.read_animations(r, data)
+    enemies = gameplay.read_enemies(r, data, animations, {o.name for o in objects})
+    checkpoints = gameplay.read_checkpoints(r, data, w_range if w_ok else None)
+    health = gameplay.read_health(r, data, bool(enemies))
 
     if r.problems:
         raise LevelError(path, r.problems)
@@ -871,4 +878,7 @@ def load_level(path, source: bytes | None = None) -> Level:
         manipulables=manipulables,
         ghosts=ghosts,
         seek=seek,
+        enemies=enemies,
+        checkpoints=checkpoints,
+        health=health,
     )

@@ -56,6 +56,9 @@ MAX_COUNTS = {
     "hints": (20, "hints"),
     "weapon": (9, "weapons (number keys 1 to 9 select them)"),
     "target": (200, "targets"),
+    "enemy": (64, "enemies"),
+    "animation": (512, "animation keyframes ([[animation]])"),
+    "checkpoint": (64, "checkpoints"),
 }
 
 MAX_NAME_CHARS = 100  # level, world and object names
@@ -115,6 +118,12 @@ WEAPON_REACH = Range(0.01, 1000.0, "m")  # bullet radius and amplitude, blast an
 BULLET_CAP = Range(1.0, 64.0)  # live bullets at once
 TARGET_SIZE = Range(0.05, 10.0, "m")
 AMMO = Range(0.0, 1e4)  # rounds a gun holds or a crystal gives
+ENEMY_HEALTH = Range(1.0, 1e4)  # hits an enemy takes (zero is refused: it would be dead on arrival)
+ENEMY_SIZE = Range(0.1, 10.0, "m")  # an enemy body's reach from its centre
+ENEMY_SPEED = Range(0.0, 50.0, "m/s")
+ENEMY_DAMAGE = Range(0.0, 1e4)  # health points one enemy shot takes
+KEY_TIME = Range(0.0, 600.0, "s")  # an animation keyframe's time
+PLAYER_HEALTH = Range(1.0, 1e4)
 
 # Rigid bodies: the envelope in which the physics step stays finite, found by
 # stepping random scenes for 600 ticks (4 bodies each: random shapes, sizes,

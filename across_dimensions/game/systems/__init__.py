@@ -23,8 +23,10 @@ in module globals, so two games never share anything.
 from . import (
     bullets,
     crystals,
+    enemies,
     energy,
     ghosts,
+    health,
     manipulation,
     outcome,
     player,
@@ -40,7 +42,8 @@ from . import (
 #: Tick order: energy first (new tick); seek reads its presses before the player moves
 #: (the glide starts on the tick of the press); manipulation (it turns objects and takes
 #: the walking keys while one is held); the player moves, pushes bodies; weapons fire and
-#: steer bullets before physics runs, bullets read its contacts after; pickups; the outcome.
+#: steer bullets before physics runs, bullets read its contacts after; enemies (the blast, bullet
+#: hits, their moves and shots) and the player's health after the bullets; pickups; the outcome.
 #: Frame order: manipulation (its ghost previews, HUD line), scenery, entities, radar, HUD,
 #: then the ghosts along w, after everything solid.
 SYSTEMS = (
@@ -52,6 +55,8 @@ SYSTEMS = (
     weapons,
     rigid_bodies,
     bullets,
+    enemies,
+    health,
     crystals,
     outcome,
     scenery,

@@ -1,0 +1,330 @@
+"""Enemies that hide along w (paper, section 5, "Fighting enemies").
+
+Two kinds of 4D body:
+
+- ``swarm``: a composition of 4D primitives, eight hyperspheres on a ring in the
+  z-w plane and two beside it; its animation translates them along w and turns
+  them in zw, so the slice shows spheres swelling, splitting and merging (the
+  paper's Fig. "Animating 4D primitives").
+- ``morph``: a 3D asset (the tree of ``assets/meshes``) lifted into 4D and
+  animated only by keyframed 4D rototranslations, so its cross-section morphs:
+  a tree, then a jellyfish, then a gun (Fig. "Animating enemies").
+
+A body's model at time ``t`` is ``T(centre) @ A(t) @ S @ T(-pivot)``: the
+pivot is the mesh's middle, ``S`` scales it to the enemy's size, ``A(t)`` is
+the animation pose interpolated between keyframes (:func:`animation_pose`) and
+the centre is where the enemy's state machine has taken it. The cross-section
+drawn is that model cut at the player's w, nothing else.
+
+Behaviour is a small deterministic state machine per enemy (see
+``game/systems/enemies.py`` for the tick):
+
+``hidden``
+    off the slice, at least :data:`HIDE_W` from the player's w, drifting near its
+    post in all four dimensions (draws from ``game.rng`` only);
+``approaching``
+    the player is within ``sight`` of its post: it moves to the standoff from them (never
+    further than :data:`LEASH` from the post) and into the player's w;
+``attacking``
+    in the slice and within ``reach`` (it keeps 0.6 of its reach from the player): it glows and flickers for
+    :data:`WINDUP` seconds, then fires a slow glowing shot at the player's
+    chest at the player's w. The player sees it coming and can step aside or
+    out of the slice along w. After :data:`BURST` shots it leaves;
+``fleeing``
+    out of the slice along w, away from the player: after its burst, when hurt
+    to half its health or less, or when the player comes within
+    :data:`FLEE_NEAR`; then hidden again for a few seconds;
+``dragged`` / ``stunned``
+    pulled into the slice by the blast, then dazed for :data:`STUN` seconds;
+``dying``
+    its body bursts outward and glows for :data:`DEFEAT_TIME`, then it is gone.
+
+Bullets hurt an enemy when they pass through its body: within ``size`` of its
+centre in x, y, z and within its w half-depth in w. An enemy with a
+``weak_spot`` is armoured: only a bullet within :data:`WEAK_RADIUS` of the weak
+spot in space and :data:`WEAK_W` of its w hurts it, and the weak spot lies at
+another w than the body, so only a bullet's w swing reaches it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.mesh import concatenate
+from ..core.shapes import hypersphere, make_shape
+from ..core.transform import pose, scaling, translation
+from ..world.gameplay import EnemySpec, KeySpec
+
+# ------------------------------------------------------------------ tuning
+HIDE_W = 1.3  # units of w off the player's slice where a hidden enemy keeps: beyond any body's half-depth
+W_SPEED = 1.0  # units of w per second: a little slower than the player (1.2), so a step along w is a dodge
+FLEE_W_SPEED = 1.6
+FLEE_NEAR = 2.0  # metres: closer than this and an enemy backs off out of the slice
+LEASH = 4.0  # metres an enemy comes from its post at most
+STANDOFF = 0.6  # of its reach: the distance it attacks from
+IN_SLICE = 0.05  # units of w: close enough to the player's w to shoot
+WINDUP = 0.9  # seconds of warning (glowing, flickering) before each shot
+RECOVER = 1.2  # seconds between shots, plus up to RECOVER_JITTER from the rng
+RECOVER_JITTER = 0.5
+BURST = 2  # shots before it leaves the slice
+RETURN_MIN, RETURN_MAX = 2.0, 4.0  # seconds hidden before coming back
+DRIFT_EVERY = 1.5  # seconds between new drift targets while hidden
+DRIFT = np.array([1.0, 0.3, 1.0, 0.25])  # how far the drift wanders from the post, per axis
+STUN = 1.0  # seconds dazed after the blast pulled it in
+DEFEAT_TIME = 0.6  # seconds of the defeat burst
+HIT_FLASH = 0.2  # seconds an enemy glows after a hit
+SHOT_SPEED = 7.0  # m/s: from 5 m the player has 0.7 s after the shot leaves, plus the wind-up
+SHOT_RADIUS = 0.25  # m: the shot's reach in x, y, z
+SHOT_W = 0.3  # units of w: a player further than this from the shot's w is not hit
+SHOT_LIFETIME = 4.0
+SHOT_COLOR = (1.0, 0.3, 0.15, 1.0)
+CHEST = 1.1  # metres above the feet where shots aim
+WEAK_RADIUS = 0.35  # metres: a bullet within this of the weak spot in x, y, z ...
+WEAK_W = 0.25  # ... and within this of its w hits it
+WEAK_COLOR = (1.0, 0.85, 0.2, 1.0)
+LOOT_SIZE = 0.3  # the hidden crystal's reach (its own w extent either side)
+LOOT_COLOR = (0.35, 1.0, 0.85, 1.0)
+#: How far the blast's pull reaches when the level's blast has no radius (never: every blast has one).
+STATES = ("hidden", "approaching", "attacking", "fleeing", "dragged", "stunned", "dying")
+
+#: Each kind's animation when the level gives none: (time s, offset (4,), rotation degrees).
+DEFAULT_KEYS = {
+    # Fig. "Animating 4D primitives": a translation along w, then a turn in zw (the paper's v).
+    "swarm": [
+        (0.0, (0.0, 0.0, 0.0, 0.0), {}),
+        (1.5, (0.0, 0.0, 0.0, 0.3), {}),
+        (3.0, (0.0, 0.0, 0.0, 0.3), {"zw": 180.0}),
+        (4.5, (0.0, 0.0, 0.0, 0.0), {"zw": 360.0}),
+    ],
+    # Fig. "Animating enemies": the tree, turned into w it is a jellyfish, turned again a gun, and back.
+    "morph": [
+        (0.0, (0.0, 0.0, 0.0, 0.0), {}),
+        (2.0, (0.0, 0.0, 0.0, 0.0), {"yw": 70.0}),
+        (4.0, (0.0, 0.0, 0.0, 0.0), {"xy": 90.0, "xw": 40.0}),
+        (6.0, (0.0, 0.0, 0.0, 0.0), {}),
+    ],
+}
+
+
+def default_keys(kind: str) -> list[KeySpec]:
+    """The kind's own animation as keyframes."""
+    return [KeySpec(t, np.array(o, np.float64), dict(r)) for t, o, r in DEFAULT_KEYS[kind]]
+
+
+def animation_pose(keys: list[KeySpec], t: float) -> np.ndarray:
+    """The animation's rototranslation at ``t`` seconds, ``(5, 5) float64``.
+
+    The keyframes loop with the period of the last key's time (a level repeats
+    its first pose last for a seamless loop). Between two keys each rotation
+    angle and the offset move along a smoothstep, so the motion starts and
+    stops gently at every key; exactly at a key the pose is the key's.
+    """
+    if len(keys) == 1 or keys[-1].time <= 0.0:
+        k = keys[0]
+        return pose(k.offset, {p: np.radians(a) for p, a in k.rotation_deg.items()})
+    tm = float(t) % keys[-1].time
+    j = max(0, int(np.searchsorted([k.time for k in keys], tm, side="right")) - 1)
+    a, b = keys[j], keys[min(j + 1, len(keys) - 1)]
+    span = b.time - a.time
+    s = 0.0 if span <= 0 else (tm - a.time) / span
+    s = s * s * (3.0 - 2.0 * s)
+    planes = set(a.rotation_deg) | set(b.rotation_deg)
+    angles = {
+        p: np.radians(a.rotation_deg.get(p, 0.0) + s * (b.rotation_deg.get(p, 0.0) - a.rotation_deg.get(p, 0.0)))
+        for p in planes
+    }
+    return pose(a.offset + s * (b.offset - a.offset), angles)
+
+
+# ------------------------------------------------------------------ bodies
+@dataclass(frozen=True)
+class Body:
+    """A kind's 4D mesh and how it is placed: ``pivot (4,)`` is moved to the origin and
+    the mesh scaled by ``scale (4,)``; ``w_half`` is its half-depth in w (the bullets' hit zone)."""
+
+    mesh: object
+    pivot: np.ndarray
+    scale: np.ndarray
+    w_half: float
+
+
+def swarm_mesh(color) -> object:
+    """Ten hyperspheres: eight on a ring of radius 0.5 in the z-w plane, two beside it on x."""
+    spheres = []
+    for k in range(8):
+        a = 2 * np.pi * k / 8
+        spheres.append((0.0, 0.0, 0.5 * np.cos(a), 0.5 * np.sin(a)))
+    spheres += [(0.45, 0.15, 0.0, 0.0), (-0.45, -0.15, 0.0, 0.0)]
+    parts = []
+    for i, c in enumerate(spheres):
+        r = 0.24 if i < 8 else 0.2
+        shade = 0.75 + 0.25 * (i % 2)
+        col = (color[0] * shade, color[1] * shade, color[2] * shade, color[3])
+        m = hypersphere(r, 0, color=col)
+        v = m.vertices.astype(np.float64) + np.asarray(c)
+        parts.append(type(m)(v.astype(np.float32), m.tets, m.colors, name="sphere"))
+    return concatenate(parts, name="swarm")
+
+
+def build_body(spec: EnemySpec, cache: dict) -> Body:
+    """The enemy's body, built once per kind, asset and look (``cache`` keeps them for the game)."""
+    key = (spec.kind, str(spec.asset), spec.depth, spec.color, spec.size)
+    got = cache.get(key)
+    if got is not None:
+        return got
+    if spec.kind == "swarm":
+        mesh = swarm_mesh(spec.color)
+        reach = 0.74  # ring radius plus a sphere
+        s = spec.size / reach
+        body = Body(mesh, np.zeros(4), np.full(4, s), 0.74 * s)
+    else:
+        from ..world.bake import lift_asset  # the bake (and its mesh library) only when a level lifts assets
+
+        mesh = lift_asset(spec.asset, spec.depth, profile="round", color=spec.color[:3], progress=False, layers=5)
+        v = mesh.vertices.astype(np.float64)
+        lo, hi = v.min(axis=0), v.max(axis=0)
+        pivot = 0.5 * (lo + hi)
+        s = spec.size / max(float(np.max((hi - lo)[:3]) / 2), 1e-9)
+        # Space is scaled to the size; w keeps the level's depth, so the body is as deep as it says.
+        body = Body(mesh, pivot, np.array([s, s, s, 1.0]), spec.depth / 2)
+    cache[key] = body
+    return body
+
+
+def body_model(body: Body, keys, centre, t: float, grow: float = 1.0) -> np.ndarray:
+    """The body's object-to-world ``(5, 5) float64`` at ``t``: ``T(centre) A(t) S T(-pivot)``."""
+    return translation(centre) @ animation_pose(keys, t) @ scaling(body.scale * grow) @ translation(-body.pivot)
+
+
+def body_reach(body: Body, keys) -> float:
+    """How far the posed body reaches from its centre, every pose and the defeat burst included."""
+    v = (body.mesh.vertices.astype(np.float64) - body.pivot) * body.scale
+    offset = max(float(np.linalg.norm(k.offset)) for k in keys)
+    return float(np.linalg.norm(v, axis=1).max()) * 1.6 + offset
+
+
+def small_mesh(shape: str, color):
+    """A little glowing polychoron of reach 1 (shots, weak spots, hidden crystals)."""
+    m = make_shape(shape).with_color(color)
+    r = float(np.linalg.norm(m.vertices.astype(np.float64), axis=1).max())
+    return m, r
+
+
+# ------------------------------------------------------------------ state
+@dataclass
+class Foe:
+    """An enemy's state (``Entity.data`` of an ``"enemy"`` entity).
+
+    ``centre (4,) float64`` is where the state machine has it; the body is drawn
+    round it. Times are ticks.
+    """
+
+    spec: EnemySpec
+    body: Body
+    keys: list
+    index: int
+    centre: np.ndarray
+    side: int  # +1: it hides ana of the player, -1 kata
+    health: int
+    state: str = "hidden"
+    since: int = 0
+    next_shot: int = 0
+    shots_left: int = 0
+    leave_at: int = -1
+    back_at: int = 0
+    drift: np.ndarray = field(default_factory=lambda: np.zeros(4))
+    next_drift: int = 0
+    hurt_tick: int = -(10**9)
+    pull: tuple | None = None  # (from_w, to_w, start, end) while the blast drags it
+    loot: int | None = None  # entity id of the crystal inside it, until released
+    weak: int | None = None  # entity id of its weak spot's marker
+    phase: float = 0.0  # seconds its animation runs ahead of the clock (enemies do not move in step)
+    eid: int = -1  # its entity id
+
+    @property
+    def alive(self) -> bool:
+        return self.state != "dying"
+
+    def weak_point(self) -> np.ndarray | None:
+        """Where its weak spot is now, ``(4,) float64``, or None."""
+        return None if self.spec.weak_spot is None else self.centre + self.spec.weak_spot
+
+    def loot_point(self) -> np.ndarray:
+        """Where its hidden crystal is now, ``(4,) float64``."""
+        off = self.spec.loot_offset
+        if off is None:  # between it and the player when it hides: a pull drags the crystal through the slice
+            off = np.array([0.0, 0.0, 0.0, -0.45 * self.side])
+        return self.centre + off
+
+    def state_array(self) -> np.ndarray:
+        pull = self.pull if self.pull is not None else (0.0, 0.0, -1, -1)
+        return np.array(
+            [
+                *self.centre,
+                STATES.index(self.state),
+                self.health,
+                self.since,
+                self.next_shot,
+                self.shots_left,
+                self.leave_at,
+                self.back_at,
+                *self.drift,
+                self.next_drift,
+                self.hurt_tick,
+                *pull,
+                -1 if self.loot is None else self.loot,
+            ],
+            np.float64,
+        )
+
+
+@dataclass
+class Shot:
+    """An enemy's shot (``Entity.data`` of an ``"enemy_shot"``): it flies straight at
+    ``velocity (4,)`` (no w part) from ``origin (4,)``; ``source`` is the enemy's id."""
+
+    origin: np.ndarray
+    velocity: np.ndarray
+    born: int
+    damage: float
+    source: int
+
+    def at(self, ticks: int, dt: float) -> np.ndarray:
+        return self.origin + self.velocity * (ticks * dt)
+
+
+@dataclass
+class Hive:
+    """The level's enemies and their shots (``game.hive``)."""
+
+    foes: list = field(default_factory=list)  # enemy entity ids, in the level's order
+    shots: list = field(default_factory=list)  # live shot entity ids
+    bodies: dict = field(default_factory=dict)  # built bodies by kind and look
+    shot_mesh: object = None
+    shot_reach: float = 1.0
+    armour_tick: int = -(10**9)  # last bullet that struck armour (the HUD says where to aim)
+    defeated: int = 0
+
+
+def state_bytes(game) -> bytes:
+    """The enemies', their shots' and the player's health state for the state hash; nothing
+    at all in a level without enemies or health, so other levels' hashes are unchanged."""
+    hive = getattr(game, "hive", None)
+    health = getattr(game, "health", None)
+    if hive is None and health is None:
+        return b""
+    parts = []
+    if health is not None:
+        parts.append(health.state_array())
+    if hive is not None:
+        for eid in hive.foes:
+            e = game.entities.get(eid)
+            if e is not None:
+                parts.append(e.data.state_array())
+        for sid in hive.shots:
+            s = game.entities.get(sid).data
+            parts.append(np.array([sid, s.born, s.damage, s.source, *s.origin, *s.velocity], np.float64))
+        parts.append(np.array([hive.defeated], np.float64))
+    return np.concatenate(parts).astype(np.float64).tobytes() if parts else b""

@@ -1,0 +1,149 @@
+"""The player's health: damage, death and checkpoints.
+
+A level with enemies (or a ``[health]`` table) gives the player health
+(``game.health``, a :class:`Health`); a level without either has none and
+nothing here runs, so older levels and their replays are untouched.
+
+Enemy shots take health through :func:`damage`. At zero the player dies:
+:func:`die` brings them back at the last checkpoint they touched (or the
+spawn point) with full health, a few seconds of safety and a message that
+says so. Nothing else is undone: collected crystals, energy, defeated enemies
+and opened doors stay as they are, so a death costs the walk back, never
+progress.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .events import CheckpointReached, PlayerDied, PlayerHit
+from .player import Player
+
+FLASH_TICKS = 24  # the red flash and the bar's flash after a hit (0.4 s)
+CUE_TICKS = 90  # the damage direction cue stays 1.5 s, fading
+MESSAGE_TICKS = 240  # the death message stays 4 s
+CHECKPOINT_MESSAGE_TICKS = 120
+#: How far along w from a checkpoint's w the player may be and still touch it
+#: (units of w): about a body's width, so it is touched where it is seen.
+CHECKPOINT_W = 0.3
+
+
+@dataclass
+class Health:
+    """The player's health (``game.health``).
+
+    Attributes
+    ----------
+    maximum, value : float
+    safe_ticks : int
+        Ticks of safety after coming back from a death.
+    safe_until : int
+        Tick before which no damage is taken.
+    hit_tick : int
+        Tick of the last hit (flashes and cue fade from it).
+    hit_dir : (2,) float64
+        Unit ``(x, z)`` from the player towards the last hit's source.
+    deaths : int
+    checkpoint : int
+        Index of the checkpoint the player comes back to; -1 for the spawn point.
+    message, message_until
+        A HUD line and the tick it goes.
+    """
+
+    maximum: float
+    value: float
+    safe_ticks: int
+    safe_until: int = 0
+    hit_tick: int = -(10**9)
+    hit_dir: np.ndarray | None = None
+    deaths: int = 0
+    checkpoint: int = -1
+    message: str = ""
+    message_until: int = 0
+
+    def state_array(self) -> np.ndarray:
+        """What evolves, ``float64``, for the state hash."""
+        d = self.hit_dir if self.hit_dir is not None else np.zeros(2)
+        return np.array([self.value, self.safe_until, self.hit_tick, *d, self.deaths, self.checkpoint], np.float64)
+
+
+def setup(game) -> Health | None:
+    """The game's health, made on first use; None when the level gives the player none."""
+    if hasattr(game, "health"):
+        return game.health
+    spec = game.level.health
+    game.health = None if spec is None else Health(spec.maximum, spec.maximum, round(spec.invulnerable / game.dt))
+    return game.health
+
+
+def damage(game, amount: float, source_xz, source: int) -> bool:
+    """Take ``amount`` from the player, hit from ``source_xz (2,)`` by entity ``source``.
+
+    Returns True when the hit counted (not during the safety after a death).
+    """
+    h = setup(game)
+    if h is None or amount <= 0 or game.tick < h.safe_until:
+        return False
+    d = np.asarray(source_xz, np.float64) - game.player.position[[0, 2]]
+    n = float(np.hypot(*d))
+    h.hit_dir = d / n if n > 1e-9 else np.array([0.0, 1.0])
+    h.value = max(0.0, h.value - float(amount))
+    h.hit_tick = game.tick
+    game.emit(PlayerHit(float(amount), (float(h.hit_dir[0]), float(h.hit_dir[1])), source))
+    if h.value <= 0.0:
+        die(game)
+    return True
+
+
+def die(game) -> None:
+    """Back to the last checkpoint with full health; everything won so far is kept."""
+    from .systems import enemies as enemy_system  # enemies step back so the player is not shot on arrival
+
+    h = game.health
+    cps = game.level.checkpoints
+    if h.checkpoint >= 0:
+        cp = cps[h.checkpoint]
+        position, yaw, where = cp.position.astype(np.float64).copy(), float(np.radians(cp.yaw_deg)), cp.name
+    else:
+        position, where = game.level.spawn.astype(np.float64).copy(), ""
+        yaw = float(np.radians(game.level.spawn_yaw_deg))
+    game.player = Player(position, yaw=yaw)
+    game._prev_eye = game.player.eye()  # no camera sweep from where the player fell
+    game._prev_view = (game.player.yaw, game.player.pitch)
+    h.deaths += 1
+    h.value = h.maximum
+    h.safe_until = game.tick + h.safe_ticks
+    place = f"checkpoint '{where}'" if where else "the start"
+    h.message = f"You died. Back at {place}: your crystals and defeated enemies are kept."
+    h.message_until = game.tick + MESSAGE_TICKS
+    game.emit(PlayerDied(where))
+    enemy_system.player_died(game)
+
+
+def touched_checkpoint(game) -> int | None:
+    """Index of a checkpoint (later than the current one) the player's feet are in, or None."""
+    h = game.health
+    p = game.player.position
+    for i, cp in enumerate(game.level.checkpoints):
+        if i <= h.checkpoint:
+            continue
+        half = cp.size / 2.0
+        centre = cp.position[:3] + np.array([0.0, half[1], 0.0])
+        if np.all(np.abs(p[:3] - centre) <= half) and abs(p[3] - cp.position[3]) <= CHECKPOINT_W:
+            return i
+    return None
+
+
+def reach_checkpoints(game) -> None:
+    """Make the latest checkpoint the player touches the one they come back to."""
+    i = touched_checkpoint(game)
+    if i is None:
+        return
+    h = game.health
+    h.checkpoint = i
+    name = game.level.checkpoints[i].name
+    if game.tick >= h.message_until or not h.message.startswith("You died"):
+        h.message, h.message_until = f"Checkpoint '{name}'", game.tick + CHECKPOINT_MESSAGE_TICKS
+    game.emit(CheckpointReached(name))

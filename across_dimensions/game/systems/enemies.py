@@ -1,0 +1,462 @@
+"""Enemies each tick, after the bullets: the blast's pull, bullet hits, the state machine,
+their shots at the player, hidden crystals and the defeat burst.
+
+See :mod:`..enemies` for the kinds, the animation and the states. Everything
+here is deterministic: the only randomness is ``game.rng`` (drift targets and
+the pause between shots), which the state hash covers.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...world.gameplay import CrystalSpec
+from .. import enemies as en
+from .. import health as hp
+from ..entities import Placed
+from ..events import EnemyDefeated, EnemyHit, LootReleased
+from ..player import HALF_WIDTH, HEIGHT
+from . import crystals
+
+ARMOUR_MESSAGE_TICKS = 90
+
+
+# ------------------------------------------------------------------ setup
+def setup(game) -> en.Hive | None:
+    """The level's enemies, spawned on the first tick; None when it has none."""
+    if hasattr(game, "hive"):
+        return game.hive
+    specs = game.level.enemies
+    if not specs:
+        game.hive = None
+        return None
+    hive = game.hive = en.Hive()
+    hive.shot_mesh, hive.shot_reach = en.small_mesh("16-cell", en.SHOT_COLOR)
+    spawn_w = float(game.level.spawn[3])
+    for i, spec in enumerate(specs):
+        body = en.build_body(spec, hive.bodies)
+        keys = spec.keys if spec.keys else en.default_keys(spec.kind)
+        side = 1 if spec.position[3] >= spawn_w else -1
+        foe = en.Foe(spec, body, keys, i, spec.position.astype(np.float64).copy(), side, spec.health)
+        foe.phase = 0.9 * i
+        foe.drift = spec.position.astype(np.float64).copy()
+        model = en.body_model(body, keys, foe.centre, game.time + foe.phase)
+        e = game.entities.spawn(
+            "enemy", spec.name, body.mesh, Placed(model), radar="enemy", data=foe, radius=en.body_reach(body, keys)
+        )
+        hive.foes.append(e.id)
+        foe.eid = e.id
+        if spec.weak_spot is not None:
+            mesh, r = en.small_mesh("5-cell", en.WEAK_COLOR)
+            s = en.WEAK_RADIUS / r
+            w = game.entities.spawn(
+                "weak_spot",
+                f"{spec.name} weak spot",
+                mesh,
+                Placed(_small_pose(foe.weak_point(), s)),
+                radar="target",
+                style="glow",
+                radius=en.WEAK_RADIUS,
+            )
+            w.data = s
+            foe.weak = w.id
+        if spec.loot_milli > 0:
+            mesh, r = en.small_mesh("16-cell", en.LOOT_COLOR)
+            s = en.LOOT_SIZE / r
+            at = _small_pose(foe.loot_point(), s)
+            lo = game.entities.spawn("loot", f"{spec.name} loot", mesh, Placed(at), style="glow", radius=en.LOOT_SIZE)
+            lo.data = s
+            foe.loot = lo.id
+    return hive
+
+
+def _small_pose(at, s: float) -> np.ndarray:
+    m = np.diag([s, s, s, s, 1.0])
+    m[:4, 4] = at
+    return m
+
+
+def foes(game) -> list:
+    """The live enemy entities (dying ones included), in the level's order."""
+    hive = getattr(game, "hive", None)
+    if hive is None:
+        return []
+    return [e for e in (game.entities.get(i) for i in hive.foes) if e is not None]
+
+
+# ------------------------------------------------------------------ movement
+def _blocked(game, centre) -> bool:
+    """Would the enemy's core (a small box round its centre) be inside the 3D world at its w?"""
+    core = 0.3
+    boxes = game.colliders_at(float(centre[3]))
+    if len(boxes) == 0:
+        return False
+    lo, hi = centre[:3] - core, centre[:3] + core
+    return bool(np.any(np.all((lo < boxes[:, 1]) & (hi > boxes[:, 0]), axis=1)))
+
+
+def _move(game, foe: en.Foe, target, speed: float, w_speed: float) -> None:
+    """Towards ``target (4,)``: x, y, z at ``speed``, w at ``w_speed``; never into the 3D world."""
+    dt = game.dt
+    c = foe.centre
+    d = np.asarray(target, np.float64)[:3] - c[:3]
+    n = float(np.linalg.norm(d))
+    step = d if n <= speed * dt else d * (speed * dt / n)
+    for axis in range(3):  # one axis at a time, so it slides along a wall instead of sticking
+        if step[axis] == 0.0:
+            continue
+        trial = c.copy()
+        trial[axis] += step[axis]
+        if not _blocked(game, trial):
+            c = trial
+    dw = float(target[3]) - c[3]
+    c[3] += float(np.clip(dw, -w_speed * dt, w_speed * dt))
+    foe.centre = c
+
+
+def _set_state(game, foe: en.Foe, state: str) -> None:
+    foe.state, foe.since = state, game.tick
+
+
+def _seconds(game, s: float) -> int:
+    return max(1, int(round(s / game.dt)))
+
+
+def _hide_w(game, foe: en.Foe) -> float:
+    """The w it keeps while hidden: its post's, unless that is too near the player's slice."""
+    pw = float(game.player.position[3])
+    home = float(foe.spec.position[3])
+    if abs(home - pw) >= en.HIDE_W:
+        return home
+    return pw + foe.side * en.HIDE_W
+
+
+def _leave(game, foe: en.Foe) -> None:
+    foe.leave_at = -1
+    _set_state(game, foe, "fleeing")
+
+
+def _think(game, foe: en.Foe) -> None:
+    """One tick of the state machine: transitions first, then motion."""
+    p = game.player.position
+    pw = float(p[3])
+    spec = foe.spec
+    home = spec.position
+    to_player = float(np.linalg.norm(p[[0, 2]] - foe.centre[[0, 2]]))
+    player_from_post = float(np.linalg.norm(p[[0, 2]] - home[[0, 2]]))
+    s = foe.state
+
+    if s == "hidden":
+        if player_from_post <= spec.sight and game.tick >= foe.back_at:
+            _set_state(game, foe, "approaching")
+        else:
+            if game.tick >= foe.next_drift:
+                foe.drift = home + game.rng.uniform(-1.0, 1.0, 4) * en.DRIFT
+                foe.next_drift = game.tick + _seconds(game, en.DRIFT_EVERY)
+            target = foe.drift.copy()
+            target[3] = _hide_w(game, foe) + (foe.drift[3] - home[3])
+            _move(game, foe, target, spec.speed * 0.4, en.W_SPEED)
+            return
+    if foe.state == "approaching":
+        if player_from_post > spec.sight * 1.5:
+            _leave(game, foe)
+        elif abs(foe.centre[3] - pw) <= en.IN_SLICE and to_player <= spec.reach:
+            _set_state(game, foe, "attacking")
+            foe.shots_left = en.BURST
+            foe.next_shot = game.tick + _seconds(game, en.WINDUP)
+        else:
+            _move(game, foe, _post_target(foe, p), spec.speed, en.W_SPEED)
+            return
+    if foe.state == "attacking":
+        if to_player < en.FLEE_NEAR or (foe.leave_at >= 0 and game.tick >= foe.leave_at):
+            _leave(game, foe)
+        elif to_player > spec.reach * 1.25:
+            _set_state(game, foe, "approaching")
+        else:
+            if foe.shots_left > 0 and game.tick >= foe.next_shot and abs(foe.centre[3] - pw) <= en.IN_SLICE:
+                _fire(game, foe)
+                foe.shots_left -= 1
+                pause = en.RECOVER + float(game.rng.uniform(0.0, en.RECOVER_JITTER))
+                if foe.shots_left == 0:
+                    foe.leave_at = game.tick + _seconds(game, pause)
+                else:
+                    foe.next_shot = game.tick + _seconds(game, pause + en.WINDUP)
+            elif foe.shots_left > 0 and abs(foe.centre[3] - pw) > en.IN_SLICE:
+                # The player stepped out of the slice: follow, and wind up again once there.
+                foe.next_shot = max(foe.next_shot, game.tick + _seconds(game, en.WINDUP))
+            target = foe.centre.copy()
+            target[3] = pw
+            _move(game, foe, target, spec.speed, en.W_SPEED)
+            return
+    if foe.state == "fleeing":
+        if abs(foe.centre[3] - pw) >= en.HIDE_W:
+            _set_state(game, foe, "hidden")
+            foe.back_at = game.tick + _seconds(game, float(game.rng.uniform(en.RETURN_MIN, en.RETURN_MAX)))
+            foe.next_drift = game.tick
+        else:
+            target = np.append(home[:3], pw + foe.side * en.HIDE_W * 1.2)
+            _move(game, foe, target, spec.speed, en.FLEE_W_SPEED)
+        return
+    if foe.state == "dragged":
+        w0, w1, start, end = foe.pull
+        k = min(max((game.tick + 1 - start) / max(end - start, 1), 0.0), 1.0)
+        k = k * k * (3.0 - 2.0 * k)
+        foe.centre[3] = w0 + (w1 - w0) * k
+        if game.tick + 1 >= end:
+            foe.pull = None
+            _set_state(game, foe, "stunned")
+        return
+    if foe.state == "stunned" and game.tick - foe.since >= _seconds(game, en.STUN):
+        _set_state(game, foe, "attacking")
+        foe.shots_left = en.BURST
+        foe.next_shot = game.tick + _seconds(game, en.WINDUP)
+
+
+def _post_target(foe: en.Foe, player_pos) -> np.ndarray:
+    """Where it attacks from: its reach's standoff from the player, on the player's side of
+    its post (so it comes towards a player far away and backs off from one too near), on a
+    leash from the post, at the post's height and the player's w."""
+    home = foe.spec.position
+    d = home[[0, 2]] - player_pos[[0, 2]]
+    n = float(np.linalg.norm(d))
+    u = d / n if n > 1e-9 else np.array([0.0, 1.0])
+    xz = player_pos[[0, 2]] + u * foe.spec.reach * en.STANDOFF
+    off = xz - home[[0, 2]]
+    k = float(np.linalg.norm(off))
+    if k > en.LEASH:
+        xz = home[[0, 2]] + off * (en.LEASH / k)
+    return np.array([xz[0], home[1], xz[1], float(player_pos[3])])
+
+
+# ------------------------------------------------------------------ shots
+def _fire(game, foe: en.Foe) -> None:
+    hive = game.hive
+    eid = foe.eid
+    chest = game.player.position[:3] + np.array([0.0, en.CHEST, 0.0])
+    d = chest - foe.centre[:3]
+    n = float(np.linalg.norm(d))
+    v = d / n * en.SHOT_SPEED if n > 1e-9 else np.array([0.0, 0.0, -en.SHOT_SPEED])
+    origin = foe.centre.copy()
+    origin[:3] += (v / en.SHOT_SPEED) * min(0.5 * foe.spec.size, max(n - 0.5, 0.0))  # from its skin, not its heart
+    s = en.SHOT_RADIUS / hive.shot_reach
+    e = game.entities.spawn(
+        "enemy_shot",
+        "shot",
+        hive.shot_mesh,
+        Placed(_small_pose(origin, s)),
+        style="glow",
+        data=en.Shot(origin, np.append(v, 0.0), game.tick, foe.spec.damage, eid),
+        radius=en.SHOT_RADIUS,
+    )
+    hive.shots.append(e.id)
+
+
+def _fly_shots(game, hive: en.Hive) -> None:
+    p = game.player.position
+    lo = p[:3] - np.array([HALF_WIDTH, 0.0, HALF_WIDTH]) - en.SHOT_RADIUS
+    hi = p[:3] + np.array([HALF_WIDTH, HEIGHT, HALF_WIDTH]) + en.SHOT_RADIUS
+    life = _seconds(game, en.SHOT_LIFETIME)
+    for sid in list(hive.shots):
+        e = game.entities.get(sid)
+        shot = e.data
+        age = game.tick + 1 - shot.born
+        at = shot.at(age, game.dt)
+        e.motion.move(_small_pose(at, e.motion.pose[0, 0]))
+        gone = age >= life
+        if np.all((at[:3] >= lo) & (at[:3] <= hi)) and abs(at[3] - p[3]) <= en.SHOT_W:
+            source = game.entities.get(shot.source)
+            origin = source.data.centre if source is not None else shot.origin
+            hp.damage(game, shot.damage, origin[[0, 2]], shot.source)
+            gone = True
+        elif _point_in_world(game, at):
+            gone = True
+        if gone and sid in hive.shots:  # a fatal hit has already cleared every shot (player_died)
+            hive.shots.remove(sid)
+            game.remove(sid)
+
+
+def _point_in_world(game, at) -> bool:
+    boxes = game.colliders_at(float(at[3]))
+    if len(boxes) == 0:
+        return False
+    return bool(np.any(np.all((at[:3] > boxes[:, 0]) & (at[:3] < boxes[:, 1]), axis=1)))
+
+
+# ------------------------------------------------------------------ hits
+def _bullet_hits(game, hive: en.Hive) -> None:
+    ars = getattr(game, "arsenal", None)
+    if ars is None or not ars.bullets:
+        return
+    live = [e for e in foes(game) if e.data.alive]
+    for bid in list(ars.bullets):
+        b = game.entities.get(bid)
+        bp = b.center(game)
+        for e in live:
+            foe = e.data
+            weak = foe.weak_point()
+            # A bullet at the weak spot's w is in the weak spot's slice, not the armour's: it flies on.
+            at_weak_w = weak is not None and abs(bp[3] - weak[3]) <= en.WEAK_W + b.radius
+            hit_weak = at_weak_w and np.linalg.norm(bp[:3] - weak[:3]) <= en.WEAK_RADIUS + b.radius
+            hit_body = (
+                not at_weak_w
+                and np.linalg.norm(bp[:3] - foe.centre[:3]) <= foe.spec.size + b.radius
+                and abs(bp[3] - foe.centre[3]) <= foe.body.w_half + b.radius
+            )
+            if not (hit_weak or hit_body):
+                continue
+            damage = 1 if (hit_weak or weak is None) else 0
+            ars.hit_tick = game.tick
+            if damage == 0:
+                hive.armour_tick = game.tick
+            game.emit(EnemyHit(e.id, bid, damage, bool(hit_weak)))
+            ars.bullets.remove(bid)
+            game.remove(bid)
+            if damage:
+                _hurt(game, e, damage)
+            break
+
+
+def _hurt(game, e, damage: int) -> None:
+    foe = e.data
+    foe.health -= damage
+    foe.hurt_tick = game.tick
+    if foe.health <= 0:
+        _defeat(game, e)
+    elif foe.health * 2 <= foe.spec.health and foe.state in ("approaching", "attacking", "stunned"):
+        _leave(game, foe)
+
+
+def _defeat(game, e) -> None:
+    foe = e.data
+    _set_state(game, foe, "dying")
+    foe.pull = None
+    game.hive.defeated += 1
+    game.hive.armour_tick = -(10**9)  # its armour is no longer the news
+    opened = ""
+    door = game.entities.named(foe.spec.opens) if foe.spec.opens else None
+    if door is not None and door.kind in ("object", "body"):
+        game.remove(door.id)
+        opened = foe.spec.opens
+    if foe.weak is not None:
+        game.remove(foe.weak)
+        foe.weak = None
+    game.emit(EnemyDefeated(e.id, foe.spec.name, opened))
+    _release(game, e, "defeated")
+
+
+def _release(game, e, reason: str) -> None:
+    """Turn the crystal hidden in the enemy into a crystal the player can take (once)."""
+    foe = e.data
+    if foe.loot is None:
+        return
+    at = foe.loot_point()
+    game.remove(foe.loot)
+    foe.loot = None
+    lo, hi = game.level.w_range
+    pw = float(game.player.position[3])
+    # Where the player can reach it: at their w when the blast shook it out, else where it fell, within the range.
+    w = pw if reason == "forced" else min(max(float(at[3]), lo), hi)
+    spec = CrystalSpec(f"{foe.spec.name} loot", np.array([at[0], at[1], at[2], w]), foe.spec.loot_milli)
+    c = crystals.spawn(game, spec)
+    game.emit(LootReleased(e.id, c.id, reason))
+
+
+# ------------------------------------------------------------------ blast
+def _blasts(game) -> None:
+    """The blast drags every enemy within its radius into the player's slice."""
+    blasts = [ev for ev in game.events if ev.kind == "blast"]
+    if not blasts:
+        return
+    ars = game.arsenal
+    spec = ars.current if ars.current.kind == "blast" else next(s for s in ars.specs if s.kind == "blast")
+    centre = game.player.center()
+    end = game.tick + max(1, round(spec.duration / game.dt))
+    for e in foes(game):
+        foe = e.data
+        if foe.alive and np.linalg.norm(foe.centre[:3] - centre) <= spec.radius:
+            foe.pull = (float(foe.centre[3]), float(blasts[-1].w), game.tick, end)
+            foe.shots_left = 0
+            _set_state(game, foe, "dragged")
+
+
+def _forced_loot(game, e, w_before: float) -> None:
+    """A dragged enemy's crystal comes out when the pull carries its w across the player's slice."""
+    foe = e.data
+    if foe.loot is None or foe.state != "dragged":
+        return
+    pw = float(game.player.position[3])
+    off = foe.loot_point()[3] - foe.centre[3]
+    before, now = w_before + off - pw, foe.centre[3] + off - pw
+    if abs(now) <= en.LOOT_SIZE or before * now < 0:
+        _release(game, e, "forced")
+
+
+# ------------------------------------------------------------------ step and draw
+def player_died(game) -> None:
+    """The player died: shots vanish and every enemy in or near the slice backs off."""
+    hive = getattr(game, "hive", None)
+    if hive is None:
+        return
+    for sid in hive.shots:
+        game.remove(sid)
+    hive.shots = []
+    for e in foes(game):
+        if e.data.state in ("approaching", "attacking", "dragged", "stunned"):
+            e.data.pull = None
+            _leave(game, e.data)
+
+
+def _pose(game, e) -> None:
+    foe = e.data
+    grow = 1.0
+    if foe.state == "dying":
+        grow = 1.0 + 1.5 * (game.tick + 1 - foe.since) / _seconds(game, en.DEFEAT_TIME)
+    e.motion.move(en.body_model(foe.body, foe.keys, foe.centre, game.time + game.dt + foe.phase, grow))
+    for eid, at in ((foe.weak, foe.weak_point), (foe.loot, foe.loot_point)):
+        if eid is not None:
+            m = game.entities.get(eid)
+            m.motion.move(_small_pose(at(), m.data))
+
+
+def _look(game, e) -> None:
+    """Its style this tick: glowing after a hit, flickering while winding up a shot, bursting when defeated."""
+    foe = e.data
+    style = "solid"
+    if foe.state == "dying" or game.tick - foe.hurt_tick < _seconds(game, en.HIT_FLASH):
+        style = "glow"
+    elif foe.state == "attacking" and foe.shots_left > 0:
+        left = foe.next_shot - game.tick
+        if 0 <= left < _seconds(game, en.WINDUP) and (left // 5) % 2 == 0:
+            style = "glow"
+    e.style = style
+
+
+def step(game, actions) -> None:
+    hive = setup(game)
+    if hive is None:
+        return
+    hp.setup(game)
+    _blasts(game)
+    _bullet_hits(game, hive)
+    for e in foes(game):
+        foe = e.data
+        if foe.state == "dying":
+            if game.tick - foe.since >= _seconds(game, en.DEFEAT_TIME):
+                game.remove(e.id)
+                hive.foes.remove(e.id)
+                continue
+        else:
+            w_before = float(foe.centre[3])
+            _think(game, foe)
+            _forced_loot(game, e, w_before)
+        _pose(game, e)
+        _look(game, e)
+    _fly_shots(game, hive)
+
+
+def draw(game, frame, alpha) -> None:
+    hive = getattr(game, "hive", None)
+    if hive is None:
+        return
+    if game.tick - hive.armour_tick < ARMOUR_MESSAGE_TICKS and not frame.hud.message:
+        frame.hud.message = "Armoured! Hit its weak spot: it hides at another w"
