@@ -21,7 +21,7 @@ from across_dimensions.game.frame import HealthGauge, Hud
 from across_dimensions.game.sim import TICK_RATE, Game
 from across_dimensions.game.systems import enemies as enemy_system
 from across_dimensions.world.level import LevelError, load_level
-from across_dimensions.world.resources import levels_dir
+from across_dimensions.world.resources import levels_dir, resolve_level
 
 ROOT = Path(__file__).resolve().parents[1]
 HIVE = levels_dir() / "08_hive.toml"
@@ -383,6 +383,19 @@ def test_death_restarts_at_the_last_checkpoint_and_keeps_progress():
     frame = game.frame()
     assert "checkpoint 'midway'" in frame.hud.message
     assert frame.hud.health.safe
+
+
+def test_continuing_a_save_starts_at_its_checkpoint_and_refuses_one_the_level_lacks():
+    game = Game(load_level(HIVE))
+    assert game.checkpoint is None  # nothing reached yet: a save continues at the start
+    game.restart_at_checkpoint(0)
+    assert game.checkpoint == 0 and list(game.player.position) == [0.0, 0.0, -1.0, 0.0]
+    with pytest.raises(IndexError):
+        game.restart_at_checkpoint(len(game.level.checkpoints))
+    plain = Game(load_level(resolve_level("01_first_steps")))
+    assert plain.checkpoint is None
+    with pytest.raises(ValueError):
+        plain.restart_at_checkpoint(0)
 
 
 def test_enemies_rng_draws_are_in_the_state_hash_and_runs_repeat():

@@ -102,16 +102,7 @@ def die(game) -> None:
     from .systems import enemies as enemy_system  # enemies step back so the player is not shot on arrival
 
     h = game.health
-    cps = game.level.checkpoints
-    if h.checkpoint >= 0:
-        cp = cps[h.checkpoint]
-        position, yaw, where = cp.position.astype(np.float64).copy(), float(np.radians(cp.yaw_deg)), cp.name
-    else:
-        position, where = game.level.spawn.astype(np.float64).copy(), ""
-        yaw = float(np.radians(game.level.spawn_yaw_deg))
-    game.player = Player(position, yaw=yaw)
-    game._prev_eye = game.player.eye()  # no camera sweep from where the player fell
-    game._prev_view = (game.player.yaw, game.player.pitch)
+    where = _place_at_checkpoint(game, h.checkpoint)
     h.deaths += 1
     h.value = h.maximum
     h.safe_until = game.tick + h.safe_ticks
@@ -120,6 +111,40 @@ def die(game) -> None:
     h.message_until = game.tick + MESSAGE_TICKS
     game.emit(PlayerDied(where))
     enemy_system.player_died(game)
+
+
+def _place_at_checkpoint(game, index: int) -> str:
+    """Put a fresh player at checkpoint ``index`` (-1: the spawn point); returns its name."""
+    if index >= 0:
+        cp = game.level.checkpoints[index]
+        position, yaw, where = cp.position.astype(np.float64).copy(), float(np.radians(cp.yaw_deg)), cp.name
+    else:
+        position, where = game.level.spawn.astype(np.float64).copy(), ""
+        yaw = float(np.radians(game.level.spawn_yaw_deg))
+    game.player = Player(position, yaw=yaw)
+    game._prev_eye = game.player.eye()  # no camera sweep from where the player was
+    game._prev_view = (game.player.yaw, game.player.pitch)
+    return where
+
+
+def restart_at(game, index: int) -> None:
+    """Start play at checkpoint ``index`` (continuing a saved game): the player stands there,
+    and it is the one they come back to.
+
+    Raises
+    ------
+    IndexError
+        When the level has no checkpoint ``index`` (it changed since the save).
+    ValueError
+        When the level gives the player no health (so no checkpoints either).
+    """
+    h = setup(game)
+    if h is None:
+        raise ValueError("this level has no checkpoints")
+    if not 0 <= index < len(game.level.checkpoints):
+        raise IndexError(f"checkpoint {index}: the level has {len(game.level.checkpoints)}")
+    h.checkpoint = index
+    _place_at_checkpoint(game, index)
 
 
 def touched_checkpoint(game) -> int | None:

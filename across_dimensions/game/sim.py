@@ -23,6 +23,7 @@ import numpy as np
 
 from ..world.level import Level
 from ..world.scene import Scene, SectionCache, build_physics, build_scene
+from . import health
 from .actions import Actions
 from .enemies import state_bytes as enemy_state_bytes
 from .energy import EnergyBar
@@ -249,6 +250,16 @@ class Game:
         """The player and the counters that evolve, as one ``float64`` array."""
         energy = [self.energy.milli] if self.energy is not None else []
         return np.concatenate([[self.tick], self.player.state_array(), [self.respawns], energy])
+
+    @property
+    def checkpoint(self) -> int | None:
+        """Index of the last checkpoint the player reached, or None (the level's start)."""
+        h = getattr(self, "health", None)
+        return h.checkpoint if h is not None and h.checkpoint >= 0 else None
+
+    def restart_at_checkpoint(self, index: int) -> None:
+        """Continue a saved game: the player starts at checkpoint ``index`` (see :func:`.health.restart_at`)."""
+        health.restart_at(self, index)
 
     def state_hash(self) -> str:
         """A short hash of the whole simulation state; equal states give equal hashes.
