@@ -182,3 +182,59 @@ def test_collision_benchmark_runs_and_reports_both_ways():
     for key in ("section_median_ms", "section_p95_ms", "box_median_ms", "box_p95_ms", "triangles"):
         assert np.isfinite(r[key]) and r[key] >= 0, key
     assert r["triangles"] > 100  # the 120-cell's section is near the player
+
+
+def _world_arch_game(tmp_path, profile: str = "prism"):
+    """An arch asset (3 m wide, legs 0.5 m thick, opening 2 m x 2.75 m, 0.5 m deep) as a
+    ``[[world.mesh]]`` part across the player's way at z = 4."""
+    text = f"""
+[level]
+format = 2
+w_range = [-0.5, 0.5]
+[spawn]
+position = [0.0, 0.0, 1.0, 0.0]
+[goal]
+center = [0.0, 1.0, 30.0]
+size = [1.0, 2.0, 1.0]
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [20.0, 1.0, 20.0]
+[[world]]
+w = 0.0
+depth = 2.0
+profile = "{profile}"
+  [[world.mesh]]
+  asset = "meshes/arch.obj"
+  position = [0.0, 0.0, 4.0]
+"""
+    p = tmp_path / "arch.toml"
+    p.write_text(text)
+    return Game(load_level(p))
+
+
+def test_a_world_mesh_arch_lets_the_player_through_its_doorway(tmp_path):
+    game = _world_arch_game(tmp_path)
+    assert len(game.world_meshes) == 1
+    assert np.isnan(game.colliders_at(0.0)[-1]).all()  # its bounding box no longer collides
+    for _ in range(90):
+        game.step(Actions(forward=1.0))
+    assert game.player.position[2] > 5.0  # through the 2 m wide doorway, where its bounding box stood
+
+
+def test_a_world_mesh_arch_blocks_the_player_at_its_legs(tmp_path):
+    game = _world_arch_game(tmp_path)
+    game.player.position[0] = -1.25  # in line with the left leg (x from -1.5 to -1.0)
+    for _ in range(90):
+        game.step(Actions(forward=1.0))
+    # The leg's face is at z = 4 - 0.25; the walker keeps its half width and SKIN from it.
+    assert game.player.position[2] == pytest.approx(4.0 - 0.25 - HALF_WIDTH - SKIN, abs=TOL)
+
+
+def test_a_world_mesh_section_shrinks_with_the_profile(tmp_path):
+    game = _world_arch_game(tmp_path, "taper")
+    feet = np.array([0.0, 0.0, 4.0])
+    (full,) = game.world_meshes.triangles_at(0.0, feet, 3.0)
+    (half,) = game.world_meshes.triangles_at(0.5, feet, 3.0)  # taper: half size halfway to the end
+    c = 0.5 * (full.reshape(-1, 3).min(axis=0) + full.reshape(-1, 3).max(axis=0))
+    assert np.allclose(half, c + 0.5 * (full - c))
+    assert game.world_meshes.triangles_at(1.0, feet, 3.0) == []  # gone at the world's end

@@ -102,3 +102,44 @@ def debug_draw_game(game, drawer, options=None) -> None:
         game.physics.debug_draw(drawer, w, opt, boxes=[box])
     elif opt.boxes:
         drawer.draw_box(box[0][:3], box[1][:3], opt.box_color)
+
+
+def solid_boxes(game) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """The level's solid 4D objects as the rigid bodies meet them: one oriented 4D box each.
+
+    Every ``solid`` entity that is neither a rigid body nor manipulable (those
+    have their own colliders) gives the box of its mesh's bounds, placed by
+    its pose: ``(center (4,), half_extents (4,), rotation (4, 4))``, rotation
+    local to world. For a tesseract (the slabs, doors and walls levels build
+    from them) the box is the object itself, so a bullet stops at a door and a
+    body rests on a slab exactly where the player sees it; other shapes collide
+    with their bounds.
+
+    The mesh bounds are computed once per entity (``game._solid_bounds``).
+    """
+    cache = game.__dict__.setdefault("_solid_bounds", {})
+    out = []
+    for e in game.entities:
+        if not e.solid or e.kind != "object":
+            continue
+        lh = cache.get(e.id)
+        if lh is None:
+            v = e.mesh.vertices.astype(np.float64)
+            lh = cache[e.id] = (v.min(axis=0), v.max(axis=0))
+        m = e.model(game)
+        a = m[:4, :4]
+        scale = np.linalg.norm(a, axis=0)
+        if not np.all(scale > 0):
+            continue
+        rot = a / scale
+        lo, hi = lh
+        center = m[:4, 4] + rot @ (0.5 * (lo + hi) * scale)
+        half = np.maximum(0.5 * (hi - lo) * scale, 1e-4)
+        out.append((center, half, rot))
+    return out
+
+
+def sync_solids(game) -> None:
+    """Hand :func:`solid_boxes` to the physics world (before its tick); a no-op without physics."""
+    if game.physics is not None:
+        game.physics.set_static_solids(solid_boxes(game))

@@ -30,7 +30,7 @@ from .events import Event
 from .frame import Camera3, Frame, Hud
 from .player import HALF_WIDTH, HEIGHT, Player
 from .player_bodies import bodies_block
-from .section_collision import triangles_of
+from .section_collision import WorldMeshParts, triangles_of
 from .systems import SYSTEMS, crystals, manipulation
 
 TICK_RATE = 60
@@ -81,6 +81,7 @@ class Game:
         self.rng = np.random.default_rng(seed)
         self.scene = scene if scene is not None else build_scene(level)
         self.sections = SectionCache()
+        self.world_meshes = WorldMeshParts(self.scene)  # lifted meshes of the worlds collide by their sections
         self.physics, body_of = build_physics(self.scene, DT)
         self.entities = EntityStore()
         self._table_key: tuple | None = None
@@ -174,13 +175,18 @@ class Game:
         self._fresh_colliders()
         boxes = self._colliders.get(w)
         if boxes is None:
-            boxes = self._colliders[w] = np.concatenate([self.scene.static_boxes, self.scene.world_boxes_at(w)])
+            parts = self.scene.world_boxes_at(w)
+            if len(self.world_meshes):
+                parts[self.world_meshes.rows] = np.nan  # they collide by their sections (sections_at)
+            boxes = self._colliders[w] = np.concatenate([self.scene.static_boxes, parts])
         return boxes
 
     def sections_at(self, w: float) -> list:
         """The triangles of each solid 4D object's section at ``w``: one
         ``(t, 3, 3) float64`` array per solid entity, in spawn order, empty where
-        the object is absent from the slice or beyond the player's reach.
+        the object is absent from the slice or beyond the player's reach; then
+        the sections of the worlds' ``[[world.mesh]]`` parts near the player
+        (:class:`.section_collision.WorldMeshParts`).
 
         Sections are recomputed only when an object's pose or the slice changed
         (``game.sections`` compares both), and the list for a w is kept for the
@@ -217,6 +223,7 @@ class Game:
                 self.sections.forget(key)
                 self._triangles.pop(key, None)
                 out.append(np.zeros((0, 3, 3)))
+        out += self.world_meshes.triangles_at(w, feet, COLLIDE_MARGIN)  # after the entities
         return out
 
     def bodies_block_w(self, position, w: float) -> bool:

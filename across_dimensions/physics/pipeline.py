@@ -4,7 +4,8 @@ Order of work (all in body-index and pair-key order, so the result depends only
 on the inputs, never on timing or hashing):
 
 1. bounding boxes, sort-and-sweep broadphase along x (bodies) plus a direct
-   test against the few static world colliders;
+   test against the few static world colliders (half-spaces, world boxes and
+   the level's solid objects as 4D boxes);
 2. wake sleeping islands touched by moving bodies;
 3. narrowphase contacts for the pairs, sorted by pair key (so last tick's
    contacts can be matched for warm starting in one forward pass);
@@ -108,7 +109,7 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
     base_margin : float
     pairs : (P, 2) int64
         Output: body a and body b (``b >= 0``) or ``-1 - s`` for static world
-        collider ``s`` (half-spaces first, then world boxes).
+        collider ``s`` (half-spaces first, then world boxes, then solids).
     marg : (N,) float64
         Output: per-body speculative margin ``base + h * (speed)``.
 
@@ -217,6 +218,17 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
                 pairs[n, 1] = j
             n += 1
     nh = hs.shape[0]
+    nw = wb.shape[0]
+    # The solids' own bounds along each axis (they do not move within a tick).
+    so = static.solids
+    ns = so.shape[0]
+    sext = np.zeros((ns, 4))
+    for s in range(ns):
+        for m in range(4):
+            e = 0.0
+            for k in range(4):
+                e += abs(so[s, 8 + 4 * m + k]) * so[s, 4 + k]
+            sext[s, m] = e
     d = np.empty(4)
     for i in range(nb):
         if not act[i]:
@@ -242,6 +254,17 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
                 if n < cap:
                     pairs[n, 0] = i
                     pairs[n, 1] = -1 - nh - s
+                n += 1
+        for s in range(ns):
+            ok = True
+            for m in range(4):
+                if lo[i, m] > so[s, m] + sext[s, m] or hi[i, m] < so[s, m] - sext[s, m]:
+                    ok = False
+                    break
+            if ok:
+                if n < cap:
+                    pairs[n, 0] = i
+                    pairs[n, 1] = -1 - nh - nw - s
                 n += 1
     if n > cap:
         return -n
@@ -288,7 +311,9 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
     k = 0
     vx = np.empty(4)
     vr = np.eye(4)
+    vs = np.empty((4, 4))
     vh = np.empty(4)
+    so = static.solids
     pn = np.empty(4)
     wk = np.empty((SCRATCH_ROWS, 4))
     for op in range(npairs):
@@ -323,6 +348,21 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
                     got = box_halfspace(
                         pos[a], rot[a], half[a], pn, hs[s, 4], m, scratch_p, scratch_d, wk, cp, cn, cd, k
                     )
+            elif s >= nh + wb.shape[0]:
+                # A level's solid object: an oriented 4D box.
+                s -= nh + wb.shape[0]
+                for t in range(4):
+                    vx[t] = so[s, t]
+                    vh[t] = so[s, 4 + t]
+                    for q in range(4):
+                        vs[t, q] = so[s, 8 + 4 * t + q]
+                if shape[a] == SPHERE:
+                    got = box_sphere(vx, vs, vh, pos[a], half[a, 0], m, wk, cp, cn, cd, k)
+                    for q in range(got):
+                        for t in range(4):
+                            cn[k + q, t] = -cn[k + q, t]
+                else:
+                    got = box_box(pos[a], rot[a], half[a], vx, vs, vh, m, scratch_p, scratch_d, wk, cp, cn, cd, k)
             else:
                 # A world box spans all of w: make it a 4D box wide enough in w
                 # that its w faces can never be the separating axis.

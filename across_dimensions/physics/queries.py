@@ -150,6 +150,25 @@ def raycast_kernel(bodies, static, o, d, max_t, use_world, normal):
                 for m in range(4):
                     normal[m] = 0.0
                 normal[ax] = sg
+        so = static.solids
+        nw = wb.shape[0]
+        for s in range(so.shape[0]):
+            for a in range(4):
+                u = 0.0
+                v = 0.0
+                for m in range(4):
+                    u += so[s, 8 + 4 * m + a] * (o[m] - so[s, m])
+                    v += so[s, 8 + 4 * m + a] * d[m]
+                ol[a] = u
+                dl[a] = v
+                lo[a] = -so[s, 4 + a]
+                hi[a] = so[s, 4 + a]
+            t, ax, sg = _slab_hit(ol, dl, lo, hi, 4)
+            if ax >= 0 and t < best_t:
+                best_t = t
+                best = -1 - nh - nw - s
+                for m in range(4):
+                    normal[m] = sg * so[s, 8 + 4 * m + ax]
     return best, best_t
 
 

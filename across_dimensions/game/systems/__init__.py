@@ -34,6 +34,7 @@ from . import (
     scenery,
     sections,
     seek,
+    solid_bodies,
     weapons,
 )
 
@@ -50,6 +51,7 @@ SYSTEMS = (
     player,
     push,
     weapons,
+    solid_bodies,
     rigid_bodies,
     bullets,
     crystals,
