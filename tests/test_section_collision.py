@@ -238,3 +238,66 @@ def test_a_world_mesh_section_shrinks_with_the_profile(tmp_path):
     c = 0.5 * (full.reshape(-1, 3).min(axis=0) + full.reshape(-1, 3).max(axis=0))
     assert np.allclose(half, c + 0.5 * (full - c))
     assert game.world_meshes.triangles_at(1.0, feet, 3.0) == []  # gone at the world's end
+
+
+def _bullets_at_door_a(remove_door: bool) -> float:
+    """Fire the Armory's gun once from in front of door A (a tesseract slab across the
+    hall at z = -4, 0.4 m thick); the farthest z the bullet reaches in 2 s."""
+    game = Game(load_level(levels_dir() / "04_armory.toml"))
+    if remove_door:
+        game.remove(game.entities.named("door A").id)
+    game.player.position = np.array([0.0, 0.0, -7.0, 0.0])
+    game.step(Actions(presses=Actions.count_presses({"fire": 1})))
+    (bullet,) = game.entities.of_kind("bullet")
+    far = -np.inf
+    for _ in range(120):
+        game.step(Actions())
+        if bullet.id in game.entities:
+            far = max(far, float(bullet.center(game)[2]))
+    return far
+
+
+def test_a_bullet_stops_at_a_closed_door_and_passes_once_it_is_open():
+    # The door's face is at z = -4.2; the bullet (0.15 m) stops there, whatever its w swing.
+    assert _bullets_at_door_a(False) < -4.2
+    assert _bullets_at_door_a(True) > -2.0
+
+
+def test_a_body_rests_on_a_solid_tesseract_slab_where_its_section_is(tmp_path):
+    text = """
+[level]
+format = 2
+w_range = [-0.5, 0.5]
+[spawn]
+position = [-5.0, 0.0, 0.0, 0.0]
+[goal]
+center = [30.0, 1.0, 0.0]
+size = [1.0, 2.0, 1.0]
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [20.0, 1.0, 20.0]
+[[object]]
+name = "table"
+shape = "tesseract"
+position = [0.0, 1.0, 0.0, 0.0]
+scale = [2.0, 0.2, 2.0, 1.0]
+[[object]]
+name = "ball"
+shape = "hypersphere"
+position = [0.0, 2.0, 0.0, 0.0]
+scale = 0.3
+body = "hypersphere"
+"""
+    p = tmp_path / "table.toml"
+    p.write_text(text)
+    game = Game(load_level(p))
+    ball = game.entities.named("ball")
+    for _ in range(180):
+        game.step(Actions())
+    # The table's top is at y = 1.1; the ball's radius is its mesh's reach times 0.3.
+    r = float(np.linalg.norm(ball.mesh.vertices, axis=1).max()) * 0.3
+    assert ball.center(game)[1] == pytest.approx(1.1 + r, abs=0.02)
+    game.remove(game.entities.named("table").id)
+    for _ in range(120):
+        game.step(Actions())
+    assert ball.center(game)[1] == pytest.approx(r, abs=0.02)  # the table gone, it falls to the floor
