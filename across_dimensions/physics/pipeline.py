@@ -3,7 +3,7 @@
 Order of work (all in body-index and pair-key order, so the result depends only
 on the inputs, never on timing or hashing):
 
-1. bounding boxes, sort-and-sweep broadphase along x (bodies) plus a direct
+1. bounding boxes, sort-and-sweep broadphase along the widest axis (bodies) plus a direct
    test against the few static world colliders (half-spaces, world boxes and
    the level's solid objects as 4D boxes);
 2. wake sleeping islands touched by moving bodies;
@@ -164,7 +164,25 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
         for m in range(4):
             lo[i, m] = pos[i, m] - ext[m] - marg[i]
             hi[i, m] = pos[i, m] + ext[m] + marg[i]
-        key[i] = lo[i, 0]
+    # Sweep along the axis the bodies spread most along (a pile is taller than
+    # it is wide): fewer bodies overlap each other's interval there. The pairs
+    # found are the same whatever the axis (their order does not matter: the
+    # narrowphase sorts them by key, islands take the smallest index as root).
+    ax = 0
+    best = -1.0
+    for m in range(4):
+        a_lo = np.inf
+        a_hi = -np.inf
+        for i in range(nb):
+            if alive[i]:
+                a_lo = min(a_lo, pos[i, m])
+                a_hi = max(a_hi, pos[i, m])
+        if a_hi - a_lo > best:
+            best = a_hi - a_lo
+            ax = m
+    for i in range(nb):
+        if alive[i]:
+            key[i] = lo[i, ax]
     order = argsort_stable(key)
     cap = pairs.shape[0]
     n = 0
@@ -178,9 +196,11 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
             break
         for oj in range(oi + 1, nb):
             j = order[oj]
-            if not alive[j] or lo[j, 0] > hi[i, 0]:
+            if not alive[j] or lo[j, ax] > hi[i, ax]:
                 break
             if kind[i] != DYNAMIC and kind[j] != DYNAMIC:
+                continue
+            if lo[j, 0] > hi[i, 0] or lo[i, 0] > hi[j, 0]:
                 continue
             if lo[j, 1] > hi[i, 1] or lo[i, 1] > hi[j, 1]:
                 continue
@@ -289,6 +309,7 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
     half = bodies.half_extents
     pos = bodies.position
     rot = bodies.rotation
+    bound = bodies.bound
     hs = static.half_spaces
     wb = static.boxes
     # Arrays are taken out of the bundles once: reading a bundle's field inside
@@ -323,7 +344,17 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
         got = 0
         if b >= 0:
             m = marg[a] + marg[b]
-            if shape[a] == SPHERE and shape[b] == SPHERE:
+            # Bounding balls apart by more than the margin: no contact whatever
+            # the shapes (a cheap exit before the full test; the box-box test
+            # would find none either).
+            d2 = 0.0
+            for t in range(4):
+                e = pos[b, t] - pos[a, t]
+                d2 += e * e
+            reach = 1.001 * (bound[a] + bound[b] + m)
+            if d2 > reach * reach:
+                pass
+            elif shape[a] == SPHERE and shape[b] == SPHERE:
                 got = sphere_sphere(pos[a], half[a, 0], pos[b], half[b, 0], m, wk, cp, cn, cd, k)
             elif shape[a] == BOX and shape[b] == SPHERE:
                 got = box_sphere(pos[a], rot[a], half[a], pos[b], half[b, 0], m, wk, cp, cn, cd, k)
