@@ -214,7 +214,7 @@ profile = "{profile}"
 
 def test_a_world_mesh_arch_lets_the_player_through_its_doorway(tmp_path):
     game = _world_arch_game(tmp_path)
-    assert len(game.world_meshes) == 1
+    assert len(game.meshes) == 1
     assert np.isnan(game.colliders_at(0.0)[-1]).all()  # its bounding box no longer collides
     for _ in range(90):
         game.step(Actions(forward=1.0))
@@ -233,11 +233,11 @@ def test_a_world_mesh_arch_blocks_the_player_at_its_legs(tmp_path):
 def test_a_world_mesh_section_shrinks_with_the_profile(tmp_path):
     game = _world_arch_game(tmp_path, "taper")
     feet = np.array([0.0, 0.0, 4.0])
-    (full,) = game.world_meshes.triangles_at(0.0, feet, 3.0)
-    (half,) = game.world_meshes.triangles_at(0.5, feet, 3.0)  # taper: half size halfway to the end
+    (full,) = game.meshes.triangles_at(0.0, feet, 3.0)
+    (half,) = game.meshes.triangles_at(0.5, feet, 3.0)  # taper: half size halfway to the end
     c = 0.5 * (full.reshape(-1, 3).min(axis=0) + full.reshape(-1, 3).max(axis=0))
     assert np.allclose(half, c + 0.5 * (full - c))
-    assert game.world_meshes.triangles_at(1.0, feet, 3.0) == []  # gone at the world's end
+    assert game.meshes.triangles_at(1.0, feet, 3.0) == []  # gone at the world's end
 
 
 def _bullets_at_door_a(remove_door: bool) -> float:
@@ -301,3 +301,34 @@ body = "hypersphere"
     for _ in range(120):
         game.step(Actions())
     assert ball.center(game)[1] == pytest.approx(r, abs=0.02)  # the table gone, it falls to the floor
+
+
+def test_a_3d_mesh_arch_lets_the_player_through_its_doorway_and_stops_them_at_its_legs(tmp_path):
+    text = """
+[level]
+format = 2
+w_range = [-0.5, 0.5]
+[spawn]
+position = [0.0, 0.0, 1.0, 0.0]
+[goal]
+center = [0.0, 1.0, 30.0]
+size = [1.0, 2.0, 1.0]
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [20.0, 1.0, 20.0]
+[[mesh]]
+asset = "meshes/arch.obj"
+position = [0.0, 0.0, 4.0]
+"""
+    p = tmp_path / "mesh_arch.toml"
+    p.write_text(text)
+    for x, through in ((0.0, True), (-1.25, False)):
+        game = Game(load_level(p))
+        assert np.isnan(game.colliders_at(0.0)[1]).all()  # the mesh's bounding box does not collide
+        game.player.position[0] = x
+        for _ in range(90):
+            game.step(Actions(forward=1.0))
+        if through:
+            assert game.player.position[2] > 5.0
+        else:
+            assert game.player.position[2] == pytest.approx(4.0 - 0.25 - HALF_WIDTH - SKIN, abs=TOL)
