@@ -332,3 +332,12 @@ position = [0.0, 0.0, 4.0]
             assert game.player.position[2] > 5.0
         else:
             assert game.player.position[2] == pytest.approx(4.0 - 0.25 - HALF_WIDTH - SKIN, abs=TOL)
+
+
+def test_only_box_shaped_solid_objects_are_boxes_for_the_bodies():
+    from across_dimensions.game.player_bodies import _box_bounds
+
+    assert _box_bounds(shapes.tesseract().vertices) is not None
+    assert _box_bounds(shapes.make_shape("24-cell").vertices) is None  # its bounds are not its shape
+    v, t = lift.box_solid([0.0, 1.0, 0.0], [1.0, 2.0, 3.0])
+    assert _box_bounds(lift.extrude(v, t, [-0.5, 0.5]).vertices) is not None  # a box lifted to 4D

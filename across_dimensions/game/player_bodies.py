@@ -108,24 +108,27 @@ def solid_boxes(game) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """The level's solid 4D objects as the rigid bodies meet them: one oriented 4D box each.
 
     Every ``solid`` entity that is neither a rigid body nor manipulable (those
-    have their own colliders) gives the box of its mesh's bounds, placed by
-    its pose: ``(center (4,), half_extents (4,), rotation (4, 4))``, rotation
-    local to world. For a tesseract (the slabs, doors and walls levels build
-    from them) the box is the object itself, so a bullet stops at a door and a
-    body rests on a slab exactly where the player sees it; other shapes collide
-    with their bounds.
+    have their own colliders) and whose mesh is a box (every vertex a corner of
+    its bounds: a ``tesseract``, which is what slabs, doors and walls are built
+    from) gives that box, placed by its pose: ``(center (4,), half_extents
+    (4,), rotation (4, 4))``, rotation local to world. The box is the object
+    itself, so a bullet stops at a door and a body rests on a slab exactly
+    where the player sees it. Other shapes give nothing yet: their bounding
+    box would stop bodies in an arch's doorway or far from a 24-cell's faces.
 
-    The mesh bounds are computed once per entity (``game._solid_bounds``).
+    What each mesh is (its bounds, or None) is worked out once per entity
+    (``game._solid_bounds``).
     """
     cache = game.__dict__.setdefault("_solid_bounds", {})
     out = []
     for e in game.entities:
         if not e.solid or e.kind != "object":
             continue
-        lh = cache.get(e.id)
+        if e.id not in cache:
+            cache[e.id] = _box_bounds(e.mesh.vertices)
+        lh = cache[e.id]
         if lh is None:
-            v = e.mesh.vertices.astype(np.float64)
-            lh = cache[e.id] = (v.min(axis=0), v.max(axis=0))
+            continue
         m = e.model(game)
         a = m[:4, :4]
         scale = np.linalg.norm(a, axis=0)
@@ -137,6 +140,17 @@ def solid_boxes(game) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
         half = np.maximum(0.5 * (hi - lo) * scale, 1e-4)
         out.append((center, half, rot))
     return out
+
+
+def _box_bounds(vertices) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(lo, hi)`` of a mesh whose every vertex is a corner of its bounds (a box), else None."""
+    v = np.asarray(vertices, dtype=np.float64)
+    if len(v) == 0:
+        return None
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    tol = 1e-6 * max(float(np.max(hi - lo)), 1e-12)
+    corner = (np.abs(v - lo) <= tol) | (np.abs(v - hi) <= tol)
+    return (lo, hi) if bool(corner.all()) else None
 
 
 def sync_solids(game) -> None:
