@@ -334,10 +334,61 @@ position = [0.0, 0.0, 4.0]
             assert game.player.position[2] == pytest.approx(4.0 - 0.25 - HALF_WIDTH - SKIN, abs=TOL)
 
 
-def test_only_box_shaped_solid_objects_are_boxes_for_the_bodies():
-    from across_dimensions.game.player_bodies import _box_bounds
+def test_what_solid_objects_are_for_the_bodies():
+    from across_dimensions.game.player_bodies import _shape_of
 
-    assert _box_bounds(shapes.tesseract().vertices) is not None
-    assert _box_bounds(shapes.make_shape("24-cell").vertices) is None  # its bounds are not its shape
+    assert _shape_of(shapes.tesseract())[0] == "box"
     v, t = lift.box_solid([0.0, 1.0, 0.0], [1.0, 2.0, 3.0])
-    assert _box_bounds(lift.extrude(v, t, [-0.5, 0.5]).vertices) is not None  # a box lifted to 4D
+    assert _shape_of(lift.extrude(v, t, [-0.5, 0.5]))[0] == "box"  # a box lifted to 4D
+    kind, planes, _ = _shape_of(shapes.make_shape("24-cell"))
+    assert kind == "convex" and len(planes) == 24  # one half-space per octahedral cell
+    kind, planes, _ = _shape_of(shapes.make_shape("5-cell"))
+    assert kind == "convex" and len(planes) == 5
+    pillar, lintel = [0.4, 2.2, 0.6], [2.4, 0.4, 0.6]
+    parts = [lift.extrude(*lift.box_solid(c, s), [-0.5, 0.5]) for c, s in (([-1.0, 1.1, 0.0], pillar),
+             ([1.0, 1.1, 0.0], pillar), ([0.0, 2.4, 0.0], lintel))]  # fmt: skip
+    assert _shape_of(concatenate(parts))[0] == "none"  # an arch: neither a box nor convex
+
+
+def test_a_ball_lands_on_a_solid_24_cell_and_never_ends_inside_it(tmp_path):
+    from across_dimensions.game.player_bodies import solid_colliders
+
+    text = """
+[level]
+format = 2
+w_range = [-0.5, 0.5]
+[spawn]
+position = [-5.0, 0.0, 0.0, 0.0]
+[goal]
+center = [30.0, 1.0, 0.0]
+size = [1.0, 2.0, 1.0]
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [20.0, 1.0, 20.0]
+[[object]]
+name = "rock"
+shape = "24-cell"
+position = [0.0, 1.5, 0.0, 0.0]
+scale = 1.2
+[[object]]
+name = "ball"
+shape = "hypersphere"
+position = [0.05, 4.0, 0.03, 0.02]
+scale = 0.3
+body = "hypersphere"
+"""
+    p = tmp_path / "rock.toml"
+    p.write_text(text)
+    game = Game(load_level(p))
+    ball = game.entities.named("ball")
+    r = float(np.linalg.norm(ball.mesh.vertices, axis=1).max()) * 0.3
+    _, ((planes, lo, hi),) = solid_colliders(game)
+    top = planes[np.argmax(planes[:, 1])]
+    assert np.allclose(top[:4], [0.0, 1.0, 0.0, 0.0], atol=1e-6)  # the 24-cell has a flat top facet
+    deepest = np.inf
+    for _ in range(150):
+        game.step(Actions())
+        c = ball.center(game)
+        deepest = min(deepest, float(np.max(planes[:, :4] @ c - planes[:, 4])) - r)
+    assert ball.center(game)[1] == pytest.approx(top[4] + r, abs=0.02)  # resting on the top facet
+    assert deepest > -0.03  # never more than the solver's slop inside

@@ -4,8 +4,8 @@ Order of work (all in body-index and pair-key order, so the result depends only
 on the inputs, never on timing or hashing):
 
 1. bounding boxes, sort-and-sweep broadphase along the widest axis (bodies) plus a direct
-   test against the few static world colliders (half-spaces, world boxes and
-   the level's solid objects as 4D boxes);
+   test against the few static world colliders (half-spaces, world boxes, and
+   the level's solid objects as 4D boxes or convex solids);
 2. wake sleeping islands touched by moving bodies;
 3. narrowphase contacts for the pairs, sorted by pair key (so last tick's
    contacts can be matched for warm starting in one forward pass);
@@ -109,7 +109,7 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
     base_margin : float
     pairs : (P, 2) int64
         Output: body a and body b (``b >= 0``) or ``-1 - s`` for static world
-        collider ``s`` (half-spaces first, then world boxes, then solids).
+        collider ``s`` (half-spaces first, then world boxes, solid boxes, convex solids).
     marg : (N,) float64
         Output: per-body speculative margin ``base + h * (speed)``.
 
@@ -242,6 +242,7 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
     # The solids' own bounds along each axis (they do not move within a tick).
     so = static.solids
     ns = so.shape[0]
+    cb = static.convex_bounds
     sext = np.zeros((ns, 4))
     for s in range(ns):
         for m in range(4):
@@ -285,6 +286,17 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
                 if n < cap:
                     pairs[n, 0] = i
                     pairs[n, 1] = -1 - nh - nw - s
+                n += 1
+        for q in range(cb.shape[0]):
+            ok = True
+            for m in range(4):
+                if lo[i, m] > cb[q, 4 + m] or hi[i, m] < cb[q, m]:
+                    ok = False
+                    break
+            if ok:
+                if n < cap:
+                    pairs[n, 0] = i
+                    pairs[n, 1] = -1 - nh - nw - ns - q
                 n += 1
     if n > cap:
         return -n
@@ -335,6 +347,8 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
     vs = np.empty((4, 4))
     vh = np.empty(4)
     so = static.solids
+    cpl = static.convex_planes
+    cr = static.convex_ranges
     pn = np.empty(4)
     wk = np.empty((SCRATCH_ROWS, 4))
     for op in range(npairs):
@@ -379,6 +393,35 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
                     got = box_halfspace(
                         pos[a], rot[a], half[a], pn, hs[s, 4], m, scratch_p, scratch_d, wk, cp, cn, cd, k
                     )
+            elif s >= nh + wb.shape[0] + so.shape[0]:
+                # A level's convex solid: against its facet of least penetration.
+                q = s - nh - wb.shape[0] - so.shape[0]
+                best = -np.inf
+                bf = -1
+                for f in range(cr[q, 0], cr[q, 1]):
+                    sep = -cpl[f, 4]
+                    for t in range(4):
+                        sep += cpl[f, t] * pos[a, t]
+                    if shape[a] == SPHERE:
+                        sep -= half[a, 0]
+                    else:
+                        for t in range(4):
+                            u = 0.0
+                            for v in range(4):
+                                u += cpl[f, v] * rot[a, v, t]
+                            sep -= half[a, t] * abs(u)
+                    if sep > best:
+                        best = sep
+                        bf = f
+                if bf >= 0 and best <= m:
+                    for t in range(4):
+                        pn[t] = cpl[bf, t]
+                    if shape[a] == SPHERE:
+                        got = sphere_halfspace(pos[a], half[a, 0], pn, cpl[bf, 4], m, cp, cn, cd, k)
+                    else:
+                        got = box_halfspace(
+                            pos[a], rot[a], half[a], pn, cpl[bf, 4], m, scratch_p, scratch_d, wk, cp, cn, cd, k
+                        )
             elif s >= nh + wb.shape[0]:
                 # A level's solid object: an oriented 4D box.
                 s -= nh + wb.shape[0]

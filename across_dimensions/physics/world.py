@@ -202,7 +202,9 @@ class PhysicsWorld:
         self.time = 0.0
         self._acc = 0.0
         self._alloc_bodies(16)
-        self.static = StaticWorld(np.zeros((0, 5)), np.zeros((0, 6)), np.zeros((0, 24)))
+        self.static = StaticWorld(
+            np.zeros((0, 5)), np.zeros((0, 6)), np.zeros((0, 24)), np.zeros((0, 5)), np.zeros((0, 2), np.int64), np.zeros((0, 8))
+        )
         if ground:
             self.add_half_space((0.0, 1.0, 0.0, 0.0), 0.0)
         self.warm = new_warm_start(256)
@@ -608,6 +610,46 @@ class PhysicsWorld:
         changed = [r for r in old if not any(np.array_equal(r, q) for q in new)]
         changed += [r for r in new if not any(np.array_equal(r, q) for q in old)]
         self._wake_near_solids(changed)
+
+    def set_static_convex(self, solids: Iterable[tuple]) -> None:
+        """Replace the convex solids: each ``(planes (k, 5), lo (4,), hi (4,))``, its facet
+        half-spaces ``(n, offset)`` (the solid is ``{x : n . x <= offset}`` for every
+        row, ``n`` pointing out of it; normalised here) and its bounds.
+
+        Bodies meet each solid through its facet of least penetration (the
+        separating-axis test over its facets), so a body resting on a face is
+        exact; near an edge or a corner the contact comes up to the margin
+        early. As for :meth:`set_static_solids`, setting the same solids again
+        changes nothing, sleeping bodies near a changed one wake, and they are
+        not in :meth:`state_bytes`.
+        """
+        planes, ranges, bounds = [], [], []
+        start = 0
+        for rows, lo, hi in solids:
+            r = np.asarray(rows, dtype=np.float64).reshape(-1, 5)
+            ln = np.linalg.norm(r[:, :4], axis=1)
+            if len(r) < 5 or not np.all(ln > 0):
+                raise ValueError("a convex solid needs at least 5 facets with non-zero normals")
+            r = r / ln[:, None]
+            lo, hi = _vec4(lo, "lo"), _vec4(hi, "hi")
+            planes.append(r)
+            ranges.append((start, start + len(r)))
+            bounds.append(np.concatenate([lo, hi]))
+            start += len(r)
+        new = (
+            np.concatenate(planes) if planes else np.zeros((0, 5)),
+            np.array(ranges, dtype=np.int64).reshape(-1, 2),
+            np.array(bounds, dtype=np.float64).reshape(-1, 8),
+        )
+        st = self.static
+        old = (st.convex_planes, st.convex_ranges, st.convex_bounds)
+        if all(a.shape == b.shape and np.array_equal(a, b) for a, b in zip(new, old)):
+            return
+        self.static = st._replace(convex_planes=new[0], convex_ranges=new[1], convex_bounds=new[2])
+        # Wake sleepers near every convex solid before and after (changes are rare: a door opens).
+        boxes = [np.concatenate([0.5 * (b[:4] + b[4:]), 0.5 * (b[4:] - b[:4]), np.eye(4).ravel()]) for b in old[2]]
+        boxes += [np.concatenate([0.5 * (b[:4] + b[4:]), 0.5 * (b[4:] - b[:4]), np.eye(4).ravel()]) for b in new[2]]
+        self._wake_near_solids(boxes)
 
     def _wake_near_solids(self, rows) -> None:
         """Wake sleeping bodies whose bounding ball meets one of the solid boxes ``rows``."""
