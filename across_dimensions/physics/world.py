@@ -203,7 +203,12 @@ class PhysicsWorld:
         self._acc = 0.0
         self._alloc_bodies(16)
         self.static = StaticWorld(
-            np.zeros((0, 5)), np.zeros((0, 6)), np.zeros((0, 24)), np.zeros((0, 5)), np.zeros((0, 2), np.int64), np.zeros((0, 8))
+            np.zeros((0, 5)),
+            np.zeros((0, 6)),
+            np.zeros((0, 24)),
+            np.zeros((0, 5)),
+            np.zeros((0, 2), np.int64),
+            np.zeros((0, 8)),
         )
         if ground:
             self.add_half_space((0.0, 1.0, 0.0, 0.0), 0.0)
