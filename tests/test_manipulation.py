@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -129,7 +130,8 @@ def test_ghosts_can_be_switched_off():
     game.show_ghosts = False
     game.step(Actions(manipulate=True))
     assert not [d for d in game.frame().drawables if d.style == "ghost"]
-    assert "{strafe_right}" in game.frame().hud.message  # the keys are still shown
+    (label,) = game.frame().hud.labels
+    assert "{strafe_right}" in label.text  # the keys are still shown
 
 
 def test_a_turn_that_would_swallow_the_player_is_refused(tmp_path):
@@ -306,7 +308,9 @@ print(GameWindow.with_keys(fake, {message!r}))
 def test_the_window_shows_the_prompt_with_the_players_own_keys():
     game = _at_the_edge()
     game.step(Actions(manipulate=True))
-    message = game.frame().hud.message
+    hud = game.frame().hud
+    (label,) = hud.labels
+    message = label.text + "\n" + hud.message
     assert "{move_forward}" in message
     # In a fresh process: pyglet's import must not meet the suite's GL contexts.
     out = subprocess.run(
@@ -344,7 +348,7 @@ def test_an_object_may_slide_along_w_paid_like_the_players_own_moves(tmp_path):
     # Its ghosts preview the slide too, cut at the player's w.
     previews = manipulation.ghost_offsets(slab.data)
     assert ("w", 1, {**slab.data.offsets, "w": -250_000}) in previews
-    assert "slide along w" in game.frame().hud.message
+    assert "slide along w" in game.frame().hud.labels[0].text
 
 
 def test_bad_slide_is_one_line(tmp_path):
@@ -355,3 +359,34 @@ def test_bad_slide_is_one_line(tmp_path):
         load_level(p)
     lines = [line for line in str(info.value).splitlines() if "field 'slide'" in line]
     assert len(lines) == 1 and "[[manipulable]] #1 'slab'" in lines[0] and str(p) in lines[0]
+
+
+def test_the_keys_are_shown_next_to_the_held_object_on_screen():
+    from across_dimensions.render.hud import hud_quads, label_rect
+
+    game = _at_the_edge()
+    game.step(Actions(manipulate=True))
+    frame = game.frame()
+    (label,) = frame.hud.labels
+    assert label.text.splitlines() == [
+        "[{move_forward}] [{move_back}] turn yw (0 deg)",
+        "[{strafe_right}] [{strafe_left}] turn zw (0 deg)",
+    ]
+    # The slab's section, projected with the frame's own camera and projection: the label's
+    # left edge is at its rightmost point on screen, its middle between its top and bottom.
+    slab = _slab(game)
+    b = game.sections.bounds(f"tick:{slab.id}")
+    corners = np.array([[b[i, 0], b[j, 1], b[k, 2], 1.0] for i in (0, 1) for j in (0, 1) for k in (0, 1)])
+    W, H = 1280, 720
+    clip = frame.camera.projection_matrix(W / H) @ frame.camera.view_matrix() @ corners.T
+    front = clip[3] > 0
+    px = W / 2 * (1 + clip[0, front] / clip[3, front])
+    py = H / 2 * (1 - clip[1, front] / clip[3, front])
+    # As the window shows it: each {action} becomes the player's keys (as long as "W/UP").
+    label = dataclasses.replace(label, text=re.sub(r"\{\w+\}", "W/UP", label.text))
+    x, y, bw, bh = label_rect(label, W, H)
+    # Just right of the object, or just left of it when there is no room on the right.
+    assert px.max() <= x <= px.max() + 30 or px.min() - 30 <= x + bw <= px.min()
+    assert y <= np.clip(0.5 * (py.min() + py.max()), bh / 2, H - bh / 2) <= y + bh
+    assert len(hud_quads(frame.hud, W, H)) > len(hud_quads(dataclasses.replace(frame.hud, labels=[]), W, H))
+    assert "let go of {manipulate}" in frame.hud.message

@@ -182,3 +182,213 @@ def test_collision_benchmark_runs_and_reports_both_ways():
     for key in ("section_median_ms", "section_p95_ms", "box_median_ms", "box_p95_ms", "triangles"):
         assert np.isfinite(r[key]) and r[key] >= 0, key
     assert r["triangles"] > 100  # the 120-cell's section is near the player
+
+
+def _world_arch_game(tmp_path, profile: str = "prism"):
+    """An arch asset (3 m wide, legs 0.5 m thick, opening 2 m x 2.75 m, 0.5 m deep) as a
+    ``[[world.mesh]]`` part across the player's way at z = 4."""
+    text = f"""
+[level]
+format = 2
+w_range = [-0.5, 0.5]
+[spawn]
+position = [0.0, 0.0, 1.0, 0.0]
+[goal]
+center = [0.0, 1.0, 30.0]
+size = [1.0, 2.0, 1.0]
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [20.0, 1.0, 20.0]
+[[world]]
+w = 0.0
+depth = 2.0
+profile = "{profile}"
+  [[world.mesh]]
+  asset = "meshes/arch.obj"
+  position = [0.0, 0.0, 4.0]
+"""
+    p = tmp_path / "arch.toml"
+    p.write_text(text)
+    return Game(load_level(p))
+
+
+def test_a_world_mesh_arch_lets_the_player_through_its_doorway(tmp_path):
+    game = _world_arch_game(tmp_path)
+    assert len(game.meshes) == 1
+    assert np.isnan(game.colliders_at(0.0)[-1]).all()  # its bounding box no longer collides
+    for _ in range(90):
+        game.step(Actions(forward=1.0))
+    assert game.player.position[2] > 5.0  # through the 2 m wide doorway, where its bounding box stood
+
+
+def test_a_world_mesh_arch_blocks_the_player_at_its_legs(tmp_path):
+    game = _world_arch_game(tmp_path)
+    game.player.position[0] = -1.25  # in line with the left leg (x from -1.5 to -1.0)
+    for _ in range(90):
+        game.step(Actions(forward=1.0))
+    # The leg's face is at z = 4 - 0.25; the walker keeps its half width and SKIN from it.
+    assert game.player.position[2] == pytest.approx(4.0 - 0.25 - HALF_WIDTH - SKIN, abs=TOL)
+
+
+def test_a_world_mesh_section_shrinks_with_the_profile(tmp_path):
+    game = _world_arch_game(tmp_path, "taper")
+    feet = np.array([0.0, 0.0, 4.0])
+    (full,) = game.meshes.triangles_at(0.0, feet, 3.0)
+    (half,) = game.meshes.triangles_at(0.5, feet, 3.0)  # taper: half size halfway to the end
+    c = 0.5 * (full.reshape(-1, 3).min(axis=0) + full.reshape(-1, 3).max(axis=0))
+    assert np.allclose(half, c + 0.5 * (full - c))
+    assert game.meshes.triangles_at(1.0, feet, 3.0) == []  # gone at the world's end
+
+
+def _bullets_at_door_a(remove_door: bool) -> float:
+    """Fire the Armory's gun once from in front of door A (a tesseract slab across the
+    hall at z = -4, 0.4 m thick); the farthest z the bullet reaches in 2 s."""
+    game = Game(load_level(levels_dir() / "04_armory.toml"))
+    if remove_door:
+        game.remove(game.entities.named("door A").id)
+    game.player.position = np.array([0.0, 0.0, -7.0, 0.0])
+    game.step(Actions(presses=Actions.count_presses({"fire": 1})))
+    (bullet,) = game.entities.of_kind("bullet")
+    far = -np.inf
+    for _ in range(120):
+        game.step(Actions())
+        if bullet.id in game.entities:
+            far = max(far, float(bullet.center(game)[2]))
+    return far
+
+
+def test_a_bullet_stops_at_a_closed_door_and_passes_once_it_is_open():
+    # The door's face is at z = -4.2; the bullet (0.15 m) stops there, whatever its w swing.
+    assert _bullets_at_door_a(False) < -4.2
+    assert _bullets_at_door_a(True) > -2.0
+
+
+def test_a_body_rests_on_a_solid_tesseract_slab_where_its_section_is(tmp_path):
+    text = """
+[level]
+format = 2
+w_range = [-0.5, 0.5]
+[spawn]
+position = [-5.0, 0.0, 0.0, 0.0]
+[goal]
+center = [30.0, 1.0, 0.0]
+size = [1.0, 2.0, 1.0]
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [20.0, 1.0, 20.0]
+[[object]]
+name = "table"
+shape = "tesseract"
+position = [0.0, 1.0, 0.0, 0.0]
+scale = [2.0, 0.2, 2.0, 1.0]
+[[object]]
+name = "ball"
+shape = "hypersphere"
+position = [0.0, 2.0, 0.0, 0.0]
+scale = 0.3
+body = "hypersphere"
+"""
+    p = tmp_path / "table.toml"
+    p.write_text(text)
+    game = Game(load_level(p))
+    ball = game.entities.named("ball")
+    for _ in range(180):
+        game.step(Actions())
+    # The table's top is at y = 1.1; the ball's radius is its mesh's reach times 0.3.
+    r = float(np.linalg.norm(ball.mesh.vertices, axis=1).max()) * 0.3
+    assert ball.center(game)[1] == pytest.approx(1.1 + r, abs=0.02)
+    game.remove(game.entities.named("table").id)
+    for _ in range(120):
+        game.step(Actions())
+    assert ball.center(game)[1] == pytest.approx(r, abs=0.02)  # the table gone, it falls to the floor
+
+
+def test_a_3d_mesh_arch_lets_the_player_through_its_doorway_and_stops_them_at_its_legs(tmp_path):
+    text = """
+[level]
+format = 2
+w_range = [-0.5, 0.5]
+[spawn]
+position = [0.0, 0.0, 1.0, 0.0]
+[goal]
+center = [0.0, 1.0, 30.0]
+size = [1.0, 2.0, 1.0]
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [20.0, 1.0, 20.0]
+[[mesh]]
+asset = "meshes/arch.obj"
+position = [0.0, 0.0, 4.0]
+"""
+    p = tmp_path / "mesh_arch.toml"
+    p.write_text(text)
+    for x, through in ((0.0, True), (-1.25, False)):
+        game = Game(load_level(p))
+        assert np.isnan(game.colliders_at(0.0)[1]).all()  # the mesh's bounding box does not collide
+        game.player.position[0] = x
+        for _ in range(90):
+            game.step(Actions(forward=1.0))
+        if through:
+            assert game.player.position[2] > 5.0
+        else:
+            assert game.player.position[2] == pytest.approx(4.0 - 0.25 - HALF_WIDTH - SKIN, abs=TOL)
+
+
+def test_what_solid_objects_are_for_the_bodies():
+    from across_dimensions.game.player_bodies import _shape_of
+
+    assert _shape_of(shapes.tesseract())[0] == "box"
+    v, t = lift.box_solid([0.0, 1.0, 0.0], [1.0, 2.0, 3.0])
+    assert _shape_of(lift.extrude(v, t, [-0.5, 0.5]))[0] == "box"  # a box lifted to 4D
+    kind, planes, _ = _shape_of(shapes.make_shape("24-cell"))
+    assert kind == "convex" and len(planes) == 24  # one half-space per octahedral cell
+    kind, planes, _ = _shape_of(shapes.make_shape("5-cell"))
+    assert kind == "convex" and len(planes) == 5
+    pillar, lintel = [0.4, 2.2, 0.6], [2.4, 0.4, 0.6]
+    parts = [lift.extrude(*lift.box_solid(c, s), [-0.5, 0.5]) for c, s in (([-1.0, 1.1, 0.0], pillar),
+             ([1.0, 1.1, 0.0], pillar), ([0.0, 2.4, 0.0], lintel))]  # fmt: skip
+    assert _shape_of(concatenate(parts))[0] == "none"  # an arch: neither a box nor convex
+
+
+def test_a_ball_lands_on_a_solid_24_cell_and_never_ends_inside_it(tmp_path):
+    from across_dimensions.game.player_bodies import solid_colliders
+
+    text = """
+[level]
+format = 2
+w_range = [-0.5, 0.5]
+[spawn]
+position = [-5.0, 0.0, 0.0, 0.0]
+[goal]
+center = [30.0, 1.0, 0.0]
+size = [1.0, 2.0, 1.0]
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [20.0, 1.0, 20.0]
+[[object]]
+name = "rock"
+shape = "24-cell"
+position = [0.0, 1.5, 0.0, 0.0]
+scale = 1.2
+[[object]]
+name = "ball"
+shape = "hypersphere"
+position = [0.05, 4.0, 0.03, 0.02]
+scale = 0.3
+body = "hypersphere"
+"""
+    p = tmp_path / "rock.toml"
+    p.write_text(text)
+    game = Game(load_level(p))
+    ball = game.entities.named("ball")
+    r = float(np.linalg.norm(ball.mesh.vertices, axis=1).max()) * 0.3
+    _, ((planes, lo, hi),) = solid_colliders(game)
+    top = planes[np.argmax(planes[:, 1])]
+    assert np.allclose(top[:4], [0.0, 1.0, 0.0, 0.0], atol=1e-6)  # the 24-cell has a flat top facet
+    deepest = np.inf
+    for _ in range(150):
+        game.step(Actions())
+        c = ball.center(game)
+        deepest = min(deepest, float(np.max(planes[:, :4] @ c - planes[:, 4])) - r)
+    assert ball.center(game)[1] == pytest.approx(top[4] + r, abs=0.02)  # resting on the top facet
+    assert deepest > -0.03  # never more than the solver's slop inside

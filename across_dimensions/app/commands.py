@@ -248,15 +248,13 @@ def bench(args) -> int:
     core_bench.run(sizes=sizes, repeat=3 if args.quick else 7, out=_out)
     if not args.no_physics:
         try:
-            from ..physics.bench import bench_physics
+            from ..physics.bench import report
         except ImportError:
             _out("physics benchmark: not available")
         else:
             _out("")
-            _out("Physics, 200 mixed dynamic bodies in contact:")
-            res = bench_physics()
-            for k, v in res.items():
-                _out(f"  {k}: {v:.3f}" if isinstance(v, float) else f"  {k}: {v}")
+            _out("Physics, piles of mixed dynamic bodies in contact (hyperspheres and hypercubes), one core:")
+            report(_out, sizes=(200,) if args.quick else (200, 1000), ticks=100 if args.quick else 200)
     _bench_game(args)
     return 0
 

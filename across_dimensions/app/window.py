@@ -666,6 +666,8 @@ class GameWindow(pyglet.window.Window):
         hud = frame.hud
         if hud.message:  # the game's prompts name actions ({manipulate}); show the player's keys
             hud.message = self.with_keys(hud.message)
+        for label in hud.labels:  # and so do the labels beside things (the manipulation keys)
+            label.text = self.with_keys(label.text)
         hud.fps = self.fps if self.show_fps else None
         hud.paused = False  # the pause menu dims the view and says so
         text, left = self.notice

@@ -153,6 +153,7 @@ class Hud:
     health: HealthGauge | None = None  # the player's health bar (levels with enemies)
     damage_flash: float = 0.0  # 1 when the player is hit, fading to 0 (the view flashes red)
     damage_dir: float | None = None  # where the last hit came from: radians from straight ahead, + to the right
+    labels: list = field(default_factory=list)  # ScreenLabel: text placed next to a thing on screen
 
 
 @dataclass(frozen=True)
@@ -313,3 +314,42 @@ class HealthGauge:
     maximum: float
     flash: float = 0.0
     safe: bool = False
+
+
+@dataclass
+class ScreenLabel:
+    """Text shown on screen next to a point of the world (the manipulation keys beside the object).
+
+    Parameters
+    ----------
+    text : str
+        Lines separated by ``\n``; ``{action}`` placeholders become the player's
+        keys (the window fills them in, as for hints).
+    x, y : float
+        Where its left edge's middle goes: the point's direction from the eye,
+        in units of half the screen height from the centre, x right and y up
+        (so it does not depend on the window's aspect ratio).
+    x_left : float or None
+        Where its right edge goes instead when it does not fit right of ``x``
+        (the thing's left side, same units).
+    """
+
+    text: str
+    x: float
+    y: float
+    x_left: float | None = None
+
+    @classmethod
+    def beside(cls, text: str, camera: Camera3, points) -> ScreenLabel | None:
+        """A label just right of the points ``(k, 3)`` as ``camera`` sees them (their rightmost
+        projection, at their middle height; left of them when that is off screen), or None when
+        all of them are behind the eye."""
+        p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        eye = camera.view_matrix()[:3] @ np.c_[p, np.ones(len(p))].T  # (3, k), looking down -z
+        front = eye[2] < -camera.near
+        if not front.any():
+            return None
+        t = np.tan(np.radians(camera.fov_y_deg) / 2.0)
+        sx = eye[0, front] / (-eye[2, front] * t)
+        sy = eye[1, front] / (-eye[2, front] * t)
+        return cls(text, float(sx.max()), float(0.5 * (sy.min() + sy.max())), float(sx.min()))

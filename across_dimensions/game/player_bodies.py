@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.mesh import cross4
 from ..physics.debug_draw import DebugDrawOptions
 from .player import HALF_WIDTH, HEIGHT
 
@@ -102,3 +103,102 @@ def debug_draw_game(game, drawer, options=None) -> None:
         game.physics.debug_draw(drawer, w, opt, boxes=[box])
     elif opt.boxes:
         drawer.draw_box(box[0][:3], box[1][:3], opt.box_color)
+
+
+def _shape_of(mesh) -> tuple:
+    """How the bodies meet a solid mesh, in its own frame: ``("box", lo, hi)`` when every
+    vertex is a corner of its bounds (a tesseract), ``("convex", planes (k, 5), vertices
+    (n, 4))`` when it is a convex polytope (every vertex inside every boundary tet's
+    hyperplane: the regular polytopes), else ``("none",)``."""
+    v = np.asarray(mesh.vertices, dtype=np.float64)
+    if len(v) == 0:
+        return ("none",)
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    size = max(float(np.max(hi - lo)), 1e-12)
+    tol = 1e-6 * size
+    if bool(((np.abs(v - lo) <= tol) | (np.abs(v - hi) <= tol)).all()):
+        return ("box", lo, hi)
+    t = v[np.asarray(mesh.tets, dtype=np.int64)]  # (m, 4, 4)
+    n = cross4(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0], t[:, 3] - t[:, 0])
+    ln = np.linalg.norm(n, axis=1)
+    ok = ln > 1e-12 * size**3
+    n = n[ok] / ln[ok, None]
+    d = np.einsum("ti,ti->t", n, t[ok, 0])
+    # One plane per facet: the tets of a facet share it (rounded to far below the mesh's precision).
+    _, first = np.unique(np.round(np.c_[n, d / size] * 1e5), axis=0, return_index=True)
+    planes = np.c_[n, d][np.sort(first)]
+    if len(planes) < 5 or len(planes) > MAX_FACETS:
+        return ("none",)
+    if bool(np.all(v @ planes[:, :4].T <= planes[:, 4] + 1e-4 * size)):
+        return ("convex", planes, v)
+    return ("none",)
+
+
+#: Convex solids with more facets than this do not stop bodies (each contact test reads every facet).
+MAX_FACETS = 1024
+
+
+def solid_colliders(game) -> tuple[list, list]:
+    """The level's solid 4D objects as the rigid bodies meet them.
+
+    Every ``solid`` entity that is neither a rigid body nor manipulable (those
+    have their own colliders) becomes, placed by its pose:
+
+    * a box ``(center (4,), half_extents (4,), rotation (4, 4))``, rotation
+      local to world, when its mesh is a box (a ``tesseract``: slabs, doors and
+      walls). The box is the object itself, so a bullet stops at a door and a
+      body rests on a slab exactly where the player sees it;
+    * a convex solid ``(planes (k, 5), lo (4,), hi (4,))`` when its mesh is a
+      convex polytope (the regular polytopes, a hypersphere): its facets'
+      half-spaces and bounds, in the world;
+    * nothing otherwise (an arch, a lifted asset): its bounding box would
+      block the doorway.
+
+    What each mesh is, is worked out once per entity (``game._solid_shapes``).
+
+    Returns
+    -------
+    boxes, convex : list, list
+        For :meth:`PhysicsWorld.set_static_solids` and :meth:`PhysicsWorld.set_static_convex`.
+    """
+    cache = game.__dict__.setdefault("_solid_shapes", {})
+    boxes, convex = [], []
+    for e in game.entities:
+        if not e.solid or e.kind != "object":
+            continue
+        if e.id not in cache:
+            cache[e.id] = _shape_of(e.mesh)
+        shape = cache[e.id]
+        if shape[0] == "none":
+            continue
+        m = e.model(game)
+        a = m[:4, :4]
+        if shape[0] == "convex":
+            if abs(np.linalg.det(a)) < 1e-12:
+                continue
+            planes, v = shape[1], shape[2]
+            # n . p <= d in the object's frame is (A^-T n) . (x - t) <= d in the world.
+            nw = np.linalg.solve(a.T, planes[:, :4].T).T
+            dw = planes[:, 4] + nw @ m[:4, 4]
+            ln = np.linalg.norm(nw, axis=1)
+            nw, dw = nw / ln[:, None], dw / ln  # unit normals: offsets are distances
+            world_v = v @ a.T + m[:4, 4]
+            convex.append((np.c_[nw, dw], world_v.min(axis=0), world_v.max(axis=0)))
+            continue
+        scale = np.linalg.norm(a, axis=0)
+        if not np.all(scale > 0):
+            continue
+        rot = a / scale
+        lo, hi = shape[1], shape[2]
+        center = m[:4, 4] + rot @ (0.5 * (lo + hi) * scale)
+        half = np.maximum(0.5 * (hi - lo) * scale, 1e-4)
+        boxes.append((center, half, rot))
+    return boxes, convex
+
+
+def sync_solids(game) -> None:
+    """Hand :func:`solid_colliders` to the physics world (before its tick); a no-op without physics."""
+    if game.physics is not None:
+        boxes, convex = solid_colliders(game)
+        game.physics.set_static_solids(boxes)
+        game.physics.set_static_convex(convex)

@@ -224,4 +224,79 @@ def box_blocked(lo, hi, tris: np.ndarray) -> bool:
     return bool(overlapping(lo, hi, tris).any()) or inside(0.5 * (np.asarray(lo) + np.asarray(hi)), tris)
 
 
-__all__ = ["Soup", "triangles_of", "sweep", "overlapping", "first_hit", "inside", "box_blocked"]
+class MeshParts:
+    """The level's 3D meshes, ``[[mesh]]`` and ``[[world.mesh]]``, as the walker meets them:
+    by their true surfaces (a doorway in an arch asset lets the player through), not their
+    bounding boxes.
+
+    A ``[[mesh]]`` is the same at every w: its surface triangles. A world's part
+    in the slice at ``w`` is its 3D solid scaled about its bounds' centre by the
+    world's profile there (:meth:`..world.scene.ExtendedWorld.scale_at`; the 4D
+    mesh is built from the same layer table, and the section of an extruded
+    prism between two layers is the solid at the interpolated scale), so its
+    section is its solid's boundary triangles, scaled. Boxes are exact as boxes
+    and stay boxes.
+
+    Parameters
+    ----------
+    scene : Scene
+
+    Attributes
+    ----------
+    rows : (k,) int64
+        The parts' rows in ``[scene.static_boxes, scene.world_boxes_at(w)]`` (their
+        bounding boxes, which the walker must then ignore).
+    """
+
+    def __init__(self, scene):
+        from ..world.geometry import placement_matrix
+
+        self._parts = []  # (world or None, centre (3,), triangles (t, 3, 3) at full size, lo, hi)
+        rows = []
+        level = scene.level
+        for i, m in enumerate(level.meshes):
+            from ..world.bake import load_surface
+
+            v, f = load_surface(m.asset)
+            model = placement_matrix(m.position, m.scale, m.yaw_deg)
+            v = np.asarray(v, dtype=np.float64) @ model[:3, :3].T + model[:3, 3]
+            self._add(None, v, np.asarray(f, dtype=np.int64))
+            rows.append(len(level.boxes) + i)
+        row = len(scene.static_boxes)
+        for spec, wd in zip(level.worlds, scene.worlds):
+            row += len(spec.boxes)
+            for m in spec.meshes:
+                from ..core.lift import boundary_faces3
+                from ..world.bake import bake_solid
+
+                v3, t3 = bake_solid(m.asset)
+                model = placement_matrix(m.position, m.scale, m.yaw_deg)
+                v3 = np.asarray(v3, dtype=np.float64) @ model[:3, :3].T + model[:3, 3]
+                self._add(wd, v3, boundary_faces3(t3))
+                rows.append(row)
+                row += 1
+        self.rows = np.array(rows, dtype=np.int64)
+
+    def _add(self, world, v: np.ndarray, faces: np.ndarray) -> None:
+        lo, hi = v.min(axis=0), v.max(axis=0)
+        self._parts.append((world, 0.5 * (lo + hi), v[faces], lo, hi))
+
+    def __len__(self) -> int:
+        return len(self._parts)
+
+    def triangles_at(self, w: float, feet, margin: float) -> list:
+        """Each part's triangles in the slice at ``w``, ``(t, 3, 3) float64``, for parts whose
+        (scaled) bounds come within ``margin`` of ``feet (3,)`` (the others are left out)."""
+        out = []
+        f = np.asarray(feet, dtype=np.float64)[:3]
+        for wd, c, tris, lo, hi in self._parts:
+            s = 1.0 if wd is None else wd.scale_at(w)
+            if s <= 0.0:
+                continue
+            if np.any(c + s * (lo - c) > f + margin) or np.any(c + s * (hi - c) < f - margin):
+                continue
+            out.append(tris if s == 1.0 else c + s * (tris - c))
+        return out
+
+
+__all__ = ["Soup", "MeshParts", "triangles_of", "sweep", "overlapping", "first_hit", "inside", "box_blocked"]

@@ -32,7 +32,7 @@ from .events import Event
 from .frame import Camera3, Frame, Hud
 from .player import HALF_WIDTH, HEIGHT, Player
 from .player_bodies import bodies_block
-from .section_collision import triangles_of
+from .section_collision import MeshParts, triangles_of
 from .systems import SYSTEMS, crystals, manipulation
 
 TICK_RATE = 60
@@ -83,6 +83,7 @@ class Game:
         self.rng = np.random.default_rng(seed)
         self.scene = scene if scene is not None else build_scene(level)
         self.sections = SectionCache()
+        self.meshes = MeshParts(self.scene)  # [[mesh]] and [[world.mesh]] collide by their surfaces
         self.physics, body_of = build_physics(self.scene, DT)
         self.entities = EntityStore()
         self._table_key: tuple | None = None
@@ -166,8 +167,9 @@ class Game:
     def colliders_at(self, w: float) -> np.ndarray:
         """Boxes ``(k, 2, 3)`` solid in the slice at ``w``: the 3D world and the
         extended worlds' parts. The rows are the same things at every w; a thing
-        absent at ``w`` is NaN. Solid 4D objects collide by their true section
-        instead (:meth:`sections_at`).
+        absent at ``w`` is NaN, and so are the meshes' rows: meshes and solid 4D
+        objects collide by their true surfaces and sections instead
+        (:meth:`sections_at`).
 
         Nothing moves within a tick, so the answer for a w is kept until the
         tick (or the set of entities) changes: the walker asks for the slice it
@@ -176,13 +178,18 @@ class Game:
         self._fresh_colliders()
         boxes = self._colliders.get(w)
         if boxes is None:
-            boxes = self._colliders[w] = np.concatenate([self.scene.static_boxes, self.scene.world_boxes_at(w)])
+            boxes = np.concatenate([self.scene.static_boxes, self.scene.world_boxes_at(w)])
+            if len(self.meshes):
+                boxes[self.meshes.rows] = np.nan  # meshes collide by their surfaces (sections_at)
+            self._colliders[w] = boxes
         return boxes
 
     def sections_at(self, w: float) -> list:
         """The triangles of each solid 4D object's section at ``w``: one
         ``(t, 3, 3) float64`` array per solid entity, in spawn order, empty where
-        the object is absent from the slice or beyond the player's reach.
+        the object is absent from the slice or beyond the player's reach; then
+        the surfaces of the ``[[mesh]]`` and ``[[world.mesh]]`` parts near the
+        player (:class:`.section_collision.MeshParts`).
 
         Sections are recomputed only when an object's pose or the slice changed
         (``game.sections`` compares both), and the list for a w is kept for the
@@ -219,6 +226,7 @@ class Game:
                 self.sections.forget(key)
                 self._triangles.pop(key, None)
                 out.append(np.zeros((0, 3, 3)))
+        out += self.meshes.triangles_at(w, feet, COLLIDE_MARGIN)  # after the entities
         return out
 
     def bodies_block_w(self, position, w: float) -> bool:

@@ -3,8 +3,9 @@
 Order of work (all in body-index and pair-key order, so the result depends only
 on the inputs, never on timing or hashing):
 
-1. bounding boxes, sort-and-sweep broadphase along x (bodies) plus a direct
-   test against the few static world colliders;
+1. bounding boxes, sort-and-sweep broadphase along the widest axis (bodies) plus a direct
+   test against the few static world colliders (half-spaces, world boxes, and
+   the level's solid objects as 4D boxes or convex solids);
 2. wake sleeping islands touched by moving bodies;
 3. narrowphase contacts for the pairs, sorted by pair key (so last tick's
    contacts can be matched for warm starting in one forward pass);
@@ -108,7 +109,7 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
     base_margin : float
     pairs : (P, 2) int64
         Output: body a and body b (``b >= 0``) or ``-1 - s`` for static world
-        collider ``s`` (half-spaces first, then world boxes).
+        collider ``s`` (half-spaces first, then world boxes, solid boxes, convex solids).
     marg : (N,) float64
         Output: per-body speculative margin ``base + h * (speed)``.
 
@@ -163,7 +164,25 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
         for m in range(4):
             lo[i, m] = pos[i, m] - ext[m] - marg[i]
             hi[i, m] = pos[i, m] + ext[m] + marg[i]
-        key[i] = lo[i, 0]
+    # Sweep along the axis the bodies spread most along (a pile is taller than
+    # it is wide): fewer bodies overlap each other's interval there. The pairs
+    # found are the same whatever the axis (their order does not matter: the
+    # narrowphase sorts them by key, islands take the smallest index as root).
+    ax = 0
+    best = -1.0
+    for m in range(4):
+        a_lo = np.inf
+        a_hi = -np.inf
+        for i in range(nb):
+            if alive[i]:
+                a_lo = min(a_lo, pos[i, m])
+                a_hi = max(a_hi, pos[i, m])
+        if a_hi - a_lo > best:
+            best = a_hi - a_lo
+            ax = m
+    for i in range(nb):
+        if alive[i]:
+            key[i] = lo[i, ax]
     order = argsort_stable(key)
     cap = pairs.shape[0]
     n = 0
@@ -177,9 +196,11 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
             break
         for oj in range(oi + 1, nb):
             j = order[oj]
-            if not alive[j] or lo[j, 0] > hi[i, 0]:
+            if not alive[j] or lo[j, ax] > hi[i, ax]:
                 break
             if kind[i] != DYNAMIC and kind[j] != DYNAMIC:
+                continue
+            if lo[j, 0] > hi[i, 0] or lo[i, 0] > hi[j, 0]:
                 continue
             if lo[j, 1] > hi[i, 1] or lo[i, 1] > hi[j, 1]:
                 continue
@@ -217,6 +238,18 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
                 pairs[n, 1] = j
             n += 1
     nh = hs.shape[0]
+    nw = wb.shape[0]
+    # The solids' own bounds along each axis (they do not move within a tick).
+    so = static.solids
+    ns = so.shape[0]
+    cb = static.convex_bounds
+    sext = np.zeros((ns, 4))
+    for s in range(ns):
+        for m in range(4):
+            e = 0.0
+            for k in range(4):
+                e += abs(so[s, 8 + 4 * m + k]) * so[s, 4 + k]
+            sext[s, m] = e
     d = np.empty(4)
     for i in range(nb):
         if not act[i]:
@@ -243,6 +276,28 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
                     pairs[n, 0] = i
                     pairs[n, 1] = -1 - nh - s
                 n += 1
+        for s in range(ns):
+            ok = True
+            for m in range(4):
+                if lo[i, m] > so[s, m] + sext[s, m] or hi[i, m] < so[s, m] - sext[s, m]:
+                    ok = False
+                    break
+            if ok:
+                if n < cap:
+                    pairs[n, 0] = i
+                    pairs[n, 1] = -1 - nh - nw - s
+                n += 1
+        for q in range(cb.shape[0]):
+            ok = True
+            for m in range(4):
+                if lo[i, m] > cb[q, 4 + m] or hi[i, m] < cb[q, m]:
+                    ok = False
+                    break
+            if ok:
+                if n < cap:
+                    pairs[n, 0] = i
+                    pairs[n, 1] = -1 - nh - nw - ns - q
+                n += 1
     if n > cap:
         return -n
     return n
@@ -266,6 +321,7 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
     half = bodies.half_extents
     pos = bodies.position
     rot = bodies.rotation
+    bound = bodies.bound
     hs = static.half_spaces
     wb = static.boxes
     # Arrays are taken out of the bundles once: reading a bundle's field inside
@@ -288,7 +344,11 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
     k = 0
     vx = np.empty(4)
     vr = np.eye(4)
+    vs = np.empty((4, 4))
     vh = np.empty(4)
+    so = static.solids
+    cpl = static.convex_planes
+    cr = static.convex_ranges
     pn = np.empty(4)
     wk = np.empty((SCRATCH_ROWS, 4))
     for op in range(npairs):
@@ -298,7 +358,17 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
         got = 0
         if b >= 0:
             m = marg[a] + marg[b]
-            if shape[a] == SPHERE and shape[b] == SPHERE:
+            # Bounding balls apart by more than the margin: no contact whatever
+            # the shapes (a cheap exit before the full test; the box-box test
+            # would find none either).
+            d2 = 0.0
+            for t in range(4):
+                e = pos[b, t] - pos[a, t]
+                d2 += e * e
+            reach = 1.001 * (bound[a] + bound[b] + m)
+            if d2 > reach * reach:
+                pass
+            elif shape[a] == SPHERE and shape[b] == SPHERE:
                 got = sphere_sphere(pos[a], half[a, 0], pos[b], half[b, 0], m, wk, cp, cn, cd, k)
             elif shape[a] == BOX and shape[b] == SPHERE:
                 got = box_sphere(pos[a], rot[a], half[a], pos[b], half[b, 0], m, wk, cp, cn, cd, k)
@@ -323,6 +393,50 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
                     got = box_halfspace(
                         pos[a], rot[a], half[a], pn, hs[s, 4], m, scratch_p, scratch_d, wk, cp, cn, cd, k
                     )
+            elif s >= nh + wb.shape[0] + so.shape[0]:
+                # A level's convex solid: against its facet of least penetration.
+                q = s - nh - wb.shape[0] - so.shape[0]
+                best = -np.inf
+                bf = -1
+                for f in range(cr[q, 0], cr[q, 1]):
+                    sep = -cpl[f, 4]
+                    for t in range(4):
+                        sep += cpl[f, t] * pos[a, t]
+                    if shape[a] == SPHERE:
+                        sep -= half[a, 0]
+                    else:
+                        for t in range(4):
+                            u = 0.0
+                            for v in range(4):
+                                u += cpl[f, v] * rot[a, v, t]
+                            sep -= half[a, t] * abs(u)
+                    if sep > best:
+                        best = sep
+                        bf = f
+                if bf >= 0 and best <= m:
+                    for t in range(4):
+                        pn[t] = cpl[bf, t]
+                    if shape[a] == SPHERE:
+                        got = sphere_halfspace(pos[a], half[a, 0], pn, cpl[bf, 4], m, cp, cn, cd, k)
+                    else:
+                        got = box_halfspace(
+                            pos[a], rot[a], half[a], pn, cpl[bf, 4], m, scratch_p, scratch_d, wk, cp, cn, cd, k
+                        )
+            elif s >= nh + wb.shape[0]:
+                # A level's solid object: an oriented 4D box.
+                s -= nh + wb.shape[0]
+                for t in range(4):
+                    vx[t] = so[s, t]
+                    vh[t] = so[s, 4 + t]
+                    for q in range(4):
+                        vs[t, q] = so[s, 8 + 4 * t + q]
+                if shape[a] == SPHERE:
+                    got = box_sphere(vx, vs, vh, pos[a], half[a, 0], m, wk, cp, cn, cd, k)
+                    for q in range(got):
+                        for t in range(4):
+                            cn[k + q, t] = -cn[k + q, t]
+                else:
+                    got = box_box(pos[a], rot[a], half[a], vx, vs, vh, m, scratch_p, scratch_d, wk, cp, cn, cd, k)
             else:
                 # A world box spans all of w: make it a 4D box wide enough in w
                 # that its w faces can never be the separating axis.

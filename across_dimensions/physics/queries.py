@@ -150,6 +150,57 @@ def raycast_kernel(bodies, static, o, d, max_t, use_world, normal):
                 for m in range(4):
                     normal[m] = 0.0
                 normal[ax] = sg
+        so = static.solids
+        nw = wb.shape[0]
+        for s in range(so.shape[0]):
+            for a in range(4):
+                u = 0.0
+                v = 0.0
+                for m in range(4):
+                    u += so[s, 8 + 4 * m + a] * (o[m] - so[s, m])
+                    v += so[s, 8 + 4 * m + a] * d[m]
+                ol[a] = u
+                dl[a] = v
+                lo[a] = -so[s, 4 + a]
+                hi[a] = so[s, 4 + a]
+            t, ax, sg = _slab_hit(ol, dl, lo, hi, 4)
+            if ax >= 0 and t < best_t:
+                best_t = t
+                best = -1 - nh - nw - s
+                for m in range(4):
+                    normal[m] = sg * so[s, 8 + 4 * m + ax]
+        # Convex solids: clip the ray by every facet (Cyrus-Beck); it enters
+        # where the last facet it crosses from outside lets it in.
+        cpl = static.convex_planes
+        cr = static.convex_ranges
+        ns = so.shape[0]
+        for q in range(cr.shape[0]):
+            t_in = -np.inf
+            t_out = np.inf
+            f_in = -1
+            for f in range(cr[q, 0], cr[q, 1]):
+                dn = 0.0
+                on = -cpl[f, 4]
+                for m in range(4):
+                    dn += cpl[f, m] * d[m]
+                    on += cpl[f, m] * o[m]
+                if dn == 0.0:
+                    if on > 0.0:
+                        t_in = np.inf
+                        break
+                    continue
+                t = -on / dn
+                if dn < 0.0:
+                    if t > t_in:
+                        t_in = t
+                        f_in = f
+                elif t < t_out:
+                    t_out = t
+            if f_in >= 0 and 0.0 <= t_in <= t_out and t_in < best_t:
+                best_t = t_in
+                best = -1 - nh - nw - ns - q
+                for m in range(4):
+                    normal[m] = cpl[f_in, m]
     return best, best_t
 
 

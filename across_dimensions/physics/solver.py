@@ -263,6 +263,8 @@ def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, rolling
     if lim[c, 0] == 0.0 and lim[c, 1] == 0.0:
         return
     for i in range(4):
+        if lim[c, 0 if i > 0 else 1] == 0.0:
+            continue  # a group that is off is never solved: its rows need not be built
         for j in range(i + 1, 4):
             # Unit bivectors t_i ^ t_j (k = 0..2) then n ^ t_j (k = 3..5); the
             # frame is orthonormal.

@@ -6,7 +6,7 @@ record arrays, which read the same. :func:`~across_dimensions.physics.pipeline.t
 receives
 
 * :class:`Bodies` - every body slot (the world's state, updated in place);
-* :class:`StaticWorld` - half-spaces and 3D world boxes;
+* :class:`StaticWorld` - half-spaces, 3D world boxes, 4D solid boxes and convex solids;
 * ``params`` - a ``(1,)`` record array of :data:`PARAMS_DTYPE` (tuning values);
 * :class:`Contacts` - this tick's contact points, filled by the narrowphase;
 * :class:`WarmStart` - last tick's impulses, keyed by pair, replaced each tick;
@@ -16,7 +16,7 @@ receives
 All arrays are indexed by body id (``N`` slots) or contact index (``C``
 capacity); only the first ``Bodies.count`` bodies and the first ``n`` contacts
 a tick reports are meaningful. A contact's second body ``b`` is ``-1 - s`` for
-static world collider ``s`` (half-spaces first, then world boxes): those rows
+static world collider ``s`` (half-spaces first, then world boxes, solid boxes, convex solids): those rows
 have no second body.
 
 Kernels take the arrays out of the bundles once, before their loops: reading a
@@ -124,10 +124,25 @@ class StaticWorld(NamedTuple):
         Solids ``n . x <= offset`` as rows ``(n, offset)``, ``n`` unit.
     boxes : (M, 6) float64
         3D world boxes ``(center, half)`` spanning all of w.
+    solids : (S, 24) float64
+        4D boxes of the level's solid objects, as rows ``(center (4), half
+        extents (4), rotation (16, row-major, local to world))``: the game sets
+        them from its solid objects' poses (``PhysicsWorld.set_static_solids``).
+    convex_planes : (P, 5) float64
+        Facet half-spaces ``(n, offset)`` (``n`` unit, pointing out of the
+        solid) of the level's convex solid objects, one run of rows each.
+    convex_ranges : (Q, 2) int64
+        Each convex solid's rows ``[start, end)`` in ``convex_planes``.
+    convex_bounds : (Q, 8) float64
+        Each convex solid's bounds ``(lo (4), hi (4))``.
     """
 
     half_spaces: np.ndarray
     boxes: np.ndarray
+    solids: np.ndarray
+    convex_planes: np.ndarray
+    convex_ranges: np.ndarray
+    convex_bounds: np.ndarray
 
 
 class Contacts(NamedTuple):

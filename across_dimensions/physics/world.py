@@ -202,7 +202,14 @@ class PhysicsWorld:
         self.time = 0.0
         self._acc = 0.0
         self._alloc_bodies(16)
-        self.static = StaticWorld(np.zeros((0, 5)), np.zeros((0, 6)))
+        self.static = StaticWorld(
+            np.zeros((0, 5)),
+            np.zeros((0, 6)),
+            np.zeros((0, 24)),
+            np.zeros((0, 5)),
+            np.zeros((0, 2), np.int64),
+            np.zeros((0, 8)),
+        )
         if ground:
             self.add_half_space((0.0, 1.0, 0.0, 0.0), 0.0)
         self.warm = new_warm_start(256)
@@ -581,6 +588,88 @@ class PhysicsWorld:
         self.static = self.static._replace(boxes=np.array(rows, dtype=np.float64).reshape(-1, 6))
         self._wake_all()
 
+    def set_static_solids(self, solids: Iterable[tuple]) -> None:
+        """Replace the 4D solid boxes: ``(center (4,), half_extents (4,), rotation (4, 4))``
+        each, rotation local to world (as :meth:`body_rotation`).
+
+        They are the level's solid objects as seen by the bodies (the game
+        sets them each tick from the objects' poses). Sleeping bodies near a
+        box that appeared, vanished or moved wake; nothing else changes, so
+        setting the same boxes again is free and leaves the simulation as it
+        was. They are not in :meth:`state_bytes`: they are derived from poses
+        the game hashes itself.
+        """
+        rows = []
+        for center, half, rot in solids:
+            c = _vec4(center, "center")
+            h = _vec4(half, "half_extents")
+            if np.any(h <= 0):
+                raise ValueError("solid half extents must be positive")
+            r = np.asarray(rot, dtype=np.float64).reshape(4, 4)
+            rows.append(np.concatenate([c, h, r.reshape(16)]))
+        new = np.array(rows, dtype=np.float64).reshape(-1, 24)
+        old = self.static.solids
+        if new.shape == old.shape and np.array_equal(new, old):
+            return
+        self.static = self.static._replace(solids=new)
+        changed = [r for r in old if not any(np.array_equal(r, q) for q in new)]
+        changed += [r for r in new if not any(np.array_equal(r, q) for q in old)]
+        self._wake_near_solids(changed)
+
+    def set_static_convex(self, solids: Iterable[tuple]) -> None:
+        """Replace the convex solids: each ``(planes (k, 5), lo (4,), hi (4,))``, its facet
+        half-spaces ``(n, offset)`` (the solid is ``{x : n . x <= offset}`` for every
+        row, ``n`` pointing out of it; normalised here) and its bounds.
+
+        Bodies meet each solid through its facet of least penetration (the
+        separating-axis test over its facets), so a body resting on a face is
+        exact; near an edge or a corner the contact comes up to the margin
+        early. As for :meth:`set_static_solids`, setting the same solids again
+        changes nothing, sleeping bodies near a changed one wake, and they are
+        not in :meth:`state_bytes`.
+        """
+        planes, ranges, bounds = [], [], []
+        start = 0
+        for rows, lo, hi in solids:
+            r = np.asarray(rows, dtype=np.float64).reshape(-1, 5)
+            ln = np.linalg.norm(r[:, :4], axis=1)
+            if len(r) < 5 or not np.all(ln > 0):
+                raise ValueError("a convex solid needs at least 5 facets with non-zero normals")
+            r = r / ln[:, None]
+            lo, hi = _vec4(lo, "lo"), _vec4(hi, "hi")
+            planes.append(r)
+            ranges.append((start, start + len(r)))
+            bounds.append(np.concatenate([lo, hi]))
+            start += len(r)
+        new = (
+            np.concatenate(planes) if planes else np.zeros((0, 5)),
+            np.array(ranges, dtype=np.int64).reshape(-1, 2),
+            np.array(bounds, dtype=np.float64).reshape(-1, 8),
+        )
+        st = self.static
+        old = (st.convex_planes, st.convex_ranges, st.convex_bounds)
+        if all(a.shape == b.shape and np.array_equal(a, b) for a, b in zip(new, old)):
+            return
+        self.static = st._replace(convex_planes=new[0], convex_ranges=new[1], convex_bounds=new[2])
+        # Wake sleepers near every convex solid before and after (changes are rare: a door opens).
+        boxes = [np.concatenate([0.5 * (b[:4] + b[4:]), 0.5 * (b[4:] - b[:4]), np.eye(4).ravel()]) for b in old[2]]
+        boxes += [np.concatenate([0.5 * (b[:4] + b[4:]), 0.5 * (b[4:] - b[:4]), np.eye(4).ravel()]) for b in new[2]]
+        self._wake_near_solids(boxes)
+
+    def _wake_near_solids(self, rows) -> None:
+        """Wake sleeping bodies whose bounding ball meets one of the solid boxes ``rows``."""
+        n = self._n
+        if not rows or n == 0:
+            return
+        b = self.bodies
+        sleeping = np.flatnonzero(b.alive[:n] & ~b.awake[:n] & (b.kind[:n] == pl.DYNAMIC))
+        for row in rows:
+            ext = np.abs(row[8:].reshape(4, 4)) @ row[4:8]
+            reach = b.bound[sleeping, None] + 4 * self.params["margin"][0]
+            near = np.all(np.abs(b.position[sleeping] - row[:4]) <= ext + reach, axis=1)
+            for j in sleeping[near]:
+                self.wake(int(j))
+
     def _wake_all(self) -> None:
         if hasattr(self, "bodies"):
             n = self._n
@@ -719,7 +808,7 @@ class PhysicsWorld:
             warm.normal_impulse[:c],
             warm.friction_impulse[:c],
             self.static.half_spaces,
-            self.static.boxes,
+            self.static.boxes,  # (the solids are not here: see set_static_solids)
             self.params,
         ]
         return b"".join(np.ascontiguousarray(a).tobytes() for a in parts)

@@ -32,6 +32,8 @@ Layout (pixels, origin top-left, ``W x H`` the viewport):
   (``message``) never cover it;
 * warning (when ``hud.warning``): one line at the bottom centre, between the energy bar and the
   radar, shortened with an ellipsis to fit;
+* labels (``hud.labels``): small text on a dark band just right of a point of the world
+  (:func:`label_rect`), such as the manipulation keys beside the held object;
 * card (when ``hud.card``): drawn over everything by :mod:`.cards`.
 * health (when ``hud.health`` is not None): top-left, a bar green when full turning red when low,
   ``HEALTH`` (``SAFE`` just after a death) above its left end and the value above its right end;
@@ -382,6 +384,10 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
         for i, ln in enumerate(lines):
             q.text(ln, (W - text_width(ln, scale)) // 2, ytop + i * line_h, scale, TEXT_COLOR)
 
+    # --- labels next to things on screen (the manipulation keys beside the held object)
+    if not hud.paused:
+        for label in hud.labels:
+            _screen_label(q, label, m)
     # --- teaching card (over everything)
     if hud.card is not None:
         from .cards import draw_card
@@ -460,6 +466,36 @@ def _warning_line(q: _QuadList, text: str, m: HudMetrics) -> None:
     line = _ellipsized(text, max(10, right - (ex + ew + m.margin) - 4 * s), s)
     q.rect(x, y, w, h, BAND_COLOR)
     q.text(line, x + 2 * s, y + 2 * s, s, WARNING_COLOR)
+
+
+def label_rect(label, width: int, height: int) -> tuple[int, int, int, int]:
+    """Where a :class:`~across_dimensions.game.frame.ScreenLabel` is drawn: its band ``x, y, w, h``
+    in pixels (origin top-left), its left edge's middle at the label's point moved a little
+    right (or its right edge a little left of ``x_left`` when there is no room on the right),
+    kept whole on the screen."""
+    m = HudMetrics(int(width), int(height))
+    s = m.text_scale
+    lines = label.text.split("\n")
+    line_h = (GLYPH_H + 3) * s
+    bw = max(text_width(ln, s) for ln in lines) + 8 * s
+    bh = len(lines) * line_h + 2 * s
+    x = int(round(m.width / 2 + label.x * m.height / 2)) + 4 * s
+    if x + bw > m.width - m.margin and label.x_left is not None:  # no room on the right: on the left
+        left = int(round(m.width / 2 + label.x_left * m.height / 2)) - 4 * s - bw
+        if left >= m.margin:
+            x = left
+    y = int(round(m.height / 2 - label.y * m.height / 2)) - bh // 2
+    x = min(max(x, m.margin), max(m.margin, m.width - bw - m.margin))
+    y = min(max(y, m.margin), max(m.margin, m.height - bh - m.margin))
+    return x, y, bw, bh
+
+
+def _screen_label(q: _QuadList, label, m: HudMetrics) -> None:
+    s = m.text_scale
+    x, y, bw, bh = label_rect(label, m.width, m.height)
+    q.rect(x, y, bw, bh, BAND_COLOR)
+    for i, ln in enumerate(label.text.split("\n")):
+        q.text(ln, x + 4 * s, y + s + i * (GLYPH_H + 3) * s, s, TEXT_COLOR)
 
 
 def weapon_text(panel: WeaponPanel) -> str:

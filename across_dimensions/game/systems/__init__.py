@@ -36,6 +36,7 @@ from . import (
     scenery,
     sections,
     seek,
+    solid_bodies,
     weapons,
 )
 
@@ -53,6 +54,7 @@ SYSTEMS = (
     player,
     push,
     weapons,
+    solid_bodies,
     rigid_bodies,
     bullets,
     enemies,

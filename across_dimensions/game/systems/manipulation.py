@@ -17,8 +17,9 @@ An object whose table has ``slide = [low, high]`` may also move along w (by
 moves along w, ``[energy] w_cost``): the slide takes the key pair after its
 planes (``"w"`` in :attr:`Manipulable.planes`).
 
-The HUD shows these keys with the player's own bindings (``{action}``
-placeholders the window fills in, as for hints). Turning is smooth at the
+The HUD shows these keys next to the object on screen, one plane a line, with
+the player's own bindings (``{action}`` placeholders the window fills in, as
+for hints; see :class:`..frame.ScreenLabel`). Turning is smooth at the
 table's ``speed``; with a ``step``, a turn that is let go of carries on to the
 next multiple of the step in its direction (snapping), so the object always
 settles on a step. Turning back undoes a turn. Every degree turned, snapping
@@ -63,7 +64,7 @@ from ...world.gameplay import ManipulableSpec
 from .. import section_collision
 from ..entities import Placed
 from ..events import Manipulated, ManipulationEnded, ManipulationStarted
-from ..frame import Drawable
+from ..frame import Drawable, ScreenLabel
 from ..player import player_box
 
 PREVIEW_DEG = 15.0  # what a ghost previews in a plane without a snapping step
@@ -386,7 +387,8 @@ def step(game, actions):
     return out
 
 
-def _label(d: Manipulable) -> str:
+def _label(d: Manipulable, sep: str = "   ") -> str:
+    """The keys of each allowed plane (``{action}`` placeholders) and where it stands, joined by ``sep``."""
     parts = []
     for i, plane in enumerate(d.planes[: len(AXES)]):
         _, plus, minus = AXES[i]
@@ -394,7 +396,22 @@ def _label(d: Manipulable) -> str:
             parts.append(f"[{{{plus}}}] [{{{minus}}}] slide along w (w = {d.angle_deg(plane):+.2f})")
         else:
             parts.append(f"[{{{plus}}}] [{{{minus}}}] turn {plane} ({d.angle_deg(plane):.0f} deg)")
-    return "   ".join(parts)
+    return sep.join(parts)
+
+
+def _key_label(game, frame, held, d: Manipulable) -> None:
+    """The keys, one plane a line, on screen just right of the held object's section; on
+    the message line instead when the section is not in front of the player."""
+    b = game.sections.bounds(f"tick:{held.id}")
+    label = None
+    if not np.isnan(b).any():
+        corners = np.array([[b[i, 0], b[j, 1], b[k, 2]] for i in (0, 1) for j in (0, 1) for k in (0, 1)])
+        label = ScreenLabel.beside(_label(d, "\n"), frame.camera, corners)
+    if label is None:
+        frame.hud.message = _label(d) + "   let go of {manipulate} to release"
+    else:
+        frame.hud.labels.append(label)
+        frame.hud.message = "let go of {manipulate} to release"
 
 
 def ghost_offsets(d: Manipulable) -> list[tuple[str, int, dict]]:
@@ -432,7 +449,7 @@ def draw(game, frame, alpha) -> None:
         game.sections.keep("ghost:", set())
         return
     d = held.data
-    frame.hud.message = _label(d) + "   let go of {manipulate} to release"
+    _key_label(game, frame, held, d)
     if not getattr(game, "show_ghosts", True):
         game.sections.keep("ghost:", set())
         return

@@ -6,6 +6,7 @@ import numpy as np
 
 from ..player import HALF_WIDTH, HEIGHT, move_axis
 from ..player_bodies import player_collide
+from ..section_collision import Soup
 
 PUSH = 0.5  # share of the player's velocity into a body given to it per tick of contact
 
@@ -21,8 +22,10 @@ def step(game, actions) -> None:
     # Apply the push-out as a move, so the static world still stops it: a
     # body never shoves the player through a floor or a wall.
     boxes = game.colliders_at(float(p.position[3]))
+    found = [t for t in game.sections_at(float(p.position[3])) if len(t)]  # nor through a solid's section
+    tris = Soup(np.concatenate(found)) if found else None
     for axis in (0, 2, 1):
-        p.position, _ = move_axis(p.position, axis, float(corr[axis]), boxes)
+        p.position, _ = move_axis(p.position, axis, float(corr[axis]), boxes, tris)
     normal = corr / n
     into = float(p.velocity[:3] @ normal)
     if into < 0.0:  # stop moving into the body, pass the motion on to it
