@@ -21,6 +21,7 @@ Settings live in one TOML file, ``settings.toml`` in the per-user config folder
     ghost_strength = 1.0         # times the ghosts' opacity
     ghost_layers = 1             # 1 or 2 per side
     reduce_motion = false        # seek jumps instead of gliding
+    render_scale = "auto"        # 0.5 to 1.0: draw at this fraction of the window, upscaled; "auto" from the GPU
 
     [bindings]                   # only the actions that differ from the preset
     jump = ["SPACE", "MOUSE_RIGHT"]
@@ -320,7 +321,17 @@ _RULES: dict[str, _Rule] = {
     "ghost_strength": _Rule("a factor of the ghosts' opacity from 0 to 3", _number(0.0, 3.0)),
     "ghost_layers": _Rule("1 or 2 (ghost layers on each side)", _integer(1, 2)),
     "reduce_motion": _Rule("true or false", _boolean),
+    "render_scale": _Rule('"auto" or a number from 0.5 to 1.0 (fraction of the window drawn, then upscaled)', None),
 }
+
+
+def _render_scale(value: Any) -> float | str:
+    if isinstance(value, str) and value.strip().lower() == "auto":
+        return "auto"
+    return _number(0.5, 1.0)(value)
+
+
+_RULES["render_scale"].convert = _render_scale
 
 
 def _normalise_key(name: str) -> str:
@@ -406,6 +417,11 @@ class Settings:
         Ghost layers on each side of the slice, 1 or 2.
     reduce_motion : bool
         Seek jumps to its w instead of gliding there.
+    render_scale : float or "auto"
+        Fraction of the window's width and height the scene is drawn at (0.5 to
+        1.0), then upscaled: a software rasterizer trades resolution for frame
+        rate. ``"auto"`` picks from the GL renderer (lower for llvmpipe and
+        softpipe; see :func:`across_dimensions.render.scale.default_render_scale`).
 
     Raises
     ------
@@ -433,6 +449,7 @@ class Settings:
     ghost_strength: float = 1.0
     ghost_layers: int = 1
     reduce_motion: bool = False
+    render_scale: float | str = "auto"
 
     def __post_init__(self) -> None:
         for name, rule in _RULES.items():

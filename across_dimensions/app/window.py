@@ -26,6 +26,7 @@ from ..game.systems.ghosts import GhostView
 from ..render.context import Offscreen, RenderError, wrap_current_context
 from ..render.debug_draw import DebugOverlay
 from ..render.renderer import Renderer
+from ..render.scale import ScaledTarget, resolve_render_scale
 from ..world.level import load_level
 from ..world.resources import level_files, resolve_level
 from .settings import Settings, load_settings, look_delta, save_settings, settings_path
@@ -82,6 +83,8 @@ class GameWindow(pyglet.window.Window):
         self.settings = settings
         self.ctx = wrap_current_context()
         self.renderer = Renderer(self.ctx)
+        # The scene at a fraction of the window (settings.render_scale), upscaled; HUD at full size.
+        self.scaled = ScaledTarget(self.ctx, resolve_render_scale(settings.render_scale, self.ctx))
         self.keys = pyglet.window.key.KeyStateHandler()
         self.push_handlers(self.keys)
         self.mouse_buttons: set = set()
@@ -411,14 +414,23 @@ class GameWindow(pyglet.window.Window):
         self.last_draw = now
         frame = self.current_frame()
         fw, fh = self.get_framebuffer_size()
-        self.ctx.screen.use()
-        self.renderer.draw(frame, (0, 0, fw, fh))
-        if self.show_debug_draw:
-            self.debug_overlay = self.debug_overlay or DebugOverlay(self.ctx)
-            self.debug_overlay.draw_game(self.game, frame.camera, (0, 0, fw, fh))
+        if self.scaled.begin((fw, fh)):
+            self.renderer.draw(frame, self.scaled.viewport, hud=False)
+            self._debug_draw(frame, self.scaled.viewport)
+            self.scaled.present(self.ctx.screen, (0, 0, fw, fh))
+            self.renderer.draw_overlay(frame, (0, 0, fw, fh))
+        else:
+            self.ctx.screen.use()
+            self.renderer.draw(frame, (0, 0, fw, fh))
+            self._debug_draw(frame, (0, 0, fw, fh))
         if getattr(self, "_pending_shot", False):
             self._pending_shot = False
             self.screenshot()
+
+    def _debug_draw(self, frame, viewport) -> None:
+        if self.show_debug_draw:
+            self.debug_overlay = self.debug_overlay or DebugOverlay(self.ctx)
+            self.debug_overlay.draw_game(self.game, frame.camera, viewport)
 
     def screenshot(self) -> Path:
         """Save what the window shows as a PNG in ./screenshots/.

@@ -44,6 +44,7 @@ import numpy as np
 from ..core.edges import feature_edges
 from ..core.mesh import TriMesh3
 from ..game.frame import Drawable, Frame
+from .batch import BatchBuffers
 from .context import RenderError
 from .hud import HudRenderer
 from .radar import RadarRenderer
@@ -213,12 +214,21 @@ class Renderer:
                 raise RenderError(f"shader for style {style!r} failed to build: {e}") from e
         self.hud = HudRenderer(ctx)
         self.radar = RadarRenderer(ctx)
+        self.batches = BatchBuffers(ctx, self._programs)
+        self._batch_views: dict[str, tuple[int, set[str]]] = {}  # view -> (draw number, batch keys)
         self._views: dict[str, tuple[int, set[str]]] = {}  # view -> (draw number, keys it used)
 
     # ----------------------------------------------------------------- caching
     def cached_keys(self) -> list[str]:
         """Keys that currently hold GPU buffers."""
         return sorted(self._meshes)
+
+    def gpu_bytes(self) -> int:
+        """Bytes of every vertex, index and edge buffer this renderer holds for meshes and batches."""
+        total = self.batches.bytes
+        for gm in self._meshes.values():
+            total += sum(b.size for b in (gm.vbo, gm.ibo, gm.ebo) if b is not None)
+        return total
 
     def _sync(self, d: Drawable) -> _GpuMesh:
         gm = self._meshes.get(d.key)
@@ -296,6 +306,7 @@ class Renderer:
         self._programs.clear()
         self.hud.release()
         self.radar.release()
+        self.batches.release()
 
     def forget_meshes(self) -> None:
         """Release every cached mesh, so the next frame uploads what it draws anew.
@@ -308,6 +319,8 @@ class Renderer:
             gm.release()
         self._meshes.clear()
         self._views.clear()
+        self.batches.sync([])
+        self._batch_views.clear()
 
     def forget_view(self, view: str) -> None:
         """Stop holding the meshes only ``view`` used (they are released at the next draw)."""
@@ -404,6 +417,17 @@ class Renderer:
             st.releases += 1
         st.cached = len(self._meshes)
 
+        for tb in frame.batches:
+            if tb.style not in STYLES or tb.style == "wire":
+                raise RenderError(
+                    f"batch {tb.key!r}: style {tb.style!r} cannot be batched; expected solid, floor, ghost or glow"
+                )
+        self._batch_views[view] = (st.frames, {tb.key for tb in frame.batches})
+        for name in [v for v, (n, _) in self._batch_views.items() if st.frames - n > self.VIEW_TTL]:
+            del self._batch_views[name]
+        self.batches.sync(frame.batches, keep=set().union(*(k for _, k in self._batch_views.values())))
+        st.upload_bytes += self.batches.upload_bytes
+
         vp_bytes = _mat4_bytes(view_proj)
         for prog in self._programs.values():
             self._set(prog, "u_view_proj", vp_bytes)
@@ -421,12 +445,16 @@ class Renderer:
         opaque.sort(key=lambda o: o[0])
         for _, d, gm, model in opaque:
             self._draw_mesh(d.style, gm, model, moderngl.TRIANGLES, gm.n_indices)
+        for tb in frame.batches:
+            if tb.style != "ghost":
+                self._draw_batch(tb, vp_bytes)
         for _, _d, gm, model in wires:
             n = self._edges(gm)
             if n:
                 self._draw_mesh("wire", gm, model, moderngl.LINES, n)
 
-        if ghosts:
+        ghost_batches = [tb for tb in frame.batches if tb.style == "ghost"]
+        if ghosts or ghost_batches:
             # Back to front per drawable; depth test on (solids hide ghosts) but
             # no depth writes (ghosts don't hide each other or what follows).
             ghosts.sort(key=lambda g: -g[0])
@@ -440,14 +468,34 @@ class Renderer:
                 self._set(prog, "u_pattern", GHOST_PATTERNS[d.pattern])
                 self._set(prog, "u_opacity", max(0.0, float(d.opacity)))
                 self._draw_mesh("ghost", gm, model, moderngl.TRIANGLES, gm.n_indices)
+            for tb in ghost_batches:
+                self._set(prog, "u_tint", _NO_TINT)
+                self._set(prog, "u_pattern", 0)
+                self._set(prog, "u_opacity", 1.0)
+                self._draw_batch(tb, vp_bytes)
             fbo.depth_mask = True
             ctx.disable(moderngl.BLEND)
 
         if hud:
-            if frame.radar is not None:
-                self.radar.draw(frame.radar, viewport)
-                st.draw_calls += self.radar.draw_calls
-            self.hud.draw(frame.hud, viewport, frame.radar)
+            self.draw_overlay(frame, viewport)
+
+    def draw_overlay(self, frame: Frame, viewport: tuple[int, int, int, int]) -> None:
+        """Draw ``frame``'s radar (when not None) and HUD over the bound framebuffer.
+
+        :meth:`draw` does it with ``hud=True``; a scene drawn at a lower render
+        scale and upscaled gets its overlay at the window's full resolution.
+        """
+        viewport = tuple(int(x) for x in viewport)
+        if frame.radar is not None:
+            self.radar.draw(frame.radar, viewport)
+            self.stats.draw_calls += self.radar.draw_calls
+        self.hud.draw(frame.hud, viewport, frame.radar)
+
+    def _draw_batch(self, tb, vp_bytes: bytes) -> None:
+        calls, tris, lines = self.batches.draw(tb, vp_bytes)
+        self.stats.draw_calls += calls
+        self.stats.triangles += tris
+        self.stats.lines += lines
 
     def _draw_mesh(self, style: str, gm: _GpuMesh, model: np.ndarray, mode: int, count: int) -> None:
         prog = self._programs[style]
