@@ -111,6 +111,8 @@ class SectionBatch:
         self._pool = _Pool()
         self._out = np.empty((int(capacity_rows), ROW), np.float32)
         self._keys: list = []  # instance order (changed ones drift to the back)
+        self._pos: dict = {}  # key -> its place in that order
+        self._view_culled: set = set()
         self._inputs: dict = {}  # key -> (mesh number, mv bytes)
         self._start = np.zeros(1, np.int64)
         self._count = np.zeros(0, np.int64)
@@ -135,8 +137,12 @@ class SectionBatch:
 
     def instance_rows(self, key) -> tuple[int, int]:
         """``(first row, row count)`` of an instance's triangles in :attr:`vertices`."""
-        i = self._keys.index(key)
+        i = self._pos[key]
         return int(self._start[i]), int(self._count[i])
+
+    def culled_by_view(self, key) -> bool:
+        """Was the instance skipped only because it is out of view (its sphere reaches the slice)?"""
+        return key in self._view_culled
 
     def update(self, keys, meshes, models, camera_pose=None, planes=None) -> bool:
         """Slice every instance that changed; returns True if the output changed.
@@ -162,7 +168,8 @@ class SectionBatch:
         mvs = np.ascontiguousarray(np.matmul(view, models))
         pool = self._pool
         mesh_ids = np.array([pool.add(m) for m in meshes], np.int64)
-        visible = self._visible(mvs, mesh_ids, planes)
+        in_slice, visible = self._visible(mvs, mesh_ids, planes)
+        self._view_culled = {keys[i] for i in np.flatnonzero(in_slice & ~visible)}
         # An instance changed when it is new, moved, or entered/left the view.
         inputs = {}
         changed = set()
@@ -236,17 +243,21 @@ class SectionBatch:
         self._rows = int(rows)
         self._start, self._count = start, count
         self._keys = order
+        self._pos = {k: i for i, k in enumerate(order)}
         self._inputs = inputs
         self.changed_from = start_row
         self.sliced = n - first
         self.revision += 1
         return True
 
-    def _visible(self, mvs: np.ndarray, mesh_ids: np.ndarray, planes) -> np.ndarray:
-        """Which instances' bounding spheres meet the slice and the view, ``(k,) bool``."""
+    def _visible(self, mvs: np.ndarray, mesh_ids: np.ndarray, planes) -> tuple[np.ndarray, np.ndarray]:
+        """Which instances' bounding spheres meet the slice, and which meet both the slice and the view.
+
+        Returns two ``(k,) bool`` arrays.
+        """
         pool = self._pool
         if len(mvs) == 0:
-            return np.zeros(0, bool)
+            return np.zeros(0, bool), np.zeros(0, bool)
         a = mvs[:, :4, :4]
         # Stretch bound: sqrt of a Gershgorin bound on A^T A (exact for a
         # rotation times a uniform scale, an upper bound otherwise).
@@ -255,14 +266,15 @@ class SectionBatch:
         c = np.einsum("kij,kj->ki", a, pool.center[mesh_ids]) + mvs[:, :4, 4]
         # Margin: vertices are float32, spheres float64.
         r = pool.radius[mesh_ids] * stretch * (1.0 + 1e-6) + 1e-6
-        visible = np.abs(c[:, 3]) <= r
+        in_slice = np.abs(c[:, 3]) <= r
+        visible = in_slice.copy()
         if planes is not None and len(planes):
             pl = np.asarray(planes, np.float64).reshape(-1, 4)
             # The slice of a 4D ball at w distance d is a 3D ball of radius sqrt(r^2 - d^2).
             r3 = np.sqrt(np.maximum(r * r - c[:, 3] ** 2, 0.0))
             dist = c[:, :3] @ pl[:, :3].T + pl[:, 3]
             visible &= (dist >= -r3[:, None] * np.linalg.norm(pl[:, :3], axis=1)).all(axis=1)
-        return visible
+        return in_slice, visible
 
 
 @njit(cache=True)

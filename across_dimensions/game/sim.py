@@ -26,6 +26,7 @@ from ..world.scene import Scene, SectionCache, build_physics, build_scene
 from .actions import Actions
 from .energy import EnergyBar
 from .entities import EntityStore, EntityTable, Rigid, Scripted, reach
+from .entity_sections import EntitySections
 from .events import Event
 from .frame import Camera3, Frame, Hud
 from .player import HALF_WIDTH, HEIGHT, Player
@@ -81,6 +82,7 @@ class Game:
         self.rng = np.random.default_rng(seed)
         self.scene = scene if scene is not None else build_scene(level)
         self.sections = SectionCache()
+        self.entity_sections = EntitySections()  # what the frame draws of the entities, batched
         self.physics, body_of = build_physics(self.scene, DT)
         self.entities = EntityStore()
         self._table_key: tuple | None = None
