@@ -37,6 +37,13 @@ from .transform import inverse
 
 #: Floats per output vertex: position 3, normal 3, colour 4 (the renderer's layout).
 ROW = 10
+#: Updates the output must have fitted half its capacity before it shrinks.
+SHRINK_AFTER = 30
+
+
+def _capacity(rows: int, minimum: int) -> int:
+    """Rows held for ``rows`` in use: the next power of two, at least ``minimum``."""
+    return max(int(minimum), 1 << max(int(rows) - 1, 0).bit_length())
 
 
 class _Pool:
@@ -109,7 +116,7 @@ class SectionBatch:
 
     def __init__(self, capacity_rows: int = 3 * 1024):
         self._pool = _Pool()
-        self._out = np.empty((int(capacity_rows), ROW), np.float32)
+        self._out = np.empty((_capacity(0, capacity_rows), ROW), np.float32)
         self._keys: list = []  # instance order (changed ones drift to the back)
         self._pos: dict = {}  # key -> its place in that order
         self._view_culled: set = set()
@@ -120,6 +127,7 @@ class SectionBatch:
         self._stamp = np.empty(0, np.int64)  # which instance each row of _cam belongs to
         self._tag = 0
         self._min_rows = int(capacity_rows)
+        self._small = 0  # updates in a row the output could have been smaller
         self._rows = 0
         self.changed_from = 0
         self.revision = 0
@@ -182,6 +190,7 @@ class SectionBatch:
         if not changed and len(inputs) == len(self._keys) and all(k in inputs for k in self._keys):
             self.changed_from = self._rows
             self.sliced = 0
+            self._shrink_if_settled()
             return False
         # New order: unchanged instances in their old order, then the changed ones,
         # so the static ones settle into a prefix that is never touched again.
@@ -230,17 +239,12 @@ class SectionBatch:
             self._tag += n + 1
             if rows <= len(self._out):
                 break
-            # Grow geometrically and slice again (rare: only when the scene grows).
-            grown = np.empty((int(rows * 1.5) + 3, ROW), np.float32)
+            # Grow at once and slice again (rare: only when the scene grows).
+            grown = np.empty((_capacity(rows, self._min_rows), ROW), np.float32)
             grown[:start_row] = self._out[:start_row]
             self._out = grown
-        if len(self._out) > 4 * max(rows, self._min_rows):
-            # Far too large for what is left: shrink, so a scene that emptied
-            # does not hold its peak forever (hysteresis: 4x before, 2x after).
-            small = np.empty((max(2 * rows, self._min_rows), ROW), np.float32)
-            small[:rows] = self._out[:rows]
-            self._out = small
         self._rows = int(rows)
+        self._shrink_if_settled()
         self._start, self._count = start, count
         self._keys = order
         self._pos = {k: i for i, k in enumerate(order)}
@@ -249,6 +253,23 @@ class SectionBatch:
         self.sliced = n - first
         self.revision += 1
         return True
+
+    def _shrink_if_settled(self) -> None:
+        """Hold the next power of two of the rows in use, once that has been true for a while.
+
+        The capacity then depends on the scene, not on its history: objects
+        spawned and removed for ten minutes leave the memory where it began.
+        """
+        want = _capacity(self._rows, self._min_rows)
+        if want >= len(self._out):
+            self._small = 0
+            return
+        self._small += 1
+        if self._small >= SHRINK_AFTER:
+            small = np.empty((want, ROW), np.float32)
+            small[: self._rows] = self._out[: self._rows]
+            self._out = small
+            self._small = 0
 
     def _visible(self, mvs: np.ndarray, mesh_ids: np.ndarray, planes) -> tuple[np.ndarray, np.ndarray]:
         """Which instances' bounding spheres meet the slice, and which meet both the slice and the view.

@@ -4,9 +4,10 @@ Per batch key there is one vertex buffer (and, for indexed batches, one index
 buffer and one line buffer). A new revision uploads only the rows from
 ``changed_from`` on (``glBufferSubData`` at an offset); a full re-upload
 orphans the buffer first, so the driver never waits for the previous frame's
-draw to finish reading it. Capacity grows by 1.5x when the data outgrows it
-and shrinks (to 2x the data) when the data falls under a quarter of it, so a
-scene that grows and empties ends where it began. :attr:`BatchBuffers.bytes`
+draw to finish reading it. Capacity is the next power of two of the data: it
+grows at once, and shrinks after the data has fitted half of it for
+:data:`SHRINK_AFTER` frames, so a scene that grows and empties ends with the
+bytes it began with. :attr:`BatchBuffers.bytes`
 counts every byte held, for tests and the benchmark.
 
 The data comes from the engine's own kernels and is trusted: no range or
@@ -60,39 +61,61 @@ void main() { f_color = vec4(0.0); }
 _EYE4 = np.eye(4, dtype=np.float32).tobytes()
 
 
+def capacity_for(n: int, minimum: int) -> int:
+    """The capacity held for ``n`` bytes (or rows): the next power of two, at least ``minimum``.
+
+    A function of ``n`` alone, so once a scene has settled the memory held does
+    not depend on the scene's history.
+    """
+    return max(int(minimum), 1 << max(int(n) - 1, 0).bit_length())
+
+
+#: Frames a buffer must stay under half full before it shrinks (no thrashing
+#: when a scene hovers around a power of two).
+SHRINK_AFTER = 30
+
+
 class _Buffer:
-    """One GPU buffer with geometric growth and bounded shrinking."""
+    """One GPU buffer: grows at once to the next power of two, shrinks after a while."""
 
     def __init__(self, ctx: moderngl.Context):
         self.ctx = ctx
         self.buf = ctx.buffer(reserve=MIN_BYTES, dynamic=True)
         self.used = 0
+        self._small = 0  # consecutive frames the data fitted a smaller capacity
 
     @property
     def size(self) -> int:
         return self.buf.size
 
     def write(self, data: np.ndarray, start_byte: int = 0) -> tuple[int, bool]:
-        """Make the buffer hold ``data`` (bytes before ``start_byte`` are already there).
+        """Make the buffer hold ``data``, given that bytes before ``start_byte`` are already there.
 
-        Returns ``(bytes uploaded, reallocated)``.
+        Call it every frame (``start_byte = data.nbytes`` when nothing changed)
+        so an oversized buffer can shrink. Returns ``(bytes uploaded, reallocated)``.
         """
         n = data.nbytes
+        want = capacity_for(n, MIN_BYTES)
         realloc = False
         if n > self.buf.size:
-            self.buf.orphan(max(MIN_BYTES, int(n * 1.5)))
-            start_byte, realloc = 0, True
-        elif self.buf.size > MIN_BYTES and n < self.buf.size // 4:
-            self.buf.orphan(max(MIN_BYTES, 2 * n))
-            start_byte, realloc = 0, True
-        elif start_byte == 0:
+            realloc = True
+        elif want < self.buf.size:
+            self._small += 1
+            realloc = self._small >= SHRINK_AFTER
+        else:
+            self._small = 0
+        if realloc:
+            self.buf.orphan(want)
+            self._small = 0
+            start_byte = 0
+        elif start_byte == 0 and n:
             # Everything changes: a fresh store instead of waiting on the last draw.
             self.buf.orphan(self.buf.size)
         self.used = n
         if n > start_byte:
             raw = memoryview(np.ascontiguousarray(data)).cast("B")
             self.buf.write(raw[start_byte:], offset=start_byte)
-        return n - start_byte, realloc
+        return max(n - start_byte, 0), realloc
 
     def release(self) -> None:
         self.buf.release()
@@ -158,33 +181,32 @@ class BatchBuffers:
             g = self._batches.get(tb.key)
             if g is None:
                 g = self._batches[tb.key] = _GpuBatch(self.ctx)
+            v = tb.vertices
             if g.revision != tb.revision:
-                v = tb.vertices
                 start = 0
                 if g.revision is not None and tb.revision == g.revision + 1 and tb.changed_from <= g.n_rows:
                     start = int(tb.changed_from) * v.strides[0]
-                sent, realloc = g.vbo.write(v, start)
-                self.upload_bytes += sent
                 self.uploads += 1
-                self.partial_uploads += start > 0 and not realloc
-                g.revision, g.n_rows = tb.revision, len(v)
-                if realloc:
-                    self._drop_vaos(g)
+                self.partial_uploads += start > 0
+            else:
+                start = v.nbytes  # unchanged: only the shrink check
+            sent, _ = g.vbo.write(v, start)
+            self.upload_bytes += sent
+            g.revision, g.n_rows = tb.revision, len(v)
             if tb.faces is not None or tb.edges is not None:
-                if g.topology != tb.topology_revision:
-                    for name, arr in (("ibo", tb.faces), ("ebo", tb.edges)):
-                        if arr is None:
-                            continue
-                        b = getattr(g, name)
-                        if b is None:
-                            b = _Buffer(self.ctx)
-                            setattr(g, name, b)
-                            self._drop_vaos(g)  # made before this buffer existed
-                        sent, realloc = b.write(np.ascontiguousarray(arr, np.uint32))
-                        self.upload_bytes += sent
-                        if realloc:
-                            self._drop_vaos(g)
-                    g.topology = tb.topology_revision
+                fresh = g.topology != tb.topology_revision
+                for name, arr in (("ibo", tb.faces), ("ebo", tb.edges)):
+                    if arr is None:
+                        continue
+                    b = getattr(g, name)
+                    if b is None:
+                        b = _Buffer(self.ctx)
+                        setattr(g, name, b)
+                        self._drop_vaos(g)  # made before this buffer existed
+                    arr = np.ascontiguousarray(arr, np.uint32)
+                    sent, _ = b.write(arr, 0 if fresh else arr.nbytes)
+                    self.upload_bytes += sent
+                g.topology = tb.topology_revision
                 g.n_faces = 0 if tb.faces is None else len(tb.faces)
                 g.n_edges = 0 if tb.edges is None else len(tb.edges)
         for key in [k for k in self._batches if k not in seen]:
