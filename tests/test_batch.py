@@ -147,7 +147,7 @@ def test_frustum_batch_projects_like_the_per_object_projection(meshes):
     place = np.array([[1.0 + i, i, -i, 2.0] for i in range(n)])
     ms = [meshes[i % 3] for i in range(n)]
     batch = FrustumBatch()
-    batch.update(ms, mvs, place, fov_deg=60.0)
+    batch.update(ms, mvs, place, fov_deg=60.0, silhouette=False)
     faces = batch.faces
     done = 0
     for i in range(n):
@@ -159,6 +159,28 @@ def test_frustum_batch_projects_like_the_per_object_projection(meshes):
     assert done == len(faces)
     # The 120-cell's drawn edges are the polytope's 1200, not the triangulation's diagonals.
     assert len(solid_edges(meshes[0])) == 1200 and len(solid_edges(meshes[1])) == 32
+
+
+def test_frustum_silhouette_drops_only_hidden_faces(gl_ctx, meshes):
+    """Drawn opaque, the outline faces alone give the picture all faces give, with far fewer triangles."""
+    from across_dimensions.render.bench_scene import FRUSTUM_FOV, _Scene, spin
+
+    pictures, counts = {}, {}
+    for silhouette in (False, True):
+        scene = _Scene("frustum", 6, meshes[0])
+        b = scene.batch
+        b.update(scene.meshes, scene.cam4 @ spin(6, 0.4), scene.place, FRUSTUM_FOV, silhouette=silhouette)
+        tb = TriangleBatch("f", 1, b.vertices, "solid", 0, b.faces, None, b.topology_revision)
+        pictures[silhouette] = _image(gl_ctx, Frame(scene.camera, batches=[tb]), (480, 270))
+        counts[silhouette] = len(b.faces)
+    assert counts[True] < 0.4 * counts[False]
+    assert _within_golden_tolerance(pictures[True], pictures[False])
+    # A camera inside the near hyperplane of an object sees into it: every face is kept.
+    b = FrustumBatch()
+    b.update([meshes[0]], [translation((0.0, 0.0, 0.0, 0.5))], [[1.0, 0.0, 0.0, 0.0]], 60.0)
+    full = FrustumBatch()
+    full.update([meshes[0]], [translation((0.0, 0.0, 0.0, 0.5))], [[1.0, 0.0, 0.0, 0.0]], 60.0, silhouette=False)
+    assert len(b.faces) == len(full.faces) > 0
 
 
 def _image(ctx, frame, size=(320, 180)):

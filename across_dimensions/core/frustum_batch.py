@@ -68,6 +68,48 @@ def solid_edges(mesh: TetMesh4, angle_tol: float = 1e-4) -> np.ndarray:
     return mesh._cache[key]
 
 
+def silhouette_data(mesh: TetMesh4, angle_tol: float = 1e-4):
+    """What the silhouette test needs, cached on the mesh.
+
+    Returns
+    -------
+    owners : (f, 2) int64
+        The two tets on either side of each feature face (-1: an open edge of the mesh).
+    normals : (m, 4) float64
+        Each tet's outward normal.
+    offsets : (m,) float64
+        ``normal . vertex`` for a vertex of the tet: its hyperplane is ``normal . x = offset``.
+    edge_ptr : (e + 1,) int64, edge_faces : (k,) int64
+        For each edge of :func:`solid_edges`, the feature faces that contain it (CSR).
+    """
+    key = ("silhouette", angle_tol)
+    if key not in mesh._cache:
+        faces, owners = mesh.unique_faces()
+        n = mesh.tet_normals()
+        nn = n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+        a, b = owners[:, 0], owners[:, 1]
+        cos = np.where(b >= 0, np.einsum("ij,ij->i", nn[a], nn[np.maximum(b, 0)]), -1.0)
+        feat = cos < np.cos(angle_tol)
+        assert np.array_equal(faces[feat], mesh.feature_faces(angle_tol))
+        owners = np.ascontiguousarray(owners[feat])
+        offsets = np.einsum("ij,ij->i", n, mesh.vertices.astype(np.float64)[mesh.tets[:, 0]])
+        # Edges -> the feature faces containing them.
+        ff = mesh.feature_faces(angle_tol).astype(np.int64)
+        nv = len(mesh.vertices)
+        fe = np.sort(ff[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+        fcode = fe[:, 0] * nv + fe[:, 1]
+        face_of = np.repeat(np.arange(len(ff)), 3)
+        e = solid_edges(mesh, angle_tol).astype(np.int64)
+        ecode = np.sort(e, axis=1) @ np.array([nv, 1])
+        order = np.argsort(fcode, kind="stable")
+        lo = np.searchsorted(fcode[order], ecode, "left")
+        hi = np.searchsorted(fcode[order], ecode, "right")
+        edge_ptr = np.concatenate([[0], np.cumsum(hi - lo)]).astype(np.int64)
+        edge_faces = np.concatenate([face_of[order[x:y]] for x, y in zip(lo, hi)] or [np.zeros(0, np.int64)])
+        mesh._cache[key] = (owners, np.ascontiguousarray(n), offsets, edge_ptr, edge_faces.astype(np.int64))
+    return mesh._cache[key]
+
+
 class _Pool:
     def __init__(self):
         self.index: dict[int, int] = {}
@@ -76,22 +118,40 @@ class _Pool:
         self.colors = np.zeros((0, 4), np.float32)
         self.faces = np.zeros((0, 3), np.uint32)  # local vertex numbers
         self.edges = np.zeros((0, 2), np.uint32)
-        self.ranges = np.zeros((0, 6), np.int64)  # per mesh: v lo, v hi, f lo, f hi, e lo, e hi
+        self.owners = np.zeros((0, 2), np.int64)  # per face: local tets on either side
+        self.normals = np.zeros((0, 4))  # per tet
+        self.offsets = np.zeros(0)
+        self.edge_ptr = np.zeros(0, np.int64)  # per edge: range in edge_faces (pooled)
+        self.edge_faces = np.zeros(0, np.int64)  # local face numbers
+        # per mesh: v lo, v hi, f lo, f hi, e lo, e hi, tet lo
+        self.ranges = np.zeros((0, 7), np.int64)
 
     def add(self, mesh: TetMesh4) -> int:
         k = self.index.get(id(mesh))
         if k is None:
             f, e = mesh.feature_faces(), solid_edges(mesh)
+            owners, normals, offsets, edge_ptr, edge_faces = silhouette_data(mesh)
             r = [len(self.vertices), len(self.vertices) + len(mesh.vertices)]
             r += [len(self.faces), len(self.faces) + len(f), len(self.edges), len(self.edges) + len(e)]
+            r += [len(self.normals)]
             self.vertices = np.concatenate([self.vertices, mesh.vertices])
             self.colors = np.concatenate([self.colors, mesh.vertex_colors().astype(np.float32)])
             self.faces = np.concatenate([self.faces, f.astype(np.uint32)])
             self.edges = np.concatenate([self.edges, e])
+            self.owners = np.concatenate([self.owners, owners])
+            self.normals = np.concatenate([self.normals, normals])
+            self.offsets = np.concatenate([self.offsets, offsets])
+            # Edge ranges: one pointer per edge, into the pooled face lists.
+            self.edge_ptr = np.concatenate([self.edge_ptr, edge_ptr[:-1] + len(self.edge_faces)])
+            self.edge_faces = np.concatenate([self.edge_faces, edge_faces])
             self.ranges = np.concatenate([self.ranges, [r]])
             k = self.index[id(mesh)] = len(self.meshes)
             self.meshes.append(mesh)
         return k
+
+    def edge_ends(self) -> np.ndarray:
+        """End of each edge's range in :attr:`edge_faces`."""
+        return np.append(self.edge_ptr[1:], len(self.edge_faces))
 
 
 class FrustumBatch:
@@ -135,7 +195,9 @@ class FrustumBatch:
     def capacity_bytes(self) -> int:
         return self._v.nbytes + self._f.nbytes + self._e.nbytes
 
-    def update(self, meshes, model_views, place, fov_deg: float = 90.0, near: float = 0.05) -> None:
+    def update(
+        self, meshes, model_views, place, fov_deg: float = 90.0, near: float = 0.05, silhouette: bool = True
+    ) -> None:
         """Project every instance.
 
         Parameters
@@ -145,10 +207,15 @@ class FrustumBatch:
             Object to 4D camera (the camera looks along its +w).
         place : (k, 4) float64
             Per instance: uniform scale and xyz offset of the projected shape in the 3D world.
+        silhouette : bool
+            Keep only the faces on the projected solid's outer surface (and their
+            edges): a face between a cell facing the 4D camera and one facing away.
+            Drawn opaque, the others are hidden inside the projection anyway. An
+            instance cut by the near hyperplane keeps every face (one can see into it).
         """
         pool = self._pool
         ids = np.array([pool.add(m) for m in meshes], np.int64)
-        r = pool.ranges[ids] if len(ids) else np.zeros((0, 6), np.int64)
+        r = pool.ranges[ids] if len(ids) else np.zeros((0, 7), np.int64)
         nv, nf, ne = r[:, 1] - r[:, 0], r[:, 3] - r[:, 2], r[:, 5] - r[:, 4]
         # Worst case: every face clipped into a quad with two new points.
         cap_v, cap_f, cap_e = int((nv + 2 * nf).sum()), int(2 * nf.sum()), int(ne.sum())
@@ -160,37 +227,50 @@ class FrustumBatch:
             self._e = np.empty((cap_e, 2), np.uint32)
         mvs = np.ascontiguousarray(np.asarray(model_views, np.float64).reshape(len(ids), 5, 5))
         place = np.ascontiguousarray(np.asarray(place, np.float64).reshape(len(ids), 4))
+        # The 4D eye in each object's own coordinates: -L^-1 t for model-view [L t].
+        eyes = -np.linalg.solve(mvs[:, :4, :4], mvs[:, :4, 4:5])[..., 0] if len(ids) else np.zeros((0, 4))
         counts = _project_batch(
             pool.vertices, pool.colors, pool.faces, pool.edges, r, mvs, place, focal_length(fov_deg), float(near),
             self._v, self._f, self._e,
+            pool.owners, pool.normals, pool.offsets, pool.edge_ptr, pool.edge_ends(), pool.edge_faces,
+            np.ascontiguousarray(eyes), bool(silhouette),
         )  # fmt: skip
         nv_out, nf_out, ne_out, clipped = counts
         signature = (tuple(ids.tolist()), nv_out, nf_out, ne_out)
-        if clipped or signature != self._signature:
-            self.topology_revision += 1
+        if clipped or silhouette or signature != self._signature:
+            self.topology_revision += 1  # the silhouette moves with every turn
         self._signature = None if clipped else signature
         self._counts = (int(nv_out), int(nf_out), int(ne_out))
         self.revision += 1
 
 
 @njit(cache=True)
-def _project_batch(verts, colors, faces, edges, ranges, mvs, place, f, near, out, out_f, out_e):
+def _project_batch(
+    verts, colors, faces, edges, ranges, mvs, place, f, near, out, out_f, out_e,
+    owners, normals, offsets, edge_ptr, edge_end, edge_faces, eyes, silhouette,
+):  # fmt: skip
     o = 0
     of = 0
     oe = 0
     clipped = 0
     inside = np.empty(0, np.bool_)
     cam = np.empty((0, 4))
+    keep = np.empty(0, np.bool_)
     poly = np.empty(4, np.int64)
     for k in range(ranges.shape[0]):
         v_lo, v_hi = ranges[k, 0], ranges[k, 1]
+        f_lo, f_hi = ranges[k, 2], ranges[k, 3]
+        t_lo = ranges[k, 6]
         n = v_hi - v_lo
         if cam.shape[0] < n:
             cam = np.empty((n, 4))
             inside = np.empty(n, np.bool_)
+        if keep.shape[0] < f_hi - f_lo:
+            keep = np.empty(f_hi - f_lo, np.bool_)
         mv = mvs[k]
         s_place = place[k, 0]
         base = o
+        all_inside = True
         for i in range(n):
             vi = v_lo + i
             for r in range(4):
@@ -200,6 +280,7 @@ def _project_batch(verts, colors, faces, edges, ranges, mvs, place, f, near, out
                 )  # fmt: skip
             w = cam[i, 3]
             inside[i] = w >= near
+            all_inside = all_inside and inside[i]
             row = out[o]
             if inside[i]:
                 sc = f / w
@@ -214,7 +295,23 @@ def _project_batch(verts, colors, faces, edges, ranges, mvs, place, f, near, out
             for r in range(4):
                 row[6 + r] = colors[vi, r]
             o += 1
-        for fi in range(ranges[k, 2], ranges[k, 3]):
+        cull = silhouette and all_inside
+        e0, e1, e2, e3 = eyes[k, 0], eyes[k, 1], eyes[k, 2], eyes[k, 3]
+        for fi in range(f_lo, f_hi):
+            keep[fi - f_lo] = True
+            if cull and owners[fi, 1] >= 0:
+                # A face on the outline lies between a cell facing the eye and one facing away.
+                ta = t_lo + owners[fi, 0]
+                tb = t_lo + owners[fi, 1]
+                fa = offsets[ta] - (
+                    normals[ta, 0] * e0 + normals[ta, 1] * e1 + normals[ta, 2] * e2 + normals[ta, 3] * e3
+                )
+                fb = offsets[tb] - (
+                    normals[tb, 0] * e0 + normals[tb, 1] * e1 + normals[tb, 2] * e2 + normals[tb, 3] * e3
+                )
+                if (fa > 0.0) == (fb > 0.0):
+                    keep[fi - f_lo] = False
+                    continue
             a0, a1, a2 = faces[fi, 0], faces[fi, 1], faces[fi, 2]
             nin = np.int64(inside[a0]) + np.int64(inside[a1]) + np.int64(inside[a2])
             if nin == 3:
@@ -254,7 +351,14 @@ def _project_batch(verts, colors, faces, edges, ranges, mvs, place, f, near, out
                 of += 1
         for ei in range(ranges[k, 4], ranges[k, 5]):
             a, b = edges[ei, 0], edges[ei, 1]
-            if inside[a] and inside[b]:
+            if not (inside[a] and inside[b]):
+                continue
+            shown = not cull
+            for j in range(edge_ptr[ei], edge_end[ei]):
+                if keep[edge_faces[j]]:
+                    shown = True
+                    break
+            if shown:
                 out_e[oe, 0] = base + a
                 out_e[oe, 1] = base + b
                 oe += 1
