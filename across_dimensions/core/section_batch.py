@@ -120,7 +120,7 @@ class SectionBatch:
         self._keys: list = []  # instance order (changed ones drift to the back)
         self._pos: dict = {}  # key -> its place in that order
         self._view_culled: set = set()
-        self._inputs: dict = {}  # key -> (mesh number, mv bytes)
+        self._last = None  # (keys, mesh numbers, visible, model-views) of the last update
         self._start = np.zeros(1, np.int64)
         self._count = np.zeros(0, np.int64)
         self._cam = np.empty((0, 4))  # camera-space vertices of the instance being sliced
@@ -179,14 +179,22 @@ class SectionBatch:
         in_slice, visible = self._visible(mvs, mesh_ids, planes)
         self._view_culled = {keys[i] for i in np.flatnonzero(in_slice & ~visible)}
         # An instance changed when it is new, moved, or entered/left the view.
-        inputs = {}
-        changed = set()
-        for i, k in enumerate(keys):
-            sig = (int(mesh_ids[i]), bool(visible[i]), mvs[i].tobytes())
-            inputs[k] = sig
-            if self._inputs.get(k) != sig:
-                changed.add(k)
+        # Compared as arrays: per-key Python work is what the batch is here to avoid.
         self.culled = int(n - visible.sum())
+        last = self._last
+        if last is not None and last[0] == keys:
+            diff = (last[1] != mesh_ids) | (last[2] != visible) | (last[3] != mvs).any(axis=(1, 2))
+        else:
+            diff = np.ones(n, bool)
+            if last is not None:
+                where = {k: i for i, k in enumerate(last[0])}
+                for i, k in enumerate(keys):
+                    j = where.get(k)
+                    if j is not None:
+                        diff[i] = last[1][j] != mesh_ids[i] or last[2][j] != visible[i] or (last[3][j] != mvs[i]).any()
+        self._last = (keys, mesh_ids, visible, mvs)
+        changed = {keys[i] for i in np.flatnonzero(diff)}
+        inputs = set(keys)
         if not changed and len(inputs) == len(self._keys) and all(k in inputs for k in self._keys):
             self.changed_from = self._rows
             self.sliced = 0
@@ -248,7 +256,6 @@ class SectionBatch:
         self._start, self._count = start, count
         self._keys = order
         self._pos = {k: i for i, k in enumerate(order)}
-        self._inputs = inputs
         self.changed_from = start_row
         self.sliced = n - first
         self.revision += 1

@@ -2,9 +2,7 @@
 
 Per batch key there is one vertex buffer (and, for indexed batches, one index
 buffer and one line buffer). A new revision uploads only the rows from
-``changed_from`` on (``glBufferSubData`` at an offset); a full re-upload
-orphans the buffer first, so the driver never waits for the previous frame's
-draw to finish reading it. Capacity is the next power of two of the data: it
+``changed_from`` on (``glBufferSubData`` at an offset), in place. Capacity is the next power of two of the data: it
 grows at once, and shrinks after the data has fitted half of it for
 :data:`SHRINK_AFTER` frames, so a scene that grows and empties ends with the
 bytes it began with. :attr:`BatchBuffers.bytes`
@@ -108,9 +106,10 @@ class _Buffer:
             self.buf.orphan(want)
             self._small = 0
             start_byte = 0
-        elif start_byte == 0 and n:
-            # Everything changes: a fresh store instead of waiting on the last draw.
-            self.buf.orphan(self.buf.size)
+        # No orphaning when everything changes: a fresh store per frame costs the
+        # driver a new allocation (page faults for every byte on llvmpipe, whose
+        # large blocks come straight from mmap), while writing in place waits for
+        # nothing: the last frame was presented, so finished, before this one began.
         self.used = n
         if n > start_byte:
             raw = memoryview(np.ascontiguousarray(data)).cast("B")

@@ -36,6 +36,7 @@ lighting makes culling unnecessary for correctness.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 
 import moderngl
@@ -77,6 +78,7 @@ class RenderStats:
     lines: int = 0
     cached: int = 0  #: keys with GPU buffers after the last frame
     upload_bytes: int = 0  #: bytes sent by the last frame's uploads
+    batch_sync_cpu_ms: float = 0.0  #: CPU time of the last frame's batch uploads (this thread)
     by_key: dict = field(default_factory=dict)  #: uploads per key (lifetime)
 
 
@@ -425,7 +427,9 @@ class Renderer:
         self._batch_views[view] = (st.frames, {tb.key for tb in frame.batches})
         for name in [v for v, (n, _) in self._batch_views.items() if st.frames - n > self.VIEW_TTL]:
             del self._batch_views[name]
+        t0 = time.thread_time()
         self.batches.sync(frame.batches, keep=set().union(*(k for _, k in self._batch_views.values())))
+        st.batch_sync_cpu_ms = 1e3 * (time.thread_time() - t0)
         st.upload_bytes += self.batches.upload_bytes
 
         vp_bytes = _mat4_bytes(view_proj)
