@@ -341,7 +341,11 @@ def plot(rows: list[dict], path, title: str = "") -> None:
 
     fig, ax = plt.subplots(figsize=(7, 4.2), dpi=110)
     colors = {"section": "#1f77b4", "frustum": "#d62728", "section_per_object": "#7f7f7f"}
-    labels = {"section": "cross-section", "frustum": "frustum (solid + edges)", "section_per_object": "per-object path"}
+    labels = {
+        "section": "cross-section",
+        "frustum": "frustum (solid + edges)",
+        "section_per_object": "cross-section, per-object path (before)",
+    }
     for mode in dict.fromkeys(r["mode"] for r in rows):
         rs = sorted((r for r in rows if r["mode"] == mode), key=lambda r: r["n"])
         ns = [r["n"] for r in rs]
@@ -353,6 +357,15 @@ def plot(rows: list[dict], path, title: str = "") -> None:
     ax.axhline(30, color="k", lw=0.6, ls="--")
     ax.set_xscale("log")
     ax.set_yscale("log")
+    from matplotlib.ticker import FormatStrFormatter, NullFormatter
+
+    ns = [r["n"] for r in rows]
+    fps = [r[k] for r in rows for k in ("fps", "baseline_fps")] + [30.0, 60.0]
+    ax.set_xticks([x for x in (1, 2, 5, 10, 20, 50, 100, 200, 500, 1000) if min(ns) <= x <= max(ns)])
+    ax.set_yticks([y for y in (1, 2, 3, 5, 10, 20, 30, 60, 100, 200, 500) if min(fps) / 1.5 <= y <= max(fps) * 1.5])
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_formatter(FormatStrFormatter("%g"))
+        axis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("rotating 120-cells on screen (N)")
     ax.set_ylabel("frames per second")
     ax.set_title(title or "Rendering performance, 1280x720")
