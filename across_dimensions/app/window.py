@@ -437,18 +437,23 @@ class GameWindow(pyglet.window.Window):
 
         The frame is drawn again into an offscreen framebuffer of the window's
         size (reading the window's own back buffer is not portable in a core
-        profile).
+        profile), through the same render scale as the window.
         """
         fw, fh = self.get_framebuffer_size()
         folder = Path("screenshots")
         folder.mkdir(exist_ok=True)
         path = folder / f"shot_{len(list(folder.glob('shot_*.png'))):04d}.png"
         with Offscreen(self.ctx, fw, fh) as target:
-            target.use()
             frame = self.current_frame()
-            self.renderer.draw(frame, target.viewport)
-            if self.show_debug_draw and self.debug_overlay is not None:
-                self.debug_overlay.draw_game(self.game, frame.camera, target.viewport)
+            if self.scaled.begin((fw, fh)):  # the picture the window shows: same render scale
+                self.renderer.draw(frame, self.scaled.viewport, hud=False)
+                self._debug_draw(frame, self.scaled.viewport)
+                self.scaled.present(target.fbo, target.viewport)
+                self.renderer.draw_overlay(frame, target.viewport)
+            else:
+                target.use()
+                self.renderer.draw(frame, target.viewport)
+                self._debug_draw(frame, target.viewport)
             target.save_png(path)
         self.ctx.screen.use()
         print(f"screenshot saved: {path}", flush=True)

@@ -71,9 +71,7 @@ def run(levels=None, grid: int = 6, frames: int = 3, render_scale=None, size=(12
     try:
         scale = resolve_render_scale("auto" if render_scale is None else render_scale, ctx)
         out(f"Every shipped level, {grid}x{grid} standing points x {DIRECTIONS} directions, 1280x720 at render scale")
-        out(
-            f"{scale:g} ({ctx.info.get('GL_RENDERER', '?')}) and at full size; each pose: median of {frames} frames"
-        )
+        out(f"{scale:g} ({ctx.info.get('GL_RENDERER', '?')}) and at full size; each pose: median of {frames} frames")
         out(
             f"{'level':22s} {'poses':>5s} {'median':>7s} {'worst':>7s} {'worst fps':>9s} {'full: worst':>11s} "
             f"{'fps':>6s}  worst at (x, z, yaw)"
