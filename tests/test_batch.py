@@ -106,6 +106,16 @@ def test_only_changed_instances_are_resliced_and_the_rest_kept(meshes):
         assert_same_triangles(rows_of(batch, k), cross_section(ms[k], None, models[k]))
 
 
+def test_meshes_no_longer_drawn_are_let_go():
+    """Objects of ever new shapes spawned and removed: the batch does not keep every mesh it saw."""
+    batch = SectionBatch()
+    for i in range(60):
+        mesh = make_shape("5-cell").with_color((0.1 * (i % 10), 0.5, 0.5, 1.0))  # a new mesh each time
+        batch.update([i], [mesh], [pose((0.0, 0.0, 0.0, 0.05))])
+        assert_same_triangles(rows_of(batch, i), cross_section(mesh, None, pose((0.0, 0.0, 0.0, 0.05))))
+    assert len(batch._pool.meshes) <= 17
+
+
 def test_culling_never_drops_an_object_with_a_triangle_in_view(meshes):
     """Random poses around a camera: every culled object's full section lies outside the view."""
     rng = np.random.default_rng(6)

@@ -174,6 +174,13 @@ class SectionBatch:
         view = np.eye(5) if camera_pose is None else inverse(camera_pose)
         models = np.asarray(models, np.float64).reshape(n, 5, 5)
         mvs = np.ascontiguousarray(np.matmul(view, models))
+        meshes = list(meshes)
+        if len(self._pool.meshes) > max(16, 2 * len({id(m) for m in meshes})):
+            # Mostly meshes no longer drawn: start the pool again (and slice everything anew),
+            # so a long game spawning objects of new shapes does not grow it forever.
+            self._pool = _Pool()
+            self._last, self._keys, self._pos = None, [], {}
+            self._start = np.zeros(1, np.int64)
         pool = self._pool
         mesh_ids = np.array([pool.add(m) for m in meshes], np.int64)
         in_slice, visible = self._visible(mvs, mesh_ids, planes)
