@@ -361,3 +361,20 @@ def test_render_scale_setting_is_checked(tmp_path):
     assert settings.render_scale == "auto"
     (line,) = [w for w in warnings if "render_scale" in w]
     assert str(path) in line and "0.5 to 1.0" in line
+
+
+def test_wire_entities_stay_single_drawables(gl_ctx):
+    """Outlined entities (the field weapon's wireframes) keep their own drawable: edges are derived per mesh."""
+    path = next(p for p in level_files() if p.stem == "03_tumbling_hall")
+    game = Game(load_level(path))
+    game.step(Actions())
+    w = float(game.player.position[3])
+    shown = game.entity_table().reaching(w)
+    assert shown
+    shown[0].style = "wire"
+    frame = game.frame()
+    wires = [d for d in frame.drawables if d.style == "wire" and d.key == f"entity:{shown[0].id}"]
+    assert len(wires) == 1
+    assert all(f"entity:{shown[0].id}" not in b.members for b in frame.batches)
+    assert any(f"entity:{e.id}" in b.members for b in frame.batches for e in shown[1:])
+    _image(gl_ctx, frame)  # draws without complaint

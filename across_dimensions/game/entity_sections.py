@@ -1,7 +1,8 @@
 """The entities' cross-sections for drawing: one batch per style, one kernel call each.
 
 Every entity with a mesh whose reach spans the player's slice is sliced by a
-:class:`~across_dimensions.core.section_batch.SectionBatch` of its style into
+:class:`~across_dimensions.core.section_batch.SectionBatch` of its style (all
+but ``"wire"`` outlines, which stay one drawable each) into
 one shared vertex array, which the frame carries as one
 :class:`~across_dimensions.game.frame.TriangleBatch` (one draw call per style,
 whatever the number of entities). Entities whose bounding sphere is outside a
@@ -17,7 +18,7 @@ import numpy as np
 
 from ..core.section_batch import SectionBatch
 from ..core.transform import translation
-from .frame import Frame, TriangleBatch
+from .frame import Drawable, Frame, TriangleBatch
 
 #: Widest window shape culling allows for (width / height): the frame does not
 #: know the window's, so entities are culled against a view at least this wide.
@@ -41,13 +42,19 @@ class EntitySections:
         self.batches: dict[str, SectionBatch] = {}
         self._sliced: dict[int, bool] = {}  # entity id -> its section is non-empty (or, culled by view: reaches w)
 
-    def draw(self, frame: Frame, entities, models, w: float) -> None:
-        """Slice ``entities`` (placed by ``models``) at ``w`` and add one batch per style to ``frame``."""
+    def draw(self, frame: Frame, entities, models, w: float, sections) -> None:
+        """Slice ``entities`` (placed by ``models``) at ``w`` and add one batch per style to ``frame``.
+
+        ``"wire"`` entities (outlines) are drawn one drawable each, sliced through
+        ``sections`` (a :class:`~across_dimensions.world.scene.SectionCache`): the
+        renderer derives their edges per mesh.
+        """
         camera = translation((0.0, 0.0, 0.0, w))
         planes = view_planes(frame.camera)
         by_style: dict[str, list] = {}
         for e, m in zip(entities, models):
             by_style.setdefault(e.style, []).append((e, m))
+        wires = by_style.pop("wire", [])
         for style in [s for s in self.batches if s not in by_style]:
             del self.batches[style]  # nothing of this style left: free its arrays
         self._sliced = {}
@@ -61,8 +68,20 @@ class EntitySections:
                 start, count = batch.instance_rows(i)
                 self._sliced[i] = count > 0 or batch.culled_by_view(i)
             frame.batches.append(
-                TriangleBatch(f"entities:{style}", batch.revision, batch.vertices, style, batch.changed_from)
+                TriangleBatch(
+                    f"entities:{style}",
+                    batch.revision,
+                    batch.vertices,
+                    style,
+                    batch.changed_from,
+                    members=tuple(f"entity:{i}" for i in ids),
+                )
             )
+        sections.keep("draw:", {f"draw:{e.id}" for e, _ in wires})
+        for e, m in wires:
+            tri, rev = sections.section(f"draw:{e.id}", e.mesh, m, w)
+            frame.drawables.append(Drawable(f"entity:{e.id}", rev, tri, style="wire"))
+            self._sliced[e.id] = not tri.is_empty
 
     def has_section(self, entity_id: int) -> bool:
         """Was the entity's section non-empty in the last frame drawn?

@@ -292,6 +292,9 @@ class TriangleBatch:
         Lay down depth first, then shade each pixel once (cuts overdraw of a
         dense projection on a software rasterizer).
     edge_color : (4,) float
+    members : tuple of str
+        The drawable keys the batch stands for (``"entity:7"``), for code that
+        asks what a frame shows.
     """
 
     key: str
@@ -304,3 +307,4 @@ class TriangleBatch:
     topology_revision: int = 0
     prepass: bool = False
     edge_color: tuple = (0.05, 0.05, 0.07, 1.0)
+    members: tuple = ()

@@ -14,7 +14,7 @@ def draw(game, frame, alpha) -> None:
     w = float(game.player.position[3])
     shown = game.entity_table().reaching(w)
     # All of them in one kernel call per style, drawn with one call each (game/entity_sections.py).
-    game.entity_sections.draw(frame, shown, [e.model(game, alpha) for e in shown], w)
+    game.entity_sections.draw(frame, shown, [e.model(game, alpha) for e in shown], w, game.sections)
 
 
 def draw_per_object(game, frame, alpha) -> None:
