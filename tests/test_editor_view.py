@@ -75,7 +75,7 @@ def test_editor_frame_is_seen_from_the_camera_at_its_slice(game):
     frame = view.editor_frame(game, cam, ("object", 0))
     np.testing.assert_allclose(frame.camera.position, cam.position, atol=1e-12)
     assert frame.hud.w == pytest.approx(0.9)
-    keys = [d.key for d in frame.drawables]
+    keys = [d.key for d in frame.drawables] + [k for b in frame.batches for k in b.members]
     beacon = view.entity_of(game, ("object", 0))
     assert f"entity:{beacon.id}" in keys  # the beacon at w = 0.9 is in the slice
     first_light = view.entity_of(game, ("crystal", 0))

@@ -96,6 +96,7 @@ def test_ghost_at_w_plus_d_is_the_section_at_w_plus_d_tinted(ghost_level):
     assert shown[f"ghost-1:entity:{ball.id}"].tint == ghosts.KATA_TINT
     # Neither is in the slice itself: without ghosts the player would see nothing of them.
     solid_keys = {d.key for d in frame.drawables if d.style != "ghost" and not d.mesh.is_empty}
+    solid_keys |= {f"entity:{e.id}" for e in (wall, ball) if game.entity_sections.has_section(e.id)}  # batched
     assert f"entity:{wall.id}" not in solid_keys and f"entity:{ball.id}" not in solid_keys
 
 
@@ -194,6 +195,7 @@ def test_tumbling_hall_bodies_stay_visible_as_ghosts():
             continue
         frame = game.frame()
         solid = {d.key for d in frame.drawables if d.style != "ghost"}
+        solid |= {k for b in frame.batches if b.style != "ghost" for k in b.members}  # sliced together
         ghost = {d.key.split(":", 1)[1] for d in frame.drawables if d.style == "ghost"}
         for e in game.entities.of_kind("body"):
             near_w = abs(e.center(game)[3] - game.player.position[3]) <= e.radius + game.level.ghosts.distance

@@ -262,7 +262,9 @@ def test_readme_example_can_be_played_to_the_exit(example):
     # At the goal's w: static, floor, the 2 worlds, and the objects that reach this slice.
     w = game.player.position[3]
     reaching = [e for e in game.entities if abs(e.center(game)[3] - w) <= e.radius]
-    solid = [d for d in game.frame().drawables if d.style != "ghost"]  # ghosts: tests/test_ghosts.py
+    frame = game.frame()
+    solid = [d.key for d in frame.drawables if d.style != "ghost"]  # ghosts: tests/test_ghosts.py
+    solid += [k for b in frame.batches if b.style != "ghost" for k in b.members]  # entities, sliced together
     assert len(solid) == 2 + 2 + len(reaching) and reaching
 
 

@@ -11,6 +11,8 @@
     shape NAME [--param k=v ...] -o OUT.npz
     lift MESH --depth D -o OUT.npz
     bench [--quick] [--no-physics]
+    bench scene [--n 1,10,100] [--json] [--out PLOT.png]   FPS against rotating 120-cells
+    bench levels [--render-scale S] [--json]               worst frame of every shipped level
     edit LEVEL                         the level editor (the optional extra 'editor')
 
 Errors a user can cause (bad arguments, files, levels, replays, meshes) are
@@ -102,8 +104,15 @@ def _parser() -> argparse.ArgumentParser:
     lf.set_defaults(func=commands.lift)
 
     bn = sub.add_parser("bench", help="measure projection (and physics) speed")
+    bn.add_argument(
+        "what",
+        nargs="?",
+        choices=("scene", "levels"),
+        help="scene: FPS against rotating 120-cells (the paper's figure); levels: worst frame of each shipped level",
+    )
     bn.add_argument("--quick", action="store_true", help="smaller meshes, fewer repeats")
     bn.add_argument("--no-physics", action="store_true", help="skip the physics benchmark")
+    _add_bench_scene_args(bn)
     bn.set_defaults(func=commands.bench)
 
     ed = sub.add_parser("edit", help="open a level in the level editor (needs the optional extra 'editor')")
@@ -114,6 +123,12 @@ def _parser() -> argparse.ArgumentParser:
     ed.add_argument("--quit-after", type=positive_float, metavar="SECONDS", help="close the window after SECONDS")
     ed.set_defaults(func=_edit, record=None, fullscreen=None)
     return p
+
+
+def _add_bench_scene_args(p):
+    from .bench_commands import add_arguments
+
+    add_arguments(p)
 
 
 def _add_play_args(p):

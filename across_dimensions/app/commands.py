@@ -243,6 +243,11 @@ def lift(args) -> int:
 def bench(args) -> int:
     from ..core import bench as core_bench
 
+    if args.what is not None:  # bench scene / bench levels
+        from . import bench_commands
+
+        return bench_commands.run(args)
+
     _out("Cross-section and frustum projection, one thread (median of runs):")
     sizes = (100_000, 300_000) if args.quick else (100_000, 1_000_000, 4_000_000)
     core_bench.run(sizes=sizes, repeat=3 if args.quick else 7, out=_out)

@@ -32,6 +32,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from ..render.scale import SOFTWARE_SCALE
 from ..world.campaign import CampaignEntry
 from .saves import Progress
 from .settings import ACTION_DESCRIPTIONS, ACTIONS, PRESETS, Settings
@@ -94,6 +95,9 @@ SLIDERS: dict[str, Slider] = {
     "render_scale": Slider("Render scale", 0.5, 1.0, 0.05, lambda v: f"{v * 100:.0f}%"),
     "volume": Slider("Volume", 0.0, 1.0, 0.05, lambda v: f"{v * 100:.0f}%"),
 }
+#: What a slider shows for a setting left to the game's choice ("auto"): the render scale
+#: picked for a software rasterizer, the case where a player looks for this slider.
+AUTO_VALUES: dict[str, float] = {"render_scale": SOFTWARE_SCALE}
 #: The on/off settings, in menu order (after the sliders but for the inversions).
 TOGGLES: dict[str, str] = {
     "invert_x": "Invert mouse X",
@@ -311,8 +315,10 @@ class Menu:
             value = getattr(self.settings, name)
             if name in SLIDERS:
                 s = SLIDERS[name]
-                fraction = (value - s.lo) / (s.hi - s.lo)
-                rows.append(Item(f"set:{name}", s.label, s.show(value), fraction=min(1.0, max(0.0, fraction))))
+                number = self._number(name)
+                fraction = (number - s.lo) / (s.hi - s.lo)
+                shown = s.show(number) if value == number else f"{value} ({s.show(number)})"
+                rows.append(Item(f"set:{name}", s.label, shown, fraction=min(1.0, max(0.0, fraction))))
             else:
                 rows.append(Item(f"set:{name}", TOGGLES[name], "on" if value else "off"))
         return rows + [Item("back", "Back")]
@@ -459,7 +465,13 @@ class Menu:
                 self._set(name, not getattr(self.settings, name))
             elif name in SLIDERS:
                 s = SLIDERS[name]
-                self._set(name, getattr(self.settings, name) + step * s.step)
+                self._set(name, self._number(name) + step * s.step)
+
+    def _number(self, name: str) -> float:
+        """A slider setting's number: a word such as ``render_scale = "auto"`` counts as its
+        :data:`AUTO_VALUES` entry until the player moves the slider."""
+        value = getattr(self.settings, name)
+        return AUTO_VALUES.get(name, SLIDERS[name].lo) if isinstance(value, str) else float(value)
 
     def _set(self, name: str, value) -> None:
         if name in SLIDERS:

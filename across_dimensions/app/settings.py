@@ -23,8 +23,8 @@ Settings live in one TOML file, ``settings.toml`` in the per-user config folder
     reduce_motion = false        # seek jumps instead of gliding
     volume = 0.8                 # sound effects, 0 (silent) to 1
     mute = false                 # the mute key toggles it while playing
-    render_scale = 1.0           # draw at this fraction of the window's resolution (0.5 to 1)
     colour_blind = false         # a palette that never tells things apart by red and green alone
+    render_scale = "auto"        # 0.5 to 1.0: draw at this fraction of the window, upscaled; "auto" from the GPU
 
     [bindings]                   # only the actions that differ from the preset
     jump = ["SPACE", "MOUSE_RIGHT"]
@@ -330,9 +330,18 @@ _RULES: dict[str, _Rule] = {
     "reduce_motion": _Rule("true or false", _boolean),
     "volume": _Rule("a number from 0 (silent) to 1", _number(0.0, 1.0)),
     "mute": _Rule("true or false", _boolean),
-    "render_scale": _Rule("a fraction of the window's resolution from 0.5 to 1", _number(0.5, 1.0)),
     "colour_blind": _Rule("true or false", _boolean),
+    "render_scale": _Rule('"auto" or a number from 0.5 to 1.0 (fraction of the window drawn, then upscaled)', None),
 }
+
+
+def _render_scale(value: Any) -> float | str:
+    if isinstance(value, str) and value.strip().lower() == "auto":
+        return "auto"
+    return _number(0.5, 1.0)(value)
+
+
+_RULES["render_scale"].convert = _render_scale
 
 
 def _normalise_key(name: str) -> str:
@@ -422,10 +431,13 @@ class Settings:
         Loudness of the sound effects, 0 (silent) to 1.
     mute : bool
         No sound at all (the ``toggle_mute`` key flips it while playing).
-    render_scale : float
-        Fraction of the window's resolution the scene is drawn at, in [0.5, 1].
     colour_blind : bool
         A colour-blind-safe palette.
+    render_scale : float or "auto"
+        Fraction of the window's width and height the scene is drawn at (0.5 to
+        1.0), then upscaled: a software rasterizer trades resolution for frame
+        rate. ``"auto"`` picks from the GL renderer (lower for llvmpipe and
+        softpipe; see :func:`across_dimensions.render.scale.default_render_scale`).
 
     Raises
     ------
@@ -455,8 +467,8 @@ class Settings:
     reduce_motion: bool = False
     volume: float = 0.8
     mute: bool = False
-    render_scale: float = 1.0
     colour_blind: bool = False
+    render_scale: float | str = "auto"
 
     def __post_init__(self) -> None:
         for name, rule in _RULES.items():

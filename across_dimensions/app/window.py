@@ -36,6 +36,7 @@ from ..render.context import Offscreen, RenderError, wrap_current_context
 from ..render.debug_draw import DebugOverlay
 from ..render.menu import MenuRenderer, hit
 from ..render.renderer import Renderer
+from ..render.scale import ScaledTarget, resolve_render_scale
 from ..world.campaign import CampaignEntry, CampaignError, load_campaign, next_in_campaign
 from ..world.level import load_level
 from ..world.resources import level_files, resolve_level
@@ -144,6 +145,8 @@ class GameWindow(pyglet.window.Window):
         self.settings = settings
         self.ctx = wrap_current_context()
         self.renderer = Renderer(self.ctx)
+        # The scene at a fraction of the window (settings.render_scale), upscaled; HUD at full size.
+        self.scaled = ScaledTarget(self.ctx, resolve_render_scale(settings.render_scale, self.ctx))
         self.keys = pyglet.window.key.KeyStateHandler()
         self.push_handlers(self.keys)
         self.mouse_buttons: set = set()
@@ -314,6 +317,8 @@ class GameWindow(pyglet.window.Window):
             self.bindings = {a: [_key_code(k) for k in s.keys_for(a)] for a in s.bindings}
         if name == "colour_blind":
             self.apply_palette()
+        if name == "render_scale":
+            self.scaled.scale = resolve_render_scale(s.render_scale, self.ctx)
         try:
             save_settings(s, self.settings_file)
         except (OSError, InputError, ValueError) as e:
@@ -716,8 +721,7 @@ class GameWindow(pyglet.window.Window):
         self.update(0.0 if self.last_draw is None else min(now - self.last_draw, 0.25))
         self.last_draw = now
         fw, fh = self.get_framebuffer_size()
-        self.ctx.screen.use()
-        self.draw_view((0, 0, fw, fh))
+        self.draw_view(self.ctx.screen, (0, 0, fw, fh))
         if self.game is not None and not self.level_drawn:
             self.level_drawn = True
             _timing("first level frame")
@@ -725,16 +729,28 @@ class GameWindow(pyglet.window.Window):
             self._pending_shot = False
             self.screenshot()
 
-    def draw_view(self, viewport) -> None:
-        """The level (when one is loaded or paused), then the menus over it, or a loading screen."""
+    def draw_view(self, target, viewport) -> None:
+        """Draw into ``target`` (the window's screen, or a screenshot's framebuffer): the level (when
+        one is loaded or paused) at the render scale, then the HUD, or the menus, at full size; or,
+        with no level yet, the loading screen."""
         view = self.menu.view()
         if self.game is not None:
             frame = self.current_frame()
-            self.renderer.draw(frame, viewport, hud=view is None)
-            if self.show_debug_draw and view is None:
-                self.debug_overlay = self.debug_overlay or DebugOverlay(self.ctx)
-                self.debug_overlay.draw_game(self.game, frame.camera, viewport)
+            playing = view is None
+            if self.scaled.begin(tuple(viewport[2:])):
+                self.renderer.draw(frame, self.scaled.viewport, hud=False)
+                if playing:
+                    self._debug_draw(frame, self.scaled.viewport)
+                self.scaled.present(target, viewport)
+                if playing:
+                    self.renderer.draw_overlay(frame, viewport)
+            else:
+                target.use()
+                self.renderer.draw(frame, viewport, hud=playing)
+                if playing:
+                    self._debug_draw(frame, viewport)
         else:
+            target.use()
             self.ctx.clear(0.02, 0.03, 0.06, 1.0)
         if view is None and self.game is None:  # a level waiting for the kernels: the title's backdrop
             from .menu import MenuView
@@ -743,22 +759,27 @@ class GameWindow(pyglet.window.Window):
             progress = (w.done, w.total, w.label) if w is not None and not w.ready else (1, 1, "ready")
             view = MenuView("title", "ACROSS DIMENSIONS", [], 0, 0, 0, "Starting...", progress=progress)
         if view is not None:
+            target.use()
             self.menu_renderer.draw(view, viewport)
+
+    def _debug_draw(self, frame, viewport) -> None:
+        if self.show_debug_draw:
+            self.debug_overlay = self.debug_overlay or DebugOverlay(self.ctx)
+            self.debug_overlay.draw_game(self.game, frame.camera, viewport)
 
     def screenshot(self) -> Path:
         """Save what the window shows as a PNG in ./screenshots/.
 
         The frame is drawn again into an offscreen framebuffer of the window's
         size (reading the window's own back buffer is not portable in a core
-        profile).
+        profile), through the same render scale as the window.
         """
         fw, fh = self.get_framebuffer_size()
         folder = Path("screenshots")
         folder.mkdir(exist_ok=True)
         path = folder / f"shot_{len(list(folder.glob('shot_*.png'))):04d}.png"
         with Offscreen(self.ctx, fw, fh) as target:
-            target.use()
-            self.draw_view(target.viewport)
+            self.draw_view(target.fbo, target.viewport)
             target.save_png(path)
         self.ctx.screen.use()
         print(f"screenshot saved: {path}", flush=True)

@@ -239,22 +239,48 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, case_count, lazy):
 
 @njit(cache=True)
 def _emit(v, tets, colors, mv, flip, cut, ntri, case_edges, case_count):
+    """Triangles of the cut tets: positions, flat outward normals and colours.
+
+    When the cut tets are many for the vertices they use (a dense section, the
+    worst case), each vertex is moved into camera space once and kept (a vertex
+    belongs to ~20 tets); when they are few among many vertices (a sparse
+    section of a big mesh), per tet, which touches no per-vertex memory. Both
+    compute the same sums in the same order, so the output is identical.
+    """
     out_v = np.empty((3 * ntri, 3), np.float32)
     out_n = np.empty((3 * ntri, 3), np.float32)
     out_c = np.empty((3 * ntri, 4), np.float32)
     p = np.empty((4, 4))  # camera-space tet vertices
     q = np.empty((4, 3))  # polygon points
     qc = np.empty((4, 4))
+    n = v.shape[0]
+    cached = 4 * cut.shape[0] > n
+    cam = np.empty((n if cached else 0, 4))
+    done = np.zeros(n if cached else 0, np.uint8)
     o = 0
     for idx in range(cut.shape[0]):
         t = cut[idx]
         mask = 0
         for k in range(4):
             vi = tets[t, k]
-            for r in range(4):
-                p[k, r] = (
-                    mv[r, 0] * v[vi, 0] + mv[r, 1] * v[vi, 1] + mv[r, 2] * v[vi, 2] + mv[r, 3] * v[vi, 3] + mv[r, 4]
-                )
+            if cached:
+                if done[vi] == 0:
+                    done[vi] = 1
+                    for r in range(4):
+                        cam[vi, r] = (
+                            mv[r, 0] * v[vi, 0]
+                            + mv[r, 1] * v[vi, 1]
+                            + mv[r, 2] * v[vi, 2]
+                            + mv[r, 3] * v[vi, 3]
+                            + mv[r, 4]
+                        )
+                for r in range(4):
+                    p[k, r] = cam[vi, r]
+            else:
+                for r in range(4):
+                    p[k, r] = (
+                        mv[r, 0] * v[vi, 0] + mv[r, 1] * v[vi, 1] + mv[r, 2] * v[vi, 2] + mv[r, 3] * v[vi, 3] + mv[r, 4]
+                    )
             if p[k, 3] > 0.0:
                 mask |= 1 << k
         # Outward normal: xyz part of cross4(p1 - p0, p2 - p0, p3 - p0).
@@ -297,20 +323,29 @@ def _emit(v, tets, colors, mv, flip, cut, ntri, case_edges, case_count):
         cyp = az * bx - ax * bz
         czp = ax * by - ay * bx
         reverse = cxp * nx + cyp * ny + czp * nz < 0.0
+        # Fan from point 0: triangles (0, t+1, t+2), or (0, t+2, t+1) reversed.
+        d1 = 2 if reverse else 1
+        d2 = 3 - d1
         for tri in range(k - 2):
-            for j in range(3):
-                src = 0 if j == 0 else tri + j
-                if reverse and j > 0:
-                    src = tri + 3 - j
-                for r in range(3):
-                    out_v[o, r] = q[src, r]
-                out_n[o, 0] = nx
-                out_n[o, 1] = ny
-                out_n[o, 2] = nz
-                for r in range(4):
-                    out_c[o, r] = qc[src, r]
-                o += 1
+            _put(out_v, out_n, out_c, o, q, qc, 0, nx, ny, nz)
+            _put(out_v, out_n, out_c, o + 1, q, qc, tri + d1, nx, ny, nz)
+            _put(out_v, out_n, out_c, o + 2, q, qc, tri + d2, nx, ny, nz)
+            o += 3
     return out_v, out_n, out_c
+
+
+@njit(inline="always")
+def _put(out_v, out_n, out_c, o, q, qc, src, nx, ny, nz):
+    out_v[o, 0] = q[src, 0]
+    out_v[o, 1] = q[src, 1]
+    out_v[o, 2] = q[src, 2]
+    out_n[o, 0] = nx
+    out_n[o, 1] = ny
+    out_n[o, 2] = nz
+    out_c[o, 0] = qc[src, 0]
+    out_c[o, 1] = qc[src, 1]
+    out_c[o, 2] = qc[src, 2]
+    out_c[o, 3] = qc[src, 3]
 
 
 def cross_section_reference(mesh: TetMesh4, camera_pose=None, model=None) -> TriMesh3:

@@ -275,6 +275,7 @@ class Frame:
     light_dir: tuple[float, float, float] = (0.4, 1.0, 0.25)
     sky: str = "flat"  # "flat": one colour (sky_color); "dome": the renderer's procedural sky
     time: float = 0.0  # seconds of play, for animated shading (pulses, bands); never read by the game
+    batches: list = field(default_factory=list)  # TriangleBatch: many objects, one draw call per pass
 
 
 @dataclass(frozen=True)
@@ -353,3 +354,52 @@ class ScreenLabel:
         sx = eye[0, front] / (-eye[2, front] * t)
         sy = eye[1, front] / (-eye[2, front] * t)
         return cls(text, float(sx.max()), float(0.5 * (sy.min() + sy.max())), float(sx.min()))
+
+
+@dataclass
+class TriangleBatch:
+    """Many objects' triangles in one vertex array, drawn with one call per pass.
+
+    What :class:`~across_dimensions.core.section_batch.SectionBatch` and
+    :class:`~across_dimensions.core.frustum_batch.FrustumBatch` produce. The arrays
+    come from the engine's own kernels, so the renderer trusts them (no range
+    checks) and uploads only what changed.
+
+    Parameters
+    ----------
+    key : str
+        Stable identity; the renderer keeps one growing GPU buffer per key.
+    revision : int
+        Bumped whenever ``vertices`` changed.
+    vertices : (k, 10) float32
+        Interleaved rows: position xyz, normal xyz (zero: shade flat), colour rgba; world coordinates.
+    style : str
+        As :attr:`Drawable.style`.
+    changed_from : int
+        Rows before this one are the same as at ``revision - 1`` (only the rest is uploaded).
+    faces : (f, 3) uint32, optional
+        Triangles as rows of ``vertices``; None: every three rows are one triangle.
+    edges : (e, 2) uint32, optional
+        Lines drawn over the triangles (unlit, in ``edge_color``).
+    topology_revision : int
+        Bumped whenever ``faces`` or ``edges`` changed.
+    prepass : bool
+        Lay down depth first, then shade each pixel once (cuts overdraw of a
+        dense projection on a software rasterizer).
+    edge_color : (4,) float
+    members : tuple of str
+        The drawable keys the batch stands for (``"entity:7"``), for code that
+        asks what a frame shows.
+    """
+
+    key: str
+    revision: int
+    vertices: np.ndarray
+    style: str = "solid"
+    changed_from: int = 0
+    faces: np.ndarray | None = None
+    edges: np.ndarray | None = None
+    topology_revision: int = 0
+    prepass: bool = False
+    edge_color: tuple = (0.05, 0.05, 0.07, 1.0)
+    members: tuple = ()

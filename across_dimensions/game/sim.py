@@ -28,6 +28,7 @@ from .actions import Actions
 from .enemies import state_bytes as enemy_state_bytes
 from .energy import EnergyBar
 from .entities import EntityStore, EntityTable, Rigid, Scripted, reach
+from .entity_sections import EntitySections
 from .events import Event
 from .frame import Camera3, Frame, Hud
 from .player import HALF_WIDTH, HEIGHT, Player
@@ -84,6 +85,7 @@ class Game:
         self.scene = scene if scene is not None else build_scene(level)
         self.sections = SectionCache()
         self.meshes = MeshParts(self.scene)  # [[mesh]] and [[world.mesh]] collide by their surfaces
+        self.entity_sections = EntitySections()  # what the frame draws of the entities, batched
         self.physics, body_of = build_physics(self.scene, DT)
         self.entities = EntityStore()
         self._table_key: tuple | None = None

@@ -43,6 +43,7 @@ lighting makes culling unnecessary for correctness.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 
 import moderngl
@@ -52,6 +53,7 @@ from ..core.edges import feature_edges
 from ..core.mesh import TriMesh3
 from ..game.frame import Drawable, Frame
 from . import materials
+from .batch import BatchBuffers
 from .context import RenderError
 from .hud import HudRenderer
 from .radar import RadarRenderer
@@ -85,6 +87,7 @@ class RenderStats:
     lines: int = 0
     cached: int = 0  #: keys with GPU buffers after the last frame
     upload_bytes: int = 0  #: bytes sent by the last frame's uploads
+    batch_sync_cpu_ms: float = 0.0  #: CPU time of the last frame's batch uploads (this thread)
     by_key: dict = field(default_factory=dict)  #: uploads per key (lifetime)
 
 
@@ -237,7 +240,14 @@ class Renderer:
         self._sky: SkyRenderer | None = None
         self.hud = HudRenderer(ctx)
         self.radar = RadarRenderer(ctx)
+        self.batches = BatchBuffers(ctx, self._programs)
+        self._batch_views: dict[str, tuple[int, set[str]]] = {}  # view -> (draw number, batch keys)
         self._views: dict[str, tuple[int, set[str]]] = {}  # view -> (draw number, keys it used)
+
+    def set_palette(self, name: str) -> None:
+        """Switch the named colours: ``"default"``, or ``"colour_blind"`` (ana and kata, crystals
+        and trims told apart by lightness too, never by red and green alone)."""
+        self.palette = materials.palette("colorblind" if name in ("colour_blind", "colorblind") else name)
 
     def _look_programs(self, look: str) -> dict[str, moderngl.Program]:
         """The programs of ``look``, built on first use (a look not used costs nothing)."""
@@ -258,6 +268,13 @@ class Renderer:
     def cached_keys(self) -> list[str]:
         """Keys that currently hold GPU buffers."""
         return sorted(self._meshes)
+
+    def gpu_bytes(self) -> int:
+        """Bytes of every vertex, index and edge buffer this renderer holds for meshes and batches."""
+        total = self.batches.bytes
+        for gm in self._meshes.values():
+            total += sum(b.size for b in (gm.vbo, gm.ibo, gm.ebo) if b is not None)
+        return total
 
     def _sync(self, d: Drawable) -> _GpuMesh:
         gm = self._meshes.get(d.key)
@@ -341,6 +358,7 @@ class Renderer:
             self._sky = None
         self.hud.release()
         self.radar.release()
+        self.batches.release()
 
     def forget_meshes(self) -> None:
         """Release every cached mesh, so the next frame uploads what it draws anew.
@@ -353,6 +371,8 @@ class Renderer:
             gm.release()
         self._meshes.clear()
         self._views.clear()
+        self.batches.sync([])
+        self._batch_views.clear()
 
     def forget_view(self, view: str) -> None:
         """Stop holding the meshes only ``view`` used (they are released at the next draw)."""
@@ -455,6 +475,19 @@ class Renderer:
             st.releases += 1
         st.cached = len(self._meshes)
 
+        for tb in frame.batches:
+            if tb.style not in STYLES or tb.style == "wire":
+                raise RenderError(
+                    f"batch {tb.key!r}: style {tb.style!r} cannot be batched; expected solid, floor, ghost or glow"
+                )
+        self._batch_views[view] = (st.frames, {tb.key for tb in frame.batches})
+        for name in [v for v, (n, _) in self._batch_views.items() if st.frames - n > self.VIEW_TTL]:
+            del self._batch_views[name]
+        t0 = time.thread_time()
+        self.batches.sync(frame.batches, keep=set().union(*(k for _, k in self._batch_views.values())))
+        st.batch_sync_cpu_ms = 1e3 * (time.thread_time() - t0)
+        st.upload_bytes += self.batches.upload_bytes
+
         vp_bytes = _mat4_bytes(view_proj)
         for prog in self._programs.values():
             self._set(prog, "u_view_proj", vp_bytes)
@@ -481,6 +514,9 @@ class Renderer:
         opaque.sort(key=lambda o: o[0])
         for _, d, gm, model in opaque:
             self._draw_mesh(d.style, gm, model, moderngl.TRIANGLES, gm.n_indices, d)
+        for tb in frame.batches:
+            if tb.style != "ghost":
+                self._draw_batch(tb, vp_bytes, scifi)
         for _, _d, gm, model in wires:
             n = self._edges(gm)
             if n:
@@ -491,7 +527,8 @@ class Renderer:
                 self._sky = SkyRenderer(ctx)
             st.draw_calls += self._sky.draw(view_proj, eye, light, self.palette, self._set)
 
-        if ghosts:
+        ghost_batches = [tb for tb in frame.batches if tb.style == "ghost"]
+        if ghosts or ghost_batches:
             # Back to front per drawable; depth test on (solids hide ghosts) but
             # no depth writes (ghosts don't hide each other or what follows).
             ghosts.sort(key=lambda g: -g[0])
@@ -505,14 +542,45 @@ class Renderer:
                 self._set(prog, "u_pattern", GHOST_PATTERNS[d.pattern])
                 self._set(prog, "u_opacity", max(0.0, float(d.opacity)))
                 self._draw_mesh("ghost", gm, model, moderngl.TRIANGLES, gm.n_indices)
+            for tb in ghost_batches:
+                self._set(prog, "u_tint", _NO_TINT)
+                self._set(prog, "u_pattern", 0)
+                self._set(prog, "u_opacity", 1.0)
+                self._draw_batch(tb, vp_bytes, scifi)
             fbo.depth_mask = True
             ctx.disable(moderngl.BLEND)
 
         if hud:
-            if frame.radar is not None:
-                self.radar.draw(frame.radar, viewport)
-                st.draw_calls += self.radar.draw_calls
-            self.hud.draw(frame.hud, viewport, frame.radar)
+            self.draw_overlay(frame, viewport)
+
+    def draw_overlay(self, frame: Frame, viewport: tuple[int, int, int, int]) -> None:
+        """Draw ``frame``'s radar (when not None) and HUD over the bound framebuffer.
+
+        :meth:`draw` does it with ``hud=True``; a scene drawn at a lower render
+        scale and upscaled gets its overlay at the window's full resolution.
+        """
+        viewport = tuple(int(x) for x in viewport)
+        if frame.radar is not None:
+            self.radar.draw(frame.radar, viewport)
+            self.stats.draw_calls += self.radar.draw_calls
+        self.hud.draw(frame.hud, viewport, frame.radar)
+
+    def _draw_batch(self, tb, vp_bytes: bytes, scifi: bool) -> None:
+        # Batches hold many 4D things: in the sci-fi look their solids are 4D matter ("hyper"),
+        # and each vertex's colour alpha carries its thing's w offset (the w cue; see
+        # game/entity_sections.py), since one uniform cannot hold one per thing.
+        name = "hyper" if scifi and tb.style == "solid" else tb.style
+        prog = self._programs[name]
+        cued = scifi and tb.style in ("solid", "glow")
+        if cued:
+            self._set(prog, "u_w_from_alpha", 1.0)
+        self.batches.programs = self._programs
+        calls, tris, lines = self.batches.draw(tb, vp_bytes, name)
+        if cued:
+            self._set(prog, "u_w_from_alpha", 0.0)
+        self.stats.draw_calls += calls
+        self.stats.triangles += tris
+        self.stats.lines += lines
 
     def _draw_mesh(self, style: str, gm: _GpuMesh, model: np.ndarray, mode: int, count: int, d=None) -> None:
         prog = self._programs[style]

@@ -89,6 +89,7 @@ uniform vec3 u_kata;
 uniform vec3 u_hyper_rim;
 uniform float u_w_offset;   // 4D things: (w of the thing - w of the slice) / its half extent in w
 uniform float u_band_scale; // metres per band unit (the drawable's size)
+uniform float u_w_from_alpha; // 1: each vertex's colour alpha is its thing's w offset (batches)
 #endif
 
 in vec3 v_world;
@@ -137,9 +138,14 @@ float grid_lines(vec2 uv, float spacing) {
 // and faint at its centre, dense at the edge), solid lines rising when the thing lies ana
 // (+w) of the slice and dotted lines sinking when it lies kata (-w), the same sides as
 // the ghosts' stripes and dots. Returns the band mask in 0-1.
+float w_offset_here() {
+    return u_w_from_alpha > 0.5 ? v_color.a : u_w_offset;
+}
+
 float w_bands(vec3 N) {
-    float a = min(abs(u_w_offset), 1.0);
-    float side = u_w_offset >= 0.0 ? 1.0 : -1.0;
+    float w_off = w_offset_here();
+    float a = min(abs(w_off), 1.0);
+    float side = w_off >= 0.0 ? 1.0 : -1.0;
     float period = u_band_scale * mix(0.9, 0.14, a);
     vec3 an = abs(N);
     // Across vertical faces the bands are levels of height; on horizontal faces, diagonals.
@@ -258,7 +264,7 @@ void main() {
     // hue turns with the view angle, and the w bands cut into it as light.
     float fres = pow(1.0 - ndv, 2.0);
     vec3 irid = 0.5 + 0.5 * cos(6.2832 * (vec3(0.0, 0.33, 0.67) + 1.3 * fres + 0.05 * u_time));
-    vec3 side_tint = u_w_offset >= 0.0 ? u_ana : u_kata;
+    vec3 side_tint = w_offset_here() >= 0.0 ? u_ana : u_kata;
     float bands = w_bands(N);
     // A lattice of glowing diagonal lines: nothing in the scenery looks like it, and it
     // shows the surface's shape where the rim light cannot (faces seen head on).

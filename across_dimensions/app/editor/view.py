@@ -147,6 +147,7 @@ def editor_frame(game, cam: EditorCamera, selected=None, frustum: bool = False, 
     frame.hud.message = ""
     if frustum:
         frame.drawables = [d for d in frame.drawables if not d.key.startswith("entity:")]
+        frame.batches = [b for b in frame.batches if not b.key.startswith("entities:")]
         frame.drawables.extend(frustum_drawables(game, cam.w))
     if selected is not None:
         frame.drawables.extend(outline(game, selected, cam.w))

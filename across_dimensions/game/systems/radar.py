@@ -39,6 +39,6 @@ def draw(game, frame, alpha) -> None:
     sought = sought_id(game)
     for k in np.flatnonzero(inside):
         e = table.entities[tracked[k]]
-        visible = game.sections.has_section(f"draw:{e.id}")  # the sections system sliced it this frame
+        visible = game.entity_sections.has_section(e.id)  # the sections system sliced it this frame
         pins.append(RadarPin(e.radar, float(x[k]), float(z[k]), float(height[k]), visible, e.id == sought))
     frame.radar = Radar(reach, w_scale, pins)

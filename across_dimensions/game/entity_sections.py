@@ -1,0 +1,110 @@
+"""The entities' cross-sections for drawing: one batch per style, one kernel call each.
+
+Every entity with a mesh whose reach spans the player's slice is sliced by a
+:class:`~across_dimensions.core.section_batch.SectionBatch` of its style (all
+but ``"wire"`` outlines, which stay one drawable each) into
+one shared vertex array, which the frame carries as one
+:class:`~across_dimensions.game.frame.TriangleBatch` (one draw call per style,
+whatever the number of entities). Entities whose bounding sphere is outside a
+generous view frustum are not sliced at all.
+
+The triangles are exactly those :func:`core.section.cross_section` gives for
+each entity (tests compare the frames pixel by pixel).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.section_batch import SectionBatch
+from ..core.transform import translation
+from .frame import Drawable, Frame, TriangleBatch
+
+#: Widest window shape culling allows for (width / height): the frame does not
+#: know the window's, so entities are culled against a view at least this wide.
+CULL_ASPECT = 3.0
+
+
+#: Styles whose vertex colour alpha carries the thing's w offset (the renderer's w cue:
+#: opaque, so alpha is free): see :func:`w_offset`.
+W_CUED = ("solid", "glow")
+#: Column of the colour's alpha in a batch row (position 3, normal 3, colour 4).
+ALPHA = 9
+
+
+def w_offset(mesh, model: np.ndarray, w: float) -> float:
+    """Where the slice at ``w`` cuts a thing along w: 0 mid-way through its w extent, -1 or 1 at
+    its ends (the renderer's w cue). The extent is the posed mesh's, so a turning thing's changes."""
+    ws = mesh.vertices @ model[3, :4].astype(np.float32) + np.float32(model[3, 4])
+    lo, hi = float(ws.min()), float(ws.max())
+    half = 0.5 * (hi - lo)
+    return (0.5 * (lo + hi) - w) / half if half > 0.0 else 0.0
+
+
+def view_planes(camera, aspect: float = CULL_ASPECT) -> np.ndarray:
+    """The six planes ``(6, 4) float64`` of ``camera``'s view at ``aspect`` (inside: ``n . x + d >= 0``)."""
+    m = camera.projection_matrix(aspect) @ camera.view_matrix()
+    return np.array([m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[3] + m[2], m[3] - m[2]])
+
+
+class EntitySections:
+    """Per-style section batches of a game's entities, kept from frame to frame.
+
+    Entities that neither moved nor left the view keep their triangles in the
+    batch (neither re-sliced nor re-uploaded).
+    """
+
+    def __init__(self):
+        self.batches: dict[str, SectionBatch] = {}
+        self._sliced: dict[int, bool] = {}  # entity id -> its section is non-empty (or, culled by view: reaches w)
+
+    def draw(self, frame: Frame, entities, models, w: float, sections) -> None:
+        """Slice ``entities`` (placed by ``models``) at ``w`` and add one batch per style to ``frame``.
+
+        ``"wire"`` entities (outlines) are drawn one drawable each, sliced through
+        ``sections`` (a :class:`~across_dimensions.world.scene.SectionCache`): the
+        renderer derives their edges per mesh.
+        """
+        camera = translation((0.0, 0.0, 0.0, w))
+        planes = view_planes(frame.camera)
+        by_style: dict[str, list] = {}
+        for e, m in zip(entities, models):
+            by_style.setdefault(e.style, []).append((e, m))
+        wires = by_style.pop("wire", [])
+        for style in [s for s in self.batches if s not in by_style]:
+            del self.batches[style]  # nothing of this style left: free its arrays
+        self._sliced = {}
+        for style, items in by_style.items():
+            batch = self.batches.get(style)
+            if batch is None:
+                batch = self.batches[style] = SectionBatch()
+            ids = [e.id for e, _ in items]
+            batch.update(ids, [e.mesh for e, _ in items], np.array([m for _, m in items]), camera, planes)
+            rows = batch.vertices
+            for i, (e, m) in zip(ids, items):
+                start, count = batch.instance_rows(i)
+                self._sliced[i] = count > 0 or batch.culled_by_view(i)
+                if count and start >= batch.changed_from and style in W_CUED:
+                    rows[start : start + count, ALPHA] = w_offset(e.mesh, m, w)
+            frame.batches.append(
+                TriangleBatch(
+                    f"entities:{style}",
+                    batch.revision,
+                    batch.vertices,
+                    style,
+                    batch.changed_from,
+                    members=tuple(f"entity:{i}" for i in ids),
+                )
+            )
+        sections.keep("draw:", {f"draw:{e.id}" for e, _ in wires})
+        for e, m in wires:
+            tri, rev = sections.section(f"draw:{e.id}", e.mesh, m, w)
+            frame.drawables.append(Drawable(f"entity:{e.id}", rev, tri, style="wire"))
+            self._sliced[e.id] = not tri.is_empty
+
+    def has_section(self, entity_id: int) -> bool:
+        """Was the entity's section non-empty in the last frame drawn?
+
+        For an entity outside the view (not sliced), whether its bounding sphere reaches the slice.
+        """
+        return self._sliced.get(entity_id, False)

@@ -1,0 +1,149 @@
+"""The worst frame of every shipped level, from everywhere a player can stand.
+
+For each level, the player is placed on a ``grid x grid`` lattice of points
+over the level's floor (at the spawn's height and w) and turned to eight
+directions; points inside walls are kept on purpose: the view then faces a
+wall from closer than any player can, the worst case for the rasterizer. At
+each pose the game is stepped one tick (so moving things are sliced anew),
+then the frame is built (``Game.frame``, ghosts on as in the window) and drawn
+at 1280x720 with its HUD and radar, through the render scale, and finished.
+Reported per level: the worst and the median frame time over the poses and
+where the worst was. Each pose's time is the fastest of its few frames: other
+jobs on a shared machine only ever add time, and the worst over a hundred poses
+would otherwise measure the worst moment of the other jobs.
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+
+import numpy as np
+
+from ..game.actions import Actions
+from ..game.sim import Game
+from ..game.systems.ghosts import GhostView
+from ..world.level import load_level
+from ..world.resources import level_files, resolve_level
+from .context import Offscreen, create_offscreen_context
+from .renderer import Renderer
+from .scale import ScaledTarget, resolve_render_scale
+
+TARGET_FPS = 60.0
+DIRECTIONS = 8
+
+
+def _poses(game: Game, grid: int) -> list[tuple[float, float, float]]:
+    """``(x, z, yaw)`` over the floor's bounds (or the static mesh's when there is no floor)."""
+    scene = game.scene
+    mesh = scene.floor_mesh if not scene.floor_mesh.is_empty else scene.static_mesh
+    if mesh.is_empty:
+        lo = hi = game.player.position[[0, 2]]
+    else:
+        v = mesh.vertices.astype(np.float64)
+        lo, hi = v[:, [0, 2]].min(axis=0), v[:, [0, 2]].max(axis=0)
+    # Inset half a cell so the outermost points stand on the floor, not on its rim.
+    ts = (np.arange(grid) + 0.5) / grid
+    out = []
+    for tx in ts:
+        for tz in ts:
+            x, z = lo + np.array([tx, tz]) * (hi - lo)
+            for k in range(DIRECTIONS):
+                out.append((float(x), float(z), 2 * np.pi * k / DIRECTIONS))
+    return out
+
+
+def run(levels=None, grid: int = 6, frames: int = 3, render_scale=None, size=(1280, 720), out=print) -> list[dict]:
+    """Measure each level; returns one row per level.
+
+    Every pose is drawn at the render scale and, alternating frame by frame so
+    both see the same machine load, at full resolution: the ratio of the two is
+    what the render scale buys.
+
+    Parameters
+    ----------
+    levels : list of str, optional
+        Level files or shipped names; default every shipped level.
+    render_scale : float, optional
+        Default: what the game picks for this GL renderer (``"auto"``).
+    """
+    paths = [resolve_level(x) for x in levels] if levels else list(level_files())
+    ctx = create_offscreen_context()
+    rows = []
+    try:
+        scale = resolve_render_scale("auto" if render_scale is None else render_scale, ctx)
+        out(f"Every shipped level, {grid}x{grid} standing points x {DIRECTIONS} directions, 1280x720 at render scale")
+        out(f"{scale:g} ({ctx.info.get('GL_RENDERER', '?')}) and at full size; each pose: fastest of {frames} frames")
+        out(
+            f"{'level':22s} {'poses':>5s} {'median':>7s} {'worst':>7s} {'worst fps':>9s} {'full: worst':>11s} "
+            f"{'fps':>6s}  worst at (x, z, yaw)"
+        )
+        screen = Offscreen(ctx, *size)
+        scaled = {scale: ScaledTarget(ctx, scale), 1.0: ScaledTarget(ctx, 1.0)}
+        for path in paths:
+            game = Game(load_level(path))
+            game.ghost_view = GhostView()
+            renderer = Renderer(ctx)
+            y, w = float(game.player.position[1]), float(game.player.position[3])
+            per_pose = {scale: [], 1.0: []}
+            for x, z, yaw in _poses(game, grid):
+                times = {scale: [], 1.0: []}
+                for i in range(frames + 1):
+                    for s in dict.fromkeys((scale, 1.0)):
+                        game.step(Actions())
+                        p = game.player
+                        p.position[:] = (x, y, z, w)
+                        p.yaw, p.pitch = yaw, 0.0
+                        game._prev_eye, game._prev_view = p.eye(), (yaw, 0.0)
+                        t0 = time.perf_counter()
+                        frame = game.frame()
+                        if scaled[s].begin(size):
+                            renderer.draw(frame, scaled[s].viewport, hud=False)
+                            scaled[s].present(screen.fbo, screen.viewport)
+                            renderer.draw_overlay(frame, screen.viewport)
+                        else:
+                            screen.use()
+                            renderer.draw(frame, screen.viewport)
+                        ctx.finish()
+                        if i:  # the first frame of a pose uploads its sections
+                            times[s].append(time.perf_counter() - t0)
+                for s in per_pose:
+                    per_pose[s].append((min(times[s]), (x, z, yaw)))
+            renderer.release()
+            worst, at = max(per_pose[scale])
+            worst_full = max(per_pose[1.0])[0]
+            med = statistics.median(t for t, _ in per_pose[scale])
+            row = {
+                "level": path.stem,
+                "poses": len(per_pose[scale]),
+                "render_scale": scale,
+                "median_ms": round(1e3 * med, 3),
+                "worst_ms": round(1e3 * worst, 3),
+                "worst_fps": round(1.0 / worst, 2),
+                "worst_at": [round(at[0], 2), round(at[1], 2), round(float(np.degrees(at[2])), 1)],
+                "full_worst_ms": round(1e3 * worst_full, 3),
+                "full_worst_fps": round(1.0 / worst_full, 2),
+            }
+            rows.append(row)
+            out(
+                f"{row['level']:22s} {row['poses']:5d} {row['median_ms']:7.2f} {row['worst_ms']:7.2f} "
+                f"{row['worst_fps']:9.1f} {row['full_worst_ms']:11.2f} {row['full_worst_fps']:6.1f}  "
+                f"({at[0]:.1f}, {at[1]:.1f}, {np.degrees(at[2]):.0f} deg)"
+            )
+        for t in scaled.values():
+            t.release()
+        screen.release()
+    finally:
+        ctx.release()
+    return rows
+
+
+def print_targets(rows, out=print) -> None:
+    out("Target (2 cores, llvmpipe, 1280x720): every shipped level >= 60 FPS everywhere a player can stand")
+    for r in rows:
+        mark = "PASS" if r["worst_fps"] >= TARGET_FPS else "FAIL"
+        out(
+            f"  [{mark}] {r['level']:22s} worst {r['worst_fps']:.1f} FPS at render scale {r['render_scale']:g} "
+            f"(median {1e3 / r['median_ms']:.1f} FPS; full size: worst {r['full_worst_fps']:.1f} FPS, "
+            f"{r['full_worst_ms'] / r['worst_ms']:.1f}x slower)"
+        )
