@@ -295,27 +295,9 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
         k = min(float(hud.damage_flash), 1.0)
         q.rect(0, 0, W, H, DAMAGE_FLASH_COLOR[:3] + (DAMAGE_FLASH_COLOR[3] * k,))
 
-    # --- w indicator (right edge)
-    x0, y0, bw, th = m.w_track()
-    q.rect(x0 - 1, y0 - 1, bw + 2, th + 2, OUTLINE_COLOR)
-    q.rect(x0, y0, bw, th, TRACK_COLOR)
-    my, in_range = m.w_marker_y(hud)
-    span = hud.w_max - hud.w_min
-    if span > 0 and hud.w_min <= 0.0 <= hud.w_max:
-        zy = int(round(y0 + (hud.w_max / span) * th))
-        top, bot = sorted((zy, my))
-        q.rect(x0, top, bw, bot - top, FILL_POS_COLOR if hud.w >= 0 else FILL_NEG_COLOR)
-        ext = max(2, bw // 2)
-        q.rect(x0 - ext, zy - m.thickness // 2, bw + 2 * ext, m.thickness, TICK_COLOR)
-    mh = max(2, H // 120)
-    mext = max(2, bw // 2 + 1)
-    q.rect(x0 - mext - 1, my - mh // 2 - 1, bw + 2 * mext + 2, mh + 2, OUTLINE_COLOR)
-    q.rect(x0 - mext, my - mh // 2, bw + 2 * mext, mh, MARKER_COLOR if in_range else MARKER_OUT_OF_RANGE_COLOR)
-    label_y = y0 - GLYPH_H * s - 3 * s - 1
-    q.text("w", x0 + bw // 2 - (GLYPH_W * s) // 2, label_y, s, TEXT_COLOR)
-    val = f"{hud.w:+.2f}"
-    vx = min(x0 + bw // 2 - text_width(val, s) // 2, W - text_width(val, s) - 2 * s)
-    q.text(val, vx, y0 + th + 3 * s + 1, s, TEXT_COLOR)
+    # --- w indicator (right edge); none in a 3D level (w_min == w_max: nowhere to go along w)
+    if hud.w_max > hud.w_min:
+        _w_indicator(q, hud, m)
 
     # --- energy bar (bottom-left)
     if hud.energy is not None:
@@ -394,6 +376,30 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
 
         draw_card(q, hud.card, W, H)
     return q.array()
+
+
+def _w_indicator(q: _QuadList, hud: Hud, m: HudMetrics) -> None:
+    W, H, s = m.width, m.height, m.text_scale
+    x0, y0, bw, th = m.w_track()
+    q.rect(x0 - 1, y0 - 1, bw + 2, th + 2, OUTLINE_COLOR)
+    q.rect(x0, y0, bw, th, TRACK_COLOR)
+    my, in_range = m.w_marker_y(hud)
+    span = hud.w_max - hud.w_min
+    if span > 0 and hud.w_min <= 0.0 <= hud.w_max:
+        zy = int(round(y0 + (hud.w_max / span) * th))
+        top, bot = sorted((zy, my))
+        q.rect(x0, top, bw, bot - top, FILL_POS_COLOR if hud.w >= 0 else FILL_NEG_COLOR)
+        ext = max(2, bw // 2)
+        q.rect(x0 - ext, zy - m.thickness // 2, bw + 2 * ext, m.thickness, TICK_COLOR)
+    mh = max(2, H // 120)
+    mext = max(2, bw // 2 + 1)
+    q.rect(x0 - mext - 1, my - mh // 2 - 1, bw + 2 * mext + 2, mh + 2, OUTLINE_COLOR)
+    q.rect(x0 - mext, my - mh // 2, bw + 2 * mext, mh, MARKER_COLOR if in_range else MARKER_OUT_OF_RANGE_COLOR)
+    label_y = y0 - GLYPH_H * s - 3 * s - 1
+    q.text("w", x0 + bw // 2 - (GLYPH_W * s) // 2, label_y, s, TEXT_COLOR)
+    val = f"{hud.w:+.2f}"
+    vx = min(x0 + bw // 2 - text_width(val, s) // 2, W - text_width(val, s) - 2 * s)
+    q.text(val, vx, y0 + th + 3 * s + 1, s, TEXT_COLOR)
 
 
 def hint_rect(hud: Hud, width: int, height: int) -> tuple[int, int, int, int]:

@@ -588,8 +588,8 @@ def _level_table(r: _Reader, data, path: Path) -> tuple[dict, bool]:
     n = len(r.problems)
     w_range = r.read(meta, LEVEL, "[level]", keys=("w_range",))["w_range"]
     w_ok = len(r.problems) == n
-    if w_ok and w_range[0] >= w_range[1]:
-        r.problem("[level]", f"field 'w_range': expected [low, high] with low < high, got {w_range.tolist()}")
+    if w_ok and w_range[0] > w_range[1]:  # low == high: a 3D level (no moving along w, no w gauge)
+        r.problem("[level]", f"field 'w_range': expected [low, high] with low <= high, got {w_range.tolist()}")
         w_ok = False
     v["w_range"] = w_range
     hints = meta.get("hints", [])
