@@ -310,7 +310,7 @@ CASES = {
     ],
     "color_out_of_range": [["[[box]] #2", "field 'color'", "between 0 and 1", "[255, 128, 0]"]],
     "spawn_outside_w_range": [["[spawn]", "field 'position'", "w = 3 is outside", "w_range [-1.0, 1.0]"]],
-    "w_range_reversed": [["[level]", "field 'w_range'", "low < high", "[1.0, -1.0]"]],
+    "w_range_reversed": [["[level]", "field 'w_range'", "low <= high", "[1.0, -1.0]"]],
     "asset_escapes": [["[[mesh]] #1", "field 'asset'", "inside the assets folder", "'../../etc/passwd'", "leaves it"]],
     "asset_absolute": [
         ["[[mesh]] #1", "field 'asset'", "inside the assets folder", "absolute path '/etc/passwd'"],
