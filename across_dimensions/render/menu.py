@@ -218,7 +218,8 @@ def menu_quads(view, width: int, height: int) -> np.ndarray:
             q.text(text, px + pad, by + CELL_H * s_row // 2 + i * CELL_H * s_row, s_row, PROMPT_COLOR)
     if view.message:
         mw = text_width(view.message, s_row)
-        q.text(view.message, (width - mw) // 2, py - 2 * CELL_H * s_row, s_row, PROMPT_COLOR)
+        # Under the panel: above it, the title screen's subtitle would share the line.
+        q.text(view.message, (width - mw) // 2, py + ph + CELL_H * s_row, s_row, PROMPT_COLOR)
     footer = _fit(view.footer, width - 2 * pad, s_small)
     q.text(footer, (width - text_width(footer, s_small)) // 2, height - 2 * CELL_H * s_small, s_small, FOOTER_COLOR)
     return q.array()
