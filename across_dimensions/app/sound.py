@@ -64,6 +64,12 @@ EVENT_SOUNDS: dict[str, str | None] = {
     "seek_started": "seek",
     "seek_arrived": "arrive",
     "seek_blocked": "w_blocked",
+    "enemy_hit": "enemy_hit",
+    "enemy_defeated": "enemy_die",
+    "player_hit": "hurt",
+    "player_died": "respawn",
+    "loot_released": "pickup",
+    "checkpoint_reached": "arrive",
 }
 
 
