@@ -19,7 +19,7 @@ import pyglet
 
 from ..core.errors import InputError
 from ..core.fileio import FileProblem, check_folder
-from ..game.actions import MAX_PRESSES, PRESSES, Actions
+from ..game.actions import CAMERA_BUTTONS, MAX_PRESSES, PRESSES, Actions
 from ..game.replay import Recorder
 from ..game.sim import DT, Game, RadarView
 from ..game.systems.ghosts import GhostView
@@ -237,6 +237,7 @@ class GameWindow(pyglet.window.Window):
             switch_camera=self.held("switch_camera"),
             manipulate=self.held("manipulate"),
             next_weapon=self.held("next_weapon"),
+            **{b: self.held(b) for b in CAMERA_BUTTONS},
             presses=Actions.count_presses(self.presses),
         ).clamped()
         self.presses.clear()

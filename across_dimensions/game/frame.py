@@ -139,6 +139,7 @@ class Hud:
     energy: EnergyGauge | None = None
     weapon: WeaponPanel | None = None
     hit_marker: float = 0.0  # 1 right after a bullet hits a body or a target, fading to 0 (crosshair marks)
+    slice: SliceGauges | None = None  # the 4D camera's gauges, in levels with a [camera] table
 
 
 @dataclass(frozen=True)
@@ -193,6 +194,26 @@ class WeaponPanel:
     refused: str = ""
     live: int = -1
     ammo: int = -1
+
+
+@dataclass(frozen=True)
+class SliceGauges:
+    """How the slice is turned, and what the 4D camera is doing (three small gauges).
+
+    Parameters
+    ----------
+    angles : (float, float, float)
+        The slice's x, y and z axes' angles towards w, degrees in [-180, 180]; 0 is the
+        plain slice, a multiple of 90 an axis-aligned one.
+    mode : str
+        ``"synced"``, ``"frustum"`` or ``"returning"``.
+    orbit : float
+        The frustum camera's orbit angle, degrees.
+    """
+
+    angles: tuple
+    mode: str = "synced"
+    orbit: float = 0.0
 
 
 #: Pin kinds the radar draws, each with its own head shape (never colour alone).
@@ -258,3 +279,4 @@ class Frame:
     radar: Radar | None = None
     sky_color: tuple[float, float, float] = (0.05, 0.06, 0.10)
     light_dir: tuple[float, float, float] = (0.4, 1.0, 0.25)
+    pip: list[Drawable] | None = None  # the other projection of the same moment (picture in picture), if asked

@@ -24,6 +24,8 @@ import numpy as np
 from ..world.level import Level
 from ..world.scene import Scene, SectionCache, build_physics, build_scene
 from .actions import Actions
+from .camera import CameraRig
+from .camera import state_bytes as camera_state_bytes
 from .energy import EnergyBar
 from .entities import EntityStore, EntityTable, Rigid, Scripted, reach
 from .events import Event
@@ -88,6 +90,8 @@ class Game:
         self._colliders: dict[float, np.ndarray] = {}
         self._sections: dict[float, list] = {}
         self._triangles: dict[str, tuple] = {}  # section key -> (TriMesh3, its (t, 3, 3) triangles)
+        # The 4D camera: the plain axis-aligned slice until a level lets the player turn it.
+        self.camera = CameraRig(fov_deg=level.camera.fov)
         self.pose_version = 0  # bumped by systems that move solid objects within a tick (manipulation)
         self.entity_of_body: dict[int, int] = {}
         for i, obj in enumerate(self.scene.objects):
@@ -174,8 +178,16 @@ class Game:
         self._fresh_colliders()
         boxes = self._colliders.get(w)
         if boxes is None:
-            boxes = self._colliders[w] = np.concatenate([self.scene.static_boxes, self.scene.world_boxes_at(w)])
+            worlds = self.scene.world_boxes_at(w)
+            if not self.camera.aligned:  # a turned slice cuts the worlds slantwise: by their sections
+                worlds = np.full_like(worlds, np.nan)
+            boxes = self._colliders[w] = np.concatenate([self.scene.static_boxes, worlds])
         return boxes
+
+    def slice_of(self, w: float):
+        """The slice at offset ``w`` as the section cache takes it: ``w`` itself on the plain
+        axis-aligned slice, the turned slice's pose otherwise (see :mod:`.camera`)."""
+        return self.camera.slice_of(w)
 
     def sections_at(self, w: float) -> list:
         """The triangles of each solid 4D object's section at ``w``: one
@@ -193,22 +205,24 @@ class Game:
         return found
 
     def _fresh_colliders(self) -> None:
-        key = (self.tick, self.entities.version, self.pose_version)
+        key = (self.tick, self.entities.version, self.pose_version, self.camera.version)
         if self._colliders_key != key:
             self._colliders_key, self._colliders, self._sections = key, {}, {}
 
     def _sections_now(self, w: float) -> list:
         out = []
         feet = self.player.position
+        cam = self.camera
         for e in self.entities:
             if not e.solid:
                 continue
             key = f"tick:{e.id}"
             # Only what the player can touch this tick needs its section: within its
             # reach of the player's box in space, and of the slice in w.
-            near = np.all(np.abs(e.center(self)[:3] - feet[:3]) <= e.radius + COLLIDE_MARGIN)
-            if near and e.reaches_slice(self, w):
-                tri, _ = self.sections.section(key, e.mesh, e.model(self), w)
+            c = cam.to_slice(e.center(self))  # slice space (the entity's own centre while aligned)
+            near = np.all(np.abs(c[:3] - feet[:3]) <= e.radius + COLLIDE_MARGIN)
+            if near and abs(float(c[3]) - w) <= e.radius:
+                tri, _ = self.sections.section(key, e.mesh, e.model(self), cam.slice_of(w))
                 cached = self._triangles.get(key)
                 if cached is None or cached[0] is not tri:  # a new section: its triangles once
                     cached = self._triangles[key] = (tri, triangles_of(tri))
@@ -217,6 +231,16 @@ class Game:
                 self.sections.forget(key)
                 self._triangles.pop(key, None)
                 out.append(np.zeros((0, 3, 3)))
+        if not cam.aligned:
+            # The extended worlds' boxes stand for their sections only on the plain slice;
+            # a turned slice collides with their true sections instead.
+            for i, world in enumerate(self.scene.worlds):
+                key = f"tick:world:{i}"
+                tri, _ = self.sections.section(key, world.mesh, np.eye(5), cam.slice_of(w))
+                cached = self._triangles.get(key)
+                if cached is None or cached[0] is not tri:
+                    cached = self._triangles[key] = (tri, triangles_of(tri))
+                out.append(cached[1])
         return out
 
     def bodies_block_w(self, position, w: float) -> bool:
@@ -265,6 +289,7 @@ class Game:
         if self.physics is not None:
             h.update(self.physics.state_bytes())
         h.update(manipulation.state_bytes(self))  # nothing when the level has no manipulable object
+        h.update(camera_state_bytes(self.camera))  # nothing while the slice rests axis-aligned
         return h.hexdigest()[:16]
 
     # ------------------------------------------------------------------ frame

@@ -292,6 +292,7 @@ class Level:
     weapons: list[gameplay.WeaponSpec] = field(default_factory=list)
     targets: list[gameplay.TargetSpec] = field(default_factory=list)
     manipulables: list[gameplay.ManipulableSpec] = field(default_factory=list)
+    camera: gameplay.CameraSpec = field(default_factory=gameplay.CameraSpec)
 
     @property
     def bodies(self) -> int:
@@ -842,6 +843,7 @@ def load_level(path, source: bytes | None = None) -> Level:
     manipulables = gameplay.read_manipulables(r, data, objects)
     ghosts = gameplay.read_ghosts(r, data)
     seek = gameplay.read_seek(r, data)
+    camera = gameplay.read_camera(r, data)
 
     if r.problems:
         raise LevelError(path, r.problems)
@@ -871,4 +873,5 @@ def load_level(path, source: bytes | None = None) -> Level:
         manipulables=manipulables,
         ghosts=ghosts,
         seek=seek,
+        camera=camera,
     )

@@ -114,6 +114,8 @@ def layers_of(game) -> list[Layer]:
     view, spec = view_of(game), game.level.ghosts
     if not (view.enabled and spec.enabled) or view.strength <= 0.0:
         return []
+    if not game.camera.aligned or game.camera.detached:
+        return []  # ghosts lie along the world's w: only the plain slice has them beside it
     d = spec.distance * view.distance
     n = int(min(max(view.layers, 1), MAX_LAYERS))
     p = game.player

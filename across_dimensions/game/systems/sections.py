@@ -1,4 +1,6 @@
-"""Every entity with a 4D mesh, drawn as its cross-section at the player's w.
+"""Every 4D thing (extended worlds, entities with a mesh) as the 4D camera shows it:
+its cross-section by the player's slice, or its frustum projection while the camera
+is detached. The work is the projection stage's (:mod:`..projection`).
 
 Entities whose bounding radius does not reach the slice are skipped without
 slicing (most 4D things in a level are at other w most of the time).
@@ -6,13 +8,8 @@ slicing (most 4D things in a level are at other w most of the time).
 
 from __future__ import annotations
 
-from ..frame import Drawable
+from ..projection import items, project
 
 
 def draw(game, frame, alpha) -> None:
-    w = float(game.player.position[3])
-    shown = game.entity_table().reaching(w)
-    game.sections.keep("draw:", {f"draw:{e.id}" for e in shown})  # the rest left the slice
-    for e in shown:
-        tri, rev = game.sections.section(f"draw:{e.id}", e.mesh, e.model(game, alpha), w)
-        frame.drawables.append(Drawable(f"entity:{e.id}", rev, tri, style=e.style))
+    frame.drawables.extend(project(game, game.camera, items(game, alpha)))
