@@ -77,7 +77,7 @@ def nearest_axes(r: np.ndarray) -> np.ndarray:
     rows, cols = set(range(4)), set(range(4))
     picks = []
     for _ in range(4):
-        best = max(((a[i, j], i, j) for i in rows for j in cols))
+        best = max((a[i, j], i, j) for i in rows for j in cols)
         _, i, j = best
         out[i, j] = 1.0 if r[i, j] >= 0 else -1.0
         picks.append(best)

@@ -104,7 +104,12 @@ def cross_sections(game, rig: CameraRig, things: list[Item], s: float, prefix: s
 
 
 def frustum_views(
-    cache: FrustumCache, rig: CameraRig, things: list[Item], pose: np.ndarray, place: np.ndarray, prefix: str = "frustum:"
+    cache: FrustumCache,
+    rig: CameraRig,
+    things: list[Item],
+    pose: np.ndarray,
+    place: np.ndarray,
+    prefix: str = "frustum:",
 ) -> list[Drawable]:
     """Detached: each item through the 4D camera at ``pose``, placed in slice space by ``place``."""
     focal = rig.focal

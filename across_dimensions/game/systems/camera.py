@@ -25,7 +25,7 @@ import numpy as np
 
 from ...core.mesh import TriMesh3
 from ...world.geometry import box_trimesh
-from ..camera import TURN_PLANES, GLIDE_FACTOR
+from ..camera import GLIDE_FACTOR, TURN_PLANES
 from ..entities import Placed
 from ..events import CameraSwitched, SliceAligned
 from ..frame import Drawable, SliceGauges
@@ -34,7 +34,7 @@ FOCUS_COLOR = (1.0, 0.85, 0.2, 1.0)
 EYE_COLOR = (0.4, 0.9, 1.0, 1.0)
 #: Size of the indicators, metres: big enough to see across a room, small enough
 #: not to hide what the camera looks at.
-INDICATOR_SIZE = 0.25
+INDICATOR_SIZE = 0.2
 #: The camera's indicator is not drawn closer than this to the player's eye (metres):
 #: at the switch it is exactly there, and a box round the eye would fill the screen.
 EYE_CLEARANCE = 0.6
@@ -144,11 +144,36 @@ def step(game, actions):
     return None
 
 
-def _marker(key: str, at: np.ndarray, color) -> Drawable:
+def frustum_view(game):
+    """The detached 4D camera's pose ``(5, 5)`` and its projection's placement ``(4, 4)``, or None
+    while synced."""
+    rig = game.camera
+    if not rig.detached:
+        return None
+    p = game.player
+    return rig.frustum_pose(p.eye(), float(p.position[3]), _return_ticks(game))
+
+
+def seen_touching(game, center: np.ndarray, radius: float, others: np.ndarray, radii: np.ndarray) -> np.ndarray:
+    """Which of ``others (k, 4)`` (balls of ``radii (k,)``) the ball at ``center (4,)`` touches *as
+    seen through the detached 4D camera*: their images in slice space overlap, each image
+    scaled by ``focal / depth`` (so a ball near the camera's view grows: its collider stretches).
+    All False while synced, and for anything behind the camera's near hyperplane."""
+    view = frustum_view(game)
+    if view is None or len(others) == 0:
+        return np.zeros(len(others), dtype=bool)
+    pose, place = view
+    pts, scale = game.camera.project_points(np.vstack([center, others]), pose, place)
+    gap = np.linalg.norm(pts[1:] - pts[0], axis=1)
+    with np.errstate(invalid="ignore"):
+        return (scale[0] > 0) & (scale[1:] > 0) & (gap <= radius * scale[0] + radii * scale[1:])
+
+
+def _marker(key: str, at: np.ndarray, color, style: str) -> Drawable:
     mesh: TriMesh3 = box_trimesh((0.0, 0.0, 0.0), (INDICATOR_SIZE,) * 3, color)
     place = np.eye(4)
     place[:3, 3] = at
-    return Drawable(key, 0, mesh, model=place, style="glow")
+    return Drawable(key, 0, mesh, model=place, style=style)
 
 
 def draw(game, frame, alpha) -> None:
@@ -163,7 +188,8 @@ def draw(game, frame, alpha) -> None:
     pose, _ = rig.frustum_pose(p.eye(), float(p.position[3]), _return_ticks(game))
     # The focus point shows where it is on screen (it never moves there); the camera's
     # indicator stands at its slice-space position, its w offset read on the radar.
-    frame.drawables.append(_marker("camera:focus", rig.focus_u, FOCUS_COLOR))
+    frame.drawables.append(_marker("camera:focus", rig.focus_u, FOCUS_COLOR, "glow"))
     eye = rig.to_slice(pose[:4, 4])[:3]
     if np.linalg.norm(eye - frame.camera.position) > EYE_CLEARANCE:  # not round the player's own eye
-        frame.drawables.append(_marker("camera:eye", eye, EYE_COLOR))
+        # Edges only: the camera swings in front of what it looks at, and must not hide it.
+        frame.drawables.append(_marker("camera:eye", eye, EYE_COLOR, "wire"))
