@@ -21,6 +21,8 @@ Settings live in one TOML file, ``settings.toml`` in the per-user config folder
     ghost_strength = 1.0         # times the ghosts' opacity
     ghost_layers = 1             # 1 or 2 per side
     reduce_motion = false        # seek jumps instead of gliding
+    pip = false                  # the inset with the other projection (a key toggles it)
+    pip_size = 0.3               # its height, a fraction of the window's
 
     [bindings]                   # only the actions that differ from the preset
     jump = ["SPACE", "MOUSE_RIGHT"]
@@ -352,6 +354,8 @@ _RULES: dict[str, _Rule] = {
     "ghost_strength": _Rule("a factor of the ghosts' opacity from 0 to 3", _number(0.0, 3.0)),
     "ghost_layers": _Rule("1 or 2 (ghost layers on each side)", _integer(1, 2)),
     "reduce_motion": _Rule("true or false", _boolean),
+    "pip": _Rule("true or false", _boolean),
+    "pip_size": _Rule("a fraction of the window's height from 0.1 to 0.5", _number(0.1, 0.5)),
 }
 
 
@@ -438,6 +442,11 @@ class Settings:
         Ghost layers on each side of the slice, 1 or 2.
     reduce_motion : bool
         Seek jumps to its w instead of gliding there.
+    pip : bool
+        Start with the picture-in-picture on: a small inset showing the other projection
+        (frustum while the game shows the cross-section, and the other way round).
+    pip_size : float
+        The inset's height as a fraction of the window's, in [0.1, 0.5].
 
     Raises
     ------
@@ -465,6 +474,8 @@ class Settings:
     ghost_strength: float = 1.0
     ghost_layers: int = 1
     reduce_motion: bool = False
+    pip: bool = False
+    pip_size: float = 0.3
 
     def __post_init__(self) -> None:
         for name, rule in _RULES.items():

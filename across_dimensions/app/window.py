@@ -25,6 +25,7 @@ from ..game.sim import DT, Game, RadarView
 from ..game.systems.ghosts import GhostView
 from ..render.context import Offscreen, RenderError, wrap_current_context
 from ..render.debug_draw import DebugOverlay
+from ..render.pip import draw_pip
 from ..render.renderer import Renderer
 from ..world.level import load_level
 from ..world.resources import level_files, resolve_level
@@ -94,6 +95,7 @@ class GameWindow(pyglet.window.Window):
         self.record_path = record
         self.recorder: Recorder | None = None
         self.show_fps = settings.show_fps
+        self.pip_on = settings.pip  # the picture-in-picture inset (render/pip.py)
         self.debug_overlay: DebugOverlay | None = None  # made on first use, drawn while on
         self.show_debug_draw = False
         self.ghost_view = GhostView(
@@ -277,6 +279,9 @@ class GameWindow(pyglet.window.Window):
             self.set_fullscreen(not self.fullscreen)
         elif action == "toggle_fps":
             self.show_fps = not self.show_fps
+        elif action == "toggle_pip":
+            self.pip_on = not self.pip_on
+            self.say("Picture in picture on" if self.pip_on else "Picture in picture off", 1.5)
         elif action == "toggle_ghosts":
             self.ghost_view.enabled = not self.ghost_view.enabled
             self.say("Ghosts on" if self.ghost_view.enabled else "Ghosts off", 1.5)
@@ -368,7 +373,7 @@ class GameWindow(pyglet.window.Window):
 
     def current_frame(self):
         """The game's frame with the app's HUD additions (fps, pause, notices)."""
-        frame = self.game.frame(alpha=self.accumulator / DT, fov_y_deg=self.settings.fov_deg)
+        frame = self.game.frame(alpha=self.accumulator / DT, fov_y_deg=self.settings.fov_deg, pip=self.pip_on)
         hud = frame.hud
         if hud.message:  # the game's prompts name actions ({manipulate}); show the player's keys
             hud.message = self.with_keys(hud.message)
@@ -414,6 +419,8 @@ class GameWindow(pyglet.window.Window):
         fw, fh = self.get_framebuffer_size()
         self.ctx.screen.use()
         self.renderer.draw(frame, (0, 0, fw, fh))
+        if self.pip_on:
+            draw_pip(self.renderer, frame, (0, 0, fw, fh), self.settings.pip_size)
         if self.show_debug_draw:
             self.debug_overlay = self.debug_overlay or DebugOverlay(self.ctx)
             self.debug_overlay.draw_game(self.game, frame.camera, (0, 0, fw, fh))

@@ -32,6 +32,7 @@ from .events import Event
 from .frame import Camera3, Frame, Hud
 from .player import HALF_WIDTH, HEIGHT, Player
 from .player_bodies import bodies_block
+from .projection import items, project
 from .section_collision import triangles_of
 from .systems import SYSTEMS, crystals, manipulation
 
@@ -293,8 +294,11 @@ class Game:
         return h.hexdigest()[:16]
 
     # ------------------------------------------------------------------ frame
-    def frame(self, alpha: float = 1.0, fov_y_deg: float = 75.0) -> Frame:
-        """What to draw, the camera ``alpha`` of the way from the last tick: every system's ``draw``."""
+    def frame(self, alpha: float = 1.0, fov_y_deg: float = 75.0, pip: bool = False) -> Frame:
+        """What to draw, the camera ``alpha`` of the way from the last tick: every system's ``draw``.
+
+        With ``pip``, ``frame.pip`` also holds the 4D content in the projection the camera is
+        not in (the picture-in-picture); without it nothing of that is computed."""
         p = self.player
         eye = self._prev_eye + alpha * (p.eye() - self._prev_eye)
         dyaw = (p.yaw - self._prev_view[0] + np.pi) % (2 * np.pi) - np.pi
@@ -307,6 +311,8 @@ class Game:
         for system in SYSTEMS:
             if hasattr(system, "draw"):
                 system.draw(self, frame, alpha)
+        if pip:
+            frame.pip = project(self, self.camera, items(self, alpha), other=True)
         return frame
 
 
