@@ -224,7 +224,7 @@ def bench_camera(cycles: int = 4, ticks: int = 60) -> dict:
         game.step(Actions(forward=1.0))
     look = Actions(yaw=0.004)
     switch = Actions(presses=(("switch_camera", 1),))
-    for t in range(ticks):  # warm-up: the kernels' first calls
+    for _ in range(ticks):  # warm-up: the kernels' first calls
         game.step(look)
         game.frame(0.5, pip=True)
     return_ticks = max(1, round(game.level.camera.return_time / game.dt))
