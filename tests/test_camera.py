@@ -282,3 +282,16 @@ def test_check_level_accepts_the_camera_levels():
         )
         assert done.returncode == 0, done.stderr
         assert "ok" in done.stdout
+
+
+def test_picture_in_picture_shows_the_other_projection_and_costs_nothing_when_off():
+    game = Game(load_level(LEVELS / "07_around_the_corner.toml"))
+    _run(game, 10)
+    frame = game.frame()
+    assert frame.pip is None and game.camera.cache is None  # no frustum projection was made
+    inset = game.frame(pip=True).pip
+    assert inset and all(d.key.startswith("pip-frustum:") for d in inset)  # what the switch would show
+    game.step(SWITCH)
+    main = game.frame(pip=True)
+    assert any(d.key.startswith("frustum:") for d in main.drawables)
+    assert main.pip and all(d.key.startswith("pip:") for d in main.pip)  # the cross-section, inset

@@ -117,3 +117,29 @@ def test_the_return_hands_over_to_the_cross_section_without_a_pop(tmp_path, rend
     # Measured: hand-over 0.14, largest glide step 0.49, orbit against synced 5.3.
     assert handover < 0.5
     assert max(steps) < 0.5 * _diff(orbiting, first_synced)
+
+
+def test_the_inset_is_drawn_in_its_corner_only(tmp_path, gl_ctx):
+    from across_dimensions.render.context import Offscreen
+    from across_dimensions.render.pip import draw_pip, inset_rect
+    from across_dimensions.render.renderer import Renderer
+
+    game = _game(tmp_path, 0.6, 1.0)  # off the slice: only the inset's frustum view shows it
+    game.step(Actions())
+    r = Renderer(gl_ctx)
+    with Offscreen(gl_ctx, 320, 180) as target:
+        target.use()
+        r.draw(game.frame(), target.viewport, hud=False)
+        plain = target.read_rgb().astype(np.float64)
+        frame = game.frame(pip=True)
+        r.draw(frame, target.viewport, hud=False)
+        assert draw_pip(r, frame, target.viewport, 0.3)
+        with_inset = target.read_rgb().astype(np.float64)
+    r.release()
+    x, y, w, h = inset_rect((0, 0, 320, 180), 0.3)
+    changed = np.abs(with_inset - plain).max(axis=2) > 0
+    rows = 180 - np.arange(180)[:, None] - 1  # read_rgb is top row first; GL's y grows upwards
+    inside = (np.arange(320)[None, :] >= x - 2) & (np.arange(320)[None, :] < x + w + 2)
+    inside = inside & (rows >= y - 2) & (rows < y + h + 2)
+    assert changed[inside].mean() > 0.05  # the inset (its frame at least) is there
+    assert not changed[~inside].any()  # and nothing outside it changed
