@@ -18,7 +18,9 @@ asks for the other projection under its own keys (``other=True``).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
@@ -37,15 +39,23 @@ FRUSTUM_REACH = 12.0
 
 @dataclass
 class Item:
-    """One 4D thing to project: a drawable key, its mesh and model, its centre and reach."""
+    """One 4D thing to project: a drawable key, its mesh, its centre and reach, and where it is.
+
+    ``place`` gives the object-to-world ``(5, 5)`` model when called; it is called only
+    for items that survive culling (a level's many far-off entities cost no pose).
+    """
 
     key: str
     mesh: TetMesh4
-    model: np.ndarray
+    place: Callable[[], np.ndarray]
     center: np.ndarray
     radius: float
     style: str = "solid"
     entity: int = -1
+
+    @property
+    def model(self) -> np.ndarray:
+        return self.place()
 
 
 class FrustumCache:
@@ -76,15 +86,19 @@ class FrustumCache:
 def items(game, alpha: float | None) -> list[Item]:
     """Everything 4D in ``game`` to draw: extended worlds, then entities with a mesh in spawn order."""
     out = [
-        Item(f"world:{i}", w.mesh, np.eye(5), np.zeros(4), np.inf)  # worlds span the level: never culled
+        Item(f"world:{i}", w.mesh, _identity, np.zeros(4), np.inf)  # worlds span the level: never culled
         for i, w in enumerate(game.scene.worlds)
     ]
     table = game.entity_table()
     for e, c in zip(table.entities, table.centers):
         if e.mesh is None or e.kind in INDICATOR_KINDS:
             continue
-        out.append(Item(f"entity:{e.id}", e.mesh, e.model(game, alpha), c, e.radius, e.style, e.id))
+        out.append(Item(f"entity:{e.id}", e.mesh, partial(e.model, game, alpha), c, e.radius, e.style, e.id))
     return out
+
+
+def _identity() -> np.ndarray:
+    return np.eye(5)
 
 
 def cross_sections(game, rig: CameraRig, things: list[Item], s: float, prefix: str = "") -> list[Drawable]:
