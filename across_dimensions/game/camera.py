@@ -62,6 +62,8 @@ GLIDE_FACTOR = 2.0
 #: Near hyperplane of the frustum camera, metres: a vertex closer than this along the
 #: camera's w is clipped (the camera can sit on a vertex, as at the focus point).
 FRUSTUM_NEAR = 0.05
+#: Share of the return spent gliding the camera back; the rest fades the frustum view out.
+GLIDE_SHARE = 0.7
 #: Anchor components below this (metres) are rounding left by turning there and back.
 ANCHOR_ROUNDING = 1e-9
 
@@ -293,8 +295,18 @@ class CameraRig:
         self.version += 1
 
     def return_progress(self, total_ticks: int) -> float:
-        """How far the return glide is, 0 to 1, eased."""
-        return smoothstep(self.return_ticks / max(total_ticks, 1))
+        """How far the camera's glide back is, 0 to 1, eased: it ends :data:`GLIDE_SHARE` of the
+        way through the return, so the rest of it can fade the revealed content away."""
+        return smoothstep(self.return_ticks / max(GLIDE_SHARE * total_ticks, 1.0))
+
+    def return_fade(self, total_ticks: int) -> float:
+        """How much of the frustum view is still shown at the end of a return, 1 to 0: after
+        the glide, the cross-section comes in under the frustum view, which fades out, so
+        4D content off the slice melts away instead of vanishing at the hand-over."""
+        if self.mode != "returning":
+            return 1.0
+        t = (self.return_ticks / max(total_ticks, 1) - GLIDE_SHARE) / (1.0 - GLIDE_SHARE)
+        return 1.0 - smoothstep(t)
 
     def frustum_pose(self, eye_u: np.ndarray, s: float, total_ticks: int = 1) -> tuple[np.ndarray, np.ndarray]:
         """The frustum camera's pose ``(5, 5)`` and the projection's placement in slice

@@ -124,8 +124,10 @@ def frustum_views(
     pose: np.ndarray,
     place: np.ndarray,
     prefix: str = "frustum:",
+    fade: float = 1.0,
 ) -> list[Drawable]:
-    """Detached: each item through the 4D camera at ``pose``, placed in slice space by ``place``."""
+    """Detached: each item through the 4D camera at ``pose``, placed in slice space by ``place``;
+    with ``fade < 1``, as ghosts of that opacity (over the cross-section, at the end of a return)."""
     focal = rig.focal
     keep, out = set(), []
     view = pose[:4, 3]  # the camera's w axis: where it looks
@@ -137,7 +139,10 @@ def frustum_views(
         key = prefix + it.key
         keep.add(key)
         tri, rev = cache.project(key, it.mesh, it.model, pose, rig.fov_deg)
-        out.append(Drawable(key, rev, tri, model=place, style=it.style))
+        if fade < 1.0:
+            out.append(Drawable(key, rev, tri, model=place, style="ghost", opacity=fade))
+        else:
+            out.append(Drawable(key, rev, tri, model=place, style=it.style))
     cache.keep(prefix, keep)
     return out
 
@@ -157,7 +162,13 @@ def project(game, rig: CameraRig, things: list[Item], other: bool = False) -> li
         return frustum_views(rig.cache, rig, things, pose, place, prefix="pip-frustum:")
     total = max(1, round(game.level.camera.return_time / game.dt))
     pose, place = rig.frustum_pose(p.eye(), s, total)
-    return frustum_views(rig.cache, rig, things, pose, place)
+    fade = rig.return_fade(total)
+    if fade >= 1.0:
+        return frustum_views(rig.cache, rig, things, pose, place)
+    # The end of a return: the camera is back in sync; the cross-section comes in under the
+    # fading frustum view (what lies in the slice is the same in both).
+    under = cross_sections(game, rig, things, s)
+    return under + frustum_views(rig.cache, rig, things, pose, place, fade=fade)
 
 
 __all__ = ["FrustumCache", "INDICATOR_KINDS", "Item", "cross_sections", "frustum_views", "items", "project"]

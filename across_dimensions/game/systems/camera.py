@@ -144,6 +144,20 @@ def step(game, actions):
     return None
 
 
+def ghost_weight(game) -> float:
+    """How strongly the ghosts along w show, 0 to 1: fully on the plain synced slice, not at all
+    on a turned one or while the camera is detached, fading in as a return fades the frustum
+    view out (so they do not pop in at the hand-over)."""
+    rig = game.camera
+    if not rig.aligned:
+        return 0.0
+    if rig.mode == "synced":
+        return 1.0
+    if rig.mode == "frustum":
+        return 0.0
+    return 1.0 - rig.return_fade(_return_ticks(game))
+
+
 def frustum_view(game):
     """The detached 4D camera's pose ``(5, 5)`` and its projection's placement ``(4, 4)``, or None
     while synced."""
