@@ -394,6 +394,9 @@ def test_bench_quick_prints_throughput_and_copy_baseline(cli):
     assert len(rows) >= 2, out
     # The game's own figures, each next to its baseline from the same run.
     assert re.search(r"Game\.step:\s+[\d.]+ ms per tick\s+\(baseline, no entities: [\d.]+ ms", out), out
+    # The 4D camera's modes, next to cross-section on the same scene.
+    modes = r"cross-section [\d.]+ ms\s+frustum, camera still [\d.]+ ms\s+frustum, orbiting [\d.]+ ms"
+    assert re.search(modes, out), out
     assert re.search(r"200 radar pins: HUD with energy bar and radar [\d.]+ ms\s+\(baseline, HUD alone", out) or (
         "HUD and radar: skipped" in out
     ), out

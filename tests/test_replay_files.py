@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from across_dimensions.game.actions import MAX_LOOK, Actions
+from across_dimensions.game.actions import BUTTONS, MAX_LOOK, Actions
 from across_dimensions.game.replay import FORMAT, MAX_BYTES, MAX_TICKS, ActionRuns, Replay, ReplayError, play
 from across_dimensions.game.sim import Game
 from across_dimensions.world.level import load_level
@@ -152,7 +152,7 @@ def test_action_runs_keep_signed_zeros_apart():
         ([0.0, 0.0, 0.0, -4.0, 0.0, 0], "pitch"),
         ([0.0, 0.0, 1e300, 0.0, 0.0, 0], "yaw"),
         ([0.0, 0.0, 0.0, 0.0, 0.0, -1], "buttons"),
-        ([0.0, 0.0, 0.0, 0.0, 0.0, 64], "buttons"),
+        ([0.0, 0.0, 0.0, 0.0, 0.0, 1 << len(BUTTONS)], "buttons"),  # a bit past the last button
         ([0.0, 0.0, 0.0, 0.0, 0.0, True], "buttons"),
         ([0.0, 0.0, 0.0, 0.0, 0.0, 1.0], "buttons"),
         ([True, 0.0, 0.0, 0.0, 0.0, 0], "forward"),

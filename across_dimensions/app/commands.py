@@ -266,7 +266,7 @@ def bench(args) -> int:
 
 def _bench_game(args) -> None:
     """The game's own machinery: entities and systems per tick, HUD and radar per frame."""
-    from ..game.bench import bench_collision, bench_entities
+    from ..game.bench import bench_camera, bench_collision, bench_entities
 
     _out("")
     _out("Game systems, 200 entities (100 crystals, 100 spinning 5-cells) vs the same level empty:")
@@ -299,6 +299,17 @@ def _bench_game(args) -> None:
         f"  true sections {col['section_median_ms']:.3f} ms median, {col['section_p95_ms']:.3f} ms p95   "
         f"(baseline, their bounding boxes: {col['box_median_ms']:.3f} ms median; a tick is "
         f"{col['tick_budget_ms']:.1f} ms)"
+    )
+    cam = bench_camera(cycles=2 if args.quick else 4)
+    _out("")
+    _out(f"The 4D camera on {cam['level']}, Game.step + Game.frame per tick, median (no GPU):")
+    _out(
+        f"  cross-section {cam['synced_ms']:.2f} ms   frustum, camera still {cam['frustum_still_ms']:.2f} ms   "
+        f"frustum, orbiting {cam['frustum_orbit_ms']:.2f} ms   returning {cam['returning_ms']:.2f} ms"
+    )
+    _out(
+        f"  switch tick {cam['switch_ms']:.2f} ms, hand-over tick {cam['handover_ms']:.2f} ms (slowest); "
+        f"picture in picture on: cross-section {cam['synced_pip_ms']:.2f} ms, frustum {cam['frustum_pip_ms']:.2f} ms"
     )
     try:
         from ..render.bench_ghosts import bench_ghosts

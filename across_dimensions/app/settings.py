@@ -25,6 +25,8 @@ Settings live in one TOML file, ``settings.toml`` in the per-user config folder
     mute = false                 # the mute key toggles it while playing
     colour_blind = false         # a palette that never tells things apart by red and green alone
     render_scale = "auto"        # 0.5 to 1.0: draw at this fraction of the window, upscaled; "auto" from the GPU
+    pip = false                  # the inset with the other projection (a key toggles it)
+    pip_size = 0.3               # its height, a fraction of the window's
 
     [bindings]                   # only the actions that differ from the preset
     jump = ["SPACE", "MOUSE_RIGHT"]
@@ -116,6 +118,22 @@ ACTION_DESCRIPTIONS: dict[str, str] = {
     "toggle_ghosts": "Show or hide the ghosts of what lies just off the slice along w",
     "hints": "Dismiss the hint on screen, or show the level's hints again",
     "toggle_mute": "Mute or unmute the sound",
+    "turn_xw_pos": "Hold: turn the slice in the xw plane (x towards +w)",
+    "turn_xw_neg": "Hold: turn the slice in the xw plane (x towards -w)",
+    "turn_yw_pos": "Hold: turn the slice in the yw plane (y towards +w)",
+    "turn_yw_neg": "Hold: turn the slice in the yw plane (y towards -w)",
+    "turn_zw_pos": "Hold: turn the slice in the zw plane (z towards +w)",
+    "turn_zw_neg": "Hold: turn the slice in the zw plane (z towards -w)",
+    "snap_slice": "Turn the slice back to the nearest 90-degree step",
+    "step_xw_pos": "Turn the slice 90 degrees in the xw plane",
+    "step_xw_neg": "Turn the slice 90 degrees back in the xw plane",
+    "step_yw_pos": "Turn the slice 90 degrees in the yw plane",
+    "step_yw_neg": "Turn the slice 90 degrees back in the yw plane",
+    "step_zw_pos": "Turn the slice 90 degrees in the zw plane",
+    "step_zw_neg": "Turn the slice 90 degrees back in the zw plane",
+    "orbit_left": "Hold, in frustum view: move the 4D camera one way round the focus point",
+    "orbit_right": "Hold, in frustum view: move the 4D camera the other way round the focus point",
+    "toggle_pip": "Show or hide the inset with the other projection (picture in picture)",
 }
 
 #: The bindable action names, in menu order.
@@ -207,6 +225,22 @@ _COMMON = {
     "toggle_ghosts": ("V",),
     "hints": ("H",),
     "toggle_mute": ("M",),
+    "turn_xw_pos": ("L",),
+    "turn_xw_neg": ("J",),
+    "turn_yw_pos": ("O",),
+    "turn_yw_neg": ("U",),
+    "turn_zw_pos": ("I",),
+    "turn_zw_neg": ("K",),
+    "snap_slice": ("N",),
+    "step_xw_pos": ("_4",),
+    "step_xw_neg": ("_5",),
+    "step_yw_pos": ("_6",),
+    "step_yw_neg": ("_7",),
+    "step_zw_pos": ("_9",),
+    "step_zw_neg": ("_0",),
+    "orbit_left": ("COMMA",),
+    "orbit_right": ("PERIOD",),
+    "toggle_pip": ("P",),
 }
 
 #: Base key layouts. pyglet reports key *symbols*, which follow the keyboard
@@ -332,6 +366,8 @@ _RULES: dict[str, _Rule] = {
     "mute": _Rule("true or false", _boolean),
     "colour_blind": _Rule("true or false", _boolean),
     "render_scale": _Rule('"auto" or a number from 0.5 to 1.0 (fraction of the window drawn, then upscaled)', None),
+    "pip": _Rule("true or false", _boolean),
+    "pip_size": _Rule("a fraction of the window's height from 0.1 to 0.5", _number(0.1, 0.5)),
 }
 
 
@@ -438,6 +474,11 @@ class Settings:
         1.0), then upscaled: a software rasterizer trades resolution for frame
         rate. ``"auto"`` picks from the GL renderer (lower for llvmpipe and
         softpipe; see :func:`across_dimensions.render.scale.default_render_scale`).
+    pip : bool
+        Start with the picture-in-picture on: a small inset showing the other projection
+        (frustum while the game shows the cross-section, and the other way round).
+    pip_size : float
+        The inset's height as a fraction of the window's, in [0.1, 0.5].
 
     Raises
     ------
@@ -469,6 +510,8 @@ class Settings:
     mute: bool = False
     colour_blind: bool = False
     render_scale: float | str = "auto"
+    pip: bool = False
+    pip_size: float = 0.3
 
     def __post_init__(self) -> None:
         for name, rule in _RULES.items():

@@ -70,6 +70,8 @@ EVENT_SOUNDS: dict[str, str | None] = {
     "player_died": "respawn",
     "loot_released": "pickup",
     "checkpoint_reached": "arrive",
+    "camera_switched": "field",
+    "slice_aligned": "arrive",
 }
 
 

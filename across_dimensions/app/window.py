@@ -28,13 +28,14 @@ import pyglet
 
 from ..core.errors import InputError
 from ..core.fileio import FileProblem, check_folder
-from ..game.actions import MAX_PRESSES, PRESSES, Actions
+from ..game.actions import CAMERA_BUTTONS, MAX_PRESSES, PRESSES, Actions
 from ..game.replay import Recorder
 from ..game.sim import DT, Game, RadarView
 from ..game.systems.ghosts import GhostView
 from ..render.context import Offscreen, RenderError, wrap_current_context
 from ..render.debug_draw import DebugOverlay
 from ..render.menu import MenuRenderer, hit
+from ..render.pip import draw_pip
 from ..render.renderer import Renderer
 from ..render.scale import ScaledTarget, resolve_render_scale
 from ..world.campaign import CampaignEntry, CampaignError, load_campaign, next_in_campaign
@@ -159,6 +160,7 @@ class GameWindow(pyglet.window.Window):
         self.record_path = record
         self.recorder: Recorder | None = None
         self.show_fps = settings.show_fps
+        self.pip_on = settings.pip  # the picture-in-picture inset (render/pip.py)
         self.debug_overlay: DebugOverlay | None = None  # made on first use, drawn while on
         self.show_debug_draw = False
         self.ghost_view = GhostView(
@@ -435,6 +437,7 @@ class GameWindow(pyglet.window.Window):
             switch_camera=self.held("switch_camera"),
             manipulate=self.held("manipulate"),
             next_weapon=self.held("next_weapon"),
+            **{b: self.held(b) for b in CAMERA_BUTTONS},
             presses=Actions.count_presses(self.presses),
         ).clamped()
         self.presses.clear()
@@ -528,6 +531,9 @@ class GameWindow(pyglet.window.Window):
             self.set_fullscreen(not self.fullscreen)
         elif action == "toggle_fps":
             self.show_fps = not self.show_fps
+        elif action == "toggle_pip":
+            self.pip_on = not self.pip_on
+            self.say("Picture in picture on" if self.pip_on else "Picture in picture off", 1.5)
         elif action == "toggle_ghosts":
             self.ghost_view.enabled = not self.ghost_view.enabled
             self.say("Ghosts on" if self.ghost_view.enabled else "Ghosts off", 1.5)
@@ -667,7 +673,7 @@ class GameWindow(pyglet.window.Window):
 
     def current_frame(self):
         """The game's frame with the app's HUD additions (fps, pause, notices)."""
-        frame = self.game.frame(alpha=self.accumulator / DT, fov_y_deg=self.settings.fov_deg)
+        frame = self.game.frame(alpha=self.accumulator / DT, fov_y_deg=self.settings.fov_deg, pip=self.pip_on)
         hud = frame.hud
         if hud.message:  # the game's prompts name actions ({manipulate}); show the player's keys
             hud.message = self.with_keys(hud.message)
@@ -749,6 +755,8 @@ class GameWindow(pyglet.window.Window):
                 self.renderer.draw(frame, viewport, hud=playing)
                 if playing:
                     self._debug_draw(frame, viewport)
+            if playing and self.pip_on:
+                draw_pip(self.renderer, frame, viewport, self.settings.pip_size)
         else:
             target.use()
             self.ctx.clear(0.02, 0.03, 0.06, 1.0)

@@ -19,7 +19,24 @@ from dataclasses import dataclass, fields, replace
 
 # Button actions packed into one integer per tick in replays. Append only:
 # a bit's meaning must never change once replays exist.
-BUTTONS = ("jump", "fire", "alt_fire", "switch_camera", "manipulate", "next_weapon")
+BUTTONS = (
+    "jump",
+    "fire",
+    "alt_fire",
+    "switch_camera",
+    "manipulate",
+    "next_weapon",
+    "turn_xw_pos",
+    "turn_xw_neg",
+    "turn_yw_pos",
+    "turn_yw_neg",
+    "turn_zw_pos",
+    "turn_zw_neg",
+    "orbit_left",
+    "orbit_right",
+)
+#: The held buttons that turn the slice (xw, yw, zw; positive then negative) and move the orbit.
+CAMERA_BUTTONS = BUTTONS[6:]
 #: Largest look change in one tick, radians, for yaw and for pitch alike. Half a
 #: turn per tick is far beyond any mouse (a flick of 180 degrees in 1/60 s), and
 #: a bound keeps a hand-edited replay from feeding the simulation 1e300 radians.
@@ -37,6 +54,13 @@ PRESSES = (
     "weapon_3",
     "seek",
     "seek_jump",
+    "snap_slice",
+    "step_xw_pos",
+    "step_xw_neg",
+    "step_yw_pos",
+    "step_yw_neg",
+    "step_zw_pos",
+    "step_zw_neg",
 )
 #: Most presses of one action in one tick that a replay may carry (a key repeat
 #: or a wheel spin gives a few; more is a corrupt file).
@@ -63,6 +87,10 @@ class Actions:
         Motion along the fourth axis in [-1, 1] (+1 is ana, +w).
     jump, fire, alt_fire, switch_camera, manipulate, next_weapon : bool
         Buttons; true on the ticks they are held.
+    turn_xw_pos, turn_xw_neg, turn_yw_pos, turn_yw_neg, turn_zw_pos, turn_zw_neg : bool
+        Held: turn the slice in that plane (the paper's t, u, v), one way or the other.
+    orbit_left, orbit_right : bool
+        Held: move the detached 4D camera along its orbit round the focus point.
     presses : tuple of (str, int)
         One-shot actions pressed since the last tick and how often, in
         :data:`PRESSES` order (build it with :meth:`count_presses`; read it
@@ -84,6 +112,14 @@ class Actions:
     switch_camera: bool = False
     manipulate: bool = False
     next_weapon: bool = False
+    turn_xw_pos: bool = False
+    turn_xw_neg: bool = False
+    turn_yw_pos: bool = False
+    turn_yw_neg: bool = False
+    turn_zw_pos: bool = False
+    turn_zw_neg: bool = False
+    orbit_left: bool = False
+    orbit_right: bool = False
     presses: tuple = ()
 
     def pressed(self, action: str) -> int:

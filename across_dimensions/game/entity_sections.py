@@ -17,7 +17,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.section_batch import SectionBatch
-from ..core.transform import translation
 from .frame import Drawable, Frame, TriangleBatch
 
 #: Widest window shape culling allows for (width / height): the frame does not
@@ -32,13 +31,17 @@ W_CUED = ("solid", "glow")
 ALPHA = 9
 
 
-def w_offset(mesh, model: np.ndarray, w: float) -> float:
-    """Where the slice at ``w`` cuts a thing along w: 0 mid-way through its w extent, -1 or 1 at
-    its ends (the renderer's w cue). The extent is the posed mesh's, so a turning thing's changes."""
-    ws = mesh.vertices @ model[3, :4].astype(np.float32) + np.float32(model[3, 4])
+def w_offset(mesh, model: np.ndarray, camera: np.ndarray) -> float:
+    """Where the slice cuts a thing along the slice's normal: 0 mid-way through its extent
+    that way, -1 or 1 at its ends (the renderer's w cue; + when the thing lies ana).
+
+    ``camera`` is the slice's camera-to-world pose ``(5, 5)`` (its ``w = 0`` hyperplane is the
+    slice). The extent is the posed mesh's, so a turning thing's changes."""
+    row = np.linalg.solve(np.asarray(camera, np.float64), np.asarray(model, np.float64))[3]  # camera space
+    ws = mesh.vertices @ row[:4].astype(np.float32) + np.float32(row[4])
     lo, hi = float(ws.min()), float(ws.max())
     half = 0.5 * (hi - lo)
-    return (0.5 * (lo + hi) - w) / half if half > 0.0 else 0.0
+    return 0.5 * (lo + hi) / half if half > 0.0 else 0.0
 
 
 def view_planes(camera, aspect: float = CULL_ASPECT) -> np.ndarray:
@@ -58,14 +61,15 @@ class EntitySections:
         self.batches: dict[str, SectionBatch] = {}
         self._sliced: dict[int, bool] = {}  # entity id -> its section is non-empty (or, culled by view: reaches w)
 
-    def draw(self, frame: Frame, entities, models, w: float, sections) -> None:
-        """Slice ``entities`` (placed by ``models``) at ``w`` and add one batch per style to ``frame``.
+    def draw(self, frame: Frame, entities, models, camera: np.ndarray, sections) -> None:
+        """Slice ``entities`` (placed by ``models``) by the slice whose camera-to-world pose is
+        ``camera`` (``(5, 5)``; ``translation((0, 0, 0, w))`` for the plain slice at ``w``) and add
+        one batch per style to ``frame``.
 
         ``"wire"`` entities (outlines) are drawn one drawable each, sliced through
         ``sections`` (a :class:`~across_dimensions.world.scene.SectionCache`): the
         renderer derives their edges per mesh.
         """
-        camera = translation((0.0, 0.0, 0.0, w))
         planes = view_planes(frame.camera)
         by_style: dict[str, list] = {}
         for e, m in zip(entities, models):
@@ -85,7 +89,7 @@ class EntitySections:
                 start, count = batch.instance_rows(i)
                 self._sliced[i] = count > 0 or batch.culled_by_view(i)
                 if count and start >= batch.changed_from and style in W_CUED:
-                    rows[start : start + count, ALPHA] = w_offset(e.mesh, m, w)
+                    rows[start : start + count, ALPHA] = w_offset(e.mesh, m, camera)
             frame.batches.append(
                 TriangleBatch(
                     f"entities:{style}",
@@ -98,7 +102,7 @@ class EntitySections:
             )
         sections.keep("draw:", {f"draw:{e.id}" for e, _ in wires})
         for e, m in wires:
-            tri, rev = sections.section(f"draw:{e.id}", e.mesh, m, w)
+            tri, rev = sections.section(f"draw:{e.id}", e.mesh, m, camera)
             frame.drawables.append(Drawable(f"entity:{e.id}", rev, tri, style="wire"))
             self._sliced[e.id] = not tri.is_empty
 

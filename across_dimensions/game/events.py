@@ -414,8 +414,41 @@ class LootReleased(Event):
 
 
 @dataclass(frozen=True)
+class CameraSwitched(Event):
+    """The 4D camera changed mode.
+
+    Attributes
+    ----------
+    mode : str
+        The new mode: ``"frustum"`` (detached), ``"returning"`` (gliding back) or
+        ``"synced"`` (cross-section again).
+    reason : str
+        ``"key"`` (the switch key), ``"energy"`` (the bar ran dry) or ``"arrived"``
+        (the glide back ended).
+    """
+
+    kind: ClassVar[str] = "camera_switched"
+    mode: str
+    reason: str
+
+
+@dataclass(frozen=True)
 class CheckpointReached(Event):
     """The player touched a checkpoint: dying now brings them back there."""
 
     kind: ClassVar[str] = "checkpoint_reached"
     name: str
+
+
+@dataclass(frozen=True)
+class SliceAligned(Event):
+    """A 90-degree step or a snap of the slice landed exactly on the axes.
+
+    Attributes
+    ----------
+    angles : tuple of float
+        The slice's x, y and z axes' angles towards w, degrees (multiples of 90).
+    """
+
+    kind: ClassVar[str] = "slice_aligned"
+    angles: tuple

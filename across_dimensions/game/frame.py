@@ -154,6 +154,7 @@ class Hud:
     damage_flash: float = 0.0  # 1 when the player is hit, fading to 0 (the view flashes red)
     damage_dir: float | None = None  # where the last hit came from: radians from straight ahead, + to the right
     labels: list = field(default_factory=list)  # ScreenLabel: text placed next to a thing on screen
+    slice: SliceGauges | None = None  # the 4D camera's gauges, in levels with a [camera] table
 
 
 @dataclass(frozen=True)
@@ -208,6 +209,26 @@ class WeaponPanel:
     refused: str = ""
     live: int = -1
     ammo: int = -1
+
+
+@dataclass(frozen=True)
+class SliceGauges:
+    """How the slice is turned, and what the 4D camera is doing (three small gauges).
+
+    Parameters
+    ----------
+    angles : (float, float, float)
+        The slice's x, y and z axes' angles towards w, degrees in [-180, 180]; 0 is the
+        plain slice, a multiple of 90 an axis-aligned one.
+    mode : str
+        ``"synced"``, ``"frustum"`` or ``"returning"``.
+    orbit : float
+        The frustum camera's orbit angle, degrees.
+    """
+
+    angles: tuple
+    mode: str = "synced"
+    orbit: float = 0.0
 
 
 #: Pin kinds the radar draws, each with its own head shape (never colour alone).
@@ -276,6 +297,7 @@ class Frame:
     sky: str = "flat"  # "flat": one colour (sky_color); "dome": the renderer's procedural sky
     time: float = 0.0  # seconds of play, for animated shading (pulses, bands); never read by the game
     batches: list = field(default_factory=list)  # TriangleBatch: many objects, one draw call per pass
+    pip: list[Drawable] | None = None  # the other projection of the same moment (picture in picture), if asked
 
 
 @dataclass(frozen=True)

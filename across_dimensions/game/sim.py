@@ -25,6 +25,8 @@ from ..world.level import Level
 from ..world.scene import Scene, SectionCache, build_physics, build_scene
 from . import health
 from .actions import Actions
+from .camera import CameraRig
+from .camera import state_bytes as camera_state_bytes
 from .enemies import state_bytes as enemy_state_bytes
 from .energy import EnergyBar
 from .entities import EntityStore, EntityTable, Rigid, Scripted, reach
@@ -33,6 +35,7 @@ from .events import Event
 from .frame import Camera3, Frame, Hud
 from .player import HALF_WIDTH, HEIGHT, Player
 from .player_bodies import bodies_block
+from .projection import items, project
 from .section_collision import MeshParts, triangles_of
 from .systems import SYSTEMS, crystals, manipulation
 
@@ -93,6 +96,8 @@ class Game:
         self._colliders: dict[float, np.ndarray] = {}
         self._sections: dict[float, list] = {}
         self._triangles: dict[str, tuple] = {}  # section key -> (TriMesh3, its (t, 3, 3) triangles)
+        # The 4D camera: the plain axis-aligned slice until a level lets the player turn it.
+        self.camera = CameraRig(fov_deg=level.camera.fov)
         self.pose_version = 0  # bumped by systems that move solid objects within a tick (manipulation)
         self.entity_of_body: dict[int, int] = {}
         for i, obj in enumerate(self.scene.objects):
@@ -180,11 +185,19 @@ class Game:
         self._fresh_colliders()
         boxes = self._colliders.get(w)
         if boxes is None:
-            boxes = np.concatenate([self.scene.static_boxes, self.scene.world_boxes_at(w)])
+            worlds = self.scene.world_boxes_at(w)
+            if not self.camera.aligned:  # a turned slice cuts the worlds slantwise: by their sections
+                worlds = np.full_like(worlds, np.nan)
+            boxes = np.concatenate([self.scene.static_boxes, worlds])
             if len(self.meshes):
                 boxes[self.meshes.rows] = np.nan  # meshes collide by their surfaces (sections_at)
             self._colliders[w] = boxes
         return boxes
+
+    def slice_of(self, w: float):
+        """The slice at offset ``w`` as the section cache takes it: ``w`` itself on the plain
+        axis-aligned slice, the turned slice's pose otherwise (see :mod:`.camera`)."""
+        return self.camera.slice_of(w)
 
     def sections_at(self, w: float) -> list:
         """The triangles of each solid 4D object's section at ``w``: one
@@ -204,22 +217,24 @@ class Game:
         return found
 
     def _fresh_colliders(self) -> None:
-        key = (self.tick, self.entities.version, self.pose_version)
+        key = (self.tick, self.entities.version, self.pose_version, self.camera.version)
         if self._colliders_key != key:
             self._colliders_key, self._colliders, self._sections = key, {}, {}
 
     def _sections_now(self, w: float) -> list:
         out = []
         feet = self.player.position
+        cam = self.camera
         for e in self.entities:
             if not e.solid:
                 continue
             key = f"tick:{e.id}"
             # Only what the player can touch this tick needs its section: within its
             # reach of the player's box in space, and of the slice in w.
-            near = np.all(np.abs(e.center(self)[:3] - feet[:3]) <= e.radius + COLLIDE_MARGIN)
-            if near and e.reaches_slice(self, w):
-                tri, _ = self.sections.section(key, e.mesh, e.model(self), w)
+            c = cam.to_slice(e.center(self))  # slice space (the entity's own centre while aligned)
+            near = np.all(np.abs(c[:3] - feet[:3]) <= e.radius + COLLIDE_MARGIN)
+            if near and abs(float(c[3]) - w) <= e.radius:
+                tri, _ = self.sections.section(key, e.mesh, e.model(self), cam.slice_of(w))
                 cached = self._triangles.get(key)
                 if cached is None or cached[0] is not tri:  # a new section: its triangles once
                     cached = self._triangles[key] = (tri, triangles_of(tri))
@@ -228,6 +243,16 @@ class Game:
                 self.sections.forget(key)
                 self._triangles.pop(key, None)
                 out.append(np.zeros((0, 3, 3)))
+        if not cam.aligned:
+            # The extended worlds' boxes stand for their sections only on the plain slice;
+            # a turned slice collides with their true sections instead.
+            for i, world in enumerate(self.scene.worlds):
+                key = f"tick:world:{i}"
+                tri, _ = self.sections.section(key, world.mesh, np.eye(5), cam.slice_of(w))
+                cached = self._triangles.get(key)
+                if cached is None or cached[0] is not tri:
+                    cached = self._triangles[key] = (tri, triangles_of(tri))
+                out.append(cached[1])
         out += self.meshes.triangles_at(w, feet, COLLIDE_MARGIN)  # after the entities
         return out
 
@@ -288,11 +313,15 @@ class Game:
             h.update(self.physics.state_bytes())
         h.update(manipulation.state_bytes(self))  # nothing when the level has no manipulable object
         h.update(enemy_state_bytes(self))  # nothing when the level has no enemies and no health
+        h.update(camera_state_bytes(self.camera))  # nothing while the slice rests axis-aligned
         return h.hexdigest()[:16]
 
     # ------------------------------------------------------------------ frame
-    def frame(self, alpha: float = 1.0, fov_y_deg: float = 75.0) -> Frame:
-        """What to draw, the camera ``alpha`` of the way from the last tick: every system's ``draw``."""
+    def frame(self, alpha: float = 1.0, fov_y_deg: float = 75.0, pip: bool = False) -> Frame:
+        """What to draw, the camera ``alpha`` of the way from the last tick: every system's ``draw``.
+
+        With ``pip``, ``frame.pip`` also holds the 4D content in the projection the camera is
+        not in (the picture-in-picture); without it nothing of that is computed."""
         p = self.player
         eye = self._prev_eye + alpha * (p.eye() - self._prev_eye)
         dyaw = (p.yaw - self._prev_view[0] + np.pi) % (2 * np.pi) - np.pi
@@ -305,6 +334,8 @@ class Game:
         for system in SYSTEMS:
             if hasattr(system, "draw"):
                 system.draw(self, frame, alpha)
+        if pip:
+            frame.pip = project(self, self.camera, items(self, alpha), other=True)
         return frame
 
 

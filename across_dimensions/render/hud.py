@@ -23,6 +23,10 @@ Layout (pixels, origin top-left, ``W x H`` the viewport):
   round the crosshair;
 * radar (drawn by :mod:`.radar`, not here): the rectangle :meth:`HudMetrics.radar_rect`,
   bottom-right but left of the w indicator;
+* slice gauges (when ``hud.slice`` is not None): top centre, three small tracks
+  ``XW YW ZW``, each with ticks at -90, 0 and +90 degrees and a marker at the slice
+  axis's angle towards w (green on a 90-degree step), and under them the 4D
+  camera's mode (``FRUSTUM 25`` with the orbit angle, ``RETURNING``) when detached;
 * FPS (when not None): top-left;
 * message: centred horizontally, a third of the way down, on a dark band
   (wrapped to fit);
@@ -51,7 +55,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from ..game.frame import EnergyGauge, HealthGauge, Hud, Radar, WeaponPanel
+from ..game.frame import EnergyGauge, HealthGauge, Hud, Radar, SliceGauges, WeaponPanel
 from .font import CELL_W, GLYPH_H, GLYPH_W, default_font, font_px, solid_uv
 from .font import text_width as text_width
 
@@ -89,6 +93,9 @@ HEALTH_TRACK_COLOR = (1.0, 0.4, 0.35, 0.18)
 HEALTH_SAFE_COLOR = (0.6, 0.9, 1.0, 1.0)
 DAMAGE_FLASH_COLOR = (0.9, 0.05, 0.0, 0.35)
 DAMAGE_CUE_COLOR = (1.0, 0.2, 0.1, 0.9)
+SLICE_MARKER_COLOR = (1.0, 0.75, 0.15, 1.0)
+SLICE_ALIGNED_COLOR = (0.45, 1.0, 0.55, 1.0)
+SLICE_MODE_COLOR = (0.6, 0.9, 1.0, 1.0)
 #: Width over height of the radar's rectangle (the radar view fits itself to it).
 RADAR_ASPECT = 0.95
 
@@ -321,6 +328,10 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
         rng = f"{radar.range:.0f} m"
         q.text(rng, rx + rw - text_width(rng, s) - s, ry + rh - GLYPH_H * s - s, s, RADAR_LABEL_COLOR)
 
+    # --- slice gauges (top centre)
+    if hud.slice is not None:
+        _slice_gauges(q, hud.slice, m)
+
     # --- FPS (top-left)
     if hud.fps is not None:
         q.text(f"{hud.fps:.0f} FPS", m.margin // 2, m.margin // 2, s, FPS_COLOR)
@@ -502,6 +513,40 @@ def _screen_label(q: _QuadList, label, m: HudMetrics) -> None:
     q.rect(x, y, bw, bh, BAND_COLOR)
     for i, ln in enumerate(label.text.split("\n")):
         q.text(ln, x + 4 * s, y + s + i * (GLYPH_H + 3) * s, s, TEXT_COLOR)
+
+
+def slice_marker_x(angle_deg: float, x0: int, width: int) -> int:
+    """Pixel column of a slice gauge's marker: -180 degrees at ``x0``, +180 at ``x0 + width``."""
+    t = (min(max(angle_deg, -180.0), 180.0) + 180.0) / 360.0
+    return int(round(x0 + t * width))
+
+
+def _slice_gauges(q: _QuadList, g: SliceGauges, m: HudMetrics) -> None:
+    s = m.text_scale
+    gw = max(24, m.width // 12)
+    gh = max(3, m.height // 150)
+    label_w = text_width("XW", s) + 2 * s
+    total = 3 * (label_w + gw) + 2 * m.margin
+    x = (m.width - total) // 2
+    # Bottom centre, above the warning line: the top centre is the hint panel's.
+    y = m.height - m.margin - 2 * (GLYPH_H + 4) * s - gh
+    for name, angle in zip(("XW", "YW", "ZW"), g.angles):
+        q.text(name, x, y - (GLYPH_H * s - gh) // 2, s, TEXT_COLOR)
+        x0 = x + label_w
+        q.rect(x0 - 1, y - 1, gw + 2, gh + 2, OUTLINE_COLOR)
+        q.rect(x0, y, gw, gh, TRACK_COLOR)
+        for tick in (-90.0, 0.0, 90.0):
+            tx = slice_marker_x(tick, x0, gw)
+            q.rect(tx - m.thickness // 2, y - gh // 2, m.thickness, 2 * gh, TICK_COLOR)
+        aligned = abs(angle - 90.0 * round(angle / 90.0)) < 0.5
+        mx = slice_marker_x(angle, x0, gw)
+        mw = max(2, gh)
+        q.rect(mx - mw // 2 - 1, y - gh - 1, mw + 2, 3 * gh + 2, OUTLINE_COLOR)
+        q.rect(mx - mw // 2, y - gh, mw, 3 * gh, SLICE_ALIGNED_COLOR if aligned else SLICE_MARKER_COLOR)
+        x = x0 + gw + m.margin
+    if g.mode != "synced":
+        text = f"FRUSTUM {g.orbit:+.0f}" if g.mode == "frustum" else "RETURNING"
+        q.text(text, (m.width - text_width(text, s)) // 2, y - 2 * gh - (GLYPH_H + 3) * s, s, SLICE_MODE_COLOR)
 
 
 def weapon_text(panel: WeaponPanel) -> str:

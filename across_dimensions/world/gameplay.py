@@ -144,6 +144,21 @@ GHOSTS_TABLE = {
 SEEK_TABLE = {
     "enabled": Field("bool", default=True),
 }
+#: The 4D camera: how fast the slice turns and the orbit moves, the frustum camera's field of view.
+TURN_SPEED = Range(1.0, 720.0, "degrees/s")
+CAMERA_FOV = Range(10.0, 150.0, "degrees")
+FOCUS_DISTANCE = Range(0.5, 100.0, "m")
+RETURN_TIME = Range(0.1, 10.0, "s")
+CAMERA_TABLE = {
+    "turn": Field("bool", default=True),
+    "turn_speed": Field("number", default=60.0, range=TURN_SPEED, sign="positive"),
+    "frustum": Field("bool", default=False),
+    "frustum_cost": Field("number", default=1.0, range=ENERGY, sign="nonnegative"),
+    "fov": Field("number", default=60.0, range=CAMERA_FOV, sign="positive"),
+    "focus_distance": Field("number", default=4.0, range=FOCUS_DISTANCE, sign="positive"),
+    "orbit_speed": Field("number", default=45.0, range=TURN_SPEED, sign="positive"),
+    "return_time": Field("number", default=1.0, range=RETURN_TIME, sign="positive"),
+}
 #: Which of the tables below are arrays of tables (``[[crystal]]``); the others are single tables.
 ARRAY_TABLES = ("crystal", "weapon", "target", "manipulable", "enemy", "animation", "checkpoint")
 #: The tables format 2 adds, by top-level key.
@@ -156,6 +171,7 @@ MODELS = {
     "manipulable": MANIPULABLE_TABLE,
     "ghosts": GHOSTS_TABLE,
     "seek": SEEK_TABLE,
+    "camera": CAMERA_TABLE,
 }
 
 
@@ -214,6 +230,43 @@ class SeekSpec:
     """``[seek]``: whether the seek key works in this level. On when the table is absent."""
 
     enabled: bool = True
+
+
+@dataclass
+class CameraSpec:
+    """``[camera]``: what the player may do with the 4D camera. Absent: nothing (the slice
+    stays axis-aligned, no frustum projection).
+
+    ``turn``: the slice may be turned in the xw, yw and zw planes at ``turn_speed`` degrees/s
+    (90-degree steps and the snap glide at twice that). ``frustum``: the switch key detaches
+    the 4D camera into frustum projection, paid ``frustum_cost`` energy per second while
+    detached; ``fov`` is its field of view (degrees), ``focus_distance`` how far ahead of the
+    eye the orbit's focus point is set (metres), ``orbit_speed`` degrees/s, ``return_time`` the
+    glide back in seconds.
+    """
+
+    enabled: bool = False
+    turn: bool = False
+    turn_speed: float = 60.0
+    frustum: bool = False
+    frustum_cost: float = 1.0
+    fov: float = 60.0
+    focus_distance: float = 4.0
+    orbit_speed: float = 45.0
+    return_time: float = 1.0
+
+    @property
+    def frustum_cost_milli(self) -> int:
+        """Energy per second while detached, thousandths."""
+        return int(round(self.frustum_cost * MILLI))
+
+
+def read_camera(r, data) -> CameraSpec:
+    """The ``[camera]`` table (``CameraSpec()``, nothing enabled, when absent)."""
+    v = _table_values(r, data, "camera", CAMERA_TABLE)
+    if v is None:
+        return CameraSpec()
+    return CameraSpec(True, **{k: v[k] for k in CAMERA_TABLE})
 
 
 def _table_values(r, data, key: str, model: dict) -> dict | None:

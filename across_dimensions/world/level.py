@@ -295,6 +295,7 @@ class Level:
     enemies: list[gameplay.EnemySpec] = field(default_factory=list)
     checkpoints: list[gameplay.CheckpointSpec] = field(default_factory=list)
     health: gameplay.HealthSpec | None = None  # None: the player cannot be hurt
+    camera: gameplay.CameraSpec = field(default_factory=gameplay.CameraSpec)
 
     @property
     def bodies(self) -> int:
@@ -849,6 +850,7 @@ def load_level(path, source: bytes | None = None) -> Level:
     enemies = gameplay.read_enemies(r, data, animations, {o.name for o in objects})
     checkpoints = gameplay.read_checkpoints(r, data, w_range if w_ok else None)
     health = gameplay.read_health(r, data, bool(enemies))
+    camera = gameplay.read_camera(r, data)
 
     if r.problems:
         raise LevelError(path, r.problems)
@@ -881,4 +883,5 @@ def load_level(path, source: bytes | None = None) -> Level:
         enemies=enemies,
         checkpoints=checkpoints,
         health=health,
+        camera=camera,
     )

@@ -310,6 +310,13 @@ def build_physics(scene: Scene, tick_dt: float):
     return world, body_of
 
 
+def _same_slice(a, b) -> bool:
+    """Are two slices (each a w or a (5, 5) pose) the same?"""
+    if np.ndim(a) == 0 and np.ndim(b) == 0:
+        return a == b
+    return np.ndim(a) == np.ndim(b) and np.array_equal(a, b)
+
+
 class SectionCache:
     """Cross-sections recomputed only when the object or the hyperplane moved.
 
@@ -321,14 +328,19 @@ class SectionCache:
         self._entries: dict[str, tuple] = {}
         self.computed = 0
 
-    def section(self, key: str, mesh: TetMesh4, model: np.ndarray, w: float) -> tuple[TriMesh3, int]:
-        """Section of ``mesh`` placed by ``model`` at the slice ``w``; world xyz frame."""
+    def section(self, key: str, mesh: TetMesh4, model: np.ndarray, w) -> tuple[TriMesh3, int]:
+        """Section of ``mesh`` placed by ``model`` at the slice ``w``; world xyz frame.
+
+        ``w`` is the slice's w (a number), or the ``(5, 5)`` pose of a turned slice
+        (``game.camera.slice_of``); the section is then in the slice's own xyz frame.
+        """
         entry = self._entries.get(key)
-        if entry is not None and entry[0] == w and np.array_equal(entry[1], model):
+        if entry is not None and _same_slice(entry[0], w) and np.array_equal(entry[1], model):
             return entry[2], entry[3]
-        tri = cross_section(mesh, translation((0.0, 0.0, 0.0, w)), model)
+        turned = np.ndim(w) != 0
+        tri = cross_section(mesh, np.asarray(w, dtype=np.float64) if turned else translation((0.0, 0.0, 0.0, w)), model)
         rev = 0 if entry is None else entry[3] + 1
-        self._entries[key] = (w, np.array(model, copy=True), tri, rev, None)
+        self._entries[key] = (np.array(w, copy=True) if turned else w, np.array(model, copy=True), tri, rev, None)
         self.computed += 1
         return tri, rev
 

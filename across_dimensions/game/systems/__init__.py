@@ -22,6 +22,7 @@ in module globals, so two games never share anything.
 
 from . import (
     bullets,
+    camera,
     crystals,
     enemies,
     energy,
@@ -40,7 +41,8 @@ from . import (
     weapons,
 )
 
-#: Tick order: energy first (new tick); seek reads its presses before the player moves
+#: Tick order: energy first (new tick); the 4D camera (turning the slice, the frustum
+#: switch; it holds the w keys while detached); seek reads its presses before the player moves
 #: (the glide starts on the tick of the press); manipulation (it turns objects and takes
 #: the walking keys while one is held); the player moves, pushes bodies; weapons fire and
 #: steer bullets before physics runs, bullets read its contacts after; enemies (the blast, bullet
@@ -49,6 +51,7 @@ from . import (
 #: then the ghosts along w, after everything solid.
 SYSTEMS = (
     energy,
+    camera,
     seek,
     manipulation,
     player,

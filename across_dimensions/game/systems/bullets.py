@@ -2,7 +2,8 @@
 
 A bullet's first contact ends its prescribed flight (from then on physics moves
 it: it pushes what it hit, falls and rolls). A bullet whose centre comes within
-a target's size plus its own radius hits the target and is spent: the
+a target's size plus its own radius hits the target and is spent (and, while the 4D
+camera is detached, a bullet whose frustum image overlaps the target's image): the
 target's door (the object named by ``opens``) is removed. A bullet is removed after its lifetime or
 once it sleeps; the blast's finished pulls are settled here too.
 """
@@ -13,6 +14,7 @@ import numpy as np
 
 from .. import weapons as wp
 from ..events import BulletHit, TargetHit
+from . import camera
 
 
 def _contacts(game, ars) -> None:
@@ -48,7 +50,10 @@ def _targets(game, ars) -> None:
     for eid in list(ars.bullets):
         b = game.entities.get(eid)
         d = np.linalg.norm(tc - b.center(game), axis=1)
-        for k in np.flatnonzero(d <= tr + b.radius)[:1]:  # the nearest in firing order is enough
+        # While the 4D camera is detached, what the player sees is what is hit: a bullet
+        # whose frustum image overlaps a target's image hits it too (around corners).
+        touching = (d <= tr + b.radius) | camera.seen_touching(game, b.center(game), b.radius, tc, tr)
+        for k in np.flatnonzero(touching)[:1]:  # the nearest in firing order is enough
             t = targets[k]
             if t.data.hit:
                 continue

@@ -54,14 +54,15 @@ def spawn(game, spec: CrystalSpec):
 def touching(game, entity) -> bool:
     """Does the player's box (plus :data:`REACH`) touch the entity's section in the player's slice?"""
     p = game.player
-    centre, w = entity.center(game), float(p.position[3])
+    # In slice space (the entity's own centre on the plain slice; see game.camera).
+    centre, w = game.camera.to_slice(entity.center(game)), float(p.position[3])
     # Cheap rejections before slicing: out of reach in w or in space.
     lo, hi = player_box(p.position)
     far = entity.radius + REACH
     if abs(centre[3] - w) > entity.radius or np.any(centre[:3] < lo - far) or np.any(centre[:3] > hi + far):
         return False
     key = f"tick:{entity.id}"
-    game.sections.section(key, entity.mesh, entity.model(game), w)
+    game.sections.section(key, entity.mesh, entity.model(game), game.slice_of(w))
     b = game.sections.bounds(key)
     if np.isnan(b).any():
         return False  # not in the slice: invisible, so untouchable
@@ -74,7 +75,7 @@ def step(game, actions) -> None:
     table = game.entity_table()
     p = game.player.position
     # One vectorised test for every entity, then the full test for the crystals within reach.
-    near = np.abs(table.centers - p).max(axis=1) <= table.radii + 2.0 + REACH
+    near = np.abs(game.camera.to_slice(table.centers) - p).max(axis=1) <= table.radii + 2.0 + REACH
     for e in [e for e, n in zip(table.entities, near) if n and e.kind == "crystal"]:
         if touching(game, e):
             gained = game.energy.gain(e.data.milli) if game.energy is not None else 0

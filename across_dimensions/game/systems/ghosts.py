@@ -26,6 +26,7 @@ import numpy as np
 
 from ..frame import Drawable
 from ..player import W_SPEED, overlapping, player_box
+from . import camera
 
 #: Ana (+w) ghosts: warm, striped. Tint is linear RGB and how far the colour is pulled to it.
 ANA_TINT = (1.0, 0.4, 0.08, 0.75)
@@ -114,6 +115,9 @@ def layers_of(game) -> list[Layer]:
     view, spec = view_of(game), game.level.ghosts
     if not (view.enabled and spec.enabled) or view.strength <= 0.0:
         return []
+    weight = camera.ghost_weight(game)  # ghosts lie along the world's w: the plain slice's own
+    if weight <= 0.0:
+        return []
     d = spec.distance * view.distance
     n = int(min(max(view.layers, 1), MAX_LAYERS))
     p = game.player
@@ -130,7 +134,7 @@ def layers_of(game) -> list[Layer]:
             towards = max(0.0, side * lean)
             away = max(0.0, -side * lean)
             emphasis = (1.0 + PREVIEW_GAIN * towards) * (1.0 - PREVIEW_DIM * away)
-            out.append(Layer(side, k, wg, BASE_OPACITY * view.strength * fade(k, n) * emphasis))
+            out.append(Layer(side, k, wg, BASE_OPACITY * view.strength * fade(k, n) * emphasis * weight))
     return out
 
 

@@ -27,7 +27,7 @@ def draw(game, frame, alpha) -> None:
     if not tracked:
         frame.radar = Radar(reach, w_scale, [])
         return
-    c = table.centers[tracked]
+    c = game.camera.to_slice(table.centers[tracked])  # slice space: x, z on the disc, w as height
     yaw = frame.camera.yaw
     rel = c[:, [0, 2]] - frame.camera.position[[0, 2]]
     # Into the player's frame: x to the right, z ahead, in disc radii.

@@ -1,4 +1,6 @@
-"""Every entity with a 4D mesh, drawn as its cross-section at the player's w.
+"""Every 4D thing (extended worlds, entities with a mesh) as the 4D camera shows it:
+its cross-section by the player's slice, or its frustum projection while the camera
+is detached. The work is the projection stage's (:mod:`..projection`).
 
 Entities whose bounding radius does not reach the slice are skipped without
 slicing (most 4D things in a level are at other w most of the time); the rest
@@ -7,23 +9,25 @@ are sliced together, one batch per style (see ``game/entity_sections.py``).
 
 from __future__ import annotations
 
-from ..entity_sections import w_offset
-from ..frame import Drawable
+from ..projection import items, project, reaching
 
 
 def draw(game, frame, alpha) -> None:
-    w = float(game.player.position[3])
-    shown = game.entity_table().reaching(w)
-    # All of them in one kernel call per style, drawn with one call each (game/entity_sections.py).
-    game.entity_sections.draw(frame, shown, [e.model(game, alpha) for e in shown], w, game.sections)
+    rig = game.camera
+    things = items(game, alpha)
+    if rig.detached:  # frustum projection (and the return's fade): the projection stage, per thing
+        frame.drawables.extend(project(game, rig, things))
+        return
+    # The slice: the extended worlds one drawable each; the entities that reach the slice cut
+    # together, one kernel call and one draw call per style (game/entity_sections.py).
+    frame.drawables.extend(project(game, rig, [it for it in things if it.entity < 0]))
+    s = float(game.player.position[3])
+    shown = reaching(rig, [it for it in things if it.entity >= 0], s)
+    entities = [game.entities.get(it.entity) for it in shown]
+    game.entity_sections.draw(frame, entities, [it.model for it in shown], rig.slice_pose(s), game.sections)
 
 
 def draw_per_object(game, frame, alpha) -> None:
-    """The same entities as one drawable each (the path :func:`draw` replaces; tests compare the two)."""
-    w = float(game.player.position[3])
-    shown = game.entity_table().reaching(w)
-    game.sections.keep("draw:", {f"draw:{e.id}" for e in shown})  # the rest left the slice
-    for e in shown:
-        model = e.model(game, alpha)
-        tri, rev = game.sections.section(f"draw:{e.id}", e.mesh, model, w)
-        frame.drawables.append(Drawable(f"entity:{e.id}", rev, tri, style=e.style, w_offset=w_offset(e.mesh, model, w)))
+    """The entities as one drawable each, through the projection stage (the path :func:`draw`
+    replaces with batches; tests compare the two)."""
+    frame.drawables.extend(project(game, game.camera, [it for it in items(game, alpha) if it.entity >= 0]))
