@@ -349,6 +349,43 @@ duration = 0.6
     assert [ev.kind for ev in seen if ev.kind in ("enemy_defeated", "loot_released")] == ["enemy_defeated"]
 
 
+def test_the_frustum_camera_holds_an_enemy_in_view_and_its_loot_comes_out_once(tmp_path, monkeypatch):
+    monkeypatch.setattr(en, "DRIFT", np.zeros(4))
+    body = """
+[camera]
+frustum = true
+frustum_cost = 0.0
+[[enemy]]
+name = "carrier"
+kind = "morph"
+position = [0.0, 1.6, 4.0, 1.6]
+health = 1
+loot = 5.0
+sight = 1.0
+[[enemy]]
+name = "behind"
+kind = "morph"
+position = [0.0, 1.6, -6.0, 1.6]
+health = 1
+loot = 5.0
+sight = 1.0
+"""
+    game = Game(level(tmp_path, body + GUN))
+    run(game, 30)
+    ahead, behind = enemy(game, "carrier").data, enemy(game, "behind").data
+    assert ahead.state == behind.state == "hidden"
+    seen = run(game, 1, Actions(presses=(("switch_camera", 1),))) + run(game, 60)
+    assert [ev.mode for ev in seen if ev.kind == "camera_switched"] == ["frustum"]
+    loot = [ev for ev in seen if isinstance(ev, LootReleased)]
+    assert [(ev.entity, ev.reason) for ev in loot] == [(enemy(game, "carrier").id, "forced")]
+    assert ahead.centre[3] == pytest.approx(0.0, abs=1e-9)  # held in the player's slice
+    assert behind.centre[3] == pytest.approx(1.6)  # behind the player: the camera does not see it
+    # Switching again (back, then to the frustum view once more) gives nothing more.
+    seen = run(game, 1, Actions(presses=(("switch_camera", 1),))) + run(game, 90)
+    seen += run(game, 1, Actions(presses=(("switch_camera", 1),))) + run(game, 60)
+    assert not [ev for ev in seen if isinstance(ev, LootReleased) and ev.entity == enemy(game, "carrier").id]
+
+
 # ------------------------------------------------------------------ health, death, determinism
 def test_a_player_who_stands_still_dies_and_comes_back_at_the_start():
     game = Game(load_level(HIVE))

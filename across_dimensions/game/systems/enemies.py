@@ -379,6 +379,30 @@ def _blasts(game) -> None:
             _set_state(game, foe, "dragged")
 
 
+#: The frustum camera's hold: switching to it drags every enemy in front of the player within
+#: this many metres (the 4D camera sees them whole) to the player's w, over this many seconds.
+FRUSTUM_HOLD_RANGE = 12.0
+FRUSTUM_HOLD_TIME = 0.8
+
+
+def _frustum_holds(game) -> None:
+    """The switch to the frustum camera forces the enemies it looks at into the player's slice,
+    as the blast does: a crystal hidden in one comes out when its w crosses the slice."""
+    if not any(ev.kind == "camera_switched" and ev.mode == "frustum" for ev in game.events):
+        return
+    p = game.player
+    eye, pw = p.eye(), float(p.position[3])
+    ahead = np.array([np.sin(p.yaw), np.cos(p.yaw)])  # the view's heading in x, z (yaw 0: +z)
+    end = game.tick + max(1, round(FRUSTUM_HOLD_TIME / game.dt))
+    for e in foes(game):
+        foe = e.data
+        rel = foe.centre[:3] - eye
+        if foe.alive and np.linalg.norm(rel) <= FRUSTUM_HOLD_RANGE and rel[[0, 2]] @ ahead > 0.0:
+            foe.pull = (float(foe.centre[3]), pw, game.tick, end)
+            foe.shots_left = 0
+            _set_state(game, foe, "dragged")
+
+
 def _forced_loot(game, e, w_before: float) -> None:
     """A dragged enemy's crystal comes out when the pull carries its w across the player's slice."""
     foe = e.data
@@ -437,6 +461,7 @@ def step(game, actions) -> None:
         return
     hp.setup(game)
     _blasts(game)
+    _frustum_holds(game)
     _bullet_hits(game, hive)
     for e in foes(game):
         foe = e.data
