@@ -436,6 +436,17 @@ def test_continuing_a_save_starts_at_its_checkpoint_and_refuses_one_the_level_la
         plain.restart_at_checkpoint(0)
 
 
+def test_falling_out_of_the_level_comes_back_at_the_last_checkpoint():
+    game = Game(load_level(HIVE))
+    run(game, 1)
+    game.player.position[:] = [0.0, 0.0, -1.0, 0.0]  # on the checkpoint pad
+    run(game, 1)
+    game.player.position[:] = [0.0, -60.0, 5.0, 0.0]  # far below every floor
+    seen = run(game, 1)
+    assert [ev.kind for ev in seen if ev.kind == "respawned"] == ["respawned"]
+    assert list(game.player.position) == [0.0, 0.0, -1.0, 0.0]
+
+
 def test_enemies_rng_draws_are_in_the_state_hash_and_runs_repeat():
     lv = load_level(HIVE)
     a, b, c = Game(lv, seed=3), Game(lv, seed=3), Game(lv, seed=4)

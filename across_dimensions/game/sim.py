@@ -277,8 +277,11 @@ class Game:
         return Player(self.level.spawn.astype(np.float64).copy(), yaw=float(np.radians(self.level.spawn_yaw_deg)))
 
     def respawn(self) -> None:
-        """Back to the spawn point (after falling out of the level)."""
-        self.player = self._spawned()
+        """Back to the last checkpoint reached, or the spawn point (after falling out of the level)."""
+        if self.checkpoint is not None:
+            health.restart_at(self, self.checkpoint)
+        else:
+            self.player = self._spawned()
         self.respawns += 1
 
     def state_array(self) -> np.ndarray:
