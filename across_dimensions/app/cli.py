@@ -1,6 +1,6 @@
 """The ``across-dimensions`` command.
 
-``across-dimensions`` alone starts the first level in a window. Subcommands::
+``across-dimensions`` alone opens the title screen in a window. Subcommands::
 
     play [LEVEL] [--record FILE]       play a level in a window
     demo [--screenshots DIR]           the headless demo (no window needed)
@@ -132,7 +132,7 @@ def _add_bench_scene_args(p):
 
 
 def _add_play_args(p):
-    p.add_argument("level", nargs="?", help="level file or shipped level name (default: the first level)")
+    p.add_argument("level", nargs="?", help="level file or shipped level name (default: the title screen)")
     p.add_argument("--record", metavar="FILE", help="record a replay to FILE (F9 toggles recording in game)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--settings", metavar="FILE", help="settings file (default: the user's config folder)")
@@ -170,7 +170,7 @@ def main(argv=None) -> int:
     _catch_termination()
     try:
         args = _parser().parse_args(argv)
-        if args.func is None:  # bare command: play the first level with the play defaults
+        if args.func is None:  # bare command: play with no level named, i.e. the title screen
             args = _parser().parse_args(["play"])
         return args.func(args)
     except UserError as e:
