@@ -98,6 +98,7 @@ class EntitySections:
                     style,
                     batch.changed_from,
                     members=tuple(f"entity:{i}" for i in ids),
+                    w_cue=style in W_CUED,
                 )
             )
         sections.keep("draw:", {f"draw:{e.id}" for e, _ in wires})

@@ -412,6 +412,10 @@ class TriangleBatch:
     members : tuple of str
         The drawable keys the batch stands for (``"entity:7"``), for code that
         asks what a frame shows.
+    w_cue : bool
+        Each vertex's colour alpha is its thing's w offset (see
+        :func:`~across_dimensions.game.entity_sections.w_offset`): the renderer shades
+        the batch as 4D matter with the w cue, as it does a drawable with a ``w_offset``.
     """
 
     key: str
@@ -425,3 +429,4 @@ class TriangleBatch:
     prepass: bool = False
     edge_color: tuple = (0.05, 0.05, 0.07, 1.0)
     members: tuple = ()
+    w_cue: bool = False  # each vertex's colour alpha is its thing's w offset (4D things: the renderer's w cue)

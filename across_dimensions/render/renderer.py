@@ -569,9 +569,9 @@ class Renderer:
         # Batches hold many 4D things: in the sci-fi look their solids are 4D matter ("hyper"),
         # and each vertex's colour alpha carries its thing's w offset (the w cue; see
         # game/entity_sections.py), since one uniform cannot hold one per thing.
-        name = "hyper" if scifi and tb.style == "solid" else tb.style
+        cued = scifi and tb.w_cue and tb.style in ("solid", "glow")
+        name = "hyper" if cued and tb.style == "solid" else tb.style
         prog = self._programs[name]
-        cued = scifi and tb.style in ("solid", "glow")
         if cued:
             self._set(prog, "u_w_from_alpha", 1.0)
         self.batches.programs = self._programs
