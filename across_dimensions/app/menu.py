@@ -317,7 +317,7 @@ class Menu:
                 s = SLIDERS[name]
                 number = self._number(name)
                 fraction = (number - s.lo) / (s.hi - s.lo)
-                shown = s.show(number) if value == number else f"{value} ({s.show(number)})"
+                shown = s.show(number) if value == number else f"{value} {s.show(number)}"
                 rows.append(Item(f"set:{name}", s.label, shown, fraction=min(1.0, max(0.0, fraction))))
             else:
                 rows.append(Item(f"set:{name}", TOGGLES[name], "on" if value else "off"))
