@@ -686,6 +686,28 @@ def test_killed_write_leaves_no_temporary_file(cli_env, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_signal_caught_inside_a_library_still_ends_as_stopped_not_internal_error(cli_env, tmp_path):
+    """numba's compiler turns an exception raised inside it into a RuntimeError: SIGTERM during
+    a first run's kernel compile must still read as stopped, with the signal's exit status."""
+    script = (
+        "import os, signal, sys\n"
+        "from across_dimensions.app import commands\n"
+        "def compiling(args):\n"
+        "    try:\n"
+        "        os.kill(os.getpid(), signal.SIGTERM)\n"
+        "    except SystemExit as e:\n"
+        "        raise RuntimeError('no compiled object yet') from e\n"
+        "commands.shape = compiling\n"
+        "from across_dimensions.app.cli import main\n"
+        "sys.exit(main(['shape', 'tesseract', '-o', 'x.npz']))\n"
+    )
+    r = subprocess.run(
+        [sys.executable, "-c", script], cwd=tmp_path, env=cli_env, capture_output=True, text=True, timeout=TIMEOUT
+    )
+    assert r.returncode == 128 + 15, describe(r)
+    assert r.stderr.strip() == "across-dimensions: stopped by SIGTERM", describe(r)
+
+
 # ------------------------------------------------------------- errors
 def test_internal_errors_are_not_reported_as_user_errors(cli_env, tmp_path):
     script = (

@@ -62,6 +62,25 @@ def test_bad_campaign_names_file_and_entry(tmp_path):
     assert [e.stem for e in load_campaign(good)] == ["a"]
 
 
+def test_check_level_checks_the_campaign_file_as_a_campaign(tmp_path):
+    def check(*files):
+        return subprocess.run(
+            [sys.executable, "-m", "across_dimensions", "check-level", *map(str, files)],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+
+    # `check-level levels/*.toml` takes the campaign file in too: it is checked as the campaign.
+    r = check(*level_files(), levels_dir() / "campaign.toml")
+    assert r.returncode == 0, r.stderr
+    assert "campaign.toml: ok - the campaign, 9 levels: 00_arrival, 01_first_steps" in r.stdout
+    bad = tmp_path / "campaign.toml"
+    bad.write_text('[[level]]\nfile = "../outside"\ntitle = "Out"\n', encoding="utf-8")
+    r = check(bad)
+    assert r.returncode == 2 and "[[level]] #1" in r.stderr and "Traceback" not in r.stderr
+
+
 # ---- saves ----------------------------------------------------------------------------
 def test_progress_round_trip_and_best_times(tmp_path):
     p = Progress()

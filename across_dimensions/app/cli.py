@@ -148,10 +148,17 @@ def _add_play_args(p):
     )
 
 
+#: The termination signal received, if any: code that catches every exception (numba's
+#: compiler turns one raised inside it into a RuntimeError) must not make it an internal error.
+_terminated_by: int | None = None
+
+
 def _exit_on_signal(signum, frame):
     # SIGTERM and SIGHUP would end the process without unwinding, leaving the
     # temporary file of a write in progress; as SystemExit every ``finally``
     # and the atomic writer's cleanup run first.
+    global _terminated_by
+    _terminated_by = signum
     raise SystemExit(128 + signum)
 
 
@@ -179,6 +186,9 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         return 130
     except Exception as e:
+        if _terminated_by is not None:  # stopped by a signal mid-way (e.g. while compiling kernels)
+            print(f"{PROG}: stopped by {signal.Signals(_terminated_by).name}", file=sys.stderr)
+            return 128 + _terminated_by
         if debug:
             raise
         if isinstance(e, InputError):  # every error written for the user derives from it

@@ -28,11 +28,21 @@ def check_level(args) -> int:
     A level that loads but will likely not keep 60 Hz gets a warning on
     stderr and still exits 0 (the estimate is rough; see world/limits.py).
     """
+    from ..world.campaign import CAMPAIGN_FILE, CampaignError, load_campaign
     from ..world.level import LevelError, load_level
     from ..world.limits import FRAME_MS
 
     bad = 0
     for f in args.files:
+        if Path(f).name == CAMPAIGN_FILE:  # the campaign's order, beside the levels: checked as such
+            try:
+                entries = load_campaign(Path(f))
+            except CampaignError as e:
+                bad += 1
+                print(str(e), file=sys.stderr)
+                continue
+            _out(f"{f}: ok - the campaign, {len(entries)} levels: {', '.join(e.stem for e in entries)}")
+            continue
         try:
             level = load_level(f)
         except LevelError as e:
