@@ -237,6 +237,27 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, case_count, lazy):
     return cut[:ncut], ntri
 
 
+@njit(inline="always")
+def _tet_normal(p, flip):
+    """Unit outward normal of the section of the tet with camera-space corners ``p`` ``(4, 4)``:
+    the xyz part of cross4(p1 - p0, p2 - p0, p3 - p0), times ``flip`` (+-1); zero stays zero."""
+    ux, uy, uz, uw = p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2], p[1, 3] - p[0, 3]
+    vx, vy, vz, vw = p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2], p[2, 3] - p[0, 3]
+    tx, ty, tz, tw = p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2], p[3, 3] - p[0, 3]
+    nx = -(uy * (vz * tw - vw * tz) - uz * (vy * tw - vw * ty) + uw * (vy * tz - vz * ty))
+    ny = ux * (vz * tw - vw * tz) - uz * (vx * tw - vw * tx) + uw * (vx * tz - vz * tx)
+    nz = -(ux * (vy * tw - vw * ty) - uy * (vx * tw - vw * tx) + uw * (vx * ty - vy * tx))
+    nx *= flip
+    ny *= flip
+    nz *= flip
+    ln = np.sqrt(nx * nx + ny * ny + nz * nz)
+    if ln > 0.0:
+        nx /= ln
+        ny /= ln
+        nz /= ln
+    return nx, ny, nz
+
+
 @njit(cache=True)
 def _emit(v, tets, colors, mv, flip, cut, ntri, case_edges, case_count):
     """Triangles of the cut tets: positions, flat outward normals and colours.
@@ -283,21 +304,7 @@ def _emit(v, tets, colors, mv, flip, cut, ntri, case_edges, case_count):
                     )
             if p[k, 3] > 0.0:
                 mask |= 1 << k
-        # Outward normal: xyz part of cross4(p1 - p0, p2 - p0, p3 - p0).
-        ux, uy, uz, uw = p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2], p[1, 3] - p[0, 3]
-        vx, vy, vz, vw = p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2], p[2, 3] - p[0, 3]
-        tx, ty, tz, tw = p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2], p[3, 3] - p[0, 3]
-        nx = -(uy * (vz * tw - vw * tz) - uz * (vy * tw - vw * ty) + uw * (vy * tz - vz * ty))
-        ny = ux * (vz * tw - vw * tz) - uz * (vx * tw - vw * tx) + uw * (vx * tz - vz * tx)
-        nz = -(ux * (vy * tw - vw * ty) - uy * (vx * tw - vw * tx) + uw * (vx * ty - vy * tx))
-        nx *= flip
-        ny *= flip
-        nz *= flip
-        ln = np.sqrt(nx * nx + ny * ny + nz * nz)
-        if ln > 0.0:
-            nx /= ln
-            ny /= ln
-            nz /= ln
+        nx, ny, nz = _tet_normal(p, flip)
         k = case_count[mask]
         for e in range(k):
             a = case_edges[mask, e, 0]

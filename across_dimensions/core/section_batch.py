@@ -32,7 +32,7 @@ import numpy as np
 
 from ._jit import njit
 from .mesh import TetMesh4
-from .section import CASE_COUNT, CASE_EDGES, _layout_colors, mesh_clusters
+from .section import CASE_COUNT, CASE_EDGES, _layout_colors, _tet_normal, mesh_clusters
 from .transform import inverse
 
 #: Floats per output vertex: position 3, normal 3, colour 4 (the renderer's layout).
@@ -394,20 +394,7 @@ def _slice_batch(
                     li = tets[t, j] - v_lo
                     for r in range(4):
                         p[j, r] = cam[li, r]
-                ux, uy, uz, uw = p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2], p[1, 3] - p[0, 3]
-                vx, vy, vz, vw = p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2], p[2, 3] - p[0, 3]
-                tx, ty, tz, tw = p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2], p[3, 3] - p[0, 3]
-                nx = -(uy * (vz * tw - vw * tz) - uz * (vy * tw - vw * ty) + uw * (vy * tz - vz * ty))
-                ny = ux * (vz * tw - vw * tz) - uz * (vx * tw - vw * tx) + uw * (vx * tz - vz * tx)
-                nz = -(ux * (vy * tw - vw * ty) - uy * (vx * tw - vw * tx) + uw * (vx * ty - vy * tx))
-                nx *= flip
-                ny *= flip
-                nz *= flip
-                ln = np.sqrt(nx * nx + ny * ny + nz * nz)
-                if ln > 0.0:
-                    nx /= ln
-                    ny /= ln
-                    nz /= ln
+                nx, ny, nz = _tet_normal(p, flip)
                 for e in range(nk):
                     a = case_edges[mask, e, 0]
                     b = case_edges[mask, e, 1]
