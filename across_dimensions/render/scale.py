@@ -17,7 +17,7 @@ from .context import Offscreen
 SCALE_RANGE = (0.5, 1.0)
 #: Renderers that rasterize on the CPU, and the scale used for them by default.
 SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swrast", "software rasterizer")
-SOFTWARE_SCALE = 0.6
+SOFTWARE_SCALE = 0.5
 
 _BLIT_VERTEX = """
 #version 330

@@ -105,7 +105,8 @@ vec3 to_display(vec3 c) {
     // Linear up to 0.8, then a soft shoulder approaching 1.0.
     c = max(c, 0.0);
     vec3 over = max(c - 0.8, 0.0);
-    c = min(c, 0.8) + 0.2 * (1.0 - exp(-over / 0.2));
+    // (A rational shoulder: the same slope and limit as 0.2 * (1 - exp(-over / 0.2)), no exp.)
+    c = min(c, 0.8) + over / (1.0 + 5.0 * over);
     return sqrt(c);
 }
 
@@ -262,8 +263,9 @@ void main() {
   #if defined(LOOK_SCIFI) && defined(STYLE_HYPER)
     // 4D matter: darker and glassier than scenery, no panels, an iridescent rim whose
     // hue turns with the view angle, and the w bands cut into it as light.
-    float fres = pow(1.0 - ndv, 2.0);
-    vec3 irid = 0.5 + 0.5 * cos(6.2832 * (vec3(0.0, 0.33, 0.67) + 1.3 * fres + 0.05 * u_time));
+    float fres = (1.0 - ndv) * (1.0 - ndv);
+    // Three phase-shifted triangle waves: a cosine palette's hues without three cosines.
+    vec3 irid = abs(fract(vec3(0.0, 0.33, 0.67) + 1.3 * fres + 0.05 * u_time) * 2.0 - 1.0);
     vec3 side_tint = w_offset_here() >= 0.0 ? u_ana : u_kata;
     float bands = w_bands(N);
     // A lattice of glowing diagonal lines: nothing in the scenery looks like it, and it
@@ -281,10 +283,15 @@ void main() {
     albedo *= 1.0 - 0.45 * bands;
   #endif
 
-  #ifdef STYLE_GLOW
+  #if defined(STYLE_GHOST)
+    // Ghosts are translucent films, often layered over the whole view: no specular, rim or
+    // fill terms (a ghost is a hint of shape, and each term costs a full-screen pass's worth
+    // of CPU on a software rasterizer), only the sun's direction and the view angle.
+    vec3 lit = albedo * (0.2 + 0.35 * ndv + 0.6 * max(dot(N, u_light_dir), 0.0));
+  #elif defined(STYLE_GLOW)
     // Emissive (crystals): lit from within, brightest at the silhouette, and
     // barely fogged, so it never reads as scenery under the same sun.
-    vec3 lit = albedo * (0.75 + 1.6 * pow(1.0 - ndv, 2.0)) + vec3(0.06);
+    vec3 lit = albedo * (0.75 + 1.6 * (1.0 - ndv) * (1.0 - ndv)) + vec3(0.06);
     #ifdef LOOK_SCIFI
     // A slow pulse, facets catching the light, and the w bands as darker rings.
     lit *= 0.9 + 0.15 * sin(u_time * 2.4);
@@ -305,7 +312,7 @@ void main() {
     #endif
     vec3 H = normalize(L + V);
     float spec = diffuse > 0.0 ? pow(max(dot(N, H), 0.0), 40.0 * gloss) * 0.18 * gloss : 0.0;
-    float rim = pow(1.0 - ndv, 3.0) * 0.12;
+    float rim = (1.0 - ndv) * (1.0 - ndv) * (1.0 - ndv) * 0.12;
     // A weak light from the eye keeps faces turned away from the sun readable.
     float fill = 0.22 * ndv;
     vec3 lit = albedo * (ambient + fill + diffuse * key) + vec3(spec) + rim * vec3(0.55, 0.65, 0.9) + emit;
@@ -332,7 +339,8 @@ void main() {
 
 #ifdef STYLE_GHOST
     // Slightly more opaque at grazing angles so a ghost's silhouette reads.
-    float alpha = u_alpha * u_opacity * v_color.a * (1.0 + 0.6 * pow(1.0 - ndv, 2.0)) * ghost_pattern(gl_FragCoord.xy);
+    float graze = (1.0 - ndv) * (1.0 - ndv);
+    float alpha = u_alpha * u_opacity * v_color.a * (1.0 + 0.6 * graze) * ghost_pattern(gl_FragCoord.xy);
     f_color = vec4(color, clamp(alpha, 0.0, 1.0));
 #else
     f_color = vec4(color, 1.0);
