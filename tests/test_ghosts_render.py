@@ -90,3 +90,35 @@ def test_bench_ghosts_command_refuses_bad_arguments():
     cmd = [sys.executable, "-m", "across_dimensions.render.bench_ghosts", "--layers", "3"]
     p = subprocess.run(cmd, check=False, capture_output=True, text=True, timeout=120)
     assert p.returncode == 2 and "--layers" in p.stderr and "Traceback" not in p.stderr
+
+
+def _section_ghost_coverage(renderer, target, eye, outside_only):
+    """Pixels a ghost of a cube (a tesseract's section, wound as the slicer winds it) covers."""
+    from across_dimensions.core.section import cross_section
+    from across_dimensions.core.shapes import tesseract
+
+    cube = cross_section(tesseract(2.0))
+    frame = Frame(Camera3(np.asarray(eye, np.float64), yaw=0.0, pitch=0.0))
+    frame.drawables.append(Drawable("g", 0, cube, style="ghost", opacity=2.0, outside_only=outside_only))
+    renderer.draw(frame, hud=False)
+    with_ghost = target.read_rgb().astype(np.float64)
+    renderer.draw(Frame(Camera3(np.asarray(eye, np.float64), yaw=0.0, pitch=0.0)), hud=False)
+    sky = target.read_rgb().astype(np.float64)
+    return np.abs(with_ghost - sky).max(axis=2) > 2, with_ghost
+
+
+@pytest.mark.gl
+def test_outside_only_ghost_keeps_its_silhouette_and_vanishes_around_the_eye(renderer, target):
+    # From outside, culling the inner faces keeps every pixel the two-sided ghost covers
+    # (the film is thinner, not smaller): the slicer's winding is counter-clockwise from outside.
+    both, img_both = _section_ghost_coverage(renderer, target, (0.0, 0.0, -4.0), False)
+    outer, img_outer = _section_ghost_coverage(renderer, target, (0.0, 0.0, -4.0), True)
+    assert both.mean() > 0.05
+    assert (both == outer).mean() > 0.99
+    # One film instead of two: the culled ghost is fainter over the sky.
+    assert np.abs(img_outer - img_both)[outer].mean() > 1.0
+    # From inside the cube every face is an inner face: nothing is drawn.
+    inside, _ = _section_ghost_coverage(renderer, target, (0.0, 0.0, 0.0), True)
+    assert inside.mean() < 0.001
+    around, _ = _section_ghost_coverage(renderer, target, (0.0, 0.0, 0.0), False)
+    assert around.mean() > 0.9

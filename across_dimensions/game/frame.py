@@ -107,6 +107,11 @@ class Drawable:
         middle, positive when the thing lies ana (+w) of the slice, +-1 where it ends. The
         renderer draws it as 4D matter with bands that encode this (the w cue); None for 3D
         scenery.
+    outside_only : bool
+        The mesh is a closed surface wound counter-clockwise seen from outside (cross-sections
+        are): the renderer may skip its inner faces. Ghosts use it, so a translucent layer
+        costs one film, not two; a ghost the player stands inside leaves it False so it still
+        shows around them.
     """
 
     key: str
@@ -118,6 +123,7 @@ class Drawable:
     pattern: str = ""
     opacity: float = 1.0
     w_offset: float | None = None  # 4D things: (w of the thing - w of the slice) / its half extent in w (the w cue)
+    outside_only: bool = False
 
 
 @dataclass

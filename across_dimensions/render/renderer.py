@@ -537,11 +537,20 @@ class Renderer:
             ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
             fbo.depth_mask = False
             prog = self._programs["ghost"]
+            view_mirrored = bool(np.linalg.det(cam.view_matrix()[:3, :3]) < 0.0)
             for _, d, gm, model in ghosts:
                 self._set(prog, "u_tint", tuple(float(x) for x in (d.tint or _NO_TINT)))
                 self._set(prog, "u_pattern", GHOST_PATTERNS[d.pattern])
                 self._set(prog, "u_opacity", max(0.0, float(d.opacity)))
+                if d.outside_only:
+                    # Outer faces are counter-clockwise seen from outside; on screen they stay so
+                    # unless the view and model together mirror space (the camera's view does).
+                    mirrored = (np.linalg.det(model[:3, :3]) < 0.0) != view_mirrored
+                    ctx.front_face = "cw" if mirrored else "ccw"
+                    ctx.enable(moderngl.CULL_FACE)
                 self._draw_mesh("ghost", gm, model, moderngl.TRIANGLES, gm.n_indices)
+                if d.outside_only:
+                    ctx.disable(moderngl.CULL_FACE)
             for tb in ghost_batches:
                 self._set(prog, "u_tint", _NO_TINT)
                 self._set(prog, "u_pattern", 0)
