@@ -209,10 +209,16 @@ def test_ghost_of_a_wall_that_would_block_a_step_along_w_is_stronger(ghost_level
     game = Game(ghost_level)
     wall = game.entities.named("wall")
     key = f"ghost+1:entity:{wall.id}"
-    away = ghost_drawables(game.frame())[key].opacity
+    frame = game.frame()
+    away = ghost_drawables(frame)[key].opacity
+    assert frame.hud.w_blocked == ()
     game.player.position[:3] = [0.0, 0.0, 3.0]  # inside the wall's footprint (absent at w = 0)
-    inside = ghost_drawables(game.frame())[key].opacity
+    frame = game.frame()
+    inside = ghost_drawables(frame)[key].opacity
     assert inside == pytest.approx(away * ghosts.BLOCK_GAIN)
+    # Ghosts show only their outer faces, so from inside the w gauge says it instead.
+    assert frame.hud.w_blocked == (1,)
+    assert all(d.outside_only for d in ghost_drawables(frame).values())
     # And it does block: a step ana is refused there.
     for _ in range(30):
         game.step(Actions(w=1.0))

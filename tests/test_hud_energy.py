@@ -143,3 +143,19 @@ def test_energy_bar_pixels(gl_ctx):
         assert gl_ctx.error == "GL_NO_ERROR"
     finally:
         r.release()
+
+
+def test_w_gauge_says_which_side_is_solid():
+    from across_dimensions.render.hud import BLOCKED_ANA_COLOR, BLOCKED_KATA_COLOR
+
+    def colours(hud):
+        return {tuple(np.round(r[8:], 3)) for r in hud_quads(hud, 1280, 720)}
+
+    free = colours(Hud(w=0.0, w_min=-1.0, w_max=1.0))
+    ana = colours(Hud(w=0.0, w_min=-1.0, w_max=1.0, w_blocked=(1,)))
+    both = colours(Hud(w=0.0, w_min=-1.0, w_max=1.0, w_blocked=(1, -1)))
+    ana_c, kata_c = (tuple(np.round(np.float32(c), 3)) for c in (BLOCKED_ANA_COLOR, BLOCKED_KATA_COLOR))
+    assert ana_c not in free and kata_c not in free
+    assert ana_c in ana and kata_c not in ana
+    assert ana_c in both and kata_c in both
+    assert "solid+w" in quads_text(hud_quads(Hud(w=0.0, w_min=-1.0, w_max=1.0, w_blocked=(1,)), 1280, 720))

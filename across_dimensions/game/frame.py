@@ -109,9 +109,8 @@ class Drawable:
         scenery.
     outside_only : bool
         The mesh is a closed surface wound counter-clockwise seen from outside (cross-sections
-        are): the renderer may skip its inner faces. Ghosts use it, so a translucent layer
-        costs one film, not two; a ghost the player stands inside leaves it False so it still
-        shows around them.
+        are): the renderer skips its inner faces. Ghosts use it, so a translucent layer costs
+        one film, not two, and a ghost around the player does not veil the whole view.
     """
 
     key: str
@@ -161,6 +160,7 @@ class Hud:
     damage_dir: float | None = None  # where the last hit came from: radians from straight ahead, + to the right
     labels: list = field(default_factory=list)  # ScreenLabel: text placed next to a thing on screen
     slice: SliceGauges | None = None  # the 4D camera's gauges, in levels with a [camera] table
+    w_blocked: tuple = ()  # +1 and/or -1: a ghost layer ana / kata holds something solid where the player stands
 
 
 @dataclass(frozen=True)

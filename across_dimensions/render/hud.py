@@ -67,6 +67,8 @@ MARKER_COLOR = (1.0, 0.75, 0.15, 1.0)
 MARKER_OUT_OF_RANGE_COLOR = (1.0, 0.25, 0.2, 1.0)
 FILL_POS_COLOR = (1.0, 0.55, 0.25, 0.45)
 FILL_NEG_COLOR = (0.3, 0.6, 1.0, 0.45)
+BLOCKED_ANA_COLOR = (1.0, 0.55, 0.2, 0.95)  # the ana ghosts' warm hue, the kata ghosts' cool one
+BLOCKED_KATA_COLOR = (0.35, 0.7, 1.0, 0.95)
 TEXT_COLOR = (0.92, 0.94, 1.0, 1.0)
 FPS_COLOR = (0.7, 1.0, 0.7, 0.9)
 PAUSE_DIM_COLOR = (0.0, 0.0, 0.0, 0.55)
@@ -406,6 +408,16 @@ def _w_indicator(q: _QuadList, hud: Hud, m: HudMetrics) -> None:
     mext = max(2, bw // 2 + 1)
     q.rect(x0 - mext - 1, my - mh // 2 - 1, bw + 2 * mext + 2, mh + 2, OUTLINE_COLOR)
     q.rect(x0 - mext, my - mh // 2, bw + 2 * mext, mh, MARKER_COLOR if in_range else MARKER_OUT_OF_RANGE_COLOR)
+    # Something solid where the player stands at the next ghost layer ana (top) or kata
+    # (bottom): a cap on that end of the track and a word beside it, in the side's colour.
+    for side in hud.w_blocked:
+        cap_h = 2 * m.thickness
+        cap_y = y0 if side > 0 else y0 + th - cap_h
+        color = BLOCKED_ANA_COLOR if side > 0 else BLOCKED_KATA_COLOR
+        q.rect(x0, cap_y, bw, cap_h, color)
+        word = "solid +w" if side > 0 else "solid -w"
+        ty = y0 + 2 * s if side > 0 else y0 + th - GLYPH_H * s - 2 * s
+        q.text(word, x0 - mext - text_width(word, s) - 2 * s, ty, s, color)
     label_y = y0 - GLYPH_H * s - 3 * s - 1
     q.text("w", x0 + bw // 2 - (GLYPH_W * s) // 2, label_y, s, TEXT_COLOR)
     val = f"{hud.w:+.2f}"

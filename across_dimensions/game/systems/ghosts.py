@@ -151,6 +151,7 @@ def draw(game, frame, alpha) -> None:
     table = game.entity_table() if game.entities else None
     feet = game.player.position
     lo, hi = player_box(feet)
+    blocked: list[int] = []
     for layer in layers_of(game):
         tag = layer.tag
         shown = table.reaching(layer.w) if table is not None else []
@@ -168,11 +169,13 @@ def draw(game, frame, alpha) -> None:
             if tri.is_empty:
                 continue
             opacity = layer.opacity
-            blocks = solid and overlapping(lo, hi, game.sections.bounds(key)[None]).any()
-            if blocks:
+            if solid and overlapping(lo, hi, game.sections.bounds(key)[None]).any():
                 opacity *= BLOCK_GAIN  # it would block a step to this w: say so first
-            # Only the outer faces, as one film (half the cost on a software rasterizer),
-            # except for a ghost around the player: its inner faces are the warning.
-            look = {"tint": layer.tint, "pattern": layer.pattern, "opacity": opacity, "outside_only": not blocks}
+                if layer.side not in blocked:
+                    blocked.append(layer.side)
+            # Only the outer faces: one film, not two (half the cost on a software rasterizer).
+            # A ghost around the player is then invisible from inside; the w gauge says it.
+            look = {"tint": layer.tint, "pattern": layer.pattern, "opacity": opacity, "outside_only": True}
             frame.drawables.append(Drawable(draw_key, rev, tri, style="ghost", **look))
+    frame.hud.w_blocked = tuple(blocked)
     game.sections.keep(PREFIX, used)  # layers or entities that went away
