@@ -1,10 +1,10 @@
 """Render scale: draw the scene at a fraction of the window, then upscale it.
 
 A software rasterizer (Mesa llvmpipe on 2 cores) spends most of a frame
-shading pixels; at scale 0.7 it shades half as many. The scene is drawn into an
-offscreen framebuffer of the scaled size and stretched over the window with
-bilinear filtering by one full-screen triangle; the HUD is then drawn at full
-resolution on top, so text stays sharp.
+shading pixels; at scale 0.5 it shades a quarter as many. The scene is drawn into
+an offscreen framebuffer of the scaled size and stretched over the window by one
+full-screen triangle (each pixel doubled at 0.5, bilinear at other scales); the
+HUD is then drawn at full resolution on top, so text stays sharp.
 """
 
 from __future__ import annotations
@@ -98,7 +98,12 @@ class ScaledTarget:
             if self._off is not None:
                 self._off.release()
             self._off = Offscreen(self.ctx, *want)
-            self._off.texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+            # At a whole factor (2x at scale 0.5) every source pixel becomes an equal block, so
+            # nearest sampling is exact and crisp, and costs half what bilinear does on a
+            # software rasterizer; any other factor needs bilinear to spread pixels evenly.
+            whole = all(size[i] == want[i] * round(size[i] / want[i]) for i in (0, 1))
+            f = moderngl.NEAREST if whole else moderngl.LINEAR
+            self._off.texture.filter = (f, f)
         self._off.use()
         return True
 
