@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import moderngl
 import numpy as np
 import pytest
 
@@ -15,6 +16,7 @@ from across_dimensions.render.context import Offscreen, RenderError
 from across_dimensions.render.demo import box_mesh, plane_mesh
 from across_dimensions.render.renderer import Renderer
 from across_dimensions.render.sky import build_dome, gradient
+from across_dimensions.world.resources import level_files
 
 LEVELS = Path(__file__).resolve().parent.parent / "levels"
 W, H = 320, 180
@@ -240,3 +242,46 @@ def test_game_frames_ask_for_the_dome_and_cue_4d_things_by_w():
     solid = next(b for b in frame.batches if b.style == "solid")
     beacon = solid.vertices[:, ALPHA]
     assert len(beacon) and ((beacon > 0.0) & (beacon <= 1.0)).all(), beacon  # the beacon, at w = 0.9
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("level", [p.stem for p in level_files()])
+def test_skipping_inner_faces_of_4d_things_changes_no_pixel_a_player_sees(gl_ctx, level, monkeypatch):
+    """Sections of 4D things are closed surfaces wound counter-clockwise from outside, so
+    culling their inner faces must leave every view along the level's replay (where a
+    player really stands, looking where they really look) unchanged; if a section were open
+    or wound the other way, whole faces would vanish."""
+    from across_dimensions.game.replay import Replay, play
+    from across_dimensions.game.sim import Game
+    from across_dimensions.game.systems.ghosts import GhostView
+    from across_dimensions.world.level import load_level
+    from across_dimensions.world.resources import levels_dir, resolve_level
+
+    replay = Replay.load(levels_dir() / "replays" / f"{level}.json")
+    game = Game(load_level(resolve_level(level)), seed=replay.seed)
+    # Ghosts show only outer faces on purpose, even around the player (tested on their own).
+    game.ghost_view = GhostView(enabled=False)
+    target = Offscreen(gl_ctx, 320, 180)
+    culled, both = Renderer(gl_ctx), Renderer(gl_ctx)
+    monkeypatch.setattr(both, "_cull_inner", lambda outside_only, model=None: gl_ctx.disable(moderngl.CULL_FACE))
+    diffs = []
+
+    def compare(g):
+        if g.tick % 40:
+            return
+        frame = g.frame()
+        target.use()
+        culled.draw(frame, hud=False)
+        a = target.read_rgb().astype(np.float64)
+        both.draw(frame, hud=False)
+        diffs.append((float(np.abs(a - target.read_rgb()).mean()), g.tick))
+
+    try:
+        play(replay, game, on_tick=compare, check=False)
+    finally:
+        culled.release()
+        both.release()
+        target.release()
+    worst, tick = max(diffs)
+    assert len(diffs) >= 3
+    assert worst < 0.5, f"{level}: mean pixel difference {worst:.2f}/255 at tick {tick} with inner faces culled"

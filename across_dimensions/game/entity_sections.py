@@ -99,6 +99,7 @@ class EntitySections:
                     batch.changed_from,
                     members=tuple(f"entity:{i}" for i in ids),
                     w_cue=style in W_CUED,
+                    outside_only=True,
                 )
             )
         sections.keep("draw:", {f"draw:{e.id}" for e, _ in wires})

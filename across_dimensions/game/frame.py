@@ -109,8 +109,10 @@ class Drawable:
         scenery.
     outside_only : bool
         The mesh is a closed surface wound counter-clockwise seen from outside (cross-sections
-        are): the renderer skips its inner faces. Ghosts use it, so a translucent layer costs
-        one film, not two, and a ghost around the player does not veil the whole view.
+        of closed 4D meshes are): the renderer skips its inner faces, which from outside are
+        always hidden behind outer ones. That halves the triangles a software rasterizer sets
+        up and the pixels it shades twice; for ghosts it makes a translucent layer one film,
+        not two, and a ghost around the player does not veil the whole view.
     """
 
     key: str
@@ -422,6 +424,8 @@ class TriangleBatch:
         Each vertex's colour alpha is its thing's w offset (see
         :func:`~across_dimensions.game.entity_sections.w_offset`): the renderer shades
         the batch as 4D matter with the w cue, as it does a drawable with a ``w_offset``.
+    outside_only : bool
+        As :attr:`Drawable.outside_only`: closed surfaces wound counter-clockwise from outside.
     """
 
     key: str
@@ -436,3 +440,4 @@ class TriangleBatch:
     edge_color: tuple = (0.05, 0.05, 0.07, 1.0)
     members: tuple = ()
     w_cue: bool = False  # each vertex's colour alpha is its thing's w offset (4D things: the renderer's w cue)
+    outside_only: bool = False  # closed surfaces, wound counter-clockwise from outside: inner faces skipped

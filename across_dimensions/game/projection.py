@@ -123,7 +123,8 @@ def cross_sections(game, rig: CameraRig, things: list[Item], s: float, prefix: s
         cache_key = f"{prefix}draw:{it.entity}" if it.entity >= 0 else prefix + it.key
         model = it.model
         tri, rev = game.sections.section(cache_key, it.mesh, model, where)
-        out.append(Drawable(prefix + it.key, rev, tri, style=it.style, w_offset=w_offset(it.mesh, model, pose)))
+        cue = w_offset(it.mesh, model, pose)
+        out.append(Drawable(prefix + it.key, rev, tri, style=it.style, w_offset=cue, outside_only=True))
     return out
 
 

@@ -153,7 +153,7 @@ class _Scene:
             models[:, :3, 4] = self.centers
             self.batch.update(self.keys, self.meshes, models, None, planes)
             b = self.batch
-            return TriangleBatch("bench", b.revision, b.vertices, "solid", b.changed_from)
+            return TriangleBatch("bench", b.revision, b.vertices, "solid", b.changed_from, outside_only=True)
         b = self.batch
         b.update(self.meshes, self.cam4 @ rot, self.place, FRUSTUM_FOV)
         return TriangleBatch("bench", b.revision, b.vertices, "solid", 0, b.faces, b.edges, b.topology_revision)
@@ -165,7 +165,7 @@ class _Scene:
         for i in range(self.n):
             m = rot[i].copy()
             m[:3, 4] = self.centers[i]
-            out.append(Drawable(f"obj:{i}", self.revision, cross_section(self.mesh, None, m)))
+            out.append(Drawable(f"obj:{i}", self.revision, cross_section(self.mesh, None, m), outside_only=True))
         return out
 
 

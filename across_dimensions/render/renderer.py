@@ -176,11 +176,11 @@ def _frustum_planes(view_proj: np.ndarray) -> np.ndarray:
 class _Cued:
     """A drawable with a w cue, as drawn: its program (``hyper`` for solids) and band scale."""
 
-    __slots__ = ("key", "style", "w_offset", "band_scale", "tint", "pattern", "opacity")
+    __slots__ = ("key", "style", "w_offset", "band_scale", "tint", "pattern", "opacity", "outside_only")
 
     def __init__(self, d: Drawable, style: str, band_scale: float):
         self.key, self.style, self.w_offset, self.band_scale = d.key, style, d.w_offset, band_scale
-        self.tint, self.pattern, self.opacity = d.tint, d.pattern, d.opacity
+        self.tint, self.pattern, self.opacity, self.outside_only = d.tint, d.pattern, d.opacity, d.outside_only
 
 
 def _mat4_bytes(m: np.ndarray) -> bytes:
@@ -238,6 +238,7 @@ class Renderer:
         self.look = look
         self._programs = self._look_programs(look)
         self._sky: SkyRenderer | None = None
+        self._view_mirrored = True  # set per frame from the camera (see draw)
         self.hud = HudRenderer(ctx)
         self.radar = RadarRenderer(ctx)
         self.batches = BatchBuffers(ctx, self._programs)
@@ -488,6 +489,9 @@ class Renderer:
         st.batch_sync_cpu_ms = 1e3 * (time.thread_time() - t0)
         st.upload_bytes += self.batches.upload_bytes
 
+        # Outer faces are counter-clockwise seen from outside; on screen they stay so unless
+        # the view (the camera's is a mirror: x right, z forward) and a model mirror space.
+        self._view_mirrored = bool(np.linalg.det(cam.view_matrix()[:3, :3]) < 0.0)
         vp_bytes = _mat4_bytes(view_proj)
         for prog in self._programs.values():
             self._set(prog, "u_view_proj", vp_bytes)
@@ -537,20 +541,11 @@ class Renderer:
             ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
             fbo.depth_mask = False
             prog = self._programs["ghost"]
-            view_mirrored = bool(np.linalg.det(cam.view_matrix()[:3, :3]) < 0.0)
             for _, d, gm, model in ghosts:
                 self._set(prog, "u_tint", tuple(float(x) for x in (d.tint or _NO_TINT)))
                 self._set(prog, "u_pattern", GHOST_PATTERNS[d.pattern])
                 self._set(prog, "u_opacity", max(0.0, float(d.opacity)))
-                if d.outside_only:
-                    # Outer faces are counter-clockwise seen from outside; on screen they stay so
-                    # unless the view and model together mirror space (the camera's view does).
-                    mirrored = (np.linalg.det(model[:3, :3]) < 0.0) != view_mirrored
-                    ctx.front_face = "cw" if mirrored else "ccw"
-                    ctx.enable(moderngl.CULL_FACE)
-                self._draw_mesh("ghost", gm, model, moderngl.TRIANGLES, gm.n_indices)
-                if d.outside_only:
-                    ctx.disable(moderngl.CULL_FACE)
+                self._draw_mesh("ghost", gm, model, moderngl.TRIANGLES, gm.n_indices, d)
             for tb in ghost_batches:
                 self._set(prog, "u_tint", _NO_TINT)
                 self._set(prog, "u_pattern", 0)
@@ -574,6 +569,15 @@ class Renderer:
             self.stats.draw_calls += self.radar.draw_calls
         self.hud.draw(frame.hud, viewport, frame.radar)
 
+    def _cull_inner(self, outside_only: bool, model: np.ndarray | None = None) -> None:
+        """Skip inner faces of closed surfaces (see :attr:`Drawable.outside_only`), or draw both sides."""
+        if not outside_only:
+            self.ctx.disable(moderngl.CULL_FACE)
+            return
+        mirrored = self._view_mirrored != (model is not None and np.linalg.det(model[:3, :3]) < 0.0)
+        self.ctx.front_face = "cw" if mirrored else "ccw"
+        self.ctx.enable(moderngl.CULL_FACE)
+
     def _draw_batch(self, tb, vp_bytes: bytes, scifi: bool) -> None:
         # Batches hold many 4D things: in the sci-fi look their solids are 4D matter ("hyper"),
         # and each vertex's colour alpha carries its thing's w offset (the w cue; see
@@ -584,7 +588,9 @@ class Renderer:
         if cued:
             self._set(prog, "u_w_from_alpha", 1.0)
         self.batches.programs = self._programs
+        self._cull_inner(tb.outside_only)
         calls, tris, lines = self.batches.draw(tb, vp_bytes, name)
+        self._cull_inner(False)
         if cued:
             self._set(prog, "u_w_from_alpha", 0.0)
         self.stats.draw_calls += calls
@@ -604,7 +610,12 @@ class Renderer:
             nm = lin  # degenerate model (flattened): any normal will do
         # mat3 uniform: 9 floats, column-major.
         self._set(prog, "u_normal_mat", np.ascontiguousarray(nm.T, np.float32).tobytes())
+        culled = d is not None and d.outside_only and mode == moderngl.TRIANGLES
+        if culled:
+            self._cull_inner(True, model)
         self._vao(gm, style).render(mode, vertices=count)
+        if culled:
+            self._cull_inner(False)
         if isinstance(d, _Cued):
             self._set(prog, "u_w_offset", 0.0)  # the next drawable of this program may have no cue
         self.stats.draw_calls += 1
