@@ -295,3 +295,23 @@ def test_picture_in_picture_shows_the_other_projection_and_costs_nothing_when_of
     main = game.frame(pip=True)
     assert any(d.key.startswith("frustum:") for d in main.drawables)
     assert main.pip and all(d.key.startswith("pip:") for d in main.pip)  # the cross-section, inset
+
+
+def test_radar_pins_say_what_reaches_the_slice_while_the_frustum_camera_is_out():
+    (path,) = LEVELS.glob("*around_the_corner.toml")
+    game = Game(load_level(path))
+    _run(game, 20)
+    synced = [(p.kind, p.visible) for p in game.frame().radar.pins]
+    game.step(SWITCH)
+    _run(game, 5)
+    assert game.camera.detached
+
+    # Nothing moved along w: the pins say what they said in the slice (not a stale frame's).
+    def things():
+        return [(p.kind, p.visible) for p in game.frame().radar.pins if not p.kind.startswith("camera_")]
+
+    assert things() == synced
+    assert any(v for _, v in synced)
+    # Far along w (as a move along w while the camera is out would take it), nothing reaches.
+    game.player.position[3] += 50.0
+    assert things() and not any(v for _, v in things())

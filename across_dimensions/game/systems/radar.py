@@ -39,6 +39,11 @@ def draw(game, frame, alpha) -> None:
     sought = sought_id(game)
     for k in np.flatnonzero(inside):
         e = table.entities[tracked[k]]
-        visible = game.entity_sections.has_section(e.id)  # the sections system sliced it this frame
+        if game.camera.detached:
+            # Nothing is sliced while the frustum camera is out: say whether it reaches the
+            # player's slice (its bounding sphere does), as the slice would show on return.
+            visible = bool(abs(c[k, 3] - float(game.player.position[3])) <= e.radius)
+        else:
+            visible = game.entity_sections.has_section(e.id)  # the sections system sliced it this frame
         pins.append(RadarPin(e.radar, float(x[k]), float(z[k]), float(height[k]), visible, e.id == sought))
     frame.radar = Radar(reach, w_scale, pins)
