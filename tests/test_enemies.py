@@ -543,3 +543,11 @@ def test_the_level_readme_example_loads_and_plays(tmp_path):
     warden = enemy(game)
     assert warden.data.spec.weak_spot is not None and [k.time for k in warden.data.keys] == [0.0, 2.0, 4.0]
     assert [c.name for c in game.level.checkpoints] == ["midway"]
+
+
+def test_enemy_shots_stop_at_the_gate_a_solid_4d_object():
+    game = Game(load_level(HIVE))
+    game.step(Actions())
+    # The gate spans x in [-4.5, 4.5], z in [15.8, 16.2] at every w of the level.
+    assert enemy_system._through_solid(game, np.array([0.0, 1.5, 15.0, 0.0]), np.array([0.0, 1.5, 17.0, 0.0]))
+    assert not enemy_system._through_solid(game, np.array([0.0, 1.5, 12.0, 0.0]), np.array([0.0, 1.5, 14.0, 0.0]))

@@ -268,11 +268,26 @@ def _fly_shots(game, hive: en.Hive) -> None:
             origin = source.data.centre if source is not None else shot.origin
             hp.damage(game, shot.damage, origin[[0, 2]], shot.source)
             gone = True
-        elif _point_in_world(game, at):
+        elif _point_in_world(game, at) or _through_solid(game, shot.at(age - 1, game.dt), at):
             gone = True
         if gone and sid in hive.shots:  # a fatal hit has already cleared every shot (player_died)
             hive.shots.remove(sid)
             game.remove(sid)
+
+
+def _through_solid(game, start, end) -> bool:
+    """Does the shot's path this tick cross a solid 4D object or a mesh part (a gate, an arch)?
+
+    The physics' static colliders hold their true shapes (boxes, convex cells, boundary
+    tets); the 3D world's boxes are :func:`_point_in_world`'s.
+    """
+    phys = game.physics
+    d = np.asarray(end, np.float64) - start
+    n = float(np.linalg.norm(d))
+    if phys is None or n == 0.0:
+        return False
+    hit = phys.raycast(start, d, n, include_world=True)
+    return hit is not None and hit[0] == "world"
 
 
 def _point_in_world(game, at) -> bool:
