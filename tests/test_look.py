@@ -285,3 +285,31 @@ def test_skipping_inner_faces_of_4d_things_changes_no_pixel_a_player_sees(gl_ctx
     worst, tick = max(diffs)
     assert len(diffs) >= 3
     assert worst < 0.5, f"{level}: mean pixel difference {worst:.2f}/255 at tick {tick} with inner faces culled"
+
+
+@pytest.mark.gl
+def test_depth_prepass_changes_no_pixel(gl_ctx):
+    """The opaque pass laid down in depth first, then shaded with ``<=``: the same picture."""
+    from across_dimensions.game.sim import Game
+    from across_dimensions.world.level import load_level
+    from across_dimensions.world.resources import resolve_level
+
+    game = Game(load_level(resolve_level("02_crystal_cache")))
+    target = Offscreen(gl_ctx, 320, 180)
+    with_pass, without = Renderer(gl_ctx), Renderer(gl_ctx)
+    without.depth_prepass = False
+    try:
+        for yaw in (0.0, 2.0, 4.0):
+            game.player.yaw = yaw
+            game._prev_view = (yaw, 0.0)
+            frame = game.frame()
+            target.use()
+            with_pass.draw(frame, hud=False)
+            a = target.read_rgb()
+            without.draw(frame, hud=False)
+            assert np.array_equal(a, target.read_rgb())
+        assert with_pass.stats.depth_calls > 0 == without.stats.depth_calls  # the pre-pass did run
+    finally:
+        with_pass.release()
+        without.release()
+        target.release()

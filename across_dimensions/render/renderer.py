@@ -53,7 +53,7 @@ from ..core.edges import feature_edges
 from ..core.mesh import TriMesh3
 from ..game.frame import Drawable, Frame
 from . import materials
-from .batch import BatchBuffers
+from .batch import DEPTH_FRAGMENT, DEPTH_VERTEX, BatchBuffers
 from .context import RenderError
 from .hud import HudRenderer
 from .radar import RadarRenderer
@@ -81,7 +81,8 @@ class RenderStats:
     releases: int = 0  #: cached meshes freed because no view uses their key any more
     edge_builds: int = 0  #: wire edge lists derived (per upload, only for wire drawables)
     frames: int = 0
-    draw_calls: int = 0
+    draw_calls: int = 0  #: shading draws (the depth pre-pass's are ``depth_calls``)
+    depth_calls: int = 0  #: depth-only draws of the pre-pass (see :meth:`Renderer._depth_prepass`)
     culled: int = 0  #: drawables skipped last frame because their bounding sphere was outside the view
     triangles: int = 0
     lines: int = 0
@@ -239,6 +240,9 @@ class Renderer:
         self._programs = self._look_programs(look)
         self._sky: SkyRenderer | None = None
         self._view_mirrored = True  # set per frame from the camera (see draw)
+        self._depth_prog: moderngl.Program | None = None
+        #: Lay down the opaque drawables' depth before shading them (see :meth:`_depth_prepass`).
+        self.depth_prepass = True
         self.hud = HudRenderer(ctx)
         self.radar = RadarRenderer(ctx)
         self.batches = BatchBuffers(ctx, self._programs)
@@ -357,6 +361,9 @@ class Renderer:
         if self._sky is not None:
             self._sky.release()
             self._sky = None
+        if self._depth_prog is not None:
+            self._depth_prog.release()
+            self._depth_prog = None
         self.hud.release()
         self.radar.release()
         self.batches.release()
@@ -418,7 +425,7 @@ class Renderer:
         dome = scifi and frame.sky == "dome"
         st = self.stats
         st.frames += 1
-        st.draw_calls = st.triangles = st.lines = st.upload_bytes = st.culled = 0
+        st.draw_calls = st.depth_calls = st.triangles = st.lines = st.upload_bytes = st.culled = 0
 
         ctx.viewport = viewport
         fbo.depth_mask = True  # glClear honours the depth mask
@@ -516,8 +523,12 @@ class Renderer:
         # Opaque front to back, so early depth rejection skips shading hidden
         # fragments (the fragment shader is the main cost on a CPU rasterizer).
         opaque.sort(key=lambda o: o[0])
+        if self.depth_prepass and opaque:
+            self._depth_prepass(opaque, vp_bytes)
         for _, d, gm, model in opaque:
             self._draw_mesh(d.style, gm, model, moderngl.TRIANGLES, gm.n_indices, d)
+        if self.depth_prepass and opaque:
+            ctx.depth_func = "<"
         for tb in frame.batches:
             if tb.style != "ghost":
                 self._draw_batch(tb, vp_bytes, scifi)
@@ -568,6 +579,30 @@ class Renderer:
             self.radar.draw(frame.radar, viewport)
             self.stats.draw_calls += self.radar.draw_calls
         self.hud.draw(frame.hud, viewport, frame.radar)
+
+    def _depth_prepass(self, opaque: list, vp_bytes: bytes) -> None:
+        """Lay down the opaque drawables' depth with an empty shader, then let the shading
+        pass (``<=``) colour each pixel once: one drawable (the level's scenery) holds walls
+        behind walls, which sorting whole drawables cannot order."""
+        ctx, fbo = self.ctx, self.ctx.fbo
+        if self._depth_prog is None:
+            self._depth_prog = ctx.program(vertex_shader=DEPTH_VERTEX, fragment_shader=DEPTH_FRAGMENT)
+        prog = self._depth_prog
+        prog["u_view_proj"].write(vp_bytes)
+        fbo.color_mask = False, False, False, False
+        for _, d, gm, model in opaque:
+            prog["u_model"].write(_mat4_bytes(model))
+            vao = gm.vaos.get("depth")
+            if vao is None:
+                vao = gm.vaos["depth"] = ctx.vertex_array(
+                    prog, [(gm.vbo, "3f 12x 16x", "in_pos")], index_buffer=gm.ibo, index_element_size=4
+                )
+            self._cull_inner(d.outside_only, model)
+            vao.render(moderngl.TRIANGLES, vertices=gm.n_indices)
+            self.stats.depth_calls += 1
+        self._cull_inner(False)
+        fbo.color_mask = True, True, True, True
+        ctx.depth_func = "<="
 
     def _cull_inner(self, outside_only: bool, model: np.ndarray | None = None) -> None:
         """Skip inner faces of closed surfaces (see :attr:`Drawable.outside_only`), or draw both sides."""
