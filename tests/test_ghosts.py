@@ -236,3 +236,21 @@ def test_levels_readme_ghosts_and_seek_snippet_loads(tmp_path):
     path.write_text(base + rest + "\n" + snippet)
     level = load_level(path)
     assert level.ghosts.enabled and level.ghosts.distance == 0.3 and not level.seek.enabled
+
+
+def test_no_ghost_where_it_would_be_the_section_itself():
+    from across_dimensions.core.shapes import cell120, tesseract
+    from across_dimensions.core.transform import rotation, scaling
+
+    slab = tesseract(1.0)
+    deep = scaling((9.0, 4.0, 0.4, 3.0))  # w from -1.5 to 1.5: the same box at every w inside
+    assert ghosts.same_as_slice(slab, deep, 0.0, 1.0) and ghosts.same_as_slice(slab, deep, 0.5, -0.9)
+    assert not ghosts.same_as_slice(slab, deep, 0.0, 1.6)  # past its cap: the ghost differs (nothing)
+    assert not ghosts.same_as_slice(slab, deep @ rotation("xw", 0.3), 0.0, 1.0)  # turned into w
+    assert not ghosts.same_as_slice(cell120(1.0), np.eye(5), 0.0, 0.2)  # every slice differs
+    # The Hive's gate is such a slab: the slice shows it, and no ghost veils it.
+    (hive,) = (Path(__file__).resolve().parents[1] / "levels").glob("*hive.toml")
+    game = Game(load_level(hive))
+    gate = game.entities.named("hive gate")
+    keys = {d.key for d in game.frame().drawables}
+    assert not any(k.endswith(f":entity:{gate.id}") and k.startswith("ghost") for k in keys)

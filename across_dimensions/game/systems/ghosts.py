@@ -138,6 +138,37 @@ def layers_of(game) -> list[Layer]:
     return out
 
 
+def _w_caps(mesh) -> tuple[float, float] | None:
+    """``(w_lo, w_hi)`` when the mesh is a prism along w (every vertex on one of two w
+    planes: a tesseract, a lifted 3D asset), else None. Cached on the mesh."""
+    caps = mesh._cache.get("ghost_w_caps", False)
+    if caps is False:
+        w = np.unique(mesh.vertices[:, 3])
+        caps = (float(w[0]), float(w[1])) if len(w) == 2 else None
+        mesh._cache["ghost_w_caps"] = caps
+    return caps
+
+
+def same_as_slice(mesh, model: np.ndarray, w: float, wg: float) -> bool:
+    """Is the section at ``wg`` the very section at ``w``? True for a prism along w that
+    nothing turns out of w, when both lie strictly between its caps: every slice of it
+    there is the same solid, so its ghost would only veil it (the Hive's gate).
+
+    Parameters
+    ----------
+    mesh : TetMesh4
+    model : (5, 5) float64
+        Object to world.
+    w, wg : float
+        The slice's w and the ghost layer's.
+    """
+    caps = _w_caps(mesh)
+    if caps is None or np.any(model[3, :3] != 0.0) or np.any(model[:3, 3] != 0.0):
+        return False
+    lo, hi = sorted(model[3, 3] * c + model[3, 4] for c in caps)
+    return lo < min(w, wg) and max(w, wg) < hi
+
+
 def _may_block(game, e, feet) -> bool:
     """Could the entity's section stand where the player stands? (cheap test on its reach)"""
     if not (e.solid or e.kind == "body"):
@@ -163,7 +194,10 @@ def draw(game, frame, alpha) -> None:
         ]
         worlds = enumerate(game.scene.worlds)
         things += [(f"{tag}:world:{i}", f"{tag}:world:{i}", wd.mesh, np.eye(5), True) for i, wd in worlds]
+        w = float(feet[3])
         for key, draw_key, mesh, model, solid in things:
+            if same_as_slice(mesh, model, w, layer.w):
+                continue  # the ghost would be the section itself, drawn over it
             tri, rev = game.sections.section(key, mesh, model, layer.w)
             used.add(key)
             if tri.is_empty:
