@@ -44,7 +44,12 @@ def add_arguments(p) -> None:
     g.add_argument("--frames", type=positive_int, metavar="F", help="frames measured per row (scene 30, levels 3)")
     g.add_argument("--json", action="store_true", help="print the rows as one JSON list and nothing else on stdout")
     g.add_argument("--out", metavar="PLOT.png", help="scene: also write the plot (needs the optional extra 'plot')")
-    g.add_argument("--render-scale", type=_scale, metavar="S", help="draw at S (0.5 to 1.0) of 1280x720, upscaled")
+    g.add_argument(
+        "--render-scale",
+        type=_scale,
+        metavar="S",
+        help="draw at S (0.5 to 1.0) of 1280x720, upscaled (default: what the game picks for this GL renderer)",
+    )
     g.add_argument("--per-object", action="store_true", help="scene: also measure the per-object path it replaces")
     g.add_argument("--level", action="append", metavar="LEVEL", help="levels: only these levels (repeatable)")
     g.add_argument("--grid", type=positive_int, metavar="K", help="levels: standing points per axis (6)")
@@ -80,14 +85,11 @@ def _scene(args) -> int:
         except ImportError:
             plot_ok = False
     out = _say(args)
-    scale = args.render_scale or 1.0
-    out(f"Rotating 120-cells (3,240 tets each), 1280x720 offscreen at render scale {scale:g}; medians in ms:")
-    out(bench_scene.HEADER)
     rows = bench_scene.run(
         ns=args.n or bench_scene.DEFAULT_NS,
         modes=modes,
         frames=args.frames or 30,
-        render_scale=scale,
+        render_scale=args.render_scale or "auto",
         per_object=args.per_object,
         out=out,
     )

@@ -47,6 +47,7 @@ from ..core.transform import translation
 from ..game.frame import Camera3, Drawable, Frame, TriangleBatch
 from .context import Offscreen, create_offscreen_context
 from .renderer import Renderer, _frustum_planes
+from .scale import ScaledTarget, resolve_render_scale
 
 #: The paper's figure's x axis.
 DEFAULT_NS = (1, 2, 5, 10, 20, 50, 100, 200)
@@ -179,26 +180,34 @@ def run(
     modes=MODES,
     frames: int = 30,
     size=(1280, 720),
-    render_scale: float = 1.0,
+    render_scale="auto",
     per_object: bool = False,
     out=print,
 ) -> list[dict]:
     """Measure every (mode, N); returns the rows (see :data:`ROW_KEYS`, plus extras).
 
-        Extra keys per row: ``kernel_ms`` (CPU time inside the numba kernel; section
+    Extra keys per row: ``kernel_ms`` (CPU time inside the numba kernel; section
     only), ``overhead_ms_per_object`` (CPU time of the batch's Python set-up and of
     the upload, beyond the kernel, per object: the issue's "per-object CPU
     overhead"; the driver's own vertex work, which llvmpipe does inside the draw
     call, is part of ``submit_ms`` and of the baseline alike),
-        ``frame_ms``, ``triangles``, ``gpu_bytes`` (the renderer's buffers),
-        ``peak_rss_mb`` (the process's peak resident memory so far).
+    ``frame_ms``, ``triangles``, ``gpu_bytes`` (the renderer's buffers),
+    ``peak_rss_mb`` (the process's peak resident memory so far), ``render_scale``.
+
+    ``render_scale`` is a number from 0.5 to 1 or ``"auto"``, what the game picks for
+    this GL renderer (0.5 on llvmpipe); below 1 the scene is drawn at that fraction of
+    ``size`` and upscaled to it, and the upscale is timed with the raster, as in the game.
     """
     mesh = make_shape("120-cell")
     ctx = create_offscreen_context()
-    w, h = (max(1, round(x * render_scale)) for x in size)
     rows = []
     try:
-        target = Offscreen(ctx, w, h)
+        target = _Target(ctx, size, resolve_render_scale(render_scale, ctx))
+        out(
+            f"Rotating 120-cells (3,240 tets each), {size[0]}x{size[1]} offscreen at render scale "
+            f"{target.scale:g} ({ctx.info.get('GL_RENDERER', '?')}); medians in ms:"
+        )
+        out(HEADER)
         for mode in modes:
             kinds = [mode] + (["section_per_object"] if per_object and mode == "section" else [])
             for kind in kinds:
@@ -207,6 +216,7 @@ def run(
                     scene = _Scene("section" if kind == "section_per_object" else mode, n, mesh)
                     row = _measure(ctx, target, renderer, scene, kind, frames)
                     row["gpu_bytes"] = renderer.gpu_bytes()
+                    row["render_scale"] = target.scale
                     row["peak_rss_mb"] = round(_maxrss_mb(), 1)
                     renderer.release()
                     rows.append(row)
@@ -217,11 +227,39 @@ def run(
     return rows
 
 
-def _measure(ctx, target, renderer: Renderer, scene: _Scene, kind: str, frames: int) -> dict:
+class _Target:
+    """The 1280x720 image, drawn at the render scale and upscaled as the game does."""
+
+    def __init__(self, ctx, size, scale: float):
+        self.scale = scale
+        self.screen = Offscreen(ctx, *size)
+        self.scaled = ScaledTarget(ctx, scale)
+        self.size = size
+
+    def use(self) -> None:
+        if not self.scaled.begin(self.size):
+            self.screen.use()
+
+    @property
+    def viewport(self):
+        return self.scaled.viewport if self.scaled.active else self.screen.viewport
+
+    def present(self) -> None:
+        """Stretch the scaled image over the full size (part of the frame's raster time)."""
+        if self.scaled.active:
+            self.scaled.present(self.screen.fbo, self.screen.viewport)
+
+    def release(self) -> None:
+        self.scaled.release()
+        self.screen.release()
+
+
+def _measure(ctx, target: _Target, renderer: Renderer, scene: _Scene, kind: str, frames: int) -> dict:
     warm = 3
     proj, sub, ras, kern, over = [], [], [], [], []
     frame = None
-    aspect = target.width / target.height
+    target.use()
+    aspect = target.viewport[2] / target.viewport[3]
     planes = None
     if scene.mode == "section":
         planes = _frustum_planes(scene.camera.projection_matrix(aspect) @ scene.camera.view_matrix())
@@ -237,6 +275,7 @@ def _measure(ctx, target, renderer: Renderer, scene: _Scene, kind: str, frames: 
             t1, c1 = time.perf_counter(), time.thread_time()
         renderer.draw(frame, target.viewport, hud=False)
         t2 = time.perf_counter()
+        target.present()
         ctx.finish()
         t3 = time.perf_counter()
         if i >= warm:
@@ -251,7 +290,9 @@ def _measure(ctx, target, renderer: Renderer, scene: _Scene, kind: str, frames: 
     base = []
     for _ in range(frames):
         t0 = time.perf_counter()
+        target.use()
         renderer.draw(frame, target.viewport, hud=False)
+        target.present()
         ctx.finish()
         base.append(time.perf_counter() - t0)
     med = {k: 1e3 * statistics.median(v) for k, v in (("p", proj), ("s", sub), ("r", ras), ("k", kern), ("o", over))}
