@@ -254,3 +254,13 @@ def test_no_ghost_where_it_would_be_the_section_itself():
     gate = game.entities.named("hive gate")
     keys = {d.key for d in game.frame().drawables}
     assert not any(k.endswith(f":entity:{gate.id}") and k.startswith("ghost") for k in keys)
+
+
+def test_standing_against_a_4d_wall_is_not_being_inside_its_ghost():
+    (first,) = (Path(__file__).resolve().parents[1] / "levels").glob("01_*.toml")
+    game = Game(load_level(first))
+    for _ in range(120):  # walk into the blue wall that exists only near w = 0, and stop there
+        game.step(Actions(forward=1.0))
+    frame = game.frame()
+    assert any(d.style == "ghost" for d in frame.drawables)  # its ghosts are drawn beside the player
+    assert frame.hud.w_blocked == ()  # but a step along w is free: the gauge says nothing

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import section_collision
 from ..frame import Drawable
 from ..player import W_SPEED, overlapping, player_box
 from . import camera
@@ -169,6 +170,12 @@ def same_as_slice(mesh, model: np.ndarray, w: float, wg: float) -> bool:
     return lo < min(w, wg) and max(w, wg) < hi
 
 
+def _holds_player(tri, lo, hi) -> bool:
+    """Is the player's box ``(lo, hi)`` inside the solid this section bounds, or cut by its
+    surface? (The walker's own test for a step along w: standing against a wall is not.)"""
+    return section_collision.box_blocked(lo, hi, tri.vertices[tri.faces].astype(np.float64))
+
+
 def _may_block(game, e, feet) -> bool:
     """Could the entity's section stand where the player stands? (cheap test on its reach)"""
     if not (e.solid or e.kind == "body"):
@@ -203,7 +210,7 @@ def draw(game, frame, alpha) -> None:
             if tri.is_empty:
                 continue
             opacity = layer.opacity
-            if solid and overlapping(lo, hi, game.sections.bounds(key)[None]).any():
+            if solid and overlapping(lo, hi, game.sections.bounds(key)[None]).any() and _holds_player(tri, lo, hi):
                 opacity *= BLOCK_GAIN  # it would block a step to this w: say so first
                 if layer.side not in blocked:
                     blocked.append(layer.side)
