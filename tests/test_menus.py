@@ -28,10 +28,11 @@ def test_campaign_order_skips_missing_files_and_every_entry_loads():
         "02_crystal_cache",
         "03_tumbling_hall",
         "04_armory",
-        "05_bridge",
-        "06_orthogonal_worlds",
-        "07_around_the_corner",
-        "08_hive",
+        "05_blast_and_field",
+        "06_bridge",
+        "07_orthogonal_worlds",
+        "08_around_the_corner",
+        "09_hive",
     ]
     shipped = {p.stem for p in level_files()}
     assert stems == [s for s in order if s in shipped]  # the campaign's order, minus what is not shipped
