@@ -339,10 +339,10 @@ def test_bench_scene_refuses_bad_options():
 
 
 def test_bench_levels_reports_the_worst_frame_of_a_level():
-    r = _run("bench", "levels", "--level", "05_bridge", "--grid", "1", "--frames", "1", "--json")
+    r = _run("bench", "levels", "--level", "06_bridge", "--grid", "1", "--frames", "1", "--json")
     assert r.returncode == 0, r.stderr
     (row,) = json.loads(r.stdout)
-    assert row["level"] == "05_bridge" and row["poses"] == 8
+    assert row["level"] == "06_bridge" and row["poses"] == 8
     assert row["worst_ms"] >= row["median_ms"] > 0
 
 

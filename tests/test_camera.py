@@ -139,7 +139,7 @@ def test_level_without_camera_table_leaves_the_slice_alone():
 
 
 def test_turning_the_slice_carries_the_player_into_the_orthogonal_world():
-    level = load_level(LEVELS / "06_orthogonal_worlds.toml")
+    level = load_level(LEVELS / "07_orthogonal_worlds.toml")
     # Without the turn there is no way across: the walker falls into the chasm.
     plain = Game(level)
     _run(plain, 420, forward=1.0)
@@ -157,7 +157,7 @@ def test_turning_the_slice_carries_the_player_into_the_orthogonal_world():
 
 
 def test_energy_drains_at_the_stated_rate_and_the_return_starts_at_zero():
-    game = Game(load_level(LEVELS / "07_around_the_corner.toml"))
+    game = Game(load_level(LEVELS / "08_around_the_corner.toml"))
     rate = game.level.camera.frustum_cost_milli  # thousandths per second
     game.energy = EnergyBar.of(2.5, 20.0)
     game.step(SWITCH)
@@ -180,7 +180,7 @@ def test_energy_drains_at_the_stated_rate_and_the_return_starts_at_zero():
 
 
 def test_the_frustum_view_stays_put_while_the_player_walks():
-    game = Game(load_level(LEVELS / "07_around_the_corner.toml"))
+    game = Game(load_level(LEVELS / "08_around_the_corner.toml"))
     _run(game, 20)
     game.step(SWITCH)
     first = {d.key: d for d in game.frame().drawables if d.key.startswith("frustum:")}
@@ -194,7 +194,7 @@ def test_the_frustum_view_stays_put_while_the_player_walks():
 
 
 def test_bullets_seen_through_the_4d_camera_hit_around_the_corner():
-    level = load_level(LEVELS / "07_around_the_corner.toml")
+    level = load_level(LEVELS / "08_around_the_corner.toml")
 
     def shot(orbit_ticks: int, frustum: bool = True) -> bool:
         game = Game(level)
@@ -218,7 +218,7 @@ def test_bullets_seen_through_the_4d_camera_hit_around_the_corner():
 
 
 def test_camera_modes_replay_deterministically():
-    level = load_level(LEVELS / "07_around_the_corner.toml")
+    level = load_level(LEVELS / "08_around_the_corner.toml")
     script = (
         [Actions(forward=1.0)] * 14
         + [SWITCH]
@@ -273,7 +273,7 @@ def test_bad_camera_table_names_the_file_and_the_entry(tmp_path, entry, needle):
 
 
 def test_check_level_accepts_the_camera_levels():
-    for name in ("06_orthogonal_worlds.toml", "07_around_the_corner.toml"):
+    for name in ("07_orthogonal_worlds.toml", "08_around_the_corner.toml"):
         done = subprocess.run(
             [sys.executable, "-m", "across_dimensions", "check-level", str(LEVELS / name)],
             capture_output=True,
@@ -285,7 +285,7 @@ def test_check_level_accepts_the_camera_levels():
 
 
 def test_picture_in_picture_shows_the_other_projection_and_costs_nothing_when_off():
-    game = Game(load_level(LEVELS / "07_around_the_corner.toml"))
+    game = Game(load_level(LEVELS / "08_around_the_corner.toml"))
     _run(game, 10)
     frame = game.frame()
     assert frame.pip is None and game.camera.cache is None  # no frustum projection was made

@@ -19,7 +19,7 @@ def _camera_keys():
     from across_dimensions.world.resources import levels_dir
 
     try:
-        w = GameWindow(Settings(), levels_dir() / "06_orthogonal_worlds.toml")
+        w = GameWindow(Settings(), levels_dir() / "07_orthogonal_worlds.toml")
     except Exception as e:  # no EGL here: no headless window
         print(f"no headless pyglet window: {e}")
         sys.exit(_NO_WINDOW)

@@ -24,7 +24,7 @@ from across_dimensions.world.level import LevelError, load_level
 from across_dimensions.world.resources import levels_dir, resolve_level
 
 ROOT = Path(__file__).resolve().parents[1]
-HIVE = levels_dir() / "08_hive.toml"
+HIVE = levels_dir() / "09_hive.toml"
 
 HEADER = """
 [level]
@@ -512,7 +512,7 @@ def test_hud_draws_health_flash_and_the_damage_direction():
 
 
 def test_hive_replay_finishes_with_enemies_defeated():
-    replay = levels_dir() / "replays" / "08_hive.json"
+    replay = levels_dir() / "replays" / "09_hive.json"
     if not replay.exists():
         pytest.skip("the Hive's replay is recorded in the window")
     env = dict(os.environ, PYTHONPATH=str(ROOT))

@@ -21,8 +21,8 @@ from across_dimensions.game.systems import manipulation
 from across_dimensions.world.level import LevelError, load_level
 from across_dimensions.world.resources import levels_dir
 
-BRIDGE = levels_dir() / "05_bridge.toml"
-BRIDGE_REPLAY = levels_dir() / "replays" / "05_bridge.json"
+BRIDGE = levels_dir() / "06_bridge.toml"
+BRIDGE_REPLAY = levels_dir() / "replays" / "06_bridge.json"
 
 
 def _at_the_edge() -> Game:

@@ -28,10 +28,11 @@ def test_campaign_order_skips_missing_files_and_every_entry_loads():
         "02_crystal_cache",
         "03_tumbling_hall",
         "04_armory",
-        "05_bridge",
-        "06_orthogonal_worlds",
-        "07_around_the_corner",
-        "08_hive",
+        "05_blast_and_field",
+        "06_bridge",
+        "07_orthogonal_worlds",
+        "08_around_the_corner",
+        "09_hive",
     ]
     shipped = {p.stem for p in level_files()}
     assert stems == [s for s in order if s in shipped]  # the campaign's order, minus what is not shipped
@@ -74,7 +75,7 @@ def test_check_level_checks_the_campaign_file_as_a_campaign(tmp_path):
     # `check-level levels/*.toml` takes the campaign file in too: it is checked as the campaign.
     r = check(*level_files(), levels_dir() / "campaign.toml")
     assert r.returncode == 0, r.stderr
-    assert "campaign.toml: ok - the campaign, 9 levels: 00_arrival, 01_first_steps" in r.stdout
+    assert "campaign.toml: ok - the campaign, 10 levels: 00_arrival, 01_first_steps" in r.stdout
     bad = tmp_path / "campaign.toml"
     bad.write_text('[[level]]\nfile = "../outside"\ntitle = "Out"\n', encoding="utf-8")
     r = check(bad)

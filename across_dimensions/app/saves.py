@@ -39,6 +39,20 @@ PROGRESS_FILE = "progress.json"
 PROGRESS_MAX_BYTES = 1024 * 1024
 #: Longest best time kept, seconds (a day): beyond it a time is a corrupt file, not a run.
 MAX_TIME = 86400.0
+#: Level files renamed since a progress file may have been written: old stem -> new stem.
+#: Applied once when loading, so a player's finished levels, crystals and place survive
+#: the campaign's renumbering (a "Blast and Field" level came in as 05).
+RENAMED = {
+    "05_bridge": "06_bridge",
+    "06_orthogonal_worlds": "07_orthogonal_worlds",
+    "07_around_the_corner": "08_around_the_corner",
+    "08_hive": "09_hive",
+}
+
+
+def renamed(level: str) -> str:
+    """The level's stem today (see :data:`RENAMED`)."""
+    return RENAMED.get(level, level)
 
 
 def data_folder() -> Path:
@@ -135,7 +149,8 @@ class Progress:
         for level, t in finished.items():
             if isinstance(t, bool) or not isinstance(t, (int, float)) or not (0 <= t <= MAX_TIME and math.isfinite(t)):
                 raise ValueError(f"finished.{level}: expected seconds from 0 to {MAX_TIME:g}, got {t!r}")
-            progress.finished[level] = float(t)
+            new = renamed(level)  # a run of the old file counts for the new name
+            progress.finished[new] = min(float(t), progress.finished.get(new, math.inf))
         crystals = data.get("crystals", {})
         if not isinstance(crystals, dict):
             raise ValueError("crystals: expected an object of level -> [found, total]")
@@ -143,13 +158,13 @@ class Progress:
             ok = isinstance(pair, list) and len(pair) == 2 and all(type(n) is int and n >= 0 for n in pair)
             if not ok or pair[0] > pair[1]:
                 raise ValueError(f"crystals.{level}: expected [found, total] with 0 <= found <= total, got {pair!r}")
-            progress.crystals[level] = (pair[0], pair[1])
+            progress.crystals[renamed(level)] = (pair[0], pair[1])
         current = data.get("current")
         if current is not None:
             level, cp = (current.get("level"), current.get("checkpoint")) if isinstance(current, dict) else (None, 0)
             if not isinstance(level, str) or not (cp is None or (type(cp) is int and cp >= 0)):
                 raise ValueError('current: expected {"level": name, "checkpoint": null or an index}')
-            progress.current, progress.checkpoint = level, cp
+            progress.current, progress.checkpoint = renamed(level), cp
         return progress
 
 

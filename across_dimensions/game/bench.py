@@ -105,7 +105,7 @@ def bench_entities(n: int = 200, ticks: int = 600) -> dict:
 
 
 def _collision_scene() -> tuple[Game, list]:
-    game = Game(load_level(levels_dir() / "05_bridge.toml"))
+    game = Game(load_level(levels_dir() / "06_bridge.toml"))
     mesh = make_shape("120-cell")
     turning = Placed(pose((1.2, 1.0, 1.8, 0.0), {}, np.full(4, 0.8)))
     game.entities.spawn("object", "cell", mesh, turning, solid=True, radius=reach(mesh, 0.8))
@@ -275,7 +275,7 @@ def bench_enemies(n: int = 10, ticks: int = 300) -> dict:
 
 
 # ------------------------------------------------------------------ the 4D camera
-CAMERA_LEVEL = "07_around_the_corner.toml"
+CAMERA_LEVEL = "08_around_the_corner.toml"
 
 
 def bench_camera(cycles: int = 4, ticks: int = 60) -> dict:
