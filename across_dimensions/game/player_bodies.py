@@ -151,8 +151,8 @@ def solid_colliders(game) -> tuple[list, list]:
     * a convex solid ``(planes (k, 5), lo (4,), hi (4,))`` when its mesh is a
       convex polytope (the regular polytopes, a hypersphere): its facets'
       half-spaces and bounds, in the world;
-    * nothing otherwise (an arch, a lifted asset): its bounding box would
-      block the doorway.
+    * nothing otherwise (an arch, a lifted asset): those meet the bodies as the
+      tets of their boundary (:func:`tet_colliders`).
 
     What each mesh is, is worked out once per entity (``game._solid_shapes``).
 
@@ -196,9 +196,57 @@ def solid_colliders(game) -> tuple[list, list]:
     return boxes, convex
 
 
+def tet_colliders(game) -> list[np.ndarray]:
+    """The level's solid 4D objects that are neither boxes nor convex, as the tets of their boundary.
+
+    Every ``solid`` object entity whose mesh :func:`solid_colliders` leaves out (an
+    arch, a lifted asset) gives its boundary tets placed by its pose, outward
+    (a mirroring pose reverses them). The arrays are kept per entity and made
+    again only when its pose changes, so the physics world sees the same array
+    objects (and does nothing) while nothing moves.
+
+    Returns
+    -------
+    list of (T, 4, 4) float64
+        For :meth:`PhysicsWorld.set_static_tets`, in entity order.
+    """
+    shapes = game.__dict__.setdefault("_solid_shapes", {})
+    local = game.__dict__.setdefault("_solid_tets", {})
+    placed = game.__dict__.setdefault("_solid_tets_placed", {})
+    out = []
+    for e in game.entities:
+        if not e.solid or e.kind != "object":
+            continue
+        if e.id not in shapes:
+            shapes[e.id] = _shape_of(e.mesh)
+        if shapes[e.id][0] != "none":
+            continue
+        if e.id not in local:
+            local[e.id] = np.asarray(e.mesh.vertices, dtype=np.float64)[np.asarray(e.mesh.tets, dtype=np.int64)]
+        m = e.model(game)
+        key = m.tobytes()
+        hit = placed.get(e.id)
+        if hit is None or hit[0] != key:
+            a = m[:4, :4]
+            det = np.linalg.det(a)
+            if abs(det) < 1e-12:
+                placed[e.id] = (key, None)
+            else:
+                world = local[e.id] @ a.T + m[:4, 4]
+                if det < 0:
+                    world = world[:, [0, 2, 1, 3]]  # a mirror turns tets inside out: swap two corners back
+                placed[e.id] = (key, np.ascontiguousarray(world))
+            hit = placed[e.id]
+        if hit[1] is not None:
+            out.append(hit[1])
+    return out
+
+
 def sync_solids(game) -> None:
-    """Hand :func:`solid_colliders` to the physics world (before its tick); a no-op without physics."""
+    """Hand :func:`solid_colliders` and :func:`tet_colliders` to the physics world (before its
+    tick); a no-op without physics."""
     if game.physics is not None:
         boxes, convex = solid_colliders(game)
         game.physics.set_static_solids(boxes)
         game.physics.set_static_convex(convex)
+        game.physics.set_static_tets(tet_colliders(game))
