@@ -372,6 +372,8 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
     tcp = scratch.tet_points
     tcn = scratch.tet_normals
     tcd = scratch.tet_depths
+    tmo = static.tet_motion
+    surf = contacts.surface_velocity
     pn = np.empty(4)
     wk = np.empty((SCRATCH_ROWS, 4))
     for op in range(npairs):
@@ -379,6 +381,7 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
         a = pairs[p, 0]
         b = pairs[p, 1]
         got = 0
+        tq = -1
         if b >= 0:
             m = marg[a] + marg[b]
             # Bounding balls apart by more than the margin: no contact whatever
@@ -421,6 +424,7 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
                 q = s - nh - wb.shape[0] - so.shape[0] - cr.shape[0]
                 t0 = tr[q, 0]
                 t1 = tr[q, 1]
+                tq = q
                 if shape[a] == SPHERE:
                     got = sphere_tets(pos[a], half[a, 0], tets, tpl, tby, tbd, t0, t1, m, tcp, tcn, tcd, cp, cn, cd, k)
                 else:
@@ -494,6 +498,14 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
             body_a[k + q] = a
             body_b[k + q] = b
             pair_key[k + q] = keys[p]
+            # A moving tet mesh's surface velocity at the point (zero for all else).
+            for t in range(4):
+                v = 0.0
+                if tq >= 0:
+                    v = tmo[tq, t, 4]
+                    for j in range(4):
+                        v += tmo[tq, t, j] * cp[k + q, j]
+                surf[k + q, t] = v
         k += got
     return k
 

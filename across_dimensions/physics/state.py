@@ -148,6 +148,9 @@ class StaticWorld(NamedTuple):
         Each tet mesh's rows ``[start, end)``.
     tet_mesh_bounds : (R, 8) float64
         Each tet mesh's bounds.
+    tet_motion : (R, 4, 5) float64
+        Each tet mesh's velocity field ``v(x) = A x + b`` as ``[A | b]``: zero for a
+        mesh that stays, the last tick's pose change over its length for one that moves.
     """
 
     half_spaces: np.ndarray
@@ -162,6 +165,7 @@ class StaticWorld(NamedTuple):
     tet_bounds: np.ndarray
     tet_ranges: np.ndarray
     tet_mesh_bounds: np.ndarray
+    tet_motion: np.ndarray
 
 
 class Contacts(NamedTuple):
@@ -181,6 +185,10 @@ class Contacts(NamedTuple):
         Overlap (negative: a speculative gap).
     normal_impulse : (C,) float64
         Normal impulse summed over the tick's substeps (for events).
+    surface_velocity : (C, 4) float64
+        Velocity of a static collider's surface at the point: non-zero only for a
+        tet mesh that moved since the last tick (a turning object), so a body on it
+        is carried instead of sinking in while the push-out catches up.
     """
 
     body_a: np.ndarray
@@ -190,6 +198,7 @@ class Contacts(NamedTuple):
     normal: np.ndarray
     depth: np.ndarray
     normal_impulse: np.ndarray
+    surface_velocity: np.ndarray
 
 
 class WarmStart(NamedTuple):
@@ -332,6 +341,7 @@ def new_contacts(cap: int) -> Contacts:
         np.zeros((cap, 4)),
         np.zeros(cap),
         np.zeros(cap),
+        np.zeros((cap, 4)),
     )
 
 

@@ -65,6 +65,9 @@ _SAME_NORMAL = 1.0 - 1e-9
 #: Sphere candidates whose normals agree to this are one contact (the deepest): a ball
 #: on a face made of several coplanar tets touches it once.
 _SPHERE_SAME_NORMAL = 1.0 - 1e-6
+#: Cosine of the largest angle between a tet's normal and the box face a point of the
+#: tet leaves the box through, for that point to be a contact of the tet (45 degrees).
+_FACE_ALIGN = 0.7071
 #: Tets whose normal (the cross product of three edges) is shorter than this, relative
 #: to the cube of their longest edge, are slivers with no reliable hyperplane; skipped.
 _DEGENERATE = 1e-12
@@ -290,9 +293,9 @@ def _emit_box(cp, cn, cd, cnt, rot, out_p, out_n, out_d, k):
     """Thin a box's candidates to MAX_POINTS.
 
     Those sharing the deepest candidate's normal (a box on a face) come first: the
-    ones extreme along the eight diagonals of the box's face across that normal, the
-    corners of the support region (as :func:`.collide.reduce_points` does for two
-    boxes). Free rows then go to the others (a wall beside it) by farthest-point
+    ones extreme along the eight diagonals of the box's face across that normal (plus
+    their depth), the corners of the support region (as :func:`.collide.reduce_points`
+    does for two boxes). Free rows then go to the others (a wall beside it) by farthest-point
     sampling.
     """
     if cnt <= MAX_POINTS:
@@ -333,15 +336,13 @@ def _emit_box(cp, cn, cd, cnt, rot, out_p, out_n, out_d, k):
                 j += 1
                 for m in range(4):
                     s += sg * rot[m, a] * cp[c, m]
-            # Nearly tied candidates (a corner and an edge crossing beside it) go to the deepest.
-            if s > far + 1e-4:
+            # Depth counts as much as reach: a corner a little in beats the speculative
+            # point above it where a box edge leaves the margin (a hair farther out
+            # when the box is turned), which would leave that corner unsupported.
+            s += cd[c]
+            if s > far:
                 far = s
                 pick = c
-            elif s >= far - 1e-4:
-                if cd[c] > cd[pick]:
-                    pick = c
-                if s > far:
-                    far = s
         dup = False
         for q in range(written):
             same = True
@@ -434,44 +435,56 @@ def sphere_tets(c, r, tets, planes, bary, bounds, t0, t1, margin, cp, cn, cd, ou
     nrm = np.empty(4)
     pt = np.empty(4)
     cnt = 0
-    for t in range(t0, t1):
-        if not _overlaps(bounds, t, lo, hi):
-            continue
-        s = -planes[t, 4]
-        for m in range(4):
-            s += planes[t, m] * c[m]
-        if s > r + margin or s < -(MAX_DEPTH + margin):
-            continue
-        for m in range(4):
-            q[m] = c[m] - s * planes[t, m]
-        inside = _project_inside(tets, bary, t, q)
-        if s < 0.0:
-            # Centre behind the face: only the tet whose face region holds it pushes it
-            # out, along the face's normal (an edge's closest point would point inwards).
-            if not inside:
+    nface = 0
+    # Two sweeps: face regions first (the centre's projection in the tet), then the
+    # tets' edges and corners. A flat face made of several tets has inner edges that
+    # are no feature: an edge point on (or behind) the plane of a face contact is
+    # covered by it, and left out, else its tilted normal would set a resting ball rolling.
+    for sweep in range(2):
+        for t in range(t0, t1):
+            if not _overlaps(bounds, t, lo, hi):
                 continue
-            depth = r - s
+            s = -planes[t, 4]
             for m in range(4):
-                nrm[m] = -planes[t, m]
-        else:
-            if inside:
-                d = s
-                for m in range(4):
-                    cl[m] = q[m]
-            else:
-                d = np.sqrt(_closest_on_boundary(c, tets, t, cl, tmp))
-            if d > r + margin:
+                s += planes[t, m] * c[m]
+            if s > r + margin or s < -(MAX_DEPTH + margin):
                 continue
-            if d > 1e-12:
-                for m in range(4):
-                    nrm[m] = (cl[m] - c[m]) / d
-            else:
+            for m in range(4):
+                q[m] = c[m] - s * planes[t, m]
+            inside = _project_inside(tets, bary, t, q)
+            if inside != (sweep == 0):
+                continue
+            if inside:
+                # In front: the face is nearest. Behind (the centre already in): out along
+                # the face's normal, never through an edge (that would point inwards).
+                depth = r - s
                 for m in range(4):
                     nrm[m] = -planes[t, m]
-            depth = r - d
-        for m in range(4):
-            pt[m] = c[m] + nrm[m] * (r - 0.5 * depth)
-        cnt = _add(cp, cn, cd, cnt, pt, nrm, depth, _SPHERE_SAME_NORMAL, -1.0)
+            else:
+                if s < 0.0:
+                    continue
+                d = np.sqrt(_closest_on_boundary(c, tets, t, cl, tmp))
+                if d > r + margin or d <= 1e-12:
+                    continue
+                covered = False
+                for f in range(nface):
+                    # cl on or behind face contact f's plane (normal -cn[f], through its point)?
+                    e = 0.0
+                    for m in range(4):
+                        e += cn[f, m] * (cl[m] - c[m] - cn[f, m] * (r - cd[f]))
+                    if e >= -_SAME_POINT:
+                        covered = True
+                        break
+                if covered:
+                    continue
+                for m in range(4):
+                    nrm[m] = (cl[m] - c[m]) / d
+                depth = r - d
+            for m in range(4):
+                pt[m] = c[m] + nrm[m] * (r - 0.5 * depth)
+            cnt = _add(cp, cn, cd, cnt, pt, nrm, depth, _SPHERE_SAME_NORMAL, -1.0)
+        if sweep == 0:
+            nface = cnt
     return _emit_thinned(cp, cn, cd, cnt, out_p, out_n, out_d, k)
 
 
@@ -512,37 +525,34 @@ def _keep_least_deep(cp, cn, cd, cnt, tets, planes, bary, bounds, t0, t1, lo, hi
 
 @njit(cache=True)
 def _surface_point(p, x, rot, h, un, depth_lo, margin, nrm, cp, cn, cd, cnt, ql, pt):
-    """Add a point ``p`` of a tet (outward normal ``un``) that lies in the box as a candidate.
+    """Add a point ``p`` of a tet (outward normal ``un``) that lies in the box (grown by the
+    margin along ``un``) as a candidate.
 
-    Its depth is how far the box must move along ``un`` to leave ``p``: the box's
-    entry distance ``s0`` along the line ``p + s un`` (``depth = -s0``; a gap when
-    positive). Kept when ``-margin <= depth <= depth_lo`` and the box lies on the
-    outer side of ``p``.
+    The box meets the tet with its face most turned towards it (the face whose axis is
+    most aligned with ``un``); the depth is how far the box must move along ``un`` for
+    that face to pass ``p`` (a gap when negative). Kept when ``-margin <= depth <=
+    depth_lo``. A rim of the solid inside a tilted box is met by the box's bottom face
+    through the top tet; through the end tet the box's far side face would have to
+    pass it, much deeper, and that one is dropped.
     """
-    s0 = -np.inf
-    s1 = np.inf
+    best = -1.0
+    ua = 0.0
+    qa = 0.0
     for a in range(4):
-        qa = 0.0
-        ua = 0.0
+        q = 0.0
+        u = 0.0
         for m in range(4):
-            qa += rot[m, a] * (p[m] - x[m])
-            ua += rot[m, a] * un[m]
-        ql[a] = qa
-        if abs(ua) < 1e-12:
-            if abs(qa) > h[a] + 1e-9:
-                return cnt
-            continue
-        ta = (-h[a] - qa) / ua
-        tb = (h[a] - qa) / ua
-        if ta > tb:
-            ta, tb = tb, ta
-        if ta > s0:
-            s0 = ta
-        if tb < s1:
-            s1 = tb
-    if s0 > s1 or s1 < 0.0:
-        return cnt
-    depth = -s0
+            q += rot[m, a] * (p[m] - x[m])
+            u += rot[m, a] * un[m]
+        ql[a] = q
+        if abs(u) > best:
+            best = abs(u)
+            ua = u
+            qa = q
+            ax = a
+    # The face at -sign(u) h along that axis faces the tet; p is g in front of it.
+    g = h[ax] + qa if ua > 0.0 else h[ax] - qa
+    depth = g / best
     if depth < -margin or depth > depth_lo:
         return cnt
     for m in range(4):
@@ -670,9 +680,22 @@ def box_tets(x, rot, h, tets, planes, bary, bounds, t0, t1, margin, cp, cn, cd, 
                             for m in range(4):
                                 q[m] = v[j, m] + tt * (v[j2, m] - v[j, m])
                                 s += un[m] * q[m]
-                            for m in range(4):
-                                pt[m] = q[m] - 0.5 * s * un[m]
-                            cnt = _add(cp, cn, cd, cnt, pt, nrm, -s, _SAME_NORMAL, _SAME_POINT * _SAME_POINT)
+                            # The point lies on three or four of the box's faces; one of them
+                            # must face the tet. A box edge just inside a lintel's rim faces
+                            # its top with its bottom face, and none faces the lintel's end.
+                            align = 0.0
+                            for a in range(4):
+                                qa = 0.0
+                                for m in range(4):
+                                    qa += rot[m, a] * (q[m] - x[m])
+                                if abs(qa) >= h[a] - 1e-7 * (1.0 + h[a]):
+                                    f = -lim[a] if qa > 0.0 else lim[a]
+                                    if f > align:
+                                        align = f
+                            if align >= _FACE_ALIGN:
+                                for m in range(4):
+                                    pt[m] = q[m] - 0.5 * s * un[m]
+                                cnt = _add(cp, cn, cd, cnt, pt, nrm, -s, _SAME_NORMAL, _SAME_POINT * _SAME_POINT)
                             if e1 == e0:
                                 break
                 continue

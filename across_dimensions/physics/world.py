@@ -216,6 +216,7 @@ class PhysicsWorld:
             np.zeros((0, 8)),
             np.zeros((0, 2), np.int64),
             np.zeros((0, 8)),
+            np.zeros((0, 4, 5)),
         )
         self._tet_inputs: list[np.ndarray] = []
         if ground:
@@ -667,7 +668,7 @@ class PhysicsWorld:
         boxes += [np.concatenate([0.5 * (b[:4] + b[4:]), 0.5 * (b[4:] - b[:4]), np.eye(4).ravel()]) for b in new[2]]
         self._wake_near_solids(boxes)
 
-    def set_static_tets(self, meshes: Iterable[np.ndarray]) -> None:
+    def set_static_tets(self, meshes: Iterable[np.ndarray], motions: Iterable[np.ndarray] | None = None) -> None:
         """Replace the tet meshes: each the boundary tets ``(T, 4, 4)`` of one solid, in the world.
 
         For solids that are neither boxes nor convex (an arch, a lifted asset):
@@ -679,10 +680,29 @@ class PhysicsWorld:
         nothing, sleeping bodies near a mesh that changed wake, and the meshes are
         not in :meth:`state_bytes` (the game hashes the poses they come from).
         Arrays handed over are kept (not copied): make new ones when a mesh moves.
+
+        Parameters
+        ----------
+        meshes : iterable of (T, 4, 4) array_like
+        motions : iterable of (4, 5) array_like, optional
+            Each mesh's velocity field ``v(x) = A x + b`` as ``[A | b]`` (m/s), for a
+            mesh that moves: a body resting on it is carried along (its contacts
+            see the surface's velocity) rather than pushed out after it sank in.
+            ``(M_new M_old^-1 - I)[:4] / dt`` for a pose change ``M_old -> M_new``
+            over a tick ``dt``. Zero (a still mesh) when not given.
         """
         inputs = [np.asarray(m, dtype=np.float64).reshape(-1, 4, 4) for m in meshes]
+        if motions is None:
+            motion = np.zeros((len(inputs), 4, 5))
+        else:
+            motion = np.array([np.asarray(v, dtype=np.float64).reshape(4, 5) for v in motions]).reshape(-1, 4, 5)
+            if len(motion) != len(inputs):
+                raise ValueError(f"{len(inputs)} tet meshes but {len(motion)} motions")
         old = self._tet_inputs
-        if len(inputs) == len(old) and all(a is b or np.array_equal(a, b) for a, b in zip(inputs, old)):
+        same = len(inputs) == len(old) and all(a is b or np.array_equal(a, b) for a, b in zip(inputs, old))
+        if same:
+            if not np.array_equal(motion, self.static.tet_motion):
+                self.static = self.static._replace(tet_motion=motion)
             return
         parts, ranges = [], []
         start = 0
@@ -718,6 +738,7 @@ class PhysicsWorld:
             tet_bounds=bounds,
             tet_ranges=np.array(ranges, dtype=np.int64).reshape(-1, 2),
             tet_mesh_bounds=mesh_bounds,
+            tet_motion=motion,
         )
         # Wake sleepers near each mesh that moved, where it was and where it is now.
         rows = [
