@@ -373,6 +373,7 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
     tcn = scratch.tet_normals
     tcd = scratch.tet_depths
     tmo = static.tet_motion
+    tsw = static.tet_sweep
     surf = contacts.surface_velocity
     pn = np.empty(4)
     wk = np.empty((SCRATCH_ROWS, 4))
@@ -425,11 +426,15 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
                 t0 = tr[q, 0]
                 t1 = tr[q, 1]
                 tq = q
+                ax = int(tsw[q, 0])
+                ext = tsw[q, 1]
                 if shape[a] == SPHERE:
-                    got = sphere_tets(pos[a], half[a, 0], tets, tpl, tby, tbd, t0, t1, m, tcp, tcn, tcd, cp, cn, cd, k)
+                    got = sphere_tets(
+                        pos[a], half[a, 0], tets, tpl, tby, tbd, t0, t1, ax, ext, m, tcp, tcn, tcd, cp, cn, cd, k
+                    )
                 else:
                     got = box_tets(
-                        pos[a], rot[a], half[a], tets, tpl, tby, tbd, t0, t1, m, tcp, tcn, tcd, cp, cn, cd, k
+                        pos[a], rot[a], half[a], tets, tpl, tby, tbd, t0, t1, ax, ext, m, tcp, tcn, tcd, cp, cn, cd, k
                     )
             elif s >= nh + wb.shape[0] + so.shape[0]:
                 # A level's convex solid: against its facet of least penetration.

@@ -148,6 +148,9 @@ class StaticWorld(NamedTuple):
         Each tet mesh's rows ``[start, end)``.
     tet_mesh_bounds : (R, 8) float64
         Each tet mesh's bounds.
+    tet_sweep : (R, 2) float64
+        Each tet mesh's sort axis (its longest) and its longest tet along it: the
+        mesh's tets are sorted by their low bound along that axis.
     tet_motion : (R, 4, 5) float64
         Each tet mesh's velocity field ``v(x) = A x + b`` as ``[A | b]``: zero for a
         mesh that stays, the last tick's pose change over its length for one that moves.
@@ -165,6 +168,7 @@ class StaticWorld(NamedTuple):
     tet_bounds: np.ndarray
     tet_ranges: np.ndarray
     tet_mesh_bounds: np.ndarray
+    tet_sweep: np.ndarray
     tet_motion: np.ndarray
 
 

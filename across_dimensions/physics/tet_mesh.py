@@ -34,9 +34,10 @@ Candidates that repeat (a point on an edge shared by several tets) are merged,
 and at most :data:`~.collide.MAX_POINTS` are kept by farthest-point sampling
 from the deepest, so a resting box keeps the outline of its support.
 
-Each mesh carries per-tet bounds; a body tests only the tets whose bounds
-meet its own (grown by its margin). Built by :func:`tet_geometry` from world
-tets ``(T, 4, 4)``; see :meth:`~.world.PhysicsWorld.set_static_tets`.
+Each mesh's tets are sorted by their low bound along the mesh's longest axis, and
+each tet carries its bounds: a body finds the run of tets that can reach it by a
+binary search, and tests only those whose bounds meet its own (grown by its margin).
+Built by :func:`tet_geometry` from world tets ``(T, 4, 4)``; see :meth:`~.world.PhysicsWorld.set_static_tets`.
 """
 
 from __future__ import annotations
@@ -392,6 +393,22 @@ def _emit_box(cp, cn, cd, cnt, rot, out_p, out_n, out_d, k):
 
 
 @njit(cache=True)
+def _first(bounds, t0, t1, ax, v):
+    """First tet of ``t0:t1`` (sorted by their low bound along ``ax``) whose low bound is
+    at least ``v``: a body reaching down to ``v + ext`` meets no tet before it, as no tet
+    is longer than ``ext`` along that axis."""
+    a = t0
+    b = t1
+    while a < b:
+        m = (a + b) // 2
+        if bounds[m, ax] < v:
+            a = m + 1
+        else:
+            b = m
+    return a
+
+
+@njit(cache=True)
 def _overlaps(bounds, t, lo, hi):
     for m in range(4):
         if bounds[t, m] > hi[m] or bounds[t, 4 + m] < lo[m]:
@@ -400,7 +417,7 @@ def _overlaps(bounds, t, lo, hi):
 
 
 @njit(cache=True)
-def sphere_tets(c, r, tets, planes, bary, bounds, t0, t1, margin, cp, cn, cd, out_p, out_n, out_d, k):
+def sphere_tets(c, r, tets, planes, bary, bounds, t0, t1, ax, ext, margin, cp, cn, cd, out_p, out_n, out_d, k):
     """Contacts of a hypersphere with tets ``t0:t1`` of a tet mesh (normal from the sphere).
 
     Parameters
@@ -411,7 +428,10 @@ def sphere_tets(c, r, tets, planes, bary, bounds, t0, t1, margin, cp, cn, cd, ou
         Radius.
     tets, planes, bary, bounds : arrays of :func:`tet_geometry`
     t0, t1 : int
-        The mesh's tets.
+        The mesh's tets, sorted by their low bound along axis ``ax``.
+    ax : int
+    ext : float
+        The mesh's longest tet along ``ax``: the tets a body can meet are a run of them.
     margin : float
         Speculative distance.
     cp, cn, cd : (CANDIDATES, 4), (CANDIDATES, 4), (CANDIDATES,) float64
@@ -441,7 +461,9 @@ def sphere_tets(c, r, tets, planes, bary, bounds, t0, t1, margin, cp, cn, cd, ou
     # are no feature: an edge point on (or behind) the plane of a face contact is
     # covered by it, and left out, else its tilted normal would set a resting ball rolling.
     for sweep in range(2):
-        for t in range(t0, t1):
+        for t in range(_first(bounds, t0, t1, ax, lo[ax] - ext), t1):
+            if bounds[t, ax] > hi[ax]:
+                break
             if not _overlaps(bounds, t, lo, hi):
                 continue
             s = -planes[t, 4]
@@ -489,7 +511,7 @@ def sphere_tets(c, r, tets, planes, bary, bounds, t0, t1, margin, cp, cn, cd, ou
 
 
 @njit(cache=True)
-def _keep_least_deep(cp, cn, cd, cnt, tets, planes, bary, bounds, t0, t1, lo, hi, margin, deep, raw):
+def _keep_least_deep(cp, cn, cd, cnt, tets, planes, bary, bounds, t0, t1, ax, ext, lo, hi, margin, deep, raw):
     """Drop each of the box's points that another tet sees less deep (or outside).
 
     A point of the box a little inside the solid near a convex edge is behind both
@@ -502,7 +524,9 @@ def _keep_least_deep(cp, cn, cd, cnt, tets, planes, bary, bounds, t0, t1, lo, hi
         for m in range(4):
             raw[m] = cp[c, m] + 0.5 * cd[c] * cn[c, m]
         drop = False
-        for t in range(t0, t1):
+        for t in range(_first(bounds, t0, t1, ax, lo[ax] - ext), t1):
+            if bounds[t, ax] > hi[ax]:
+                break
             if not _overlaps(bounds, t, lo, hi):
                 continue
             s = -planes[t, 4]
@@ -561,7 +585,7 @@ def _surface_point(p, x, rot, h, un, depth_lo, margin, nrm, cp, cn, cd, cnt, ql,
 
 
 @njit(cache=True)
-def box_tets(x, rot, h, tets, planes, bary, bounds, t0, t1, margin, cp, cn, cd, out_p, out_n, out_d, k):
+def box_tets(x, rot, h, tets, planes, bary, bounds, t0, t1, ax, ext, margin, cp, cn, cd, out_p, out_n, out_d, k):
     """Contacts of a 4D box with tets ``t0:t1`` of a tet mesh (normal from the box).
 
     Parameters
@@ -572,7 +596,7 @@ def box_tets(x, rot, h, tets, planes, bary, bounds, t0, t1, margin, cp, cn, cd, 
         Box rotation (columns are its axes).
     h : (4,) float64
         Half extents.
-    tets, planes, bary, bounds, t0, t1, margin, cp, cn, cd, out_p, out_n, out_d, k
+    tets, planes, bary, bounds, t0, t1, ax, ext, margin, cp, cn, cd, out_p, out_n, out_d, k
         As :func:`sphere_tets`.
 
     Returns
@@ -611,8 +635,12 @@ def box_tets(x, rot, h, tets, planes, bary, bounds, t0, t1, margin, cp, cn, cd, 
     # Two sweeps over the tets: the box's points (1), then the tets' points (2, 3).
     for sweep in range(2):
         if sweep == 1:
-            cnt = _keep_least_deep(cp, cn, cd, cnt, tets, planes, bary, bounds, t0, t1, lo, hi, margin, deep, q)
-        for t in range(t0, t1):
+            cnt = _keep_least_deep(
+                cp, cn, cd, cnt, tets, planes, bary, bounds, t0, t1, ax, ext, lo, hi, margin, deep, q
+            )
+        for t in range(_first(bounds, t0, t1, ax, lo[ax] - ext), t1):
+            if bounds[t, ax] > hi[ax]:
+                break
             if not _overlaps(bounds, t, lo, hi):
                 continue
             for m in range(4):

@@ -216,6 +216,7 @@ class PhysicsWorld:
             np.zeros((0, 8)),
             np.zeros((0, 2), np.int64),
             np.zeros((0, 8)),
+            np.zeros((0, 2)),
             np.zeros((0, 4, 5)),
         )
         self._tet_inputs: list[np.ndarray] = []
@@ -704,12 +705,18 @@ class PhysicsWorld:
             if not np.array_equal(motion, self.static.tet_motion):
                 self.static = self.static._replace(tet_motion=motion)
             return
-        parts, ranges = [], []
+        parts, ranges, sweep = [], [], []
         start = 0
         for m in inputs:
-            parts.append(tet_geometry(m))
-            ranges.append((start, start + len(parts[-1][0])))
-            start += len(parts[-1][0])
+            geo = tet_geometry(m)
+            # Sorted along the mesh's longest axis: a body meets one run of them (see tet_mesh).
+            b = geo[3]
+            ax = int(np.argmax(b[:, 4:].max(axis=0) - b[:, :4].min(axis=0))) if len(b) else 0
+            order = np.argsort(b[:, ax], kind="stable")
+            parts.append(tuple(np.ascontiguousarray(a[order]) for a in geo))
+            sweep.append((ax, float((b[:, 4 + ax] - b[:, ax]).max()) if len(b) else 0.0))
+            ranges.append((start, start + len(b)))
+            start += len(b)
         if parts:
             tets, planes, bary, bounds = (np.concatenate(a) for a in zip(*parts))
         else:
@@ -738,6 +745,7 @@ class PhysicsWorld:
             tet_bounds=bounds,
             tet_ranges=np.array(ranges, dtype=np.int64).reshape(-1, 2),
             tet_mesh_bounds=mesh_bounds,
+            tet_sweep=np.array(sweep, dtype=np.float64).reshape(-1, 2),
             tet_motion=motion,
         )
         # Wake sleepers near each mesh that moved, where it was and where it is now.
