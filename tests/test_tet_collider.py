@@ -217,3 +217,43 @@ body = "hypercube"
         heights.append(world.body_position(body)[1])
     assert heights[20] == pytest.approx(TOP + 0.25, abs=0.05)  # on the top while it has hardly turned
     assert heights[-1] < 2.0  # went down with the top (it turned 60 degrees) or slid off it
+
+
+def test_a_ball_bounces_off_the_arch_as_high_as_off_the_same_box(arch):
+    """Restitution 0.5: the rebound reaches e^2 = 1/4 of the drop, as on the lintel given as a solid box."""
+    rebounds = []
+    for as_tets in (True, False):
+        world = PhysicsWorld(world_restitution=0.5)
+        if as_tets:
+            world.set_static_tets([arch])
+        else:
+            world.set_static_solids([((0.0, 2.401, 0.0, 0.0), (1.2, 0.2, 0.3, 0.5), np.eye(4))])
+        ball = world.add_body(BodyDef("hypersphere", radius=0.3, position=(0.0, 4.0, 0.0, 0.0), restitution=0.5))
+        ys = []
+        for _ in range(120):
+            world.step(1 / 60)
+            ys.append(world.body_position(ball)[1])
+        first = int(np.argmin(ys[:60]))  # the first touch
+        rebounds.append(max(ys[first:]) - (TOP + 0.3))
+    drop = 4.0 - (TOP + 0.3)
+    assert rebounds[0] == pytest.approx(rebounds[1], rel=0.02)
+    assert rebounds[0] == pytest.approx(0.25 * drop, rel=0.2)  # a 60 Hz tick blurs the touch
+
+
+def test_meshes_handed_over_again_change_nothing_and_a_removed_one_drops_what_rested_on_it(arch):
+    world = PhysicsWorld()
+    world.set_static_tets([arch])
+    box = world.add_body(BodyDef("hypercube", size=0.4, position=(0.0, TOP + 0.25, 0.0, 0.0)))
+    for _ in range(120):
+        world.step(1 / 60)
+    assert world.is_sleeping(box)
+    static = world.static
+    world.set_static_tets([arch])  # the same mesh again: nothing changes, the box sleeps on
+    assert world.static is static and world.is_sleeping(box)
+    with pytest.raises(ValueError, match="1 tet meshes but 2 motions"):
+        world.set_static_tets([arch], [np.zeros((4, 5))] * 2)
+    world.set_static_tets([])  # the arch is gone (a door opened): the box wakes and falls
+    assert not world.is_sleeping(box)
+    for _ in range(60):
+        world.step(1 / 60)
+    assert world.body_position(box)[1] < TOP - 1.0
