@@ -95,21 +95,79 @@ def tet_geometry(tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, 
     bounds : (T', 8) float64
         ``(lo (4), hi (4))`` of each tet.
     """
-    from across_dimensions.core.mesh import cross4
+    t = np.ascontiguousarray(np.asarray(tets, dtype=np.float64).reshape(-1, 4, 4))
+    planes = np.empty((len(t), 5))
+    bary = np.empty((len(t), 3, 4))
+    bounds = np.empty((len(t), 8))
+    keep = np.empty(len(t), dtype=np.bool_)
+    _geometry(t, planes, bary, bounds, keep)
+    if keep.all():
+        return t, planes, bary, bounds
+    return t[keep], planes[keep], bary[keep], bounds[keep]
 
-    t = np.asarray(tets, dtype=np.float64).reshape(-1, 4, 4)
-    e = t[:, 1:] - t[:, :1]  # (T, 3, 4)
-    n = cross4(e[:, 0], e[:, 1], e[:, 2])
-    ln = np.linalg.norm(n, axis=1)
-    size = np.linalg.norm(e, axis=2).max(axis=1) if len(t) else np.zeros(0)
-    ok = ln > _DEGENERATE * size**3
-    t, e, n, ln = t[ok], e[ok], n[ok], ln[ok]
-    n = n / ln[:, None]
-    planes = np.c_[n, np.einsum("ti,ti->t", n, t[:, 0])]
-    gram = np.einsum("tai,tbi->tab", e, e)
-    bary = np.linalg.solve(gram, e) if len(t) else np.zeros((0, 3, 4))
-    bounds = np.c_[t.min(axis=1), t.max(axis=1)] if len(t) else np.zeros((0, 8))
-    return np.ascontiguousarray(t), planes, np.ascontiguousarray(bary), bounds
+
+@njit(cache=True)
+def _geometry(t, planes, bary, bounds, keep):
+    """:func:`tet_geometry` in place, for every tet (``keep`` False for slivers)."""
+    e = np.empty((3, 4))
+    g = np.empty((3, 3))
+    for i in range(t.shape[0]):
+        size2 = 0.0
+        for r in range(3):
+            s = 0.0
+            for m in range(4):
+                e[r, m] = t[i, r + 1, m] - t[i, 0, m]
+                s += e[r, m] * e[r, m]
+            size2 = max(size2, s)
+        # cross4 (core.mesh): cofactors of det[e0, e1, e2, x] along the last row.
+        ln2 = 0.0
+        for c in range(4):
+            a0 = 0 if c > 0 else 1
+            a1 = 1 if c > 1 else 2
+            a2 = 2 if c > 2 else 3
+            d = (
+                e[0, a0] * (e[1, a1] * e[2, a2] - e[1, a2] * e[2, a1])
+                - e[0, a1] * (e[1, a0] * e[2, a2] - e[1, a2] * e[2, a0])
+                + e[0, a2] * (e[1, a0] * e[2, a1] - e[1, a1] * e[2, a0])
+            )
+            planes[i, c] = -d if c % 2 == 0 else d
+            ln2 += d * d
+        ln = np.sqrt(ln2)
+        keep[i] = ln > _DEGENERATE * size2 * np.sqrt(size2)
+        for m in range(4):
+            bounds[i, m] = min(t[i, 0, m], t[i, 1, m], t[i, 2, m], t[i, 3, m])
+            bounds[i, 4 + m] = max(t[i, 0, m], t[i, 1, m], t[i, 2, m], t[i, 3, m])
+        if not keep[i]:
+            continue
+        off = 0.0
+        for m in range(4):
+            planes[i, m] /= ln
+            off += planes[i, m] * t[i, 0, m]
+        planes[i, 4] = off
+        # bary = Gram^-1 E (Gram = E E^T, symmetric 3x3, inverted by its cofactors).
+        for r in range(3):
+            for q in range(3):
+                s = 0.0
+                for m in range(4):
+                    s += e[r, m] * e[q, m]
+                g[r, q] = s
+        c00 = g[1, 1] * g[2, 2] - g[1, 2] * g[2, 1]
+        c01 = g[1, 2] * g[2, 0] - g[1, 0] * g[2, 2]
+        c02 = g[1, 0] * g[2, 1] - g[1, 1] * g[2, 0]
+        det = g[0, 0] * c00 + g[0, 1] * c01 + g[0, 2] * c02
+        inv00 = c00 / det
+        inv01 = (g[0, 2] * g[2, 1] - g[0, 1] * g[2, 2]) / det
+        inv02 = (g[0, 1] * g[1, 2] - g[0, 2] * g[1, 1]) / det
+        inv11 = (g[0, 0] * g[2, 2] - g[0, 2] * g[2, 0]) / det
+        inv12 = (g[0, 2] * g[1, 0] - g[0, 0] * g[1, 2]) / det
+        inv22 = (g[0, 0] * g[1, 1] - g[0, 1] * g[1, 0]) / det
+        inv10 = c01 / det
+        inv20 = c02 / det
+        inv21 = (g[0, 1] * g[2, 0] - g[0, 0] * g[2, 1]) / det
+        for m in range(4):
+            bary[i, 0, m] = inv00 * e[0, m] + inv01 * e[1, m] + inv02 * e[2, m]
+            bary[i, 1, m] = inv10 * e[0, m] + inv11 * e[1, m] + inv12 * e[2, m]
+            bary[i, 2, m] = inv20 * e[0, m] + inv21 * e[1, m] + inv22 * e[2, m]
 
 
 @njit(cache=True)

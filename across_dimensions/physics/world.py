@@ -220,6 +220,7 @@ class PhysicsWorld:
             np.zeros((0, 4, 5)),
         )
         self._tet_inputs: list[np.ndarray] = []
+        self._tet_parts: list[tuple] = []
         if ground:
             self.add_half_space((0.0, 1.0, 0.0, 0.0), 0.0)
         self.warm = new_warm_start(256)
@@ -707,16 +708,22 @@ class PhysicsWorld:
             return
         parts, ranges, sweep = [], [], []
         start = 0
-        for m in inputs:
-            geo = tet_geometry(m)
-            # Sorted along the mesh's longest axis: a body meets one run of them (see tet_mesh).
-            b = geo[3]
-            ax = int(np.argmax(b[:, 4:].max(axis=0) - b[:, :4].min(axis=0))) if len(b) else 0
-            order = np.argsort(b[:, ax], kind="stable")
-            parts.append(tuple(np.ascontiguousarray(a[order]) for a in geo))
-            sweep.append((ax, float((b[:, 4 + ax] - b[:, ax]).max()) if len(b) else 0.0))
-            ranges.append((start, start + len(b)))
-            start += len(b)
+        for i, m in enumerate(inputs):
+            if i < len(old) and (m is old[i] or np.array_equal(m, old[i])):
+                geo, sw = self._tet_parts[i]  # this mesh stays: its geometry too
+            else:
+                geo = tet_geometry(m)
+                # Sorted along the mesh's longest axis: a body meets one run of them (see tet_mesh).
+                b = geo[3]
+                ax = int(np.argmax(b[:, 4:].max(axis=0) - b[:, :4].min(axis=0))) if len(b) else 0
+                order = np.argsort(b[:, ax], kind="stable")
+                geo = tuple(np.ascontiguousarray(a[order]) for a in geo)
+                sw = (ax, float((b[:, 4 + ax] - b[:, ax]).max()) if len(b) else 0.0)
+            parts.append(geo)
+            sweep.append(sw)
+            ranges.append((start, start + len(geo[0])))
+            start += len(geo[0])
+        self._tet_parts = list(zip(parts, sweep))
         if parts:
             tets, planes, bary, bounds = (np.concatenate(a) for a in zip(*parts))
         else:
