@@ -257,3 +257,12 @@ def test_meshes_handed_over_again_change_nothing_and_a_removed_one_drops_what_re
     for _ in range(60):
         world.step(1 / 60)
     assert world.body_position(box)[1] < TOP - 1.0
+
+
+def test_the_bench_line_times_both_floors_in_the_same_run():
+    from across_dimensions.physics.bench import bench_tet_mesh
+
+    r = bench_tet_mesh(n_bodies=4, tiles=2, ticks=2)
+    assert r["tets"] == 4 * 48  # a lifted box is 48 tets
+    assert r["tet_cpu_ms"] >= 0.0 and r["box_cpu_ms"] >= 0.0
+    assert r["tet_contacts"] > 0 and r["box_contacts"] > 0  # the bodies rest on both floors
