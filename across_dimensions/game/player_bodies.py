@@ -151,8 +151,8 @@ def solid_colliders(game) -> tuple[list, list]:
     * a convex solid ``(planes (k, 5), lo (4,), hi (4,))`` when its mesh is a
       convex polytope (the regular polytopes, a hypersphere): its facets'
       half-spaces and bounds, in the world;
-    * nothing otherwise (an arch, a lifted asset): its bounding box would
-      block the doorway.
+    * nothing otherwise (an arch, a lifted asset): those meet the bodies as the
+      tets of their boundary (:func:`tet_colliders`).
 
     What each mesh is, is worked out once per entity (``game._solid_shapes``).
 
@@ -196,9 +196,79 @@ def solid_colliders(game) -> tuple[list, list]:
     return boxes, convex
 
 
+#: A solid object whose surface would move faster than this (m/s) in one tick jumped
+#: (it was placed, not turned): bodies near it are pushed out, not carried.
+MAX_CARRY_SPEED = 20.0
+
+
+def tet_colliders(game) -> list[np.ndarray]:
+    """The level's solid 4D objects that are neither boxes nor convex, as the tets of their boundary.
+
+    Every ``solid`` object entity whose mesh :func:`solid_colliders` leaves out (an
+    arch, a lifted asset) gives its boundary tets placed by its pose, outward
+    (a mirroring pose reverses them). The arrays are kept per entity and made
+    again only when its pose changes, so the physics world sees the same array
+    objects (and does nothing) while nothing moves.
+
+    Returns
+    -------
+    list of (T, 4, 4) float64
+        For :meth:`PhysicsWorld.set_static_tets`, in entity order.
+    """
+    return _tet_meshes(game)[0]
+
+
+def _tet_meshes(game) -> tuple[list, list]:
+    """:func:`tet_colliders` and each mesh's velocity field ``(4, 5)``: the change of its
+    pose since it was last placed, over a tick (zero when it has not moved)."""
+    shapes = game.__dict__.setdefault("_solid_shapes", {})
+    local = game.__dict__.setdefault("_solid_tets", {})
+    placed = game.__dict__.setdefault("_solid_tets_placed", {})
+    tets, motions = [], []
+    for e in game.entities:
+        if not e.solid or e.kind != "object":
+            continue
+        if e.id not in shapes:
+            shapes[e.id] = _shape_of(e.mesh)
+        if shapes[e.id][0] != "none":
+            continue
+        if e.id not in local:
+            local[e.id] = np.asarray(e.mesh.vertices, dtype=np.float64)[np.asarray(e.mesh.tets, dtype=np.int64)]
+        m = e.model(game)
+        key = m.tobytes()
+        hit = placed.get(e.id)
+        if hit is None or hit[0] != key:
+            a = m[:4, :4]
+            det = np.linalg.det(a)
+            world, motion = None, np.zeros((4, 5))
+            if abs(det) >= 1e-12:
+                world = local[e.id] @ a.T + m[:4, 4]
+                if det < 0:
+                    world = world[:, [0, 2, 1, 3]]  # a mirror turns tets inside out: swap two corners back
+                world = np.ascontiguousarray(world)
+                if hit is not None and hit[1] is not None:
+                    # x_new = M_new M_old^-1 x_old: over one tick, that is the surface's velocity field.
+                    old = np.frombuffer(hit[0], dtype=np.float64).reshape(5, 5)
+                    motion = ((m @ np.linalg.inv(old) - np.eye(5)) / game.dt)[:4]
+                    lo, hi = world.min(axis=(0, 1)), world.max(axis=(0, 1))
+                    corners = np.array([[(hi if (j >> i) & 1 else lo)[i] for i in range(4)] for j in range(16)])
+                    speed = np.linalg.norm(corners @ motion[:, :4].T + motion[:, 4], axis=1).max()
+                    if not np.isfinite(speed) or speed > MAX_CARRY_SPEED:
+                        motion = np.zeros((4, 5))
+            placed[e.id] = hit = (key, world, motion)
+        elif hit[2].any():
+            placed[e.id] = hit = (key, hit[1], np.zeros((4, 5)))  # placed again where it was: still
+        if hit[1] is not None:
+            tets.append(hit[1])
+            motions.append(hit[2])
+    return tets, motions
+
+
 def sync_solids(game) -> None:
-    """Hand :func:`solid_colliders` to the physics world (before its tick); a no-op without physics."""
+    """Hand :func:`solid_colliders` and :func:`tet_colliders` to the physics world (before its
+    tick); a no-op without physics."""
     if game.physics is not None:
         boxes, convex = solid_colliders(game)
         game.physics.set_static_solids(boxes)
         game.physics.set_static_convex(convex)
+        game.physics.set_static_tets(*_tet_meshes(game))

@@ -20,8 +20,9 @@ Game-facing API of :class:`PhysicsWorld`:
   ``set_velocity``, ``set_pose``, ``push``, ``wake``, ``is_sleeping``,
   ``body_ids``;
 * static world: ground ``y <= 0`` (``ground=True``), ``set_static_boxes``,
-  ``add_half_space`` (slopes, walls in w), ``set_static_solids`` (4D boxes)
-  and ``set_static_convex`` (convex polytopes): the level's solid objects;
+  ``add_half_space`` (slopes, walls in w), ``set_static_solids`` (4D boxes),
+  ``set_static_convex`` (convex polytopes) and ``set_static_tets`` (the
+  boundary tets of any other solid, see :mod:`.tet_mesh`): the level's solid objects;
 * time: ``step(dt)`` runs whole ticks of ``tick_dt`` (default 1/60 s, four
   substeps each); ``tick()`` runs exactly one;
 * queries: ``push_box_out`` (the player's collider), ``raycast``, ``events``

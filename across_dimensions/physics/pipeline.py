@@ -5,7 +5,7 @@ on the inputs, never on timing or hashing):
 
 1. bounding boxes, sort-and-sweep broadphase along the widest axis (bodies) plus a direct
    test against the few static world colliders (half-spaces, world boxes, and
-   the level's solid objects as 4D boxes or convex solids);
+   the level's solid objects as 4D boxes, convex solids or tet meshes);
 2. wake sleeping islands touched by moving bodies;
 3. narrowphase contacts for the pairs, sorted by pair key (so last tick's
    contacts can be matched for warm starting in one forward pass);
@@ -48,6 +48,7 @@ from .solver import (
     warm_start,
 )
 from .sorting import argsort_stable
+from .tet_mesh import box_tets, sphere_tets
 
 STATIC = 0
 KINEMATIC = 1
@@ -109,7 +110,8 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
     base_margin : float
     pairs : (P, 2) int64
         Output: body a and body b (``b >= 0``) or ``-1 - s`` for static world
-        collider ``s`` (half-spaces first, then world boxes, solid boxes, convex solids).
+        collider ``s`` (half-spaces first, then world boxes, solid boxes, convex solids,
+        tet meshes).
     marg : (N,) float64
         Output: per-body speculative margin ``base + h * (speed)``.
 
@@ -243,6 +245,7 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
     so = static.solids
     ns = so.shape[0]
     cb = static.convex_bounds
+    tb = static.tet_mesh_bounds
     sext = np.zeros((ns, 4))
     for s in range(ns):
         for m in range(4):
@@ -298,6 +301,18 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
                     pairs[n, 0] = i
                     pairs[n, 1] = -1 - nh - nw - ns - q
                 n += 1
+        nq = cb.shape[0]
+        for q in range(tb.shape[0]):
+            ok = True
+            for m in range(4):
+                if lo[i, m] > tb[q, 4 + m] or hi[i, m] < tb[q, m]:
+                    ok = False
+                    break
+            if ok:
+                if n < cap:
+                    pairs[n, 0] = i
+                    pairs[n, 1] = -1 - nh - nw - ns - nq - q
+                n += 1
     if n > cap:
         return -n
     return n
@@ -349,6 +364,17 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
     so = static.solids
     cpl = static.convex_planes
     cr = static.convex_ranges
+    tets = static.tets
+    tpl = static.tet_planes
+    tby = static.tet_bary
+    tbd = static.tet_bounds
+    tr = static.tet_ranges
+    tcp = scratch.tet_points
+    tcn = scratch.tet_normals
+    tcd = scratch.tet_depths
+    tmo = static.tet_motion
+    tsw = static.tet_sweep
+    surf = contacts.surface_velocity
     pn = np.empty(4)
     wk = np.empty((SCRATCH_ROWS, 4))
     for op in range(npairs):
@@ -356,6 +382,7 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
         a = pairs[p, 0]
         b = pairs[p, 1]
         got = 0
+        tq = -1
         if b >= 0:
             m = marg[a] + marg[b]
             # Bounding balls apart by more than the margin: no contact whatever
@@ -392,6 +419,22 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
                 else:
                     got = box_halfspace(
                         pos[a], rot[a], half[a], pn, hs[s, 4], m, scratch_p, scratch_d, wk, cp, cn, cd, k
+                    )
+            elif s >= nh + wb.shape[0] + so.shape[0] + cr.shape[0]:
+                # A level's other solid object: the tets of its boundary.
+                q = s - nh - wb.shape[0] - so.shape[0] - cr.shape[0]
+                t0 = tr[q, 0]
+                t1 = tr[q, 1]
+                tq = q
+                ax = int(tsw[q, 0])
+                ext = tsw[q, 1]
+                if shape[a] == SPHERE:
+                    got = sphere_tets(
+                        pos[a], half[a, 0], tets, tpl, tby, tbd, t0, t1, ax, ext, m, tcp, tcn, tcd, cp, cn, cd, k
+                    )
+                else:
+                    got = box_tets(
+                        pos[a], rot[a], half[a], tets, tpl, tby, tbd, t0, t1, ax, ext, m, tcp, tcn, tcd, cp, cn, cd, k
                     )
             elif s >= nh + wb.shape[0] + so.shape[0]:
                 # A level's convex solid: against its facet of least penetration.
@@ -460,6 +503,14 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
             body_a[k + q] = a
             body_b[k + q] = b
             pair_key[k + q] = keys[p]
+            # A moving tet mesh's surface velocity at the point (zero for all else).
+            for t in range(4):
+                v = 0.0
+                if tq >= 0:
+                    v = tmo[tq, t, 4]
+                    for j in range(4):
+                        v += tmo[tq, t, j] * cp[k + q, j]
+                surf[k + q, t] = v
         k += got
     return k
 

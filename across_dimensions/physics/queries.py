@@ -22,6 +22,7 @@ from across_dimensions.core._jit import njit
 
 from .bivector import PLANE_I, PLANE_J
 from .collide import SPHERE
+from .tet_mesh import ray_tets
 
 
 @njit(cache=True)
@@ -201,6 +202,28 @@ def raycast_kernel(bodies, static, o, d, max_t, use_world, normal):
                 best = -1 - nh - nw - ns - q
                 for m in range(4):
                     normal[m] = cpl[f_in, m]
+        # Tet meshes: the nearest outward face hit, within meshes whose bounds the ray meets.
+        tr = static.tet_ranges
+        tmb = static.tet_mesh_bounds
+        nq = cr.shape[0]
+        for q in range(tr.shape[0]):
+            for a in range(4):
+                lo[a] = tmb[q, a]
+                hi[a] = tmb[q, 4 + a]
+            inside = True
+            for a in range(4):
+                if o[a] < lo[a] or o[a] > hi[a]:
+                    inside = False
+            if not inside:
+                t, ax, sg = _slab_hit(o, d, lo, hi, 4)
+                if ax < 0 or t >= best_t:
+                    continue
+            t, hit = ray_tets(o, d, static.tets, static.tet_planes, static.tet_bary, tr[q, 0], tr[q, 1], best_t)
+            if hit >= 0:
+                best_t = t
+                best = -1 - nh - nw - ns - nq - q
+                for m in range(4):
+                    normal[m] = static.tet_planes[hit, m]
     return best, best_t
 
 

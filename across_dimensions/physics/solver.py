@@ -80,6 +80,7 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
     """
     body_a = contacts.body_a
     body_b = contacts.body_b
+    surf = contacts.surface_velocity
     point = contacts.point
     normal = contacts.normal
     pos = bodies.position
@@ -188,6 +189,9 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
                         vn += d[m] * vel[b, m]
                     for k in range(6):
                         vn += wb[k] * omg[b, k]
+                else:
+                    for m in range(4):
+                        vn += d[m] * surf[c, m]
         vn0[c] = vn
         maxlam[c] = 0.0
         _prepare_spin(c, a, b, tb, cmu[c], shape, bound, iinv, iso, spin_radius, rolling, spin)
@@ -311,8 +315,9 @@ def _inv_inertia_times(m, iso, v, out):
 
 
 @njit(cache=True)
-def _rel_vel(c, r, a, b, rows, ja, jb, vel, omg):
-    """Relative velocity of b with respect to a along row ``r`` of contact ``c``."""
+def _rel_vel(c, r, a, b, rows, ja, jb, vel, omg, surf):
+    """Relative velocity of b (or the static surface, ``surf``) with respect to a along row
+    ``r`` of contact ``c``."""
     v = 0.0
     for m in range(4):
         v -= rows[c, r, m] * vel[a, m]
@@ -323,6 +328,9 @@ def _rel_vel(c, r, a, b, rows, ja, jb, vel, omg):
             v += rows[c, r, m] * vel[b, m]
         for k in range(6):
             v += jb[c, r, k] * omg[b, k]
+    else:
+        for m in range(4):
+            v += rows[c, r, m] * surf[c, m]
     return v
 
 
@@ -468,6 +476,7 @@ def solve(
     """
     body_a = contacts.body_a
     body_b = contacts.body_b
+    surf = contacts.surface_velocity
     sep = rows_in.separation
     lam = rows_in.impulse
     cmu = rows_in.friction
@@ -512,8 +521,9 @@ def solve(
                     wb[k] = omg[b, k]
                 imb = inv_mass[b]
             else:
+                # The static world: still, or a moving tet mesh's surface (see Contacts).
                 for m in range(4):
-                    vb[m] = 0.0
+                    vb[m] = surf[c, m]
                 for k in range(6):
                     wb[k] = 0.0
                 imb = 0.0
@@ -635,6 +645,7 @@ def restitution(nc, contacts, rows_in, bodies, iso, threshold):
     """
     body_a = contacts.body_a
     body_b = contacts.body_b
+    surf = contacts.surface_velocity
     impulse = rows_in.impulse
     ce = rows_in.restitution
     rows = rows_in.direction
@@ -653,7 +664,7 @@ def restitution(nc, contacts, rows_in, bodies, iso, threshold):
             continue
         a = body_a[c]
         b = body_b[c]
-        vn = _rel_vel(c, 0, a, b, rows, ja, jb, vel, omg)
+        vn = _rel_vel(c, 0, a, b, rows, ja, jb, vel, omg, surf)
         lam = -rmass[c, 0] * (vn + ce[c] * vn0[c])
         new = impulse[c, 0] + lam
         if new < 0.0:

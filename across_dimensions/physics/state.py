@@ -6,7 +6,7 @@ record arrays, which read the same. :func:`~across_dimensions.physics.pipeline.t
 receives
 
 * :class:`Bodies` - every body slot (the world's state, updated in place);
-* :class:`StaticWorld` - half-spaces, 3D world boxes, 4D solid boxes and convex solids;
+* :class:`StaticWorld` - half-spaces, 3D world boxes, 4D solid boxes, convex solids and tet meshes;
 * ``params`` - a ``(1,)`` record array of :data:`PARAMS_DTYPE` (tuning values);
 * :class:`Contacts` - this tick's contact points, filled by the narrowphase;
 * :class:`WarmStart` - last tick's impulses, keyed by pair, replaced each tick;
@@ -16,7 +16,7 @@ receives
 All arrays are indexed by body id (``N`` slots) or contact index (``C``
 capacity); only the first ``Bodies.count`` bodies and the first ``n`` contacts
 a tick reports are meaningful. A contact's second body ``b`` is ``-1 - s`` for
-static world collider ``s`` (half-spaces first, then world boxes, solid boxes, convex solids): those rows
+static world collider ``s`` (half-spaces first, then world boxes, solid boxes, convex solids, tet meshes): those rows
 have no second body.
 
 Kernels take the arrays out of the bundles once, before their loops: reading a
@@ -135,6 +135,25 @@ class StaticWorld(NamedTuple):
         Each convex solid's rows ``[start, end)`` in ``convex_planes``.
     convex_bounds : (Q, 8) float64
         Each convex solid's bounds ``(lo (4), hi (4))``.
+    tets : (T, 4, 4) float64
+        Boundary tets of the level's other solid objects (not boxes, not convex),
+        in the world, outward (see :mod:`.tet_mesh`), one run of rows per object.
+    tet_planes : (T, 5) float64
+        Each tet's hyperplane ``(n, offset)``, ``n`` the unit outward normal.
+    tet_bary : (T, 3, 4) float64
+        Each tet's barycentric map (:func:`.tet_mesh.tet_geometry`).
+    tet_bounds : (T, 8) float64
+        Each tet's bounds ``(lo (4), hi (4))``.
+    tet_ranges : (R, 2) int64
+        Each tet mesh's rows ``[start, end)``.
+    tet_mesh_bounds : (R, 8) float64
+        Each tet mesh's bounds.
+    tet_sweep : (R, 2) float64
+        Each tet mesh's sort axis (its longest) and its longest tet along it: the
+        mesh's tets are sorted by their low bound along that axis.
+    tet_motion : (R, 4, 5) float64
+        Each tet mesh's velocity field ``v(x) = A x + b`` as ``[A | b]``: zero for a
+        mesh that stays, the last tick's pose change over its length for one that moves.
     """
 
     half_spaces: np.ndarray
@@ -143,6 +162,14 @@ class StaticWorld(NamedTuple):
     convex_planes: np.ndarray
     convex_ranges: np.ndarray
     convex_bounds: np.ndarray
+    tets: np.ndarray
+    tet_planes: np.ndarray
+    tet_bary: np.ndarray
+    tet_bounds: np.ndarray
+    tet_ranges: np.ndarray
+    tet_mesh_bounds: np.ndarray
+    tet_sweep: np.ndarray
+    tet_motion: np.ndarray
 
 
 class Contacts(NamedTuple):
@@ -162,6 +189,10 @@ class Contacts(NamedTuple):
         Overlap (negative: a speculative gap).
     normal_impulse : (C,) float64
         Normal impulse summed over the tick's substeps (for events).
+    surface_velocity : (C, 4) float64
+        Velocity of a static collider's surface at the point: non-zero only for a
+        tet mesh that moved since the last tick (a turning object), so a body on it
+        is carried instead of sinking in while the push-out catches up.
     """
 
     body_a: np.ndarray
@@ -171,6 +202,7 @@ class Contacts(NamedTuple):
     normal: np.ndarray
     depth: np.ndarray
     normal_impulse: np.ndarray
+    surface_velocity: np.ndarray
 
 
 class WarmStart(NamedTuple):
@@ -282,6 +314,9 @@ class Scratch(NamedTuple):
         Clipping scratch of the box narrowphase.
     needed : (1,) int64
         After an overflow, the capacity that was needed.
+    tet_points, tet_normals : (CANDIDATES, 4) float64
+    tet_depths : (CANDIDATES,) float64
+        Candidate contacts against a tet mesh, before thinning (:mod:`.tet_mesh`).
     """
 
     pairs: np.ndarray
@@ -289,6 +324,9 @@ class Scratch(NamedTuple):
     points: np.ndarray
     point_depths: np.ndarray
     needed: np.ndarray
+    tet_points: np.ndarray
+    tet_normals: np.ndarray
+    tet_depths: np.ndarray
 
 
 def new_params() -> np.ndarray:
@@ -307,6 +345,7 @@ def new_contacts(cap: int) -> Contacts:
         np.zeros((cap, 4)),
         np.zeros(cap),
         np.zeros(cap),
+        np.zeros((cap, 4)),
     )
 
 

@@ -43,6 +43,7 @@ from .state import (
     new_solver_rows,
     new_warm_start,
 )
+from .tet_mesh import CANDIDATES, tet_geometry
 
 #: Pairs closer than this (metres) count as touching for events.
 _TOUCH_TOL = 1e-3
@@ -209,7 +210,17 @@ class PhysicsWorld:
             np.zeros((0, 5)),
             np.zeros((0, 2), np.int64),
             np.zeros((0, 8)),
+            np.zeros((0, 4, 4)),
+            np.zeros((0, 5)),
+            np.zeros((0, 3, 4)),
+            np.zeros((0, 8)),
+            np.zeros((0, 2), np.int64),
+            np.zeros((0, 8)),
+            np.zeros((0, 2)),
+            np.zeros((0, 4, 5)),
         )
+        self._tet_inputs: list[np.ndarray] = []
+        self._tet_parts: list[tuple] = []
         if ground:
             self.add_half_space((0.0, 1.0, 0.0, 0.0), 0.0)
         self.warm = new_warm_start(256)
@@ -301,6 +312,9 @@ class PhysicsWorld:
             np.zeros((SCRATCH_POINTS, 4)),
             np.zeros(SCRATCH_POINTS),
             np.zeros(1, np.int64),
+            np.zeros((CANDIDATES, 4)),
+            np.zeros((CANDIDATES, 4)),
+            np.zeros(CANDIDATES),
         )
         self.contacts = new_contacts(contact_cap)
         self._rows = new_solver_rows(contact_cap)
@@ -655,6 +669,99 @@ class PhysicsWorld:
         boxes = [np.concatenate([0.5 * (b[:4] + b[4:]), 0.5 * (b[4:] - b[:4]), np.eye(4).ravel()]) for b in old[2]]
         boxes += [np.concatenate([0.5 * (b[:4] + b[4:]), 0.5 * (b[4:] - b[:4]), np.eye(4).ravel()]) for b in new[2]]
         self._wake_near_solids(boxes)
+
+    def set_static_tets(self, meshes: Iterable[np.ndarray], motions: Iterable[np.ndarray] | None = None) -> None:
+        """Replace the tet meshes: each the boundary tets ``(T, 4, 4)`` of one solid, in the world.
+
+        For solids that are neither boxes nor convex (an arch, a lifted asset):
+        every tet is a 3-simplex of the solid's closed boundary, its corners
+        ordered so that ``core.mesh.cross4`` of the edges from corner 0 points
+        out of the solid (as :class:`~across_dimensions.core.mesh.TetMesh4` keeps
+        them). Bodies meet each tet exactly (see :mod:`.tet_mesh`). As for
+        :meth:`set_static_solids`, handing over the same arrays again changes
+        nothing, sleeping bodies near a mesh that changed wake, and the meshes are
+        not in :meth:`state_bytes` (the game hashes the poses they come from).
+        Arrays handed over are kept (not copied): make new ones when a mesh moves.
+
+        Parameters
+        ----------
+        meshes : iterable of (T, 4, 4) array_like
+        motions : iterable of (4, 5) array_like, optional
+            Each mesh's velocity field ``v(x) = A x + b`` as ``[A | b]`` (m/s), for a
+            mesh that moves: a body resting on it is carried along (its contacts
+            see the surface's velocity) rather than pushed out after it sank in.
+            ``(M_new M_old^-1 - I)[:4] / dt`` for a pose change ``M_old -> M_new``
+            over a tick ``dt``. Zero (a still mesh) when not given.
+        """
+        inputs = [np.asarray(m, dtype=np.float64).reshape(-1, 4, 4) for m in meshes]
+        if motions is None:
+            motion = np.zeros((len(inputs), 4, 5))
+        else:
+            motion = np.array([np.asarray(v, dtype=np.float64).reshape(4, 5) for v in motions]).reshape(-1, 4, 5)
+            if len(motion) != len(inputs):
+                raise ValueError(f"{len(inputs)} tet meshes but {len(motion)} motions")
+        old = self._tet_inputs
+        same = len(inputs) == len(old) and all(a is b or np.array_equal(a, b) for a, b in zip(inputs, old))
+        if same:
+            if not np.array_equal(motion, self.static.tet_motion):
+                self.static = self.static._replace(tet_motion=motion)
+            return
+        parts, ranges, sweep = [], [], []
+        start = 0
+        for i, m in enumerate(inputs):
+            if i < len(old) and (m is old[i] or np.array_equal(m, old[i])):
+                geo, sw = self._tet_parts[i]  # this mesh stays: its geometry too
+            else:
+                geo = tet_geometry(m)
+                # Sorted along the mesh's longest axis: a body meets one run of them (see tet_mesh).
+                b = geo[3]
+                ax = int(np.argmax(b[:, 4:].max(axis=0) - b[:, :4].min(axis=0))) if len(b) else 0
+                order = np.argsort(b[:, ax], kind="stable")
+                geo = tuple(np.ascontiguousarray(a[order]) for a in geo)
+                sw = (ax, float((b[:, 4 + ax] - b[:, ax]).max()) if len(b) else 0.0)
+            parts.append(geo)
+            sweep.append(sw)
+            ranges.append((start, start + len(geo[0])))
+            start += len(geo[0])
+        self._tet_parts = list(zip(parts, sweep))
+        if parts:
+            tets, planes, bary, bounds = (np.concatenate(a) for a in zip(*parts))
+        else:
+            tets, planes, bary, bounds = np.zeros((0, 4, 4)), np.zeros((0, 5)), np.zeros((0, 3, 4)), np.zeros((0, 8))
+        mesh_bounds = np.array(
+            [
+                np.concatenate([bounds[a:b, :4].min(axis=0), bounds[a:b, 4:].max(axis=0)])
+                if b > a
+                else np.array([np.inf] * 4 + [-np.inf] * 4)
+                for a, b in ranges
+            ],
+            dtype=np.float64,
+        ).reshape(-1, 8)
+        old_bounds = self.static.tet_mesh_bounds
+        changed = []
+        for i in range(max(len(inputs), len(old))):
+            if i < len(inputs) and i < len(old) and (inputs[i] is old[i] or np.array_equal(inputs[i], old[i])):
+                continue
+            changed += [old_bounds[i]] if i < len(old) else []
+            changed += [mesh_bounds[i]] if i < len(inputs) else []
+        self._tet_inputs = inputs
+        self.static = self.static._replace(
+            tets=tets,
+            tet_planes=planes,
+            tet_bary=bary,
+            tet_bounds=bounds,
+            tet_ranges=np.array(ranges, dtype=np.int64).reshape(-1, 2),
+            tet_mesh_bounds=mesh_bounds,
+            tet_sweep=np.array(sweep, dtype=np.float64).reshape(-1, 2),
+            tet_motion=motion,
+        )
+        # Wake sleepers near each mesh that moved, where it was and where it is now.
+        rows = [
+            np.concatenate([0.5 * (b[:4] + b[4:]), 0.5 * (b[4:] - b[:4]), np.eye(4).ravel()])
+            for b in changed
+            if np.all(np.isfinite(b))
+        ]
+        self._wake_near_solids(rows)
 
     def _wake_near_solids(self, rows) -> None:
         """Wake sleeping bodies whose bounding ball meets one of the solid boxes ``rows``."""
