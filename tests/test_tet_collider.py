@@ -266,3 +266,83 @@ def test_the_bench_line_times_both_floors_in_the_same_run():
     assert r["tets"] == 4 * 48  # a lifted box is 48 tets
     assert r["tet_cpu_ms"] >= 0.0 and r["box_cpu_ms"] >= 0.0
     assert r["tet_contacts"] > 0 and r["box_contacts"] > 0  # the bodies rest on both floors
+
+
+ARCH_LEVEL = """
+[level]
+format = 2
+name = "Arch test"
+w_range = [-1.0, 1.0]
+
+[spawn]
+position = [0.0, 0.0, -8.0, 0.0]
+
+[goal]
+center = [0.0, 1.0, 9.0]
+size = [1.0, 1.0, 1.0]
+
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [30.0, 1.0, 30.0]
+
+[[mesh]]   # x from -1.5 to 1.5, y from 0 to 3.5, z from -0.25 to 0.25, a doorway in the middle
+asset = "meshes/arch.obj"
+position = [0.0, 0.0, 0.0]
+
+[[object]]
+name = "through"
+shape = "hypersphere"
+scale = 0.25
+body = "hypersphere"
+position = [0.0, 0.6, -3.0, 0.0]
+velocity = [0.0, 0.0, 6.0, 0.0]
+
+[[object]]
+name = "blocked"
+shape = "hypersphere"
+scale = 0.25
+body = "hypersphere"
+position = [1.25, 0.6, -3.0, 0.0]
+velocity = [0.0, 0.0, 6.0, 0.0]
+
+[[object]]
+name = "top"
+shape = "tesseract"
+scale = 0.4
+body = "hypercube"
+position = [0.0, 5.0, 0.0, 0.0]
+"""
+
+
+def test_bodies_meet_a_mesh_part_by_its_true_surface_not_its_box(tmp_path):
+    """A ``[[mesh]]`` arch (the same at every w): a ball rolls through its doorway, which its
+    bounding box would close; one aimed at a leg bounces back; a box lands on its top."""
+    from across_dimensions.game.actions import Actions
+    from across_dimensions.game.sim import Game
+    from across_dimensions.world.level import load_level
+
+    path = tmp_path / "arch.toml"
+    path.write_text(ARCH_LEVEL, encoding="utf-8")
+    game = Game(load_level(path))
+    for _ in range(150):
+        game.step(Actions())
+    at = {n: game.entities.named(n).center(game) for n in ("through", "blocked", "top")}
+    assert at["through"][2] > 3.0  # through the doorway
+    assert at["blocked"][2] < -0.25 - 0.25 + 1e-6  # stopped in front of the leg, never in it
+    assert at["top"][1] == pytest.approx(3.5 + 0.2, abs=0.01)  # resting on the top, half its size up
+
+
+def test_prism_tets_point_out_of_the_solid():
+    from across_dimensions.core.mesh import cross4
+    from across_dimensions.world.scene import prism_tets
+
+    # A unit cube's surface, wound inward on purpose: the prism turns it outward.
+    v = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=np.float64)
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    tris = np.array([v[[a, c, b]] for a, b, c, d in quads] + [v[[a, d, c]] for a, b, c, d in quads])
+    tets = prism_tets(tris, -2.0, 2.0)
+    assert tets.shape == (3 * 12, 4, 4)
+    n = cross4(tets[:, 1] - tets[:, 0], tets[:, 2] - tets[:, 0], tets[:, 3] - tets[:, 0])
+    centre = tets.mean(axis=1)
+    assert np.all(np.abs(n[:, 3]) < 1e-12)  # the side of a prism along w
+    assert np.all(np.einsum("ij,ij->i", n[:, :3], centre[:, :3] - 0.5) > 0.0)  # outward

@@ -15,6 +15,7 @@ import numpy as np
 
 from ..core.mesh import cross4
 from ..physics.debug_draw import DebugDrawOptions
+from ..world.scene import static_tet_meshes
 from .player import HALF_WIDTH, HEIGHT
 
 #: Half thickness of the player's collider along w, metres: the player lives in
@@ -271,4 +272,6 @@ def sync_solids(game) -> None:
         boxes, convex = solid_colliders(game)
         game.physics.set_static_solids(boxes)
         game.physics.set_static_convex(convex)
-        game.physics.set_static_tets(*_tet_meshes(game))
+        tets, motions = _tet_meshes(game)
+        fixed = static_tet_meshes(game.scene)  # the [[mesh]] parts and worlds: the same arrays every tick
+        game.physics.set_static_tets(fixed + tets, [np.zeros((4, 5))] * len(fixed) + motions)

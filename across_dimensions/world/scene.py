@@ -223,15 +223,95 @@ def level_bounds(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     return np.min(los, axis=0).astype(np.float64), np.max(his, axis=0).astype(np.float64)
 
 
+#: Metres past the physics' walls in w (the level's w range, widened for a gun's bullets)
+#: that the prisms of ``[[mesh]]`` parts reach: their caps are never met.
+PRISM_SLACK = 1.0
+
+
+def physics_w_walls(level: Level) -> tuple[float, float]:
+    """Where the physics' walls in w stand: the level's ``w_range``, widened by how far a
+    gun's bullets swing along w (that is how they hit targets out of the player's reach)."""
+    guns = [wp for wp in getattr(level, "weapons", ()) if wp.kind == "gun"]
+    beyond = max((wp.amplitude + 2.0 * wp.size for wp in guns), default=0.0)
+    lo, hi = level.w_range
+    return lo - beyond, hi + beyond
+
+
+def prism_tets(triangles: np.ndarray, w0: float, w1: float) -> np.ndarray:
+    """The side of a 3D solid extruded along w: three tets per surface triangle.
+
+    Parameters
+    ----------
+    triangles : (t, 3, 3) float64
+        The solid's closed surface (either winding: it is made outward here, by the sign
+        of the enclosed volume).
+    w0, w1 : float
+        The prism's extent in w (its caps are left out: nothing reaches them).
+
+    Returns
+    -------
+    (3 t', 4, 4) float64
+        Tets ordered so that ``core.mesh.cross4`` of their edges from corner 0 points out
+        of the solid (``(n, 0)`` for the outward normal ``n`` of their triangle), as
+        :meth:`..physics.PhysicsWorld.set_static_tets` takes them; degenerate triangles
+        are dropped.
+    """
+    from ..core.mesh import cross4
+
+    tri = np.asarray(triangles, dtype=np.float64).reshape(-1, 3, 3)
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    if np.einsum("ij,ij->", tri[:, 0], n) < 0.0:  # 6x the enclosed volume: negative when wound inward
+        n = -n
+    area = np.linalg.norm(n, axis=1)
+    keep = area > 1e-12 * max(float(area.max(initial=0.0)), 1e-300)
+    tri, n = tri[keep], n[keep]
+    low = np.concatenate([tri, np.full((len(tri), 3, 1), float(w0))], axis=2)
+    high = np.concatenate([tri, np.full((len(tri), 3, 1), float(w1))], axis=2)
+    corners = np.concatenate([low, high], axis=1)  # a0 b0 c0 a1 b1 c1
+    tets = corners[:, [[0, 1, 2, 3], [1, 2, 3, 4], [2, 3, 4, 5]]]  # (t, 3, 4, 4)
+    normal = np.concatenate([n, np.zeros((len(n), 1))], axis=1)[:, None, :]
+    edges = tets[..., 1:, :] - tets[..., :1, :]
+    out = cross4(edges[..., 0, :], edges[..., 1, :], edges[..., 2, :])
+    flip = np.einsum("ijk,ijk->ij", out, np.broadcast_to(normal, out.shape)) < 0.0
+    tets[flip] = tets[flip][:, [0, 2, 1, 3]]
+    return np.ascontiguousarray(tets.reshape(-1, 4, 4))
+
+
+def static_tet_meshes(scene: Scene) -> list[np.ndarray]:
+    """The 3D meshes and the extended worlds as the rigid bodies meet them: by their true
+    shapes, as boundary tets (cached on the scene, so the same arrays are handed over each tick).
+
+    A ``[[mesh]]`` part is the same at every w: the side of its solid extruded over the
+    physics' w span (:func:`prism_tets`). An extended world is its own 4D mesh, whose
+    sections are what the player sees and walks on.
+
+    Returns
+    -------
+    list of (T, 4, 4) float64
+    """
+    cached = scene.__dict__.get("_static_tets")
+    if cached is None:
+        lo, hi = physics_w_walls(scene.level)
+        cached = []
+        for m in scene.level.meshes:
+            v, f, model = _mesh_surface(m)
+            v = np.asarray(v, dtype=np.float64) @ model[:3, :3].T + model[:3, 3]
+            cached.append(prism_tets(v[np.asarray(f, dtype=np.int64)], lo - PRISM_SLACK, hi + PRISM_SLACK))
+        for wd in scene.worlds:
+            cached.append(np.ascontiguousarray(wd.mesh.vertices.astype(np.float64)[wd.mesh.tets.astype(np.int64)]))
+        scene.__dict__["_static_tets"] = cached
+    return cached
+
+
 def build_physics(scene: Scene, tick_dt: float):
     """The rigid-body world of a scene, or ``(None, {})`` when nothing in it moves
     (a level with a gun always has one: bullets are bodies).
 
-    Bodies collide with the 3D geometry present at every w (as boxes
-    extending over all w), with walls in w at both ends of the level's
+    Bodies collide with the level's boxes (present at every w, as boxes
+    extending over all w), with its ``[[mesh]]`` parts and extended worlds by
+    their true shapes (:func:`static_tet_meshes`), with walls in w at both ends of the level's
     ``w_range`` and walls in x, y and z ``BOUNDS_MARGIN`` beyond everything
-    in the level (:func:`level_bounds`), with each extended world's parts over the w interval
-    where they are at least half their full size, and with each other. A body
+    in the level (:func:`level_bounds`), and with each other. A body
     object's collider is its mesh's bounding box (``hypercube``) or bounding
     hypersphere, scaled; its ``spin`` becomes its initial angular velocity.
 
@@ -259,12 +339,11 @@ def build_physics(scene: Scene, tick_dt: float):
     # Walls at both ends of the level's w range: the player cannot leave it, so
     # a body that rolled out along w would never be seen again (and, rolling
     # on forever, never sleep). A body's whole extent stays inside.
-    lo, hi = level.w_range
     # A gun's bullets swing along w beyond where the player can go (that is how
     # they hit targets out of reach), so with a gun the walls stand that much further out.
-    beyond = max((wp.amplitude + 2.0 * wp.size for wp in guns), default=0.0)
-    world.add_half_space((0.0, 0.0, 0.0, -1.0), -(hi + beyond))  # solid where w >= hi
-    world.add_half_space((0.0, 0.0, 0.0, 1.0), lo - beyond)  # solid where w <= lo
+    lo, hi = physics_w_walls(level)
+    world.add_half_space((0.0, 0.0, 0.0, -1.0), -hi)  # solid where w >= hi
+    world.add_half_space((0.0, 0.0, 0.0, 1.0), lo)  # solid where w <= lo
     # And an invisible box BOUNDS_MARGIN beyond everything in the level: a body
     # that falls off an edge, or through a thin floor at speed, lands on its
     # floor (a half-space: solid all the way down, so nothing tunnels through
@@ -276,21 +355,11 @@ def build_physics(scene: Scene, tick_dt: float):
         n[axis] = 1.0
         world.add_half_space(n, lo3[axis] - BOUNDS_MARGIN)  # solid below the lowest point
         world.add_half_space(-n, -(hi3[axis] + BOUNDS_MARGIN))  # solid above the highest
-    world.set_static_boxes([(0.5 * (lo + hi), 0.5 * (hi - lo)) for lo, hi in scene.static_boxes])
-    for wd in scene.worlds:
-        ws = np.linspace(wd.layers_w[0], wd.layers_w[-1], 257)
-        inside = ws[np.array([wd.scale_at(w) >= 0.5 for w in ws])]
-        if len(inside) == 0:
-            continue
-        for c, h in zip(wd.centers, wd.halves):
-            world.add_body(
-                BodyDef(
-                    "hypercube",
-                    size=np.append(2 * h, inside[-1] - inside[0]),
-                    kind="static",
-                    position=np.append(c, 0.5 * (inside[0] + inside[-1])),
-                )
-            )
+    # The level's boxes are exact as boxes; its [[mesh]] parts (the rows after them) and its
+    # extended worlds are met by their true shapes, as tets.
+    boxes = scene.static_boxes[: len(level.boxes)]
+    world.set_static_boxes([(0.5 * (lo + hi), 0.5 * (hi - lo)) for lo, hi in boxes])
+    world.set_static_tets(static_tet_meshes(scene))
     body_of = {}
     for i in movers:
         o = scene.objects[i]
