@@ -346,3 +346,63 @@ def test_prism_tets_point_out_of_the_solid():
     centre = tets.mean(axis=1)
     assert np.all(np.abs(n[:, 3]) < 1e-12)  # the side of a prism along w
     assert np.all(np.einsum("ij,ij->i", n[:, :3], centre[:, :3] - 0.5) > 0.0)  # outward
+
+
+WORLD_LEVEL = """
+[level]
+format = 2
+name = "World test"
+w_range = [-2.0, 2.0]
+
+[spawn]
+position = [0.0, 0.0, -8.0, 0.0]
+
+[goal]
+center = [0.0, 1.0, 9.0]
+size = [1.0, 1.0, 1.0]
+
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [30.0, 1.0, 30.0]
+
+[[world]]   # a table 1 m high that exists from w = -0.6 to 0.6
+name = "table"
+w = 0.0
+depth = 1.2
+profile = "prism"
+
+  [[world.box]]
+  center = [0.0, 0.5, 0.0]
+  size = [2.0, 1.0, 2.0]
+
+[[object]]
+name = "on"
+shape = "tesseract"
+scale = 0.4
+body = "hypercube"
+position = [0.0, 3.0, 0.0, 0.0]
+
+[[object]]
+name = "beside"
+shape = "tesseract"
+scale = 0.4
+body = "hypercube"
+position = [0.0, 3.0, 0.0, 1.2]
+"""
+
+
+def test_bodies_meet_an_extended_world_where_it_exists_along_w(tmp_path):
+    """An extended world is met as its own 4D mesh: a crate at its w lands on the table's top;
+    one at a w where the table is absent falls to the floor through where it would be."""
+    from across_dimensions.game.actions import Actions
+    from across_dimensions.game.sim import Game
+    from across_dimensions.world.level import load_level
+
+    path = tmp_path / "world.toml"
+    path.write_text(WORLD_LEVEL, encoding="utf-8")
+    game = Game(load_level(path))
+    for _ in range(150):
+        game.step(Actions())
+    on, beside = (game.entities.named(n).center(game) for n in ("on", "beside"))
+    assert on[1] == pytest.approx(1.0 + 0.2, abs=0.01)
+    assert beside[1] == pytest.approx(0.2, abs=0.01)
