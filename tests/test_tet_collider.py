@@ -406,3 +406,77 @@ def test_bodies_meet_an_extended_world_where_it_exists_along_w(tmp_path):
     on, beside = (game.entities.named(n).center(game) for n in ("on", "beside"))
     assert on[1] == pytest.approx(1.0 + 0.2, abs=0.01)
     assert beside[1] == pytest.approx(0.2, abs=0.01)
+
+
+MANIPULABLE_LEVEL = """
+[level]
+format = 2
+name = "Manipulable test"
+w_range = [-1.0, 1.0]
+
+[spawn]
+position = [0.0, 0.0, -8.0, 0.0]
+
+[goal]
+center = [0.0, 1.0, 9.0]
+size = [1.0, 1.0, 1.0]
+
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [30.0, 1.0, 30.0]
+
+[[object]]
+name = "pink"
+shape = "24-cell"
+position = [0.0, 1.0, 0.0, 0.0]
+solid = true
+
+[[object]]
+name = "slab"
+shape = "tesseract"
+position = [4.0, 0.5, 0.0, 0.0]
+solid = true
+
+[[object]]
+name = "ball"
+shape = "hypersphere"
+scale = 0.25
+body = "hypersphere"
+position = [0.0, 3.5, 0.0, 0.0]
+
+[[manipulable]]
+object = "pink"
+max = { xw = 90.0 }
+
+[[manipulable]]
+object = "slab"
+max = { xw = 90.0 }
+"""
+
+
+def test_a_manipulable_that_is_not_a_box_is_met_by_its_true_shape(tmp_path):
+    """A box-shaped manipulable is its own kinematic hypercube (exact); any other shape (here a
+    24-cell) is its boundary tets, not its bounding box: a ball dropped over a slanted facet,
+    inside the bounding box's top, slides off it instead of resting on the box, and is never
+    inside the 24-cell."""
+    from across_dimensions.game.actions import Actions
+    from across_dimensions.game.sim import Game
+    from across_dimensions.world.level import load_level
+
+    path = tmp_path / "manip.toml"
+    path.write_text(MANIPULABLE_LEVEL.replace("[0.0, 3.5, 0.0, 0.0]", "[0.6, 3.5, 0.6, 0.0]"), encoding="utf-8")
+    game = Game(load_level(path))
+    pink, slab = game.entities.named("pink"), game.entities.named("slab")
+    assert pink.data.body is None and slab.data.body is not None
+    assert any(len(t) for t in tet_colliders(game))
+    # This 24-cell: |x_i| <= 1/sqrt(2) and |x| + |y| + |z| + |w| <= sqrt(2), centred at y = 1.
+    h = 1.0 / np.sqrt(2.0)
+    nearest = np.inf
+    for _ in range(180):
+        game.step(Actions())
+        local = np.abs(game.entities.named("ball").center(game) - np.array([0.0, 1.0, 0.0, 0.0]))
+        nearest = min(nearest, max(float(local.max()) - h, float(local.sum()) / 2.0 - h))
+    ball = game.entities.named("ball").center(game)
+    assert nearest > 0.25 - 0.05  # the ball (radius 0.25) never sank into it (facet distance: a lower bound)
+    box_top = 1.0 + h + 0.25
+    assert not (abs(ball[1] - box_top) < 0.05 and abs(ball[0] - 0.6) < 0.05)  # not held up by the box

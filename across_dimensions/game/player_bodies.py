@@ -106,6 +106,11 @@ def debug_draw_game(game, drawer, options=None) -> None:
         drawer.draw_box(box[0][:3], box[1][:3], opt.box_color)
 
 
+def shape_kind(mesh) -> str:
+    """``"box"``, ``"convex"`` or ``"none"``: how the bodies meet a solid mesh (see :func:`_shape_of`)."""
+    return _shape_of(mesh)[0]
+
+
 def _shape_of(mesh) -> tuple:
     """How the bodies meet a solid mesh, in its own frame: ``("box", lo, hi)`` when every
     vertex is a corner of its bounds (a tesseract), ``("convex", planes (k, 5), vertices
@@ -227,11 +232,13 @@ def _tet_meshes(game) -> tuple[list, list]:
     placed = game.__dict__.setdefault("_solid_tets_placed", {})
     tets, motions = [], []
     for e in game.entities:
-        if not e.solid or e.kind != "object":
+        # Solid objects that are not boxes or convex; manipulable ones that are not boxes
+        # (a box-shaped one is its own kinematic hypercube, see systems/manipulation.py).
+        if e.kind not in ("object", "manipulable") or (e.kind == "object" and not e.solid):
             continue
         if e.id not in shapes:
             shapes[e.id] = _shape_of(e.mesh)
-        if shapes[e.id][0] != "none":
+        if shapes[e.id][0] == "box" or (e.kind == "object" and shapes[e.id][0] != "none"):
             continue
         if e.id not in local:
             local[e.id] = np.asarray(e.mesh.vertices, dtype=np.float64)[np.asarray(e.mesh.tets, dtype=np.int64)]

@@ -172,11 +172,16 @@ def setup(game) -> None:
 
 
 def _add_collider(game, e) -> None:
-    """Give the object a kinematic hypercube (its scaled bounds) in the physics world, so rigid
-    bodies rest on it and are carried or tipped off when it turns."""
+    """Give a box-shaped object (a tesseract slab) a kinematic hypercube in the physics world,
+    exactly its shape, so rigid bodies rest on it and are carried or tipped off when it turns.
+    Any other shape is met by its boundary tets, which move with it and carry the bodies too
+    (:func:`..player_bodies.tet_colliders`)."""
     from ...physics import BodyDef
+    from ..player_bodies import shape_kind
 
     d = e.data
+    if shape_kind(e.mesh) != "box":
+        return
     v = e.mesh.vertices.astype(np.float64)
     lo, hi = v.min(axis=0), v.max(axis=0)
     d.box_center = 0.5 * (lo + hi) * d.scale
