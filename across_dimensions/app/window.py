@@ -26,6 +26,7 @@ from pathlib import Path
 
 import pyglet
 
+from ..core import heap
 from ..core.errors import InputError
 from ..core.fileio import FileProblem, check_folder
 from ..game.actions import CAMERA_BUTTONS, MAX_PRESSES, PRESSES, Actions
@@ -238,6 +239,7 @@ class GameWindow(pyglet.window.Window):
         self.level_time = 0.0
         self.finished_for = 0.0
         self.onboarding.level_started(self.game.level.hints)
+        heap.settle()  # no collector stalls mid-level (see core/heap.py)
         self.sound_director.reset()
         self.set_caption(f"Across Dimensions - {self.game.level.name}")
 

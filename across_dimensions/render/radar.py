@@ -659,7 +659,11 @@ class RadarRenderer:
         ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
         self.flat_prog["u_view_proj"].write(_IDENTITY)
         t0 = clock()
-        self._back_vao.render(moderngl.TRIANGLES, vertices=self._back_n)
+        # The depth reset writes no colour: no blending for the whole rectangle's worth of pixels.
+        fbo.color_mask = False, False, False, False
+        self._back_vao.render(moderngl.TRIANGLES, vertices=6)
+        fbo.color_mask = True, True, True, True
+        self._back_vao.render(moderngl.TRIANGLES, vertices=self._back_n - 6, first=6)
         spent = clock() - t0
         ctx.disable(moderngl.BLEND)
         ctx.depth_func = "<"
