@@ -502,7 +502,15 @@ def test_hud_draws_health_flash_and_the_damage_direction():
     base = hud_quads(Hud(), 640, 360)
     hurt = hud_quads(Hud(health=HealthGauge(40.0, 100.0, 1.0), damage_flash=1.0, damage_dir=np.pi / 2), 640, 360)
     assert len(hurt) > len(base)
-    assert tuple(hurt[0, :4]) == (0, 0, 640, 360)  # the red wash over the whole view, drawn first
+    # A red frame round the view, drawn first: its outer band touches every edge, its centre is clear.
+    from across_dimensions.render.hud import DAMAGE_FLASH_COLOR
+
+    red = hurt[np.isclose(hurt[:, 8], DAMAGE_FLASH_COLOR[0]) & np.isclose(hurt[:, 9], DAMAGE_FLASH_COLOR[1])]
+    assert len(red) and red[:, 0].min() == 0 and red[:, 1].min() == 0
+    assert (red[:, 0] + red[:, 2]).max() == 640 and (red[:, 1] + red[:, 3]).max() == 360
+    centre = (red[:, 0] <= 320) & (red[:, 0] + red[:, 2] >= 320) & (red[:, 1] <= 180) & (red[:, 1] + red[:, 3] >= 180)
+    assert not centre.any()
+    assert red[:, 2:4].prod(axis=1).sum() < 0.35 * 640 * 360  # a frame, not a wash
     x, y, w, h = health_bar_rect(HudMetrics(640, 360))
     assert any(r[0] == x - 1 and r[1] == y - 1 for r in hurt)  # the bar's outline
     right = damage_cue_points(np.pi / 2, HudMetrics(640, 360))
