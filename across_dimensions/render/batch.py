@@ -283,6 +283,22 @@ class BatchBuffers:
             lines = g.n_edges
         return calls, n_tri, lines
 
+    def triangles(self, tb) -> int:
+        """How many triangles the batch's buffers hold now."""
+        g = self._batches[tb.key]
+        return g.n_faces if tb.faces is not None else g.n_rows // 3
+
+    def draw_depth(self, tb, view_proj_bytes: bytes) -> int:
+        """Draw the batch's triangles into the depth buffer only (a pre-pass; the caller masks
+        colour and sets the depth state); returns the draw calls made."""
+        n_tri = self.triangles(tb)
+        if n_tri == 0:
+            return 0
+        self._depth_prog["u_view_proj"].write(view_proj_bytes)
+        self._depth_prog["u_model"].write(_EYE4)
+        self._render(self._batches[tb.key], "depth", self._depth_prog, tb.faces is not None, n_tri)
+        return 1
+
     def _render(self, g: _GpuBatch, name: str, prog, indexed: bool, n_tri: int) -> None:
         vao = self._vao(g, name, prog, g.ibo if indexed else None)
         vao.render(moderngl.TRIANGLES, vertices=3 * n_tri)

@@ -67,6 +67,10 @@ _NO_TINT = (0.0, 0.0, 0.0, 0.0)
 #: Bytes per vertex in the interleaved buffer: position 3f, normal 3f, colour 4f.
 _STRIDE = 40
 _ATTRS = (("in_pos", "3f", 12), ("in_normal", "3f", 12), ("in_color", "4f", 16))
+#: A batch with more triangles than this is left out of the depth pre-pass (see
+#: :meth:`Renderer._depth_prepass`): the bench scene's hundred 120-cells (115,000
+#: triangles) draw faster without it, a level's 4D things (hundreds) faster with it.
+PREPASS_MAX_TRIANGLES = 20_000
 
 
 @dataclass
@@ -523,15 +527,18 @@ class Renderer:
         # Opaque front to back, so early depth rejection skips shading hidden
         # fragments (the fragment shader is the main cost on a CPU rasterizer).
         opaque.sort(key=lambda o: o[0])
-        if self.depth_prepass and opaque:
-            self._depth_prepass(opaque, vp_bytes)
+        solid_batches = [tb for tb in frame.batches if tb.style != "ghost"]
+        prepass = self.depth_prepass and (opaque or solid_batches)
+        if prepass:
+            self._depth_prepass(opaque, solid_batches, vp_bytes)
         for _, d, gm, model in opaque:
             self._draw_mesh(d.style, gm, model, moderngl.TRIANGLES, gm.n_indices, d)
-        if self.depth_prepass and opaque:
+        for tb in solid_batches:
+            self._draw_batch(tb, vp_bytes, scifi)
+            if prepass:
+                ctx.depth_func = "<="  # a batch with its own pre-pass sets "<" back after it
+        if prepass:
             ctx.depth_func = "<"
-        for tb in frame.batches:
-            if tb.style != "ghost":
-                self._draw_batch(tb, vp_bytes, scifi)
         for _, _d, gm, model in wires:
             n = self._edges(gm)
             if n:
@@ -580,10 +587,13 @@ class Renderer:
             self.stats.draw_calls += self.radar.draw_calls
         self.hud.draw(frame.hud, viewport, frame.radar)
 
-    def _depth_prepass(self, opaque: list, vp_bytes: bytes) -> None:
+    def _depth_prepass(self, opaque: list, batches: list, vp_bytes: bytes) -> None:
         """Lay down the opaque drawables' depth with an empty shader, then let the shading
         pass (``<=``) colour each pixel once: one drawable (the level's scenery) holds walls
-        behind walls, which sorting whole drawables cannot order."""
+        behind walls, which sorting whole drawables cannot order, and a 4D thing in front
+        (a batch, drawn after the scenery) would otherwise be shaded over shaded walls.
+        Batches of many small triangles (:data:`PREPASS_MAX_TRIANGLES`) are left out: there
+        llvmpipe's cost is setting triangles up, which a pre-pass would pay twice."""
         ctx, fbo = self.ctx, self.ctx.fbo
         if self._depth_prog is None:
             self._depth_prog = ctx.program(vertex_shader=DEPTH_VERTEX, fragment_shader=DEPTH_FRAGMENT)
@@ -600,6 +610,10 @@ class Renderer:
             self._cull_inner(d.outside_only, model)
             vao.render(moderngl.TRIANGLES, vertices=gm.n_indices)
             self.stats.depth_calls += 1
+        for tb in batches:
+            if not tb.prepass and self.batches.triangles(tb) <= PREPASS_MAX_TRIANGLES:
+                self._cull_inner(tb.outside_only)
+                self.stats.depth_calls += self.batches.draw_depth(tb, vp_bytes)
         self._cull_inner(False)
         fbo.color_mask = True, True, True, True
         ctx.depth_func = "<="
