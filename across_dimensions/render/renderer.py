@@ -611,7 +611,8 @@ class Renderer:
             vao.render(moderngl.TRIANGLES, vertices=gm.n_indices)
             self.stats.depth_calls += 1
         for tb in batches:
-            if not tb.prepass and self.batches.triangles(tb) <= PREPASS_MAX_TRIANGLES:
+            # Sections only: frustum images (indexed) already draw just their outline faces.
+            if not tb.prepass and tb.faces is None and self.batches.triangles(tb) <= PREPASS_MAX_TRIANGLES:
                 self._cull_inner(tb.outside_only)
                 self.stats.depth_calls += self.batches.draw_depth(tb, vp_bytes)
         self._cull_inner(False)
