@@ -268,11 +268,14 @@ def test_the_bench_line_times_both_floors_in_the_same_run():
     assert r["tet_contacts"] > 0 and r["box_contacts"] > 0  # the bodies rest on both floors
 
 
-ARCH_LEVEL = """
+def _test_level(name: str, w_range: str, rest: str) -> str:
+    """A level file: a 30 m floor, the spawn and a goal far away, then ``rest``."""
+    return (
+        f"""
 [level]
 format = 2
-name = "Arch test"
-w_range = [-1.0, 1.0]
+name = "{name}"
+w_range = {w_range}
 
 [spawn]
 position = [0.0, 0.0, -8.0, 0.0]
@@ -284,7 +287,15 @@ size = [1.0, 1.0, 1.0]
 [[box]]
 center = [0.0, -0.5, 0.0]
 size = [30.0, 1.0, 30.0]
+"""
+        + rest
+    )
 
+
+ARCH_LEVEL = _test_level(
+    "Arch test",
+    "[-1.0, 1.0]",
+    """
 [[mesh]]   # x from -1.5 to 1.5, y from 0 to 3.5, z from -0.25 to 0.25, a doorway in the middle
 asset = "meshes/arch.obj"
 position = [0.0, 0.0, 0.0]
@@ -311,7 +322,8 @@ shape = "tesseract"
 scale = 0.4
 body = "hypercube"
 position = [0.0, 5.0, 0.0, 0.0]
-"""
+""",
+)
 
 
 def test_bodies_meet_a_mesh_part_by_its_true_surface_not_its_box(tmp_path):
@@ -348,23 +360,10 @@ def test_prism_tets_point_out_of_the_solid():
     assert np.all(np.einsum("ij,ij->i", n[:, :3], centre[:, :3] - 0.5) > 0.0)  # outward
 
 
-WORLD_LEVEL = """
-[level]
-format = 2
-name = "World test"
-w_range = [-2.0, 2.0]
-
-[spawn]
-position = [0.0, 0.0, -8.0, 0.0]
-
-[goal]
-center = [0.0, 1.0, 9.0]
-size = [1.0, 1.0, 1.0]
-
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [30.0, 1.0, 30.0]
-
+WORLD_LEVEL = _test_level(
+    "World test",
+    "[-2.0, 2.0]",
+    """
 [[world]]   # a table 1 m high that exists from w = -0.6 to 0.6
 name = "table"
 w = 0.0
@@ -388,7 +387,8 @@ shape = "tesseract"
 scale = 0.4
 body = "hypercube"
 position = [0.0, 3.0, 0.0, 1.2]
-"""
+""",
+)
 
 
 def test_bodies_meet_an_extended_world_where_it_exists_along_w(tmp_path):
@@ -408,23 +408,10 @@ def test_bodies_meet_an_extended_world_where_it_exists_along_w(tmp_path):
     assert beside[1] == pytest.approx(0.2, abs=0.01)
 
 
-MANIPULABLE_LEVEL = """
-[level]
-format = 2
-name = "Manipulable test"
-w_range = [-1.0, 1.0]
-
-[spawn]
-position = [0.0, 0.0, -8.0, 0.0]
-
-[goal]
-center = [0.0, 1.0, 9.0]
-size = [1.0, 1.0, 1.0]
-
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [30.0, 1.0, 30.0]
-
+MANIPULABLE_LEVEL = _test_level(
+    "Manipulable test",
+    "[-1.0, 1.0]",
+    """
 [[object]]
 name = "pink"
 shape = "24-cell"
@@ -451,7 +438,8 @@ max = { xw = 90.0 }
 [[manipulable]]
 object = "slab"
 max = { xw = 90.0 }
-"""
+""",
+)
 
 
 def test_a_manipulable_that_is_not_a_box_is_met_by_its_true_shape(tmp_path):

@@ -40,6 +40,20 @@ SPHERE = 0
 BOX = 1
 
 
+@njit(inline="always")
+def written_before(out_p, k, written, cp, pick) -> bool:
+    """Is candidate ``cp[pick]`` already among the contact points ``out_p[k : k + written]``?"""
+    for q in range(written):
+        same = True
+        for b in range(4):
+            if out_p[k + q, b] != cp[pick, b]:
+                same = False
+                break
+        if same:
+            return True
+    return False
+
+
 @njit(cache=True)
 def reduce_points(cp, cd, cnt, n, rot, wk, out_p, out_n, out_d, k):
     """Keep the candidates that are extreme along the diagonals of a box face.
@@ -119,17 +133,7 @@ def reduce_points(cp, cd, cnt, n, rot, wk, out_p, out_n, out_d, k):
                     pick = i
                 if s > far:
                     far = s
-        dup = False
-        for q in range(written):
-            same = True
-            for b in range(4):
-                if out_p[k + q, b] != cp[pick, b]:
-                    same = False
-                    break
-            if same:
-                dup = True
-                break
-        if dup:
+        if written_before(out_p, k, written, cp, pick):
             continue
         for b in range(4):
             out_p[k + written, b] = cp[pick, b]

@@ -46,7 +46,7 @@ import numpy as np
 
 from across_dimensions.core._jit import njit
 
-from .collide import MAX_POINTS
+from .collide import MAX_POINTS, written_before
 
 #: Metres behind a tet's face that a body may be and still be pushed out through that
 #: face. Bodies never get that deep at rest (the speculative margin stops them first), so
@@ -402,17 +402,7 @@ def _emit_box(cp, cn, cd, cnt, rot, out_p, out_n, out_d, k):
             if s > far:
                 far = s
                 pick = c
-        dup = False
-        for q in range(written):
-            same = True
-            for m in range(4):
-                if out_p[k + q, m] != cp[pick, m]:
-                    same = False
-                    break
-            if same:
-                dup = True
-                break
-        if dup:
+        if written_before(out_p, k, written, cp, pick):
             continue
         for m in range(4):
             out_p[k + written, m] = cp[pick, m]
