@@ -437,7 +437,8 @@ class Renderer:
         ctx.clear(sky[0], sky[1], sky[2], 1.0, depth=1.0, viewport=viewport)
 
         cam = frame.camera
-        view_proj = cam.projection_matrix(w / h) @ cam.view_matrix()
+        view_mat = cam.view_matrix()
+        view_proj = cam.projection_matrix(w / h) @ view_mat
         eye = np.asarray(cam.position, np.float64)
         light = np.asarray(frame.light_dir, np.float64)
         light = light / max(np.linalg.norm(light), 1e-12)
@@ -502,7 +503,7 @@ class Renderer:
 
         # Outer faces are counter-clockwise seen from outside; on screen they stay so unless
         # the view (the camera's is a mirror: x right, z forward) and a model mirror space.
-        self._view_mirrored = bool(np.linalg.det(cam.view_matrix()[:3, :3]) < 0.0)
+        self._view_mirrored = bool(np.linalg.det(view_mat[:3, :3]) < 0.0)
         vp_bytes = _mat4_bytes(view_proj)
         for prog in self._programs.values():
             self._set(prog, "u_view_proj", vp_bytes)
