@@ -1,15 +1,16 @@
 """A procedural sky dome: gradient, nebula band, stars, a planet and a sun, behind the scene.
 
 The dome is geometry, not a per-pixel shader: a sphere of triangles whose vertex colours
-hold the gradient, the nebula and the sun's halo (computed once in numpy, again only when
-the palette or the sun's direction changes), a few thousand stars as points a pixel or two
-wide, a planet and the sun's disc as small fans. Every sky pixel then costs what the
-cheapest shader costs (an interpolated colour), which matters on llvmpipe, where shading is
-done on the CPU and a per-pixel noise sky cost more than the whole scene.
+hold the gradient, the nebula and the sun's halo (computed once in numpy), a few thousand
+stars as points a pixel or two wide, a planet and the sun's disc as small fans. It is drawn
+once into a cube map (again only when the palette, the sun's direction or the resolution
+changes), so every sky pixel costs one texture lookup and a frame's sky is one triangle,
+which matters on llvmpipe, where shading and triangle setup are done on the CPU and a
+per-pixel noise sky cost more than the whole scene.
 
-It is drawn *after* the opaque scene, centred on the eye and pushed to the far plane
-(``gl_Position.xyww``), with the depth test ``<=`` against the cleared depth (1.0), so only
-the pixels no surface covered are touched, and it stays put as the player walks.
+It is drawn *after* the opaque scene, at the far plane, with the depth test ``<=`` against
+the cleared depth (1.0), so only the pixels no surface covered are touched, and it stays
+put as the player walks (only the view's rotation looks it up).
 
 Every colour comes from the palette (:mod:`.materials`):
 
@@ -191,46 +192,146 @@ def build_dome(colours, light_dir) -> tuple[np.ndarray, np.ndarray, np.ndarray, 
     return verts, behind.astype(np.uint32), np.concatenate(front).astype(np.uint32), star_first
 
 
+#: Cube-map faces in OpenGL's order (+x, -x, +y, -y, +z, -z): for each, the axes along which
+#: the texel's s and t grow, and the face's axis (the GL specification's table, "Cube Map
+#: Texture Selection").
+CUBE_FACES = (
+    ((0, 0, -1), (0, -1, 0), (1, 0, 0)),
+    ((0, 0, 1), (0, -1, 0), (-1, 0, 0)),
+    ((1, 0, 0), (0, 0, 1), (0, 1, 0)),
+    ((1, 0, 0), (0, 0, -1), (0, -1, 0)),
+    ((1, 0, 0), (0, -1, 0), (0, 0, 1)),
+    ((-1, 0, 0), (0, -1, 0), (0, 0, -1)),
+)
+#: Cube face sizes are multiples of this many texels, at most :data:`CUBE_MAX` (a face as
+#: fine as the screen at the centre of the view; see :func:`cube_face_size`).
+CUBE_STEP = 64
+CUBE_MAX = 1024
+
+CUBE_VERTEX = """
+#version 330
+uniform mat3 u_dir_from_ndc;  // screen (x, y, 1) to a world direction (see SkyRenderer.draw)
+out vec3 v_dir;
+void main() {
+    // One triangle covering the screen, at the far plane (z = w).
+    vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
+    // Linear in screen space, so interpolating it per pixel is exact.
+    v_dir = u_dir_from_ndc * vec3(p, 1.0);
+    gl_Position = vec4(p, 1.0, 1.0);
+}
+"""
+
+CUBE_FRAGMENT = """
+#version 330
+uniform samplerCube u_sky;
+in vec3 v_dir;
+out vec4 f_color;
+void main() {
+    f_color = vec4(texture(u_sky, v_dir).rgb, 1.0);
+}
+"""
+
+
+def cube_face_size(view_proj: np.ndarray, height: int) -> int:
+    """Texels per cube face so that one texel covers about one pixel at the centre of the view.
+
+    A face spans ``tan`` -1 to 1, so it has ``size / 2`` texels per radian at its centre; the
+    screen has ``height / 2 * t`` pixels per radian at its centre, where ``t`` is the
+    projection's vertical scale (``1 / tan(fov_y / 2)``), the length of ``view_proj``'s second
+    row's rotation part.
+    """
+    t = float(np.linalg.norm(np.asarray(view_proj, np.float64)[1, :3]))
+    size = int(np.ceil(height * t / CUBE_STEP)) * CUBE_STEP
+    return int(min(max(size, CUBE_STEP), CUBE_MAX))
+
+
+def _face_view_proj(face: int) -> np.ndarray:
+    """``(4, 4) float64``: the dome seen from its centre through cube face ``face`` (90 degrees).
+
+    The eye's x and y are the face's s and t axes, so the framebuffer's rows, read from the
+    bottom, are the face's texel rows in the order ``TextureCube.write`` takes them."""
+    s_axis, t_axis, axis = (np.asarray(a, np.float64) for a in CUBE_FACES[face])
+    view = np.eye(4)
+    view[0, :3], view[1, :3], view[2, :3] = s_axis, t_axis, -axis
+    near, far = 1.0, 1000.0  # the dome is drawn at a radius of 100
+    proj = np.zeros((4, 4))
+    proj[0, 0] = proj[1, 1] = 1.0
+    proj[2, 2] = (far + near) / (near - far)
+    proj[2, 3] = 2 * far * near / (near - far)
+    proj[3, 2] = -1.0
+    return proj @ view
+
+
 class SkyRenderer:
     """Draws the sky dome into the bound framebuffer, behind what is already drawn.
+
+    The dome's geometry (thousands of triangles and stars) is drawn once into a cube map,
+    again only when the palette, the sun or the needed resolution changes; each frame is
+    then one triangle covering the screen that looks the sky up by direction. On llvmpipe,
+    where the main thread transforms and sets up every triangle and star before any pixel
+    is shaded, that takes about half a millisecond a frame off the critical path.
 
     Attributes
     ----------
     builds : int
-        How many times the dome's geometry was (re)built: once, and again after a palette or
-        sun change.
+        How many times the dome was (re)drawn into the cube map: once, and again after a
+        palette, sun or resolution change.
     """
 
     def __init__(self, ctx: moderngl.Context):
         self.ctx = ctx
         self.prog = ctx.program(vertex_shader=SKY_VERTEX, fragment_shader=SKY_FRAGMENT)
-        self.vbo = self.ibo = self.vao = None
-        self.star_ibo = self.points = None
-        self._stars: np.ndarray | None = None  # (n, 3) float64 star directions, for culling
+        self.cube_prog = ctx.program(vertex_shader=CUBE_VERTEX, fragment_shader=CUBE_FRAGMENT)
+        self.cube_vao = ctx.vertex_array(self.cube_prog, [])
+        self.cube: moderngl.TextureCube | None = None
         self._built_for = None
-        self._counts = (0, 0, 0, 0)
         self.builds = 0
 
-    def _build(self, colours, light_dir) -> None:
+    def _build(self, colours, light_dir, size: int) -> None:
         light = tuple(round(float(x), 6) for x in light_dir)
-        key = (tuple(sorted((k, tuple(v)) for k, v in colours.items())), light)
+        key = (tuple(sorted((k, tuple(v)) for k, v in colours.items())), light, size)
         if key == self._built_for:
             return
         verts, behind, front, star_first = build_dome(colours, light)
-        self._release_buffers()
-        self.vbo = self.ctx.buffer(verts.tobytes())
-        # One index buffer: dome, then planet and sun; stars are drawn from the vertex range.
-        self.ibo = self.ctx.buffer(np.concatenate([behind.ravel(), front.ravel()]).tobytes())
-        self.vao = self.ctx.vertex_array(
-            self.prog, [(self.vbo, "3f 4f", "in_pos", "in_color")], index_buffer=self.ibo, index_element_size=4
+        ctx = self.ctx
+        bound, viewport = ctx.fbo, ctx.viewport
+        vbo = ctx.buffer(verts.tobytes())
+        ibo = ctx.buffer(np.concatenate([behind.ravel(), front.ravel()]).tobytes())
+        vao = ctx.vertex_array(
+            self.prog, [(vbo, "3f 4f", "in_pos", "in_color")], index_buffer=ibo, index_element_size=4
         )
-        n_stars = len(verts) - star_first
-        self._stars = verts[star_first:, :3].astype(np.float64)
-        self.star_ibo = self.ctx.buffer(reserve=4 * n_stars, dynamic=True)
-        self.points = self.ctx.vertex_array(
-            self.prog, [(self.vbo, "3f 4f", "in_pos", "in_color")], index_buffer=self.star_ibo, index_element_size=4
-        )
-        self._counts = (behind.size, front.size, star_first, n_stars)
+        points = ctx.vertex_array(self.prog, [(vbo, "3f 4f", "in_pos", "in_color")])
+        color = ctx.texture((size, size), 4)
+        depth = ctx.depth_renderbuffer((size, size))
+        fbo = ctx.framebuffer(color_attachments=[color], depth_attachment=depth)
+        if self.cube is None or self.cube.size != (size, size):
+            if self.cube is not None:
+                self.cube.release()
+            self.cube = ctx.texture_cube((size, size), 4)
+            # Nearest: stars stay one or two crisp texels, and faces never blend across seams.
+            self.cube.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        fbo.use()
+        ctx.viewport = (0, 0, size, size)
+        ctx.enable(moderngl.DEPTH_TEST | moderngl.PROGRAM_POINT_SIZE)
+        ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
+        ctx.depth_func = "<="
+        self.prog["u_eye"].value = (0.0, 0.0, 0.0)
+        for face in range(6):
+            ctx.clear(0.0, 0.0, 0.0, 1.0, depth=1.0)
+            vp = _face_view_proj(face)
+            self.prog["u_view_proj"].write(np.ascontiguousarray(vp.T, np.float32).tobytes())
+            # Dome, then the stars over it, then the planet and the sun over the stars.
+            vao.render(moderngl.TRIANGLES, vertices=behind.size)
+            points.render(moderngl.POINTS, vertices=len(verts) - star_first, first=star_first)
+            vao.render(moderngl.TRIANGLES, vertices=front.size, first=behind.size)
+            self.cube.write(face, fbo.read(components=4))
+        ctx.disable(moderngl.PROGRAM_POINT_SIZE)
+        ctx.depth_func = "<"
+        for obj in (fbo, depth, color, points, vao, ibo, vbo):
+            obj.release()
+        if bound is not None:
+            bound.use()
+        ctx.viewport = viewport
         self._built_for = key
         self.builds += 1
 
@@ -242,6 +343,7 @@ class SkyRenderer:
         view_proj : (4, 4) float64
             The scene's projection times view.
         eye : (3,) float64
+            Unused: the sky is infinitely far, only the view's rotation matters.
         light_dir : (3,) float
             Unit vector towards the key light (the sun is drawn there).
         colours : dict
@@ -254,42 +356,27 @@ class SkyRenderer:
         int
             Draw calls made.
         """
-        self._build(colours, light_dir)
-        # Only the stars in view: llvmpipe sets up every point it is given, seen or not.
-        vp = np.asarray(view_proj, np.float64)
-        clip = self._stars @ vp[:, :3].T  # directions: the eye's translation does not turn them
-        w = clip[:, 3]
-        margin = 1.02 * w
-        seen = (w > 0) & (np.abs(clip[:, 0]) <= margin) & (np.abs(clip[:, 1]) <= margin)
-        idx = (np.flatnonzero(seen) + self._counts[2]).astype(np.uint32)
-        if len(idx):
-            self.star_ibo.write(idx.tobytes())
-        set_uniform(self.prog, "u_view_proj", np.ascontiguousarray(np.asarray(view_proj).T, np.float32).tobytes())
-        set_uniform(self.prog, "u_eye", tuple(float(x) for x in eye))
         ctx = self.ctx
-        n_behind, n_front, star_first, n_stars = self._counts
+        vp = np.asarray(view_proj, np.float64)
+        self._build(colours, light_dir, cube_face_size(vp, ctx.viewport[3]))
+        # A direction d has clip (x, y, w) = M d with M the rows x, y, w of view_proj's rotation
+        # part (directions ignore the eye's translation); so d = M^-1 (ndc x, ndc y, 1).
+        dir_from_ndc = np.linalg.inv(vp[[0, 1, 3], :3])
+        set_uniform(self.cube_prog, "u_dir_from_ndc", np.ascontiguousarray(dir_from_ndc.T, np.float32).tobytes())
+        self.cube.use(0)
+        set_uniform(self.cube_prog, "u_sky", 0)
         ctx.depth_func = "<="
         ctx.fbo.depth_mask = False
-        ctx.enable(moderngl.PROGRAM_POINT_SIZE)
-        self.vao.render(moderngl.TRIANGLES, vertices=n_behind)
-        if len(idx):
-            self.points.render(moderngl.POINTS, vertices=len(idx))
-        self.vao.render(moderngl.TRIANGLES, vertices=n_front, first=n_behind)
-        ctx.disable(moderngl.PROGRAM_POINT_SIZE)
+        self.cube_vao.render(moderngl.TRIANGLES, vertices=3)
         ctx.fbo.depth_mask = True
         ctx.depth_func = "<"
-        return 3
-
-    def _release_buffers(self) -> None:
-        for name in ("vao", "points", "vbo", "ibo", "star_ibo"):
-            obj = getattr(self, name, None)
-            if obj is not None:
-                obj.release()
-            setattr(self, name, None)
+        return 1
 
     def release(self) -> None:
-        self._release_buffers()
-        self.prog.release()
+        for obj in (self.cube, self.cube_vao, self.cube_prog, self.prog):
+            if obj is not None:
+                obj.release()
+        self.cube = None
 
 
 __all__ = ["SkyRenderer", "build_dome", "gradient", "SKY_VERTEX", "SKY_FRAGMENT"]
