@@ -189,6 +189,46 @@ def test_radar_draws_only_in_its_corner(gl_ctx, renderer, size):
 
 
 @pytest.mark.gl
+def test_radar_at_the_render_scale_lands_where_the_full_size_one_does(gl_ctx, renderer):
+    """Drawn into the scene at scale 0.5 and upscaled (as the game does on llvmpipe), the radar
+    covers the same rectangle as drawn at full size, and its pins are in the same places."""
+    w, h = 1280, 720
+    frame = _scene(Radar(30.0, 0.5, demo_pins()))
+    with Offscreen(gl_ctx, w, h) as t, Offscreen(gl_ctx, w // 2, h // 2) as small:
+        t.use()
+        renderer.draw(frame, hud=False)
+        renderer.draw_radar(frame, t.viewport)
+        full = t.read_rgb().astype(int)
+        small.use()
+        renderer.draw(frame, hud=False)
+        plain_small = small.read_rgb().astype(int)
+        renderer.draw_radar(frame, t.viewport, scale=0.5)
+        halved = small.read_rgb().astype(int)
+        t.use()
+        renderer.draw(frame, hud=False)
+        plain = t.read_rgb().astype(int)
+    assert gl_ctx.error == "GL_NO_ERROR"
+    x, y, rw, rh = HudMetrics(w, h).radar_rect()
+    changed_full = np.abs(full - plain).max(axis=2) > 8
+    changed_half = (np.abs(halved - plain_small).max(axis=2) > 8).repeat(2, axis=0).repeat(2, axis=1)
+    outside = changed_half.copy()
+    outside[y - 1 : y + rh + 1, x - 1 : x + rw + 1] = False
+    assert changed_half.mean() > 0.01 and not outside.any(), "the scaled radar left its rectangle"
+    # The same pixels change, up to the half-size raster's coarser edges.
+    both = changed_full & changed_half
+    assert both.sum() > 0.9 * min(changed_full.sum(), changed_half.sum())
+
+    # Pin heads (bright and saturated) in the same places.
+    def heads(img):
+        return (img.max(axis=2) > 150) & (img.max(axis=2) - img.min(axis=2) > 80)
+
+    hf, hh = heads(full), heads(halved.repeat(2, axis=0).repeat(2, axis=1))
+    assert hf.sum() > 50
+    # (within a few pixels: the half-size pins keep a minimum size in their own, bigger pixels)
+    assert abs(np.argwhere(hf).mean(axis=0) - np.argwhere(hh).mean(axis=0)).max() < 6
+
+
+@pytest.mark.gl
 def test_pins_above_and_below_show_where_expected(gl_ctx, renderer):
     """A lone enemy pin high above the disc lights pixels above the disc's centre; one below, below it."""
     w, h = 640, 360

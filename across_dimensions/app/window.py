@@ -749,9 +749,10 @@ class GameWindow(pyglet.window.Window):
                 self.renderer.draw(frame, self.scaled.viewport, hud=False)
                 if playing:
                     self._debug_draw(frame, self.scaled.viewport)
+                    self.renderer.draw_radar(frame, viewport, self.scaled.scale)
                 self.scaled.present(target, viewport)
                 if playing:
-                    self.renderer.draw_overlay(frame, viewport)
+                    self.renderer.draw_overlay(frame, viewport, radar=False)
             else:
                 target.use()
                 self.renderer.draw(frame, viewport, hud=playing)

@@ -70,8 +70,9 @@ def _draw_at(game: Game, view: tuple, pose: tuple, feet: tuple, scale: float) ->
     frame = game.frame()
     if scaled[scale].begin(size):
         renderer.draw(frame, scaled[scale].viewport, hud=False)
+        renderer.draw_radar(frame, screen.viewport, scale)
         scaled[scale].present(screen.fbo, screen.viewport)
-        renderer.draw_overlay(frame, screen.viewport)
+        renderer.draw_overlay(frame, screen.viewport, radar=False)
     else:
         screen.use()
         renderer.draw(frame, screen.viewport)

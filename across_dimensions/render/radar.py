@@ -633,11 +633,20 @@ class RadarRenderer:
             hit = self._vp_cache[key] = (_mat4_bytes(vp), ndc_r)
         return hit
 
-    def draw(self, radar: Radar, viewport: tuple[int, int, int, int]) -> None:
-        """Draw ``radar`` into its corner of ``viewport`` (``(x, y, w, h)``, GL convention) of the bound framebuffer."""
+    def draw(self, radar: Radar, viewport: tuple[int, int, int, int], scale: float = 1.0) -> None:
+        """Draw ``radar`` into its corner of ``viewport`` (``(x, y, w, h)``, GL convention) of the bound framebuffer.
+
+        With ``scale`` below 1, the bound framebuffer is the scene's at that render scale and
+        ``viewport`` the window's: the radar goes where the window's rectangle falls in it, so
+        it lines up with the labels the HUD draws round it at full size after the upscale.
+        """
         ctx = self.ctx
         fbo = ctx.fbo
+        previous = ctx.viewport
         rect = radar_rect_gl(viewport)
+        if scale != 1.0:
+            x0, y0, x1, y1 = (round(scale * v) for v in (rect[0], rect[1], rect[0] + rect[2], rect[1] + rect[3]))
+            rect = (x0, y0, x1 - x0, y1 - y0)
         rw, rh = rect[2], rect[3]
         self.draw_calls = 0
         self.driver_seconds = 0.0
@@ -694,7 +703,7 @@ class RadarRenderer:
         self.draw_calls += 1
         fbo.depth_mask = True
         ctx.disable(moderngl.BLEND)
-        ctx.viewport = tuple(int(v) for v in viewport)
+        ctx.viewport = previous
 
     def release(self) -> None:
         for obj in self._objects:
