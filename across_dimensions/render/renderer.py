@@ -252,6 +252,7 @@ class Renderer:
         self.batches = BatchBuffers(ctx, self._programs)
         self._batch_views: dict[str, tuple[int, set[str]]] = {}  # view -> (draw number, batch keys)
         self._views: dict[str, tuple[int, set[str]]] = {}  # view -> (draw number, keys it used)
+        self._constants: dict[int, tuple] = {}  # program -> the rarely changing uniforms it holds
 
     def set_palette(self, name: str) -> None:
         """Switch the named colours: ``"default"``, or ``"colour_blind"`` (ana and kata, crystals
@@ -505,18 +506,25 @@ class Renderer:
         # the view (the camera's is a mirror: x right, z forward) and a model mirror space.
         self._view_mirrored = bool(np.linalg.det(view_mat[:3, :3]) < 0.0)
         vp_bytes = _mat4_bytes(view_proj)
+        # What rarely changes (palette, fog, sky) is set only when it did: a hundred uniform
+        # writes a frame are a tenth of a millisecond of the main thread's time.
+        constants = (sky, dome, self.fog_density, self.ghost_alpha, tuple(self.palette.items()))
         for prog in self._programs.values():
             self._set(prog, "u_view_proj", vp_bytes)
             self._set(prog, "u_eye", tuple(eye))
             self._set(prog, "u_light_dir", tuple(light))
-            self._set(prog, "u_sky", sky)
-            self._set(prog, "u_fog_density", self.fog_density)
-            self._set(prog, "u_alpha", self.ghost_alpha)
             if scifi:
                 self._set(prog, "u_time", float(frame.time))
                 self._set(prog, "u_pulse", 0.9 + 0.1 * float(np.sin(1.3 * frame.time)))
                 self._set(prog, "u_w_offset", 0.0)
                 self._set(prog, "u_band_scale", 1.0)
+            if self._constants.get(prog.glo) == constants:
+                continue
+            self._constants[prog.glo] = constants
+            self._set(prog, "u_sky", sky)
+            self._set(prog, "u_fog_density", self.fog_density)
+            self._set(prog, "u_alpha", self.ghost_alpha)
+            if scifi:
                 materials.upload(prog, self.palette, self._set)
                 if not dome:  # a one-colour sky: fog fades to it, as in the flat look
                     for name in ("sky_zenith", "sky_horizon", "sky_ground"):
