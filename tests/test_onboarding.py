@@ -15,7 +15,7 @@ from across_dimensions.game.actions import Actions
 from across_dimensions.game.frame import Hud
 from across_dimensions.game.hints import HOLD_SECONDS, HintBook, placeholders, reading_seconds
 from across_dimensions.render.font import missing_glyphs
-from across_dimensions.render.hud import hint_rect, hud_quads, quads_text, warning_rect
+from across_dimensions.render.hud import HudMetrics, health_bar_rect, hint_rect, hud_quads, quads_text, warning_rect
 from across_dimensions.world.level import load_level
 from across_dimensions.world.resources import level_files, resolve_level
 
@@ -117,6 +117,24 @@ def test_onboarding_shows_hints_in_their_panel_with_the_players_keys_and_never_a
         return a[0] < b[0] + b[2] and b[0] < a[0] + a[2] and a[1] < b[1] + b[3] and b[1] < a[1] + a[3]
 
     assert not overlap(hint_rect(hud, 1280, 720), warning_rect(hud.warning, 1280, 720))
+
+
+@pytest.mark.parametrize("size", [(1280, 720), (1920, 1080), (1024, 768), (800, 450), (640, 360)])
+def test_a_long_hint_stays_clear_of_the_health_bar_and_its_value(size):
+    """The hint panel (top centre) never covers the health bar's column (top left), where the
+    bar's value ("85/100") is right-aligned: a long hint wraps to more lines instead."""
+    w, h = size
+    text = (
+        "Enemies wait off your slice: their pins rise and sink on the radar. One that glows "
+        "and flickers is about to fire: step aside or along w (E/Q)."
+    )
+    hud = Hud(hint=text, hint_label="Hint 1/3 \u00b7 H hides")
+    hx, _, hw, _ = hint_rect(hud, w, h)
+    bx, _, bw, _ = health_bar_rect(HudMetrics(w, h))
+    assert hx > bx + bw, "the hint panel overlaps the health bar's column"
+    assert hx + hw < w - (bx + bw), "the hint panel is not centred"
+    quads = hud_quads(hud, w, h)
+    assert "flickersisabouttofire" in quads_text(quads).replace(" ", "")
 
 
 def test_a_hint_done_by_the_player_is_ticked_off_then_the_next_one_shows():

@@ -461,8 +461,12 @@ def hint_rect(hud: Hud, width: int, height: int) -> tuple[int, int, int, int]:
 
 
 def _hint_lines(text: str, m: HudMetrics) -> tuple[list[str], int, int]:
-    box_w = max(40, int(m.width * 0.6))
     scale = m.text_scale
+    # 60% of the width, but clear of the health bar's column on the left (and as much on the
+    # right, so the panel stays centred): on a 16:9 screen the bar's value sits under 60%.
+    hx, _, hw, _ = health_bar_rect(m)
+    clear = m.width - 2 * (hx + hw + m.margin) - 2 * (3 * scale) - 2 * scale
+    box_w = max(40, min(int(m.width * 0.6), clear))
     return _wrap(text, box_w, scale), scale, box_w
 
 
