@@ -119,6 +119,27 @@ def test_sky_has_stars(gl_ctx, target, renderer):
 
 
 @pytest.mark.gl
+def test_sky_shows_the_sun_where_the_light_comes_from_and_is_baked_once(gl_ctx, renderer):
+    """The sky is looked up by direction: the sun's disc is at the centre of a view aimed along
+    the key light, at any size and aspect; the dome is drawn into its cube map once, not again
+    for a smaller view in between (the picture in picture) nor for the same view again."""
+    light = np.array([0.4, 1.0, 0.25]) / np.linalg.norm([0.4, 1.0, 0.25])
+    yaw, pitch = np.arctan2(light[0], light[2]), np.arcsin(light[1])
+    cam = Camera3(position=np.array([3.0, 1.0, -2.0]), yaw=yaw, pitch=pitch, fov_y_deg=60.0)
+    frame = Frame(cam, hud=Hud(crosshair=False), sky="dome", light_dir=tuple(light))
+    for size in [(320, 180), (160, 160), (320, 180), (96, 54)]:
+        with Offscreen(gl_ctx, *size) as t:
+            t.use()
+            img = draw(renderer, t, frame)
+        w, h = size
+        centre = luminance(img[h // 2 - 1 : h // 2 + 1, w // 2 - 1 : w // 2 + 1]).min()
+        # The sun's disc is white hot; a tenth of the view away, the sky is far darker.
+        assert centre > 230, (size, centre)
+        assert luminance(img[h // 2, w // 2 + max(4, w // 10)]) < centre - 40
+    assert renderer._sky.builds == 1
+
+
+@pytest.mark.gl
 def test_fog_fades_far_things_into_the_sky_behind_them(gl_ctx, target, renderer):
     renderer.palette = materials.palette("default", **PLAIN_SKY)
     cam = Camera3(position=np.zeros(3), yaw=np.pi, fov_y_deg=90.0)

@@ -358,7 +358,12 @@ class SkyRenderer:
         """
         ctx = self.ctx
         vp = np.asarray(view_proj, np.float64)
-        self._build(colours, light_dir, cube_face_size(vp, ctx.viewport[3]))
+        size = cube_face_size(vp, ctx.viewport[3])
+        if self.cube is not None:
+            # Never smaller than it is: a small view drawn between two big ones (the picture in
+            # picture, a benchmark's two scales) must not make it rebuild every frame.
+            size = max(size, self.cube.size[0])
+        self._build(colours, light_dir, size)
         # A direction d has clip (x, y, w) = M d with M the rows x, y, w of view_proj's rotation
         # part (directions ignore the eye's translation); so d = M^-1 (ndc x, ndc y, 1).
         dir_from_ndc = np.linalg.inv(vp[[0, 1, 3], :3])
