@@ -141,10 +141,16 @@ def _add_play_args(p):
         "--screenshot-after",
         type=positive_float,
         metavar="SECONDS",
-        help="save a screenshot after this many seconds, then keep playing (for testing)",
+        help=(
+            "save a screenshot this many seconds after the level's first frame (or the window's, "
+            "with no level), then keep playing (for testing)"
+        ),
     )
     p.add_argument(
-        "--quit-after", type=positive_float, metavar="SECONDS", help="close the window after this many seconds"
+        "--quit-after",
+        type=positive_float,
+        metavar="SECONDS",
+        help="close the window this many seconds after the level's first frame (or the window's, with no level)",
     )
 
 

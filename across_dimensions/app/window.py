@@ -176,7 +176,10 @@ class GameWindow(pyglet.window.Window):
         self.paused = False
         self.screenshot_after = screenshot_after
         self.quit_after = quit_after
+        # Seconds for --screenshot-after and --quit-after: from the first level frame when a level
+        # was named (a busy machine may take seconds to load the kernels), else from the start.
         self.wall_time = 0.0
+        self.waiting_for_level = level_path is not None
         self.finished_for = 0.0
         self.terminated_by: int | None = None
         self.editor = None  # the level editor (app/editor), made on first use
@@ -599,7 +602,10 @@ class GameWindow(pyglet.window.Window):
     # ------------------------------------------------------------------- loop
     def update(self, dt: float) -> None:
         """Advance by ``dt`` wall-clock seconds: as many fixed ticks as fit."""
-        self.wall_time += dt
+        if self.game is not None:
+            self.waiting_for_level = False
+        if not self.waiting_for_level:
+            self.wall_time += dt
         if dt > 0:
             self.fps = 0.9 * self.fps + 0.1 / dt if self.fps else 1.0 / dt
         text, left = self.notice
