@@ -6,4 +6,9 @@ simulation), ``render`` (the only user of moderngl) and ``app`` (the only user
 of pyglet: window, input, command line).
 """
 
+from ._blas import pin_kernels
+
 __version__ = "0.1.0"
+
+# Before anything imports numpy: the same BLAS kernels on every machine, so replays agree.
+pin_kernels()
