@@ -54,6 +54,22 @@ def written_before(out_p, k, written, cp, pick) -> bool:
     return False
 
 
+@njit(inline="always")
+def most_aligned_axis(rot, n) -> int:
+    """The column of ``rot`` ``(4, 4)`` most aligned with ``n`` ``(4,)`` (largest ``|rot[:, a] . n|``;
+    the first on ties): the box axis a contact region's face is normal to."""
+    drop = 0
+    big = -1.0
+    for a in range(4):
+        s = 0.0
+        for b in range(4):
+            s += rot[b, a] * n[b]
+        if abs(s) > big:
+            big = abs(s)
+            drop = a
+    return drop
+
+
 @njit(cache=True)
 def reduce_points(cp, cd, cnt, n, rot, wk, out_p, out_n, out_d, k):
     """Keep the candidates that are extreme along the diagonals of a box face.
@@ -91,15 +107,7 @@ def reduce_points(cp, cd, cnt, n, rot, wk, out_p, out_n, out_d, k):
     """
     if cnt == 0:
         return 0
-    drop = 0
-    big = -1.0
-    for a in range(4):
-        s = 0.0
-        for b in range(4):
-            s += rot[b, a] * n[b]
-        if abs(s) > big:
-            big = abs(s)
-            drop = a
+    drop = most_aligned_axis(rot, n)
     u = wk[0:3]
     j = 0
     for a in range(4):

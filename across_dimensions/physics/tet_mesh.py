@@ -46,7 +46,7 @@ import numpy as np
 
 from across_dimensions.core._jit import njit
 
-from .collide import MAX_POINTS, written_before
+from .collide import MAX_POINTS, most_aligned_axis, written_before
 
 #: Metres behind a tet's face that a body may be and still be pushed out through that
 #: face. Bodies never get that deep at rest (the speculative margin stops them first), so
@@ -364,15 +364,7 @@ def _emit_box(cp, cn, cd, cnt, rot, out_p, out_n, out_d, k):
         if cd[c] > cd[top]:
             top = c
     n0 = cn[top].copy()
-    drop = 0
-    big = -1.0
-    for a in range(4):
-        s = 0.0
-        for m in range(4):
-            s += rot[m, a] * n0[m]
-        if abs(s) > big:
-            big = abs(s)
-            drop = a
+    drop = most_aligned_axis(rot, n0)
     group = np.zeros(cnt, dtype=np.bool_)
     for c in range(cnt):
         dn = 0.0
