@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from across_dimensions.core.cells import mesh_cells
 from across_dimensions.core.frustum import frustum_project
 from across_dimensions.core.frustum_batch import FrustumBatch, solid_edges
 from across_dimensions.core.section import cross_section
@@ -63,6 +64,38 @@ def assert_same_triangles(rows, tri):
     np.testing.assert_array_equal(rows[:, 6:10], tri.colors)
 
 
+def _area_vectors(positions):
+    """Area-weighted normal ``(t, 3)`` of each triangle of ``(3t, 3)`` positions."""
+    v = positions.astype(np.float64).reshape(-1, 3, 3)
+    return 0.5 * np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+
+
+def assert_same_section(rows, tri, mesh):
+    """The batch's rows draw the per-object slicer's section.
+
+    A mesh sliced tet by tet gives the very same triangles. A mesh sliced by
+    cells (see core.cells) covers the same polygons with fewer triangles: same
+    area and area-weighted normal, corners among the slicer's own points (to
+    the bit), each triangle wound along its flat outward normal.
+    """
+    if mesh_cells(mesh) is None:
+        assert_same_triangles(rows, tri)
+        return
+    if tri.is_empty:
+        assert len(rows) == 0
+        return
+    got, want = _area_vectors(rows[:, 0:3]), _area_vectors(tri.vertices[tri.faces.ravel()])
+    area = np.linalg.norm(want, axis=1).sum()
+    assert np.linalg.norm(got, axis=1).sum() == pytest.approx(area, rel=1e-5)
+    np.testing.assert_allclose(got.sum(axis=0), want.sum(axis=0), atol=1e-5 * area)
+    assert len(rows) < len(tri.vertices)
+    points = {tuple(p) for p in tri.vertices}
+    assert all(tuple(p) in points for p in rows[:, 0:3])
+    flat = rows[0::3, 3:6].astype(np.float64)
+    assert (np.einsum("ij,ij->i", got, flat) >= -1e-7 * area).all()
+    np.testing.assert_allclose(np.linalg.norm(flat, axis=1), 1.0, atol=1e-5)
+
+
 def test_one_kernel_call_gives_each_objects_own_section(meshes):
     rng = np.random.default_rng(4)
     n = 40
@@ -75,8 +108,8 @@ def test_one_kernel_call_gives_each_objects_own_section(meshes):
     total = 0
     for k, m, model in zip(keys, ms, models):
         tri = cross_section(m, camera, model)
-        assert_same_triangles(rows_of(batch, k), tri)
-        total += len(tri.vertices)
+        assert_same_section(rows_of(batch, k), tri, m)
+        total += len(rows_of(batch, k))
     assert len(batch.vertices) == total > 0
 
 
@@ -99,11 +132,11 @@ def test_only_changed_instances_are_resliced_and_the_rest_kept(meshes):
     start, count = batch.instance_rows(3)
     assert batch.changed_from == start and start + count == len(batch.vertices)
     for k in keys:
-        assert_same_triangles(rows_of(batch, k), cross_section(ms[k], None, models[k]))
+        assert_same_section(rows_of(batch, k), cross_section(ms[k], None, models[k]), ms[k])
     # Removing one keeps the others' triangles.
     batch.update(keys[1:], ms[1:], models[1:])
     for k in keys[1:]:
-        assert_same_triangles(rows_of(batch, k), cross_section(ms[k], None, models[k]))
+        assert_same_section(rows_of(batch, k), cross_section(ms[k], None, models[k]), ms[k])
 
 
 def test_meshes_no_longer_drawn_are_let_go():
@@ -136,7 +169,7 @@ def test_culling_never_drops_an_object_with_a_triangle_in_view(meshes):
             tri = cross_section(ms[k], camera, models[k])
             got = rows_of(culled, k)
             if len(got):
-                assert_same_triangles(got, tri)
+                assert_same_section(got, tri, ms[k])
                 continue
             if tri.is_empty:
                 continue
@@ -378,3 +411,65 @@ def test_wire_entities_stay_single_drawables(gl_ctx):
     assert all(f"entity:{shown[0].id}" not in b.members for b in frame.batches)
     assert any(f"entity:{e.id}" in b.members for b in frame.batches for e in shown[1:])
     _image(gl_ctx, frame)  # draws without complaint
+
+
+def _boxes_extruded(centers):
+    """Unit boxes at ``centers`` (sharing faces) swept along w into one 4D solid."""
+    from across_dimensions.core.lift import box_solid, extrude
+
+    verts, tets = [], []
+    for c in centers:
+        v, t = box_solid(c, 1.0)
+        tets.append(t + sum(len(x) for x in verts))
+        verts.append(v)
+    v = np.concatenate(verts)
+    uniq, inv = np.unique(np.round(v, 6), axis=0, return_inverse=True)
+    return extrude(uniq, inv.reshape(-1)[np.concatenate(tets)], [-0.5, 0.5])
+
+
+def test_cells_are_found_from_the_tets_alone():
+    """Polychora split into their convex cells; meshes whose cells are tets, or not convex, are sliced by tets."""
+    for name, cells, edges in (("120-cell", 120, 30), ("tesseract", 8, 12), ("24-cell", 24, 12)):
+        c = mesh_cells(make_shape(name))
+        assert len(c.radii) == cells and (np.diff(c.edge_start) == edges).all(), name
+        assert (c.edges[:, 0] < c.edges[:, 1]).all()
+    for name in ("5-cell", "16-cell", "600-cell"):
+        assert mesh_cells(make_shape(name)) is None, name  # each tet is a cell already
+    # Swept boxes: a convex block is sliced by cells; an L-shaped one has a non-convex cell (its
+    # 3D caps), so the whole mesh is sliced tet by tet.
+    block = mesh_cells(_boxes_extruded([(0, 0, 0), (1, 0, 0)]))
+    assert block is not None and len(block.radii) == 8  # a 4D box: 2 caps and 6 sides
+    assert mesh_cells(_boxes_extruded([(0, 0, 0), (1, 0, 0), (0, 1, 0)])) is None
+
+
+def test_slicing_by_tets_stays_the_per_object_slicer(meshes):
+    rng = np.random.default_rng(9)
+    models = random_models(rng, 9, w_spread=0.4)
+    batch = SectionBatch(by_cells=False)
+    batch.update(range(9), [meshes[i % 3] for i in range(9)], models)
+    for k in range(9):
+        assert_same_triangles(rows_of(batch, k), cross_section(meshes[k % 3], None, models[k]))
+
+
+def test_cells_draw_the_picture_tets_draw_with_far_fewer_triangles(gl_ctx, meshes):
+    """Rotating 120-cells and tesseracts filling the view, sliced by cells and by tets."""
+    from across_dimensions.render.bench_scene import grid, spin
+
+    n = 24
+    centers, dist = grid(n)
+    models = spin(n, 0.7)
+    models[:, :3, 4] = centers
+    ms = [meshes[i % 2] for i in range(n)]
+    cam = Camera3(np.zeros(3), fov_y_deg=75.0, far=4 * dist)
+    pictures, rows = {}, {}
+    for by_cells in (True, False):
+        batch = SectionBatch(by_cells=by_cells)
+        batch.update(range(n), ms, models)
+        tb = TriangleBatch("objects", 1, batch.vertices, "solid", 0)
+        pictures[by_cells] = _image(gl_ctx, Frame(cam, batches=[tb]), (640, 360))
+        rows[by_cells] = len(batch.vertices)
+    assert rows[True] < 0.3 * rows[False]
+    assert _within_golden_tolerance(pictures[True], pictures[False])
+    diff = np.abs(pictures[True].astype(int) - pictures[False].astype(int)).max(axis=2)
+    assert (diff > 8).mean() < 0.002  # a few edge pixels at most: the colours agree too
+    assert (pictures[True] != pictures[True][0, 0]).any(axis=2).mean() > 0.1  # objects fill the view

@@ -9,10 +9,14 @@ straight into the renderer's interleaved vertex format::
 
     row = x y z | nx ny nz | r g b a        (10 float32, 40 bytes)
 
-three rows per triangle, no index buffer. The triangles of an instance are
-bit-identical to :func:`~core.section.cross_section` of the same mesh, model and
-camera (same float64 arithmetic, same case table, same vertex order), so a
-batched frame draws exactly what the per-object frame drew.
+three rows per triangle, no index buffer. A mesh made of convex cells (a
+polychoron: see :mod:`.cells`) is sliced cell by cell, each cut cell's polygon
+as one fan: the section :func:`~core.section.cross_section` draws, corners
+identical to the bit, in about a third of the triangles. Any other mesh is
+sliced tet by tet, into triangles bit-identical to
+:func:`~core.section.cross_section` of the same mesh, model and camera (same
+float64 arithmetic, same case table, same vertex order). Either way a batched
+frame draws what the per-object frame drew.
 
 Whole instances are culled before any tet is touched: by their bounding sphere
 against the slice (``|w distance| > radius``) and, when view planes are given,
@@ -31,6 +35,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._jit import njit
+from .cells import Cells, mesh_cells
 from .mesh import TetMesh4
 from .section import CASE_COUNT, CASE_EDGES, _layout_colors, _tet_normal, mesh_clusters
 from .transform import inverse
@@ -49,7 +54,8 @@ def _capacity(rows: int, minimum: int) -> int:
 class _Pool:
     """Every distinct mesh's slicing layout, concatenated (global vertex indices)."""
 
-    def __init__(self):
+    def __init__(self, by_cells: bool = True):
+        self.by_cells = by_cells
         self.index: dict[int, int] = {}  # id(mesh) -> mesh number
         self.meshes: list[TetMesh4] = []  # keeps ids valid
         self.vertices = np.zeros((0, 4), np.float32)
@@ -64,6 +70,13 @@ class _Pool:
         self.center = np.zeros((0, 4))  # per mesh: bounding sphere (object space)
         self.radius = np.zeros(0)
         self.max_vertices = 0
+        # Meshes sliced cell by cell (see core.cells): per mesh its cell range (empty: by tets).
+        self.mesh_cells = np.zeros((0, 2), np.int64)
+        self.cell_edge_start = np.zeros(1, np.int64)  # per cell: its range of cell_edges
+        self.cell_edges = np.zeros((0, 2), np.uint32)  # lower vertex index first
+        self.cell_tet = np.zeros((0, 4), np.uint32)  # one tet of each cell, for its normal
+        self.cell_center = np.zeros((0, 4))
+        self.cell_radius = np.zeros(0)
 
     def add(self, mesh: TetMesh4) -> int:
         k = self.index.get(id(mesh))
@@ -86,9 +99,24 @@ class _Pool:
         self.center = np.concatenate([self.center, ctr[None]])
         self.radius = np.append(self.radius, float(np.sqrt(((v - ctr) ** 2).sum(axis=1).max())))
         self.max_vertices = max(self.max_vertices, len(layout.vertices))
+        self._add_cells(mesh_cells(mesh) if self.by_cells else None, layout, v0)
         k = self.index[id(mesh)] = len(self.meshes)
         self.meshes.append(mesh)
         return k
+
+    def _add_cells(self, cells: Cells | None, layout, v0: int) -> None:
+        c0 = len(self.cell_radius)
+        if cells is not None:
+            # Into the pool's numbering: the layout's vertex order, offset by the mesh's first vertex.
+            renumber = np.empty(len(layout.source), np.int64)
+            renumber[layout.source] = np.arange(len(layout.source))
+            edges = np.sort(renumber[cells.edges], axis=1) + v0
+            self.cell_edge_start = np.concatenate([self.cell_edge_start, cells.edge_start[1:] + len(self.cell_edges)])
+            self.cell_edges = np.concatenate([self.cell_edges, edges.astype(np.uint32)])
+            self.cell_tet = np.concatenate([self.cell_tet, (renumber[cells.tets_of] + v0).astype(np.uint32)])
+            self.cell_center = np.concatenate([self.cell_center, cells.centers])
+            self.cell_radius = np.concatenate([self.cell_radius, cells.radii])
+        self.mesh_cells = np.concatenate([self.mesh_cells, [[c0, len(self.cell_radius)]]])
 
 
 class SectionBatch:
@@ -114,8 +142,9 @@ class SectionBatch:
         Instances re-sliced by the last update.
     """
 
-    def __init__(self, capacity_rows: int = 3 * 1024):
-        self._pool = _Pool()
+    def __init__(self, capacity_rows: int = 3 * 1024, by_cells: bool = True):
+        self._by_cells = by_cells
+        self._pool = _Pool(by_cells)
         self._out = np.empty((_capacity(0, capacity_rows), ROW), np.float32)
         self._keys: list = []  # instance order (changed ones drift to the back)
         self._pos: dict = {}  # key -> its place in that order
@@ -178,7 +207,7 @@ class SectionBatch:
         if len(self._pool.meshes) > max(16, 2 * len({id(m) for m in meshes})):
             # Mostly meshes no longer drawn: start the pool again (and slice everything anew),
             # so a long game spawning objects of new shapes does not grow it forever.
-            self._pool = _Pool()
+            self._pool = _Pool(self._by_cells)
             self._last, self._keys, self._pos = None, [], {}
             self._start = np.zeros(1, np.int64)
         pool = self._pool
@@ -238,6 +267,12 @@ class SectionBatch:
                 pool.chi,
                 pool.ccenter,
                 pool.cradius,
+                pool.mesh_cells,
+                pool.cell_edge_start,
+                pool.cell_edges,
+                pool.cell_tet,
+                pool.cell_center,
+                pool.cell_radius,
                 mesh_ids[idx],
                 *args,
                 first,
@@ -323,6 +358,12 @@ def _slice_batch(
     chi,
     ccenter,
     cradius,
+    mesh_cells,
+    cell_edge_start,
+    cell_edges,
+    cell_tet,
+    cell_center,
+    cell_radius,
     inst_mesh,
     mvs,
     flips,
@@ -340,11 +381,16 @@ def _slice_batch(
 ):
     """Slice instances ``first..`` into ``out`` from row ``start_row``.
 
-    Returns the rows needed (may exceed ``len(out)``: then nothing past the end
-    was written and the caller grows ``out`` and calls again). ``stamp`` marks
-    which vertices are in ``cam`` already: ``tag + k`` for instance ``k``, with a
-    ``tag`` the caller never reuses.
+    A mesh with a cell range in ``mesh_cells`` is sliced cell by cell
+    (:func:`_slice_cells`), any other tet by tet. Returns the rows needed (may
+    exceed ``len(out)``: then nothing past the end was written and the caller
+    grows ``out`` and calls again). ``stamp`` marks which vertices are in
+    ``cam`` already: ``tag + k`` for instance ``k``, with a ``tag`` the caller
+    never reuses.
     """
+    # The loops below are written out rather than split into small helpers:
+    # a helper taking arrays costs reference counting on every call, which
+    # made the tet loop several times slower.
     cap = out.shape[0]
     o = start_row
     q = np.empty((4, 3))
@@ -359,8 +405,30 @@ def _slice_batch(
             start[k + 1] = o
             continue
         v_lo = mesh_v[m, 0]
-        w_gain = np.sqrt(mv[3, 0] ** 2 + mv[3, 1] ** 2 + mv[3, 2] ** 2 + mv[3, 3] ** 2)
         flip = flips[k]
+        if mesh_cells[m, 1] > mesh_cells[m, 0]:
+            o = _slice_cells(
+                verts,
+                colors,
+                v_lo,
+                mesh_v[m, 1],
+                mesh_cells[m, 0],
+                mesh_cells[m, 1],
+                cell_edge_start,
+                cell_edges,
+                cell_tet,
+                cell_center,
+                cell_radius,
+                mv,
+                flip,
+                out,
+                o,
+                cam,
+            )
+            count[k] = o - start[k]
+            start[k + 1] = o
+            continue
+        w_gain = np.sqrt(mv[3, 0] ** 2 + mv[3, 1] ** 2 + mv[3, 2] ** 2 + mv[3, 3] ** 2)
         for cl in range(mesh_c[m, 0], mesh_c[m, 1]):
             cc = ccenter[cl]
             dc = mv[3, 0] * cc[0] + mv[3, 1] * cc[1] + mv[3, 2] * cc[2] + mv[3, 3] * cc[3] + mv[3, 4]
@@ -436,3 +504,119 @@ def _slice_batch(
         count[k] = o - start[k]
         start[k + 1] = o
     return o
+
+
+@njit(cache=True)
+def _slice_cells(
+    verts, colors, v_lo, v_hi, c_lo, c_hi, edge_start, edges, cell_tet, center, radius, mv, flip, out, o, cam
+):
+    """One instance, cell by cell: each cut cell's convex polygon as a fan; returns the next row.
+
+    The polygon's corners are the cut points of the cell's real edges,
+    interpolated from the lower vertex index exactly as the tet slicer does,
+    so neighbouring cells (and the tet slicer) agree on every shared point.
+    They are put in order by their angle about their centroid, counter-clockwise
+    seen from outside (along the cell's outward normal). Rows past ``len(out)``
+    are counted, not written, as in :func:`_slice_batch`.
+    """
+    cap = out.shape[0]
+    most = 0
+    for c in range(c_lo, c_hi):
+        most = max(most, edge_start[c + 1] - edge_start[c])
+    q = np.empty((most, 3))
+    qc = np.empty((most, 4))
+    ang = np.empty(most)
+    order = np.empty(most, np.int64)
+    p = np.empty((4, 4))
+    # Every vertex into camera space: a cell mesh has few vertices for its
+    # tets (a 120-cell: 600 for 3,240), and most of them are on cut cells.
+    for vi in range(v_lo, v_hi):
+        li = vi - v_lo
+        for r in range(4):
+            cam[li, r] = (
+                mv[r, 0] * verts[vi, 0]
+                + mv[r, 1] * verts[vi, 1]
+                + mv[r, 2] * verts[vi, 2]
+                + mv[r, 3] * verts[vi, 3]
+                + mv[r, 4]
+            )
+    w_gain = np.sqrt(mv[3, 0] ** 2 + mv[3, 1] ** 2 + mv[3, 2] ** 2 + mv[3, 3] ** 2)
+    for c in range(c_lo, c_hi):
+        cc = center[c]
+        dc = mv[3, 0] * cc[0] + mv[3, 1] * cc[1] + mv[3, 2] * cc[2] + mv[3, 3] * cc[3] + mv[3, 4]
+        if abs(dc) > radius[c] * w_gain:
+            continue
+        k = 0
+        for e in range(edge_start[c], edge_start[c + 1]):
+            va = edges[e, 0]
+            vb = edges[e, 1]
+            la = va - v_lo
+            lb = vb - v_lo
+            wa = cam[la, 3]
+            wb = cam[lb, 3]
+            if (wa > 0.0) == (wb > 0.0):
+                continue
+            s = wa / (wa - wb)
+            for r in range(3):
+                q[k, r] = cam[la, r] + s * (cam[lb, r] - cam[la, r])
+            for r in range(4):
+                qc[k, r] = colors[va, r] + s * (colors[vb, r] - colors[va, r])
+            k += 1
+        if k < 3:
+            continue
+        if o + 3 * (k - 2) > cap:
+            o += 3 * (k - 2)
+            continue
+        for j in range(4):
+            li = cell_tet[c, j] - v_lo
+            for r in range(4):
+                p[j, r] = cam[li, r]
+        nx, ny, nz = _tet_normal(p, flip)
+        # Angles in the polygon's plane about the centroid, in the basis (u, n x u).
+        mx = my = mz = 0.0
+        for i in range(k):
+            mx += q[i, 0]
+            my += q[i, 1]
+            mz += q[i, 2]
+        mx /= k
+        my /= k
+        mz /= k
+        ux, uy, uz = q[0, 0] - mx, q[0, 1] - my, q[0, 2] - mz
+        vx = ny * uz - nz * uy
+        vy = nz * ux - nx * uz
+        vz = nx * uy - ny * ux
+        for i in range(k):
+            dx, dy, dz = q[i, 0] - mx, q[i, 1] - my, q[i, 2] - mz
+            ang[i] = _pseudo_angle(dx * ux + dy * uy + dz * uz, dx * vx + dy * vy + dz * vz)
+            j = i  # insertion sort: a polygon has a handful of corners
+            while j > 0 and ang[order[j - 1]] > ang[i]:
+                order[j] = order[j - 1]
+                j -= 1
+            order[j] = i
+        for i in range(3 * (k - 2)):
+            src = order[0] if i % 3 == 0 else order[i // 3 + i % 3]
+            row = out[o]
+            row[0] = q[src, 0]
+            row[1] = q[src, 1]
+            row[2] = q[src, 2]
+            row[3] = nx
+            row[4] = ny
+            row[5] = nz
+            row[6] = qc[src, 0]
+            row[7] = qc[src, 1]
+            row[8] = qc[src, 2]
+            row[9] = qc[src, 3]
+            o += 1
+    return o
+
+
+@njit(inline="always")
+def _pseudo_angle(x, y):
+    """A value in ``[0, 4)`` increasing with the angle of ``(x, y)`` (no trigonometry)."""
+    d = abs(x) + abs(y)
+    if d == 0.0:
+        return 0.0
+    t = y / d
+    if x >= 0.0:
+        return t if y >= 0.0 else 4.0 + t
+    return 2.0 - t
