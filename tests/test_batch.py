@@ -473,3 +473,14 @@ def test_cells_draw_the_picture_tets_draw_with_far_fewer_triangles(gl_ctx, meshe
     diff = np.abs(pictures[True].astype(int) - pictures[False].astype(int)).max(axis=2)
     assert (diff > 8).mean() < 0.002  # a few edge pixels at most: the colours agree too
     assert (pictures[True] != pictures[True][0, 0]).any(axis=2).mean() > 0.1  # objects fill the view
+
+
+def test_cells_keep_winding_under_mirrors_and_slices_through_vertices(meshes):
+    rng = np.random.default_rng(10)
+    models = random_models(rng, 6, spread=1.0, w_spread=0.4) @ np.diag([-1.0, 1.0, 1.0, 1.0, 1.0])  # mirrored
+    models = np.concatenate([models, [translation((0.0, 0.0, 0.0, 0.5))] * 2])  # w = 0 through a tesseract's cell
+    ms = [meshes[i % 2] for i in range(8)]
+    batch = SectionBatch()
+    batch.update(range(8), ms, models)
+    for k in range(8):
+        assert_same_section(rows_of(batch, k), cross_section(ms[k], None, models[k]), ms[k])
