@@ -4,7 +4,8 @@ For each N, N 120-cells (3,240 tets each) fill a 1280x720 offscreen view in a
 grid, each turning in xw, yw and zw every frame, and are drawn
 
 - ``section``: as their cross-sections by the player's hyperplane, sliced by one
-  :class:`~across_dimensions.core.section_batch.SectionBatch` call, solid;
+  :class:`~across_dimensions.core.section_batch.SectionBatch` call (each cut
+  dodecahedral cell one polygon), solid;
 - ``frustum``: through their own 4D frustums (a 4D camera 3 units along -w),
   projected by one :class:`~across_dimensions.core.frustum_batch.FrustumBatch`
   call, drawn as solid faces with their edges. Only the faces on the outline of
