@@ -128,15 +128,14 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
             return TriMesh3.empty()
         out = ws.output_block(30 * ntri)  # the three outputs in one block
         ov, on, oc = out[: 9 * ntri], out[9 * ntri : 18 * ntri], out[18 * ntri : 30 * ntri]
-        dense = 4 * ncut > len(layout.vertices)
-        if dense and ws.edges is None and EDGE_TABLE_FRACTION * ncut > len(layout.tets):
+        by_edge = EDGE_TABLE_FRACTION * ncut > len(layout.tets)
+        if by_edge and ws.edges is None:
             ws.set_edges(layout_edges(layout))
-        by_edge = dense and ws.edges is not None
         if len(ws.tn) < 3 * ncut:
             ws.grow_tets(ncut)
         edges = ws.edges if by_edge else _NO_EDGES
         _emit(
-            layout.vertices, layout.tets, colors, mv, flip, ws.cut[:ncut], dense, by_edge, ws.cam,
+            layout.vertices, layout.tets, colors, mv, flip, ws.cut[:ncut], by_edge, ws.cam, ws.vmark, ws.vlist,
             CASE_EDGES_PADDED, CASE_COUNT, CASE_LOCAL_EDGES, *edges, ws.point, ws.elist, ws.q, ws.q32, ws.c32,
             ws.tj, ws.tn, ov, on, oc,
         )  # fmt: skip
@@ -165,6 +164,7 @@ class _Workspace:
         self.above = np.empty(n, np.uint8)  # per vertex: camera-space w > 0
         self.cut = np.empty(m, np.int64)  # the cut tets (pages touched only as far as used)
         self.cam = np.empty(4 * n)  # camera-space vertices, flat
+        self.vmark = np.zeros(n, np.uint8)  # per vertex: used by a cut tet (0 between calls)
         self.edges = None  # layout_edges(layout), once a dense section needs it
         self.point = np.zeros(0, np.int64)  # per edge: its point number, -1 between calls
         self.tn = np.empty(0)
@@ -199,6 +199,7 @@ class _Workspace:
         self.tn = np.empty(3 * count)  # per cut tet: its outward normal
         self.tj = np.empty(5 * count, np.int64)  # and its polygon's point numbers, then its case
         self.elist = np.empty(4 * count, np.int64)  # per point: its edge (the edge path)
+        self.vlist = np.empty(4 * count, np.int64)  # the vertices of the cut tets
         self.q = np.empty(12 * count)  # points, float64 for the winding test
         self.q32 = np.empty(12 * count, np.float32)  # the same as written
         self.c32 = np.empty(16 * count, np.float32)  # their colours
@@ -422,12 +423,22 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
     else:
         for i in range(n):
             above[i] = (m0 * vf[4 * i] + m1 * vf[4 * i + 1] + m2 * vf[4 * i + 2] + m3 * vf[4 * i + 3] + m4) > 0.0
-    # Compacted without a branch: which tets are cut is unpredictable near the hyperplane.
+    # Per cluster, first whether any tet is cut (a branch-free sum: a tet is
+    # cut when 1 to 3 of its vertices are above), then, only if so, the cut
+    # ones compacted without a branch: far from the hyperplane a scan is one
+    # predictable branch per cluster, and near it which tets are cut is a coin
+    # toss. Unsigned indices spare the negative-index checks.
     ncut = 0
     ntri = 0
     for kc in range(nkeep):
         c = keep[kc]
-        for t in range(lo[c], hi[c]):
+        t0, t1 = np.uint64(lo[c]), np.uint64(hi[c])
+        some = 0
+        for t in range(t0, t1):
+            some |= above[tf[4 * t]] + above[tf[4 * t + 1]] + above[tf[4 * t + 2]] + above[tf[4 * t + 3]] & 3
+        if some == 0:
+            continue
+        for t in range(t0, t1):
             mask = (
                 above[tf[4 * t]]
                 | (above[tf[4 * t + 1]] << 1)
@@ -443,33 +454,52 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
 
 @njit(cache=True)
 def _emit(
-    v, tets, colors, mv, flip, cut, dense, by_edge, cam, case_edges, case_count, case_local,
+    v, tets, colors, mv, flip, cut, by_edge, cam, vmark, vlist, case_edges, case_count, case_local,
     tet_edges, edge_lo, edge_hi, point, elist, q, q32, c32, tj, tn, ov, on, oc,
 ):  # fmt: skip
     """Triangles of the cut tets into the flat outputs ``ov``, ``on`` (3 per row), ``oc`` (4 per row).
 
-    ``dense``: the cut
-    tets use most vertices (a vertex belongs to ~20 tets), so every vertex is
-    moved into camera space once, into ``cam``; else per tet, touching no
-    per-vertex memory. ``by_edge`` (needs ``dense``): each cut edge's point is
-    computed once, though ~5 cut tets share it. Every camera-space coordinate
-    and every section point is the same float64 expression whichever path
-    computes it, so the output depends neither on the path nor on culling, and
-    equals the batched slicer's (:mod:`.section_batch`).
+    Each vertex the cut tets use is moved into camera space once, into
+    ``cam`` (a vertex belongs to ~20 tets): every vertex in one vectorized
+    loop when the cut tets use most of them, else only theirs (``vmark``: per
+    vertex, 0 on entry and on return; ``vlist``: those vertices). With
+    ``by_edge`` each cut edge's point is computed once, though ~5 cut tets
+    share it. Every camera-space coordinate and every section point is the
+    same float64 expression whichever path computes it, so the output depends
+    neither on the path nor on culling, and equals the batched slicer's
+    (:mod:`.section_batch`).
 
-    Three loops without unpredictable branches (a mispredicted branch costs
-    more than the arithmetic it skips): the tets' normals and points, the
-    points' positions and colours, the rows. The loops call no function taking
-    arrays: numba would count references on each call, with atomic operations.
-    The other arrays are scratch (:class:`_Workspace`).
+    Loops without unpredictable branches (a mispredicted branch costs more
+    than the arithmetic it skips): the vertices, the tets' normals and points,
+    the points' positions and colours, the rows. The loops call no function
+    taking arrays: numba would count references on each call, with atomic
+    operations. The other arrays are scratch (:class:`_Workspace`).
     """
     vf = v.reshape(-1)
-    if dense:
-        a00, a01, a02, a03, a04 = mv[0, 0], mv[0, 1], mv[0, 2], mv[0, 3], mv[0, 4]
-        a10, a11, a12, a13, a14 = mv[1, 0], mv[1, 1], mv[1, 2], mv[1, 3], mv[1, 4]
-        a20, a21, a22, a23, a24 = mv[2, 0], mv[2, 1], mv[2, 2], mv[2, 3], mv[2, 4]
-        a30, a31, a32, a33, a34 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
+    tf = tets.reshape(-1)
+    a00, a01, a02, a03, a04 = mv[0, 0], mv[0, 1], mv[0, 2], mv[0, 3], mv[0, 4]
+    a10, a11, a12, a13, a14 = mv[1, 0], mv[1, 1], mv[1, 2], mv[1, 3], mv[1, 4]
+    a20, a21, a22, a23, a24 = mv[2, 0], mv[2, 1], mv[2, 2], mv[2, 3], mv[2, 4]
+    a30, a31, a32, a33, a34 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
+    if 4 * cut.shape[0] > v.shape[0]:
         for i in range(v.shape[0]):
+            x, y, z, w = vf[4 * i], vf[4 * i + 1], vf[4 * i + 2], vf[4 * i + 3]
+            cam[4 * i] = a00 * x + a01 * y + a02 * z + a03 * w + a04
+            cam[4 * i + 1] = a10 * x + a11 * y + a12 * z + a13 * w + a14
+            cam[4 * i + 2] = a20 * x + a21 * y + a22 * z + a23 * w + a24
+            cam[4 * i + 3] = a30 * x + a31 * y + a32 * z + a33 * w + a34
+    else:
+        nv = 0
+        for idx in range(cut.shape[0]):
+            t = cut[idx]
+            for k in range(4):
+                i = tf[4 * t + k]
+                vlist[nv] = i
+                nv += vmark[i] == 0
+                vmark[i] = 1
+        for j in range(nv):
+            i = vlist[j]
+            vmark[i] = 0
             x, y, z, w = vf[4 * i], vf[4 * i + 1], vf[4 * i + 2], vf[4 * i + 3]
             cam[4 * i] = a00 * x + a01 * y + a02 * z + a03 * w + a04
             cam[4 * i + 1] = a10 * x + a11 * y + a12 * z + a13 * w + a14
@@ -480,15 +510,14 @@ def _emit(
             tets, colors, cam, flip, cut, case_local, tet_edges, edge_lo, edge_hi, point, elist, q, q32, c32, tj, tn
         )
     else:
-        _points_by_tet(v, tets, colors, mv, cam, dense, flip, cut, case_edges, q, q32, c32, tj, tn)
+        _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, q32, c32, tj, tn)
     _rows(cut.shape[0], case_count, q, q32, c32, tj, tn, ov, on, oc)
 
 
 @njit(cache=True)
-def _points_by_tet(v, tets, colors, mv, cam, dense, flip, cut, case_edges, q, q32, c32, tj, tn):
+def _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, q32, c32, tj, tn):
     """Per cut tet ``i``: its normal into ``tn[3 i:]``, its case into ``tj[5 i + 4]`` and its
     polygon's points into rows ``4 i ... 4 i + 3`` of ``q``, ``q32``, ``c32`` (numbered in ``tj[5 i:]``)."""
-    vf = v.reshape(-1)
     tf = tets.reshape(-1)
     cf = colors.reshape(-1)
     p = np.empty((4, 4))  # camera-space tet vertices
@@ -497,13 +526,8 @@ def _points_by_tet(v, tets, colors, mv, cam, dense, flip, cut, case_edges, q, q3
         mask = 0
         for k in range(4):
             vi = tf[4 * t + k]
-            if dense:
-                for r in range(4):
-                    p[k, r] = cam[4 * vi + r]
-            else:
-                x, y, z, w = vf[4 * vi], vf[4 * vi + 1], vf[4 * vi + 2], vf[4 * vi + 3]
-                for r in range(4):
-                    p[k, r] = mv[r, 0] * x + mv[r, 1] * y + mv[r, 2] * z + mv[r, 3] * w + mv[r, 4]
+            for r in range(4):
+                p[k, r] = cam[4 * vi + r]
             mask |= (p[k, 3] > 0.0) << k
         tn[3 * idx], tn[3 * idx + 1], tn[3 * idx + 2] = _normal_of(
             p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2], p[1, 3] - p[0, 3],
