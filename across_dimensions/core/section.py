@@ -162,11 +162,11 @@ class _Workspace:
         self.lock = threading.Lock()
         self.keep = np.empty(len(layout.lo), np.int64)  # clusters the hyperplane meets
         self.above = np.empty(n, np.uint8)  # per vertex: camera-space w > 0
-        self.cut = np.empty(m, np.int64)  # the cut tets (pages touched only as far as used)
+        self.cut = np.empty(m, np.uint32)  # the cut tets (pages touched only as far as used)
         self.cam = np.empty(4 * n)  # camera-space vertices, flat
         self.vmark = np.zeros(n, np.uint8)  # per vertex: used by a cut tet (0 between calls)
         self.edges = None  # layout_edges(layout), once a dense section needs it
-        self.point = np.zeros(0, np.int64)  # per edge: its point number, -1 between calls
+        self.point = np.zeros(0, np.int32)  # per edge: its point number, -1 between calls
         self.tn = np.empty(0)
         self.grow_tets(0)
         self.blocks: list[np.ndarray] = []  # output blocks of earlier sections
@@ -191,15 +191,15 @@ class _Workspace:
 
     def set_edges(self, edges) -> None:
         self.edges = edges
-        self.point = np.full(len(edges[1]), -1, np.int64)
+        self.point = np.full(len(edges[1]), -1, np.int32)
 
     def grow_tets(self, count: int) -> None:
         """Room for ``count`` cut tets (and four times as many section points)."""
         count = max(count, len(self.tn) // 3 * 5 // 4)  # grow by a quarter at least
         self.tn = np.empty(3 * count)  # per cut tet: its outward normal
-        self.tj = np.empty(5 * count, np.int64)  # and its polygon's point numbers, then its case
-        self.elist = np.empty(4 * count, np.int64)  # per point: its edge (the edge path)
-        self.vlist = np.empty(4 * count, np.int64)  # the vertices of the cut tets
+        self.tj = np.empty(5 * count, np.int32)  # and its polygon's point numbers, then its case
+        self.elist = np.empty(4 * count, np.uint32)  # per point: its edge (the edge path)
+        self.vlist = np.empty(4 * count, np.uint32)  # the vertices of the cut tets
         self.q = np.empty(12 * count)  # points, float64 for the winding test
         self.q32 = np.empty(12 * count, np.float32)  # the same as written
         self.c32 = np.empty(16 * count, np.float32)  # their colours
