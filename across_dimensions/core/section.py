@@ -135,13 +135,17 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
             ws.grow_tets(ncut)
         edges = ws.edges if by_edge else _NO_EDGES
         _emit(
-            layout.vertices, layout.tets, colors, mv, flip, ws.cut[:ncut], by_edge, ws.cam, ws.vmark, ws.vlist,
+            layout.vertices, layout.tets, colors, mv, flip, ws.cut[:ncut], by_edge,
+            EVERY_VERTEX_FRACTION * ncut > len(layout.vertices), ws.cam, ws.vmark, ws.vlist,
             CASE_EDGES_PADDED, CASE_COUNT, CASE_LOCAL_EDGES, *edges, ws.point, ws.elist, ws.q, ws.q32, ws.c32,
             ws.tj, ws.tn, ov, on, oc,
         )  # fmt: skip
     return TriMesh3(ov.reshape(-1, 3), _faces(ntri), on.reshape(-1, 3), oc.reshape(-1, 4))
 
 
+#: Move every vertex into camera space (one vectorized loop) when the cut tets are
+#: more than the vertices over this (a cut tet has four), else only the cut tets' vertices.
+EVERY_VERTEX_FRACTION = 4
 #: Use a mesh's edge table (built on first need) once a section cuts more than one
 #: tet in this many: it has about as many edges as the mesh has tets.
 EDGE_TABLE_FRACTION = 16
@@ -454,14 +458,14 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
 
 @njit(cache=True)
 def _emit(
-    v, tets, colors, mv, flip, cut, by_edge, cam, vmark, vlist, case_edges, case_count, case_local,
+    v, tets, colors, mv, flip, cut, by_edge, every_vertex, cam, vmark, vlist, case_edges, case_count, case_local,
     tet_edges, edge_lo, edge_hi, point, elist, q, q32, c32, tj, tn, ov, on, oc,
 ):  # fmt: skip
     """Triangles of the cut tets into the flat outputs ``ov``, ``on`` (3 per row), ``oc`` (4 per row).
 
     Each vertex the cut tets use is moved into camera space once, into
-    ``cam`` (a vertex belongs to ~20 tets): every vertex in one vectorized
-    loop when the cut tets use most of them, else only theirs (``vmark``: per
+    ``cam`` (a vertex belongs to ~20 tets): with ``every_vertex`` (the cut tets
+    use most of them) all in one vectorized loop, else only theirs (``vmark``: per
     vertex, 0 on entry and on return; ``vlist``: those vertices). With
     ``by_edge`` each cut edge's point is computed once, though ~5 cut tets
     share it. Every camera-space coordinate and every section point is the
@@ -481,7 +485,7 @@ def _emit(
     a10, a11, a12, a13, a14 = mv[1, 0], mv[1, 1], mv[1, 2], mv[1, 3], mv[1, 4]
     a20, a21, a22, a23, a24 = mv[2, 0], mv[2, 1], mv[2, 2], mv[2, 3], mv[2, 4]
     a30, a31, a32, a33, a34 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
-    if 4 * cut.shape[0] > v.shape[0]:
+    if every_vertex:
         for i in range(v.shape[0]):
             x, y, z, w = vf[4 * i], vf[4 * i + 1], vf[4 * i + 2], vf[4 * i + 3]
             cam[4 * i] = a00 * x + a01 * y + a02 * z + a03 * w + a04
