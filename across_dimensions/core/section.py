@@ -428,20 +428,24 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
         for i in range(n):
             above[i] = (m0 * vf[4 * i] + m1 * vf[4 * i + 1] + m2 * vf[4 * i + 2] + m3 * vf[4 * i + 3] + m4) > 0.0
     # Per cluster, first whether any tet is cut (a branch-free sum: a tet is
-    # cut when 1 to 3 of its vertices are above), then, only if so, the cut
-    # ones compacted without a branch: far from the hyperplane a scan is one
-    # predictable branch per cluster, and near it which tets are cut is a coin
-    # toss. Unsigned indices spare the negative-index checks.
+    # cut when 1 to 3 of its vertices are above; skipped after a cluster with
+    # cut tets, as its neighbour likely has some too), then, only if so, the
+    # cut ones compacted without a branch: far from the hyperplane a scan is
+    # one predictable branch per cluster, and near it which tets are cut is a
+    # coin toss. Unsigned indices spare the negative-index checks.
     ncut = 0
     ntri = 0
+    last = 0  # cut tets in the previous cluster: if any, this one likely has some too
     for kc in range(nkeep):
         c = keep[kc]
         t0, t1 = np.uint64(lo[c]), np.uint64(hi[c])
-        some = 0
-        for t in range(t0, t1):
-            some |= above[tf[4 * t]] + above[tf[4 * t + 1]] + above[tf[4 * t + 2]] + above[tf[4 * t + 3]] & 3
-        if some == 0:
-            continue
+        if last == 0:
+            some = 0
+            for t in range(t0, t1):
+                some |= above[tf[4 * t]] + above[tf[4 * t + 1]] + above[tf[4 * t + 2]] + above[tf[4 * t + 3]] & 3
+            if some == 0:
+                continue
+        before = ncut
         for t in range(t0, t1):
             mask = (
                 above[tf[4 * t]]
@@ -453,6 +457,7 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
             cut[ncut] = t
             ncut += k != 0
             ntri += k
+        last = ncut - before
     return ncut, ntri
 
 
@@ -524,37 +529,33 @@ def _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, q32, c32, tj, tn
     polygon's points into rows ``4 i ... 4 i + 3`` of ``q``, ``q32``, ``c32`` (numbered in ``tj[5 i:]``)."""
     tf = tets.reshape(-1)
     cf = colors.reshape(-1)
-    p = np.empty((4, 4))  # camera-space tet vertices
     for idx in range(cut.shape[0]):
         t = cut[idx]
-        mask = 0
-        for k in range(4):
-            vi = tf[4 * t + k]
-            for r in range(4):
-                p[k, r] = cam[4 * vi + r]
-            mask |= (p[k, 3] > 0.0) << k
+        # Scalars, not a small array: the compiler keeps them in registers.
+        i0, i1, i2, i3 = 4 * tf[4 * t], 4 * tf[4 * t + 1], 4 * tf[4 * t + 2], 4 * tf[4 * t + 3]
+        x0, y0, z0, w0 = cam[i0], cam[i0 + 1], cam[i0 + 2], cam[i0 + 3]
+        x1, y1, z1, w1 = cam[i1], cam[i1 + 1], cam[i1 + 2], cam[i1 + 3]
+        x2, y2, z2, w2 = cam[i2], cam[i2 + 1], cam[i2 + 2], cam[i2 + 3]
+        x3, y3, z3, w3 = cam[i3], cam[i3 + 1], cam[i3 + 2], cam[i3 + 3]
+        mask = (w0 > 0.0) | ((w1 > 0.0) << 1) | ((w2 > 0.0) << 2) | ((w3 > 0.0) << 3)
         tn[3 * idx], tn[3 * idx + 1], tn[3 * idx + 2] = _normal_of(
-            p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2], p[1, 3] - p[0, 3],
-            p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2], p[2, 3] - p[0, 3],
-            p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2], p[3, 3] - p[0, 3],
+            x1 - x0, y1 - y0, z1 - z0, w1 - w0,
+            x2 - x0, y2 - y0, z2 - z0, w2 - w0,
+            x3 - x0, y3 - y0, z3 - z0, w3 - w0,
             flip,
         )  # fmt: skip
         tj[5 * idx + 4] = mask
         for e in range(4):
-            ka = case_edges[mask, e, 0]
-            kb = case_edges[mask, e, 1]
-            ia = tf[4 * t + ka]
-            ib = tf[4 * t + kb]
+            ia = tf[4 * t + case_edges[mask, e, 0]]
+            ib = tf[4 * t + case_edges[mask, e, 1]]
             # Interpolate from the lower vertex index, so the tets sharing this
-            # edge compute bit-identical points.
-            swap = ia > ib
-            ka, kb = (kb, ka) if swap else (ka, kb)
-            ca = 4 * (ib if swap else ia)
-            cb = 4 * (ia if swap else ib)
-            s = p[ka, 3] / (p[ka, 3] - p[kb, 3])
+            # edge compute bit-identical points (a select: the order is a coin toss).
+            ca = 4 * min(ia, ib)
+            cb = 4 * max(ia, ib)
+            s = cam[ca + 3] / (cam[ca + 3] - cam[cb + 3])
             j = 4 * idx + e
             for r in range(3):
-                x = p[ka, r] + s * (p[kb, r] - p[ka, r])
+                x = cam[ca + r] + s * (cam[cb + r] - cam[ca + r])
                 q[3 * j + r] = x
                 q32[3 * j + r] = x
             for r in range(4):
@@ -574,20 +575,20 @@ def _points_by_edge(
     tf = tets.reshape(-1)
     cf = colors.reshape(-1)
     ef = tet_edges.reshape(-1)
-    p = np.empty((4, 4))
     npt = 0
     for idx in range(cut.shape[0]):
         t = cut[idx]
-        mask = 0
-        for k in range(4):
-            vi = tf[4 * t + k]
-            for r in range(4):
-                p[k, r] = cam[4 * vi + r]
-            mask |= (p[k, 3] > 0.0) << k
+        # Scalars, not a small array: the compiler keeps them in registers.
+        i0, i1, i2, i3 = 4 * tf[4 * t], 4 * tf[4 * t + 1], 4 * tf[4 * t + 2], 4 * tf[4 * t + 3]
+        x0, y0, z0, w0 = cam[i0], cam[i0 + 1], cam[i0 + 2], cam[i0 + 3]
+        x1, y1, z1, w1 = cam[i1], cam[i1 + 1], cam[i1 + 2], cam[i1 + 3]
+        x2, y2, z2, w2 = cam[i2], cam[i2 + 1], cam[i2 + 2], cam[i2 + 3]
+        x3, y3, z3, w3 = cam[i3], cam[i3 + 1], cam[i3 + 2], cam[i3 + 3]
+        mask = (w0 > 0.0) | ((w1 > 0.0) << 1) | ((w2 > 0.0) << 2) | ((w3 > 0.0) << 3)
         tn[3 * idx], tn[3 * idx + 1], tn[3 * idx + 2] = _normal_of(
-            p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2], p[1, 3] - p[0, 3],
-            p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2], p[2, 3] - p[0, 3],
-            p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2], p[3, 3] - p[0, 3],
+            x1 - x0, y1 - y0, z1 - z0, w1 - w0,
+            x2 - x0, y2 - y0, z2 - z0, w2 - w0,
+            x3 - x0, y3 - y0, z3 - z0, w3 - w0,
             flip,
         )  # fmt: skip
         tj[5 * idx + 4] = mask
