@@ -137,7 +137,7 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
         _emit(
             layout.vertices, layout.tets, colors, mv, flip, ws.cut[:ncut], by_edge,
             EVERY_VERTEX_FRACTION * ncut > len(layout.vertices), ws.cam, ws.vmark, ws.vlist,
-            CASE_EDGES_PADDED, CASE_COUNT, CASE_LOCAL_EDGES, *edges, ws.point, ws.elist, ws.q, ws.q32, ws.c32,
+            CASE_EDGES_PADDED, CASE_COUNT, CASE_LOCAL_EDGES, *edges, ws.point, ws.elist, ws.q, ws.c32,
             ws.tj, ws.tn, ov, on, oc,
         )  # fmt: skip
     return TriMesh3(ov.reshape(-1, 3), _faces(ntri), on.reshape(-1, 3), oc.reshape(-1, 4))
@@ -205,7 +205,6 @@ class _Workspace:
         self.elist = np.empty(4 * count, np.uint32)  # per point: its edge (the edge path)
         self.vlist = np.empty(4 * count, np.uint32)  # the vertices of the cut tets
         self.q = np.empty(12 * count)  # points, float64 for the winding test
-        self.q32 = np.empty(12 * count, np.float32)  # the same as written
         self.c32 = np.empty(16 * count, np.float32)  # their colours
 
 
@@ -464,7 +463,7 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
 @njit(cache=True)
 def _emit(
     v, tets, colors, mv, flip, cut, by_edge, every_vertex, cam, vmark, vlist, case_edges, case_count, case_local,
-    tet_edges, edge_lo, edge_hi, point, elist, q, q32, c32, tj, tn, ov, on, oc,
+    tet_edges, edge_lo, edge_hi, point, elist, q, c32, tj, tn, ov, on, oc,
 ):  # fmt: skip
     """Triangles of the cut tets into the flat outputs ``ov``, ``on`` (3 per row), ``oc`` (4 per row).
 
@@ -516,17 +515,17 @@ def _emit(
             cam[4 * i + 3] = a30 * x + a31 * y + a32 * z + a33 * w + a34
     if by_edge:
         _points_by_edge(
-            tets, colors, cam, flip, cut, case_local, tet_edges, edge_lo, edge_hi, point, elist, q, q32, c32, tj, tn
+            tets, colors, cam, flip, cut, case_local, tet_edges, edge_lo, edge_hi, point, elist, q, c32, tj, tn
         )
     else:
-        _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, q32, c32, tj, tn)
-    _rows(cut.shape[0], case_count, q, q32, c32, tj, tn, ov, on, oc)
+        _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, c32, tj, tn)
+    _rows(cut.shape[0], case_count, q, c32, tj, tn, ov, on, oc)
 
 
 @njit(cache=True)
-def _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, q32, c32, tj, tn):
+def _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, c32, tj, tn):
     """Per cut tet ``i``: its normal into ``tn[3 i:]``, its case into ``tj[5 i + 4]`` and its
-    polygon's points into rows ``4 i ... 4 i + 3`` of ``q``, ``q32``, ``c32`` (numbered in ``tj[5 i:]``)."""
+    polygon's points into rows ``4 i ... 4 i + 3`` of ``q``, ``c32`` (numbered in ``tj[5 i:]``)."""
     tf = tets.reshape(-1)
     cf = colors.reshape(-1)
     for idx in range(cut.shape[0]):
@@ -555,9 +554,7 @@ def _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, q32, c32, tj, tn
             s = cam[ca + 3] / (cam[ca + 3] - cam[cb + 3])
             j = 4 * idx + e
             for r in range(3):
-                x = cam[ca + r] + s * (cam[cb + r] - cam[ca + r])
-                q[3 * j + r] = x
-                q32[3 * j + r] = x
+                q[3 * j + r] = cam[ca + r] + s * (cam[cb + r] - cam[ca + r])
             for r in range(4):
                 c32[4 * j + r] = cf[ca + r] + s * (cf[cb + r] - cf[ca + r])
             tj[5 * idx + e] = j
@@ -565,7 +562,7 @@ def _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, q32, c32, tj, tn
 
 @njit(cache=True)
 def _points_by_edge(
-    tets, colors, cam, flip, cut, case_local, tet_edges, edge_lo, edge_hi, point, elist, q, q32, c32, tj, tn
+    tets, colors, cam, flip, cut, case_local, tet_edges, edge_lo, edge_hi, point, elist, q, c32, tj, tn
 ):
     """:func:`_points_by_tet` computing each cut edge's point once.
 
@@ -609,15 +606,13 @@ def _points_by_edge(
         cb = 4 * edge_hi[eid]
         s = cam[ca + 3] / (cam[ca + 3] - cam[cb + 3])
         for r in range(3):
-            x = cam[ca + r] + s * (cam[cb + r] - cam[ca + r])
-            q[3 * j + r] = x
-            q32[3 * j + r] = x
+            q[3 * j + r] = cam[ca + r] + s * (cam[cb + r] - cam[ca + r])
         for r in range(4):
             c32[4 * j + r] = cf[ca + r] + s * (cf[cb + r] - cf[ca + r])
 
 
 @njit(cache=True)
-def _rows(ncut, case_count, q, q32, c32, tj, tn, ov, on, oc):
+def _rows(ncut, case_count, q, c32, tj, tn, ov, on, oc):
     """Three rows per triangle: the polygon of each tet fanned from its first point, wound outward."""
     o = 0
     for idx in range(ncut):
@@ -645,7 +640,7 @@ def _rows(ncut, case_count, q, q32, c32, tj, tn, ov, on, oc):
                 j = j3 if rev == (k == 4) else j2
             # All loads, then all stores: lets the compiler move each row's
             # floats as vectors (it cannot tell the arrays apart).
-            x, y, z = q32[3 * j], q32[3 * j + 1], q32[3 * j + 2]
+            x, y, z = np.float32(q[3 * j]), np.float32(q[3 * j + 1]), np.float32(q[3 * j + 2])
             cr, cg, cb, ca = c32[4 * j], c32[4 * j + 1], c32[4 * j + 2], c32[4 * j + 3]
             r = o + k
             ov[3 * r] = x
