@@ -185,7 +185,7 @@ class _Workspace:
         that grows a little still fits next time.
         """
         for b in self.blocks:
-            if size <= len(b) <= 4 * size + 65536 and sys.getrefcount(b) <= _FREE_REFS:
+            if size <= len(b) <= 2 * size + 4096 and sys.getrefcount(b) <= _FREE_REFS:
                 return b
         b = np.empty(size + size // 4 + 1024, np.float32)
         if len(self.blocks) >= OUTPUT_BLOCKS:
