@@ -31,6 +31,8 @@ oracle the tests compare against).
 
 from __future__ import annotations
 
+import sys
+import threading
 from typing import NamedTuple
 
 import numpy as np
@@ -63,6 +65,20 @@ def _build_case_table() -> tuple[np.ndarray, np.ndarray]:
 
 
 CASE_EDGES, CASE_COUNT = _build_case_table()
+# The same table with a triangle's unused fourth edge repeating its third, so a
+# kernel can always compute four points (the fourth then equals the third).
+CASE_EDGES_PADDED = CASE_EDGES.copy()
+CASE_EDGES_PADDED[CASE_COUNT == 3, 3] = CASE_EDGES[CASE_COUNT == 3, 2]
+#: A tet's six edges as vertex pairs (lower local index first); ``CASE_LOCAL_EDGES[mask, e]``
+#: is which of them ``CASE_EDGES_PADDED[mask, e]`` is.
+TET_EDGE_PAIRS = np.array([(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)], np.int64)
+CASE_LOCAL_EDGES = np.array(
+    [
+        [[tuple(p) for p in TET_EDGE_PAIRS.tolist()].index(tuple(sorted(e))) if e[0] != e[1] else 0 for e in row]
+        for row in CASE_EDGES_PADDED.tolist()
+    ],
+    np.int64,
+)
 
 
 def _model_view(mesh_model, camera_pose) -> np.ndarray:
@@ -92,23 +108,164 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
     TriMesh3
         Unwelded triangles (three vertices each) with flat outward normals and
         interpolated colours, in the camera's xyz frame. Empty when nothing is cut.
+        Its ``faces`` are ``arange(3 * triangles)``: a read-only view shared by
+        every section (they are the same numbers every time).
     """
     mv = _model_view(model, camera_pose)
     layout = mesh_clusters(mesh)
-    tets, lo, hi, centers, radii = layout.tets, layout.lo, layout.hi, layout.centers, layout.radii
     colors = _layout_colors(mesh, layout)
+    a = mv[:4, :4]
     # Bound on how far a unit object-space step moves camera-space w.
-    w_gain = float(np.linalg.norm(mv[3, :4]))
-    flip = 1.0 if np.linalg.det(mv[:4, :4]) > 0 else -1.0
-    if not cull:
-        lo, hi = lo[:1], hi[-1:]
-        centers, radii = centers[:1], np.array([np.inf])
-    cut, ntri = _find_cut(layout.vertices, tets, mv, lo, hi, centers, radii, w_gain, CASE_COUNT, cull)
-    if ntri == 0:
-        return TriMesh3.empty()
-    v, n, c = _emit(layout.vertices, tets, colors, mv, flip, cut, ntri, CASE_EDGES, CASE_COUNT)
-    faces = np.arange(3 * ntri, dtype=np.uint32).reshape(-1, 3)
-    return TriMesh3(v, faces, n, c)
+    w_gain = float(np.linalg.norm(a[3]))
+    flip = 1.0 if np.linalg.det(a) > 0 else -1.0
+    ws = _workspace(mesh, layout)
+    with ws.lock:
+        ncut, ntri = _find_cut(
+            layout.vertices, layout.tets, mv, layout.lo, layout.hi, layout.centers, layout.radii, w_gain, cull,
+            CASE_TRIANGLES, ws.keep, ws.above, ws.cut,
+        )  # fmt: skip
+        if ntri == 0:
+            return TriMesh3.empty()
+        out = ws.output_block(30 * ntri)  # the three outputs in one block
+        ov, on, oc = out[: 9 * ntri], out[9 * ntri : 18 * ntri], out[18 * ntri : 30 * ntri]
+        by_edge = EDGE_TABLE_FRACTION * ncut > len(layout.tets)
+        if by_edge and ws.edges is None:
+            ws.set_edges(layout_edges(layout))
+        if len(ws.tn) < 3 * ncut:
+            ws.grow_tets(ncut)
+        edges = ws.edges if by_edge else _NO_EDGES
+        _emit(
+            layout.vertices, layout.tets, colors, mv, flip, ws.cut[:ncut], by_edge,
+            EVERY_VERTEX_FRACTION * ncut > len(layout.vertices), ws.cam, ws.vmark, ws.vlist,
+            CASE_EDGES_PADDED, CASE_COUNT, CASE_LOCAL_EDGES, *edges, ws.point, ws.elist, ws.q, ws.c32,
+            ws.tj, ws.tn, ov, on, oc,
+        )  # fmt: skip
+    return TriMesh3(ov.reshape(-1, 3), _faces(ntri), on.reshape(-1, 3), oc.reshape(-1, 4))
+
+
+#: Move every vertex into camera space (one vectorized loop) when the cut tets are
+#: more than the vertices over this (a cut tet has four), else only the cut tets' vertices.
+EVERY_VERTEX_FRACTION = 4
+#: Use a mesh's edge table (built on first need) once a section cuts more than one
+#: tet in this many: it has about as many edges as the mesh has tets.
+EDGE_TABLE_FRACTION = 16
+_NO_EDGES = (np.zeros((0, 6), np.uint32), np.zeros(0, np.uint32), np.zeros(0, np.uint32))
+
+
+class _Workspace:
+    """Scratch arrays for the sections of one layout, reused call after call.
+
+    Fresh scratch arrays cost more than the slicing itself: the first write to
+    each new page of memory is a page fault (about a microsecond per 4 KiB),
+    and a dense section touches thousands of pages of scratch. Sections of one
+    mesh from several threads take turns (``lock``).
+    """
+
+    def __init__(self, layout: Layout):
+        n, m = len(layout.vertices), len(layout.tets)
+        self.lock = threading.Lock()
+        self.keep = np.empty(len(layout.lo), np.int64)  # clusters the hyperplane meets
+        self.above = np.empty(n, np.uint8)  # per vertex: camera-space w > 0
+        self.cut = np.empty(m, np.uint32)  # the cut tets (pages touched only as far as used)
+        self.cam = np.empty(4 * n)  # camera-space vertices, flat
+        self.vmark = np.zeros(n, np.uint8)  # per vertex: used by a cut tet (0 between calls)
+        self.edges = None  # layout_edges(layout), once a dense section needs it
+        self.point = np.zeros(0, np.int32)  # per edge: its point number, -1 between calls
+        self.tn = np.empty(0)
+        self.grow_tets(0)
+        self.blocks: list[np.ndarray] = []  # output blocks of earlier sections
+
+    def output_block(self, size: int) -> np.ndarray:
+        """A float32 array of at least ``size`` for a section's outputs.
+
+        The outputs of an earlier section are reused once nothing outside holds
+        them (their reference count is the pool's own): a game drops last
+        frame's section, a benchmark each run's, and both then write into memory
+        that is already mapped. A new block has room to spare, so a section
+        that grows a little still fits next time.
+        """
+        for b in self.blocks:
+            if size <= len(b) <= 2 * size + 4096 and sys.getrefcount(b) <= _FREE_REFS:
+                return b
+        b = np.empty(size + size // 4 + 1024, np.float32)
+        if len(self.blocks) >= OUTPUT_BLOCKS:
+            self.blocks.pop(0)  # the oldest: whoever holds it keeps it alive
+        self.blocks.append(b)
+        return b
+
+    def set_edges(self, edges) -> None:
+        self.edges = edges
+        self.point = np.full(len(edges[1]), -1, np.int32)
+
+    def grow_tets(self, count: int) -> None:
+        """Room for ``count`` cut tets (and four times as many section points)."""
+        count = max(count, len(self.tn) // 3 * 5 // 4)  # grow by a quarter at least
+        self.tn = np.empty(3 * count)  # per cut tet: its outward normal
+        self.tj = np.empty(5 * count, np.int32)  # and its polygon's point numbers, then its case
+        self.elist = np.empty(4 * count, np.uint32)  # per point: its edge (the edge path)
+        self.vlist = np.empty(4 * count, np.uint32)  # the vertices of the cut tets
+        self.q = np.empty(12 * count)  # points, float64 for the winding test
+        self.c32 = np.empty(16 * count, np.float32)  # their colours
+
+
+def _refs_when_free() -> int:
+    """``sys.getrefcount`` of a block in :meth:`_Workspace.output_block`'s loop that nothing else holds."""
+    blocks = [np.empty(0, np.float32)]
+    for b in blocks:
+        return sys.getrefcount(b)
+
+
+_FREE_REFS = _refs_when_free()
+#: Output blocks kept per mesh: the section on screen, the one being made, and spares.
+OUTPUT_BLOCKS = 4
+
+
+def _workspace(mesh: TetMesh4, layout: Layout) -> _Workspace:
+    key = ("section_workspace", id(layout))
+    ws = mesh._cache.get(key)
+    if ws is None:
+        ws = mesh._cache[key] = _Workspace(layout)
+    return ws
+
+
+def layout_edges(layout) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The edges of a layout's tets, each once.
+
+    Returns
+    -------
+    tet_edges : (m, 6) uint32
+        Edge number of each tet's edges, in :data:`TET_EDGE_PAIRS` order.
+    edge_lo, edge_hi : (e,) uint32
+        Each edge's vertices, lower index first (the end a section point is
+        interpolated from, see :func:`_emit_by_tet`).
+    """
+    tets = layout.tets.astype(np.int64)
+    a, b = tets[:, TET_EDGE_PAIRS[:, 0]], tets[:, TET_EDGE_PAIRS[:, 1]]
+    n = max(len(layout.vertices), 1)
+    key = np.minimum(a, b) * n + np.maximum(a, b)
+    uniq, inverse = np.unique(key.ravel(), return_inverse=True)
+    return (
+        np.ascontiguousarray(inverse.reshape(-1, 6).astype(np.uint32)),
+        (uniq // n).astype(np.uint32),
+        (uniq % n).astype(np.uint32),
+    )
+
+
+_FACES = [np.zeros((0, 3), np.uint32)]
+
+
+def _faces(ntri: int) -> np.ndarray:
+    """``arange(3 * ntri).reshape(-1, 3)`` as a read-only view of one shared, growing array.
+
+    An unwelded section's faces are always these numbers; writing them afresh
+    for every section is a sizeable part of slicing a small mesh.
+    """
+    faces = _FACES[0]
+    if len(faces) < ntri:
+        faces = np.arange(3 * max(ntri, 2 * len(faces)), dtype=np.uint32).reshape(-1, 3)
+        faces.flags.writeable = False
+        _FACES[0] = faces
+    return faces[:ntri]
 
 
 CLUSTER_SIZE = 64
@@ -198,52 +355,22 @@ def _cluster_spheres(v, tets, starts, ends):
     return centers, radii
 
 
-@njit(cache=True)
-def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, case_count, lazy):
-    """Indices of tets the hyperplane cuts, and the number of triangles they make.
-
-    One byte per vertex (is it above?) keeps the per-tet gathers in cache and
-    the case index branch-free. With ``lazy`` the bytes are filled only for
-    vertices of clusters that survive culling, so a scene mostly far from the
-    hyperplane costs little more than its cluster count.
-    """
-    m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
-    n = v.shape[0]
-    above = np.empty(n, np.uint8)
-    if lazy:
-        above[:] = 2  # not computed yet
-    else:
-        for i in range(n):
-            above[i] = (m0 * v[i, 0] + m1 * v[i, 1] + m2 * v[i, 2] + m3 * v[i, 3] + m4) > 0.0
-    cut = np.empty(tets.shape[0], np.int64)
-    ncut = 0
-    ntri = 0
-    for c in range(lo.shape[0]):
-        dc = m0 * centers[c, 0] + m1 * centers[c, 1] + m2 * centers[c, 2] + m3 * centers[c, 3] + m4
-        if abs(dc) > radii[c] * w_gain:
-            continue
-        if lazy:
-            for t in range(lo[c], hi[c]):
-                for k in range(4):
-                    i = tets[t, k]
-                    if above[i] == 2:
-                        above[i] = (m0 * v[i, 0] + m1 * v[i, 1] + m2 * v[i, 2] + m3 * v[i, 3] + m4) > 0.0
-        for t in range(lo[c], hi[c]):
-            mask = above[tets[t, 0]] | (above[tets[t, 1]] << 1) | (above[tets[t, 2]] << 2) | (above[tets[t, 3]] << 3)
-            if mask != 0 and mask != 15:
-                cut[ncut] = t
-                ncut += 1
-                ntri += case_count[mask] - 2
-    return cut[:ncut], ntri
-
-
 @njit(inline="always")
 def _tet_normal(p, flip):
     """Unit outward normal of the section of the tet with camera-space corners ``p`` ``(4, 4)``:
     the xyz part of cross4(p1 - p0, p2 - p0, p3 - p0), times ``flip`` (+-1); zero stays zero."""
-    ux, uy, uz, uw = p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2], p[1, 3] - p[0, 3]
-    vx, vy, vz, vw = p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2], p[2, 3] - p[0, 3]
-    tx, ty, tz, tw = p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2], p[3, 3] - p[0, 3]
+    return _normal_of(
+        p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2], p[1, 3] - p[0, 3],
+        p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2], p[2, 3] - p[0, 3],
+        p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2], p[3, 3] - p[0, 3],
+        flip,
+    )  # fmt: skip
+
+
+@njit(inline="always")
+def _normal_of(ux, uy, uz, uw, vx, vy, vz, vw, tx, ty, tz, tw, flip):
+    """:func:`_tet_normal` from the edge vectors ``u v t`` (scalars: an inlined
+    function taking arrays would count references on every call)."""
     nx = -(uy * (vz * tw - vw * tz) - uz * (vy * tw - vw * ty) + uw * (vy * tz - vz * ty))
     ny = ux * (vz * tw - vw * tz) - uz * (vx * tw - vw * tx) + uw * (vx * tz - vz * tx)
     nz = -(ux * (vy * tw - vw * ty) - uy * (vx * tw - vw * tx) + uw * (vx * ty - vy * tx))
@@ -258,101 +385,275 @@ def _tet_normal(p, flip):
     return nx, ny, nz
 
 
-@njit(cache=True)
-def _emit(v, tets, colors, mv, flip, cut, ntri, case_edges, case_count):
-    """Triangles of the cut tets: positions, flat outward normals and colours.
+#: Triangles a tet makes, by case (0 when it is not cut).
+CASE_TRIANGLES = np.where(CASE_COUNT > 0, CASE_COUNT - 2, 0).astype(np.int64)
 
-    When the cut tets are many for the vertices they use (a dense section, the
-    worst case), each vertex is moved into camera space once and kept (a vertex
-    belongs to ~20 tets); when they are few among many vertices (a sparse
-    section of a big mesh), per tet, which touches no per-vertex memory. Both
-    compute the same sums in the same order, so the output is identical.
+
+@njit(cache=True)
+def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles, keep, above, cut):
+    """The tets the hyperplane cuts, into ``cut``; returns their number and their triangles'.
+
+    Arrays are read through flat views: their constant strides let the
+    compiler vectorize the per-vertex loop. ``keep``, ``above`` and ``cut`` are
+    scratch (see :class:`_Workspace`).
     """
-    out_v = np.empty((3 * ntri, 3), np.float32)
-    out_n = np.empty((3 * ntri, 3), np.float32)
-    out_c = np.empty((3 * ntri, 4), np.float32)
-    p = np.empty((4, 4))  # camera-space tet vertices
-    q = np.empty((4, 3))  # polygon points
-    qc = np.empty((4, 4))
+    vf = v.reshape(-1)
+    tf = tets.reshape(-1)
+    m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
     n = v.shape[0]
-    cached = 4 * cut.shape[0] > n
-    cam = np.empty((n if cached else 0, 4))
-    done = np.zeros(n if cached else 0, np.uint8)
-    o = 0
+    # Clusters whose bounding sphere the hyperplane meets (all without culling).
+    nkeep = 0
+    visit = 0
+    for c in range(lo.shape[0]):
+        dc = m0 * centers[c, 0] + m1 * centers[c, 1] + m2 * centers[c, 2] + m3 * centers[c, 3] + m4
+        hit = (not cull) or abs(dc) <= radii[c] * w_gain
+        keep[nkeep] = c
+        nkeep += hit
+        visit += (hi[c] - lo[c]) * hit
+    # One byte per vertex: is it above? Every vertex at once when the visited
+    # tets hold about as many vertex slots as there are vertices; else only
+    # the vertices they use.
+    if 4 * visit < n:
+        above[:] = 2  # not computed yet
+        for kc in range(nkeep):
+            c = keep[kc]
+            for j in range(4 * lo[c], 4 * hi[c]):
+                i = tf[j]
+                if above[i] == 2:
+                    above[i] = (
+                        m0 * vf[4 * i] + m1 * vf[4 * i + 1] + m2 * vf[4 * i + 2] + m3 * vf[4 * i + 3] + m4
+                    ) > 0.0
+    else:
+        for i in range(n):
+            above[i] = (m0 * vf[4 * i] + m1 * vf[4 * i + 1] + m2 * vf[4 * i + 2] + m3 * vf[4 * i + 3] + m4) > 0.0
+    # Per cluster, first whether any tet is cut (a branch-free sum: a tet is
+    # cut when 1 to 3 of its vertices are above; skipped after a cluster with
+    # cut tets, as its neighbour likely has some too), then, only if so, the
+    # cut ones compacted without a branch: far from the hyperplane a scan is
+    # one predictable branch per cluster, and near it which tets are cut is a
+    # coin toss. Unsigned indices spare the negative-index checks.
+    ncut = 0
+    ntri = 0
+    last = 0  # cut tets in the previous cluster: if any, this one likely has some too
+    for kc in range(nkeep):
+        c = keep[kc]
+        t0, t1 = np.uint64(lo[c]), np.uint64(hi[c])
+        if last == 0:
+            some = 0
+            for t in range(t0, t1):
+                some |= above[tf[4 * t]] + above[tf[4 * t + 1]] + above[tf[4 * t + 2]] + above[tf[4 * t + 3]] & 3
+            if some == 0:
+                continue
+        before = ncut
+        for t in range(t0, t1):
+            mask = (
+                above[tf[4 * t]]
+                | (above[tf[4 * t + 1]] << 1)
+                | (above[tf[4 * t + 2]] << 2)
+                | (above[tf[4 * t + 3]] << 3)
+            )
+            k = case_triangles[mask]
+            cut[ncut] = t
+            ncut += k != 0
+            ntri += k
+        last = ncut - before
+    return ncut, ntri
+
+
+@njit(cache=True)
+def _emit(
+    v, tets, colors, mv, flip, cut, by_edge, every_vertex, cam, vmark, vlist, case_edges, case_count, case_local,
+    tet_edges, edge_lo, edge_hi, point, elist, q, c32, tj, tn, ov, on, oc,
+):  # fmt: skip
+    """Triangles of the cut tets into the flat outputs ``ov``, ``on`` (3 per row), ``oc`` (4 per row).
+
+    Each vertex the cut tets use is moved into camera space once, into
+    ``cam`` (a vertex belongs to ~20 tets): with ``every_vertex`` (the cut tets
+    use most of them) all in one vectorized loop, else only theirs (``vmark``: per
+    vertex, 0 on entry and on return; ``vlist``: those vertices). With
+    ``by_edge`` each cut edge's point is computed once, though ~5 cut tets
+    share it. Every camera-space coordinate and every section point is the
+    same float64 expression whichever path computes it, so the output depends
+    neither on the path nor on culling, and equals the batched slicer's
+    (:mod:`.section_batch`).
+
+    Loops without unpredictable branches (a mispredicted branch costs more
+    than the arithmetic it skips): the vertices, the tets' normals and points,
+    the points' positions and colours, the rows. The loops call no function
+    taking arrays: numba would count references on each call, with atomic
+    operations. The other arrays are scratch (:class:`_Workspace`).
+    """
+    vf = v.reshape(-1)
+    tf = tets.reshape(-1)
+    a00, a01, a02, a03, a04 = mv[0, 0], mv[0, 1], mv[0, 2], mv[0, 3], mv[0, 4]
+    a10, a11, a12, a13, a14 = mv[1, 0], mv[1, 1], mv[1, 2], mv[1, 3], mv[1, 4]
+    a20, a21, a22, a23, a24 = mv[2, 0], mv[2, 1], mv[2, 2], mv[2, 3], mv[2, 4]
+    a30, a31, a32, a33, a34 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
+    if every_vertex:
+        for i in range(v.shape[0]):
+            x, y, z, w = vf[4 * i], vf[4 * i + 1], vf[4 * i + 2], vf[4 * i + 3]
+            cam[4 * i] = a00 * x + a01 * y + a02 * z + a03 * w + a04
+            cam[4 * i + 1] = a10 * x + a11 * y + a12 * z + a13 * w + a14
+            cam[4 * i + 2] = a20 * x + a21 * y + a22 * z + a23 * w + a24
+            cam[4 * i + 3] = a30 * x + a31 * y + a32 * z + a33 * w + a34
+    else:
+        nv = 0
+        for idx in range(cut.shape[0]):
+            t = cut[idx]
+            for k in range(4):
+                i = tf[4 * t + k]
+                vlist[nv] = i
+                nv += vmark[i] == 0
+                vmark[i] = 1
+        for j in range(nv):
+            i = vlist[j]
+            vmark[i] = 0
+            x, y, z, w = vf[4 * i], vf[4 * i + 1], vf[4 * i + 2], vf[4 * i + 3]
+            cam[4 * i] = a00 * x + a01 * y + a02 * z + a03 * w + a04
+            cam[4 * i + 1] = a10 * x + a11 * y + a12 * z + a13 * w + a14
+            cam[4 * i + 2] = a20 * x + a21 * y + a22 * z + a23 * w + a24
+            cam[4 * i + 3] = a30 * x + a31 * y + a32 * z + a33 * w + a34
+    if by_edge:
+        _points_by_edge(
+            tets, colors, cam, flip, cut, case_local, tet_edges, edge_lo, edge_hi, point, elist, q, c32, tj, tn
+        )
+    else:
+        _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, c32, tj, tn)
+    _rows(cut.shape[0], case_count, q, c32, tj, tn, ov, on, oc)
+
+
+@njit(cache=True)
+def _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, c32, tj, tn):
+    """Per cut tet ``i``: its normal into ``tn[3 i:]``, its case into ``tj[5 i + 4]`` and its
+    polygon's points into rows ``4 i ... 4 i + 3`` of ``q``, ``c32`` (numbered in ``tj[5 i:]``)."""
+    tf = tets.reshape(-1)
+    cf = colors.reshape(-1)
     for idx in range(cut.shape[0]):
         t = cut[idx]
-        mask = 0
-        for k in range(4):
-            vi = tets[t, k]
-            if cached:
-                if done[vi] == 0:
-                    done[vi] = 1
-                    for r in range(4):
-                        cam[vi, r] = (
-                            mv[r, 0] * v[vi, 0]
-                            + mv[r, 1] * v[vi, 1]
-                            + mv[r, 2] * v[vi, 2]
-                            + mv[r, 3] * v[vi, 3]
-                            + mv[r, 4]
-                        )
-                for r in range(4):
-                    p[k, r] = cam[vi, r]
-            else:
-                for r in range(4):
-                    p[k, r] = (
-                        mv[r, 0] * v[vi, 0] + mv[r, 1] * v[vi, 1] + mv[r, 2] * v[vi, 2] + mv[r, 3] * v[vi, 3] + mv[r, 4]
-                    )
-            if p[k, 3] > 0.0:
-                mask |= 1 << k
-        nx, ny, nz = _tet_normal(p, flip)
-        k = case_count[mask]
-        for e in range(k):
-            a = case_edges[mask, e, 0]
-            b = case_edges[mask, e, 1]
-            if tets[t, a] > tets[t, b]:
-                # Interpolate from the lower vertex index, so the tets sharing this
-                # edge compute bit-identical points.
-                a, b = b, a
-            s = p[a, 3] / (p[a, 3] - p[b, 3])
+        # Scalars, not a small array: the compiler keeps them in registers.
+        i0, i1, i2, i3 = 4 * tf[4 * t], 4 * tf[4 * t + 1], 4 * tf[4 * t + 2], 4 * tf[4 * t + 3]
+        x0, y0, z0, w0 = cam[i0], cam[i0 + 1], cam[i0 + 2], cam[i0 + 3]
+        x1, y1, z1, w1 = cam[i1], cam[i1 + 1], cam[i1 + 2], cam[i1 + 3]
+        x2, y2, z2, w2 = cam[i2], cam[i2 + 1], cam[i2 + 2], cam[i2 + 3]
+        x3, y3, z3, w3 = cam[i3], cam[i3 + 1], cam[i3 + 2], cam[i3 + 3]
+        mask = (w0 > 0.0) | ((w1 > 0.0) << 1) | ((w2 > 0.0) << 2) | ((w3 > 0.0) << 3)
+        tn[3 * idx], tn[3 * idx + 1], tn[3 * idx + 2] = _normal_of(
+            x1 - x0, y1 - y0, z1 - z0, w1 - w0,
+            x2 - x0, y2 - y0, z2 - z0, w2 - w0,
+            x3 - x0, y3 - y0, z3 - z0, w3 - w0,
+            flip,
+        )  # fmt: skip
+        tj[5 * idx + 4] = mask
+        for e in range(4):
+            ia = tf[4 * t + case_edges[mask, e, 0]]
+            ib = tf[4 * t + case_edges[mask, e, 1]]
+            # Interpolate from the lower vertex index, so the tets sharing this
+            # edge compute bit-identical points (a select: the order is a coin toss).
+            ca = 4 * min(ia, ib)
+            cb = 4 * max(ia, ib)
+            s = cam[ca + 3] / (cam[ca + 3] - cam[cb + 3])
+            j = 4 * idx + e
             for r in range(3):
-                q[e, r] = p[a, r] + s * (p[b, r] - p[a, r])
-            ca = tets[t, a]
-            cb = tets[t, b]
+                q[3 * j + r] = cam[ca + r] + s * (cam[cb + r] - cam[ca + r])
             for r in range(4):
-                qc[e, r] = colors[ca, r] + s * (colors[cb, r] - colors[ca, r])
-        # Winding: compare the polygon's own normal with the outward normal.
-        ax, ay, az = q[1, 0] - q[0, 0], q[1, 1] - q[0, 1], q[1, 2] - q[0, 2]
-        bx, by, bz = q[2, 0] - q[0, 0], q[2, 1] - q[0, 1], q[2, 2] - q[0, 2]
-        if k == 4:  # use the quad's diagonals: robust when one triangle is a sliver
-            ax, ay, az = q[2, 0] - q[0, 0], q[2, 1] - q[0, 1], q[2, 2] - q[0, 2]
-            bx, by, bz = q[3, 0] - q[1, 0], q[3, 1] - q[1, 1], q[3, 2] - q[1, 2]
+                c32[4 * j + r] = cf[ca + r] + s * (cf[cb + r] - cf[ca + r])
+            tj[5 * idx + e] = j
+
+
+@njit(cache=True)
+def _points_by_edge(
+    tets, colors, cam, flip, cut, case_local, tet_edges, edge_lo, edge_hi, point, elist, q, c32, tj, tn
+):
+    """:func:`_points_by_tet` computing each cut edge's point once.
+
+    ``point``: per edge, its point number (-1 on entry and on return);
+    ``elist``: per point, its edge.
+    """
+    tf = tets.reshape(-1)
+    cf = colors.reshape(-1)
+    ef = tet_edges.reshape(-1)
+    npt = 0
+    for idx in range(cut.shape[0]):
+        t = cut[idx]
+        # Scalars, not a small array: the compiler keeps them in registers.
+        i0, i1, i2, i3 = 4 * tf[4 * t], 4 * tf[4 * t + 1], 4 * tf[4 * t + 2], 4 * tf[4 * t + 3]
+        x0, y0, z0, w0 = cam[i0], cam[i0 + 1], cam[i0 + 2], cam[i0 + 3]
+        x1, y1, z1, w1 = cam[i1], cam[i1 + 1], cam[i1 + 2], cam[i1 + 3]
+        x2, y2, z2, w2 = cam[i2], cam[i2 + 1], cam[i2 + 2], cam[i2 + 3]
+        x3, y3, z3, w3 = cam[i3], cam[i3 + 1], cam[i3 + 2], cam[i3 + 3]
+        mask = (w0 > 0.0) | ((w1 > 0.0) << 1) | ((w2 > 0.0) << 2) | ((w3 > 0.0) << 3)
+        tn[3 * idx], tn[3 * idx + 1], tn[3 * idx + 2] = _normal_of(
+            x1 - x0, y1 - y0, z1 - z0, w1 - w0,
+            x2 - x0, y2 - y0, z2 - z0, w2 - w0,
+            x3 - x0, y3 - y0, z3 - z0, w3 - w0,
+            flip,
+        )  # fmt: skip
+        tj[5 * idx + 4] = mask
+        for e in range(4):
+            # Number the edge's point if it has none yet, without a branch.
+            eid = ef[6 * t + case_local[mask, e]]
+            j = point[eid]
+            new = j < 0
+            j = npt if new else j
+            point[eid] = j
+            elist[npt] = eid
+            npt += new
+            tj[5 * idx + e] = j
+    for j in range(npt):
+        eid = elist[j]
+        point[eid] = -1
+        ca = 4 * edge_lo[eid]
+        cb = 4 * edge_hi[eid]
+        s = cam[ca + 3] / (cam[ca + 3] - cam[cb + 3])
+        for r in range(3):
+            q[3 * j + r] = cam[ca + r] + s * (cam[cb + r] - cam[ca + r])
+        for r in range(4):
+            c32[4 * j + r] = cf[ca + r] + s * (cf[cb + r] - cf[ca + r])
+
+
+@njit(cache=True)
+def _rows(ncut, case_count, q, c32, tj, tn, ov, on, oc):
+    """Three rows per triangle: the polygon of each tet fanned from its first point, wound outward."""
+    o = 0
+    for idx in range(ncut):
+        j0, j1, j2, j3 = tj[5 * idx], tj[5 * idx + 1], tj[5 * idx + 2], tj[5 * idx + 3]
+        four = case_count[tj[5 * idx + 4]] == 4
+        nx, ny, nz = tn[3 * idx], tn[3 * idx + 1], tn[3 * idx + 2]
+        # Winding: compare the polygon's own normal with the outward normal; a
+        # quad uses its diagonals (robust when one triangle is a sliver).
+        e1 = j2 if four else j1
+        e2 = j3 if four else j2
+        e0 = j1 if four else j0
+        ax, ay, az = q[3 * e1] - q[3 * j0], q[3 * e1 + 1] - q[3 * j0 + 1], q[3 * e1 + 2] - q[3 * j0 + 2]
+        bx, by, bz = q[3 * e2] - q[3 * e0], q[3 * e2 + 1] - q[3 * e0 + 1], q[3 * e2 + 2] - q[3 * e0 + 2]
         cxp = ay * bz - az * by
         cyp = az * bx - ax * bz
         czp = ax * by - ay * bx
-        reverse = cxp * nx + cyp * ny + czp * nz < 0.0
-        # Fan from point 0: triangles (0, t+1, t+2), or (0, t+2, t+1) reversed.
-        d1 = 2 if reverse else 1
-        d2 = 3 - d1
-        for tri in range(k - 2):
-            _put(out_v, out_n, out_c, o, q, qc, 0, nx, ny, nz)
-            _put(out_v, out_n, out_c, o + 1, q, qc, tri + d1, nx, ny, nz)
-            _put(out_v, out_n, out_c, o + 2, q, qc, tri + d2, nx, ny, nz)
-            o += 3
-    return out_v, out_n, out_c
-
-
-@njit(inline="always")
-def _put(out_v, out_n, out_c, o, q, qc, src, nx, ny, nz):
-    out_v[o, 0] = q[src, 0]
-    out_v[o, 1] = q[src, 1]
-    out_v[o, 2] = q[src, 2]
-    out_n[o, 0] = nx
-    out_n[o, 1] = ny
-    out_n[o, 2] = nz
-    out_c[o, 0] = qc[src, 0]
-    out_c[o, 1] = qc[src, 1]
-    out_c[o, 2] = qc[src, 2]
-    out_c[o, 3] = qc[src, 3]
+        rev = cxp * nx + cyp * ny + czp * nz < 0.0
+        fx, fy, fz = np.float32(nx), np.float32(ny), np.float32(nz)
+        # Fan from point 0: triangles (0, 1, 2) and (0, 2, 3), their last two swapped when reversed.
+        for k in range(6 if four else 3):
+            j = j0
+            if k == 1 or k == 2:
+                j = j2 if rev == (k == 1) else j1
+            elif k == 4 or k == 5:
+                j = j3 if rev == (k == 4) else j2
+            # All loads, then all stores: lets the compiler move each row's
+            # floats as vectors (it cannot tell the arrays apart).
+            x, y, z = np.float32(q[3 * j]), np.float32(q[3 * j + 1]), np.float32(q[3 * j + 2])
+            cr, cg, cb, ca = c32[4 * j], c32[4 * j + 1], c32[4 * j + 2], c32[4 * j + 3]
+            r = o + k
+            ov[3 * r] = x
+            ov[3 * r + 1] = y
+            ov[3 * r + 2] = z
+            on[3 * r] = fx
+            on[3 * r + 1] = fy
+            on[3 * r + 2] = fz
+            oc[4 * r] = cr
+            oc[4 * r + 1] = cg
+            oc[4 * r + 2] = cb
+            oc[4 * r + 3] = ca
+        o += 6 if four else 3
 
 
 def cross_section_reference(mesh: TetMesh4, camera_pose=None, model=None) -> TriMesh3:

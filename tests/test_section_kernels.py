@@ -1,0 +1,129 @@
+"""The cross-section kernel's inner paths and scratch memory (issue 10, point 4).
+
+The kernel takes different paths for the same slice (camera space for every
+vertex or only the cut tets' vertices; each section point per tet or once per
+edge) and reuses memory between calls. None of that may show in the output:
+these tests check that every path gives the same bits, and that reused memory
+never overwrites a section someone still holds. Speed is in ``across-dimensions
+bench`` (``core/bench.py``), not here.
+"""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+import pytest
+
+from across_dimensions.core import section as S
+from across_dimensions.core import shapes
+from across_dimensions.core import transform as T
+from across_dimensions.core.bench import tiled_scene
+from across_dimensions.core.mesh import TetMesh4
+
+
+def arrays(tri):
+    return tri.vertices.copy(), tri.normals.copy(), tri.colors.copy()
+
+
+def same_bits(a, b):
+    return all(np.array_equal(x, y) for x, y in zip(arrays(a), arrays(b)))
+
+
+def coloured(mesh):
+    """``mesh`` with random vertex colours, so colour interpolation is checked too."""
+    rng = np.random.default_rng(3)
+    return TetMesh4(mesh.vertices, mesh.tets, rng.uniform(0, 1, (len(mesh.vertices), 4)).astype(np.float32))
+
+
+@pytest.fixture(scope="module")
+def dense():
+    """Every copy of the 600-cell cut: the edge path, camera space for every vertex."""
+    return coloured(tiled_scene(shapes.cell600(), 6_000))
+
+
+def test_edge_path_and_tet_path_give_the_same_bits(dense, monkeypatch):
+    cam = T.translation((0, 0, 0, 0.013))
+    by_edge = S.cross_section(dense, cam)
+    assert S._workspace(dense, S.mesh_clusters(dense)).edges is not None  # the edge path ran
+    fresh = coloured(tiled_scene(shapes.cell600(), 6_000))
+    monkeypatch.setattr(S, "EDGE_TABLE_FRACTION", 0)  # never the edge path
+    by_tet = S.cross_section(fresh, cam)
+    assert S._workspace(fresh, S.mesh_clusters(fresh)).edges is None
+    assert len(by_edge) > 1000 and same_bits(by_edge, by_tet)
+
+
+@pytest.mark.parametrize("by_edge", [False, True])
+def test_camera_space_of_every_vertex_or_only_the_cut_ones_gives_the_same_bits(dense, monkeypatch, by_edge):
+    cam = T.translation((0, 0, 0, 0.013))
+    monkeypatch.setattr(S, "EDGE_TABLE_FRACTION", 16 if by_edge else 0)
+    monkeypatch.setattr(S, "EVERY_VERTEX_FRACTION", 10**9)
+    every = S.cross_section(dense, cam)
+    monkeypatch.setattr(S, "EVERY_VERTEX_FRACTION", 0)
+    only_cut = S.cross_section(dense, cam)
+    assert len(every) > 1000 and same_bits(every, only_cut)
+
+
+def test_culling_changes_no_bit():
+    # Copies spread along w: few tets cut among many vertices.
+    scene = coloured(tiled_scene(shapes.cell600(), 30_000, spread_w=20.0))
+    cam = T.translation((0, 0, 0, 0.3))
+    culled, full = S.cross_section(scene, cam), S.cross_section(scene, cam, cull=False)
+    assert 0 < 4 * len(full) < len(scene.vertices)
+    assert same_bits(culled, full)
+
+
+def test_a_held_section_is_never_overwritten(dense):
+    held = S.cross_section(dense, T.translation((0, 0, 0, 0.013)))
+    before = arrays(held)
+    for w in (-0.4, 0.2, 0.013, 0.6):  # more sections than output blocks are kept
+        S.cross_section(dense, T.translation((0, 0, 0, w)))
+    assert all(np.array_equal(x, y) for x, y in zip(arrays(held), before))
+    # A dropped section's memory is reused, and the new section is still right.
+    again = S.cross_section(dense, T.translation((0, 0, 0, 0.013)))
+    del held
+    assert same_bits(again, S.cross_section(dense, T.translation((0, 0, 0, 0.013))))
+
+
+def test_a_view_of_a_section_keeps_it_alive(dense):
+    view = S.cross_section(dense, T.translation((0, 0, 0, 0.013))).colors[:10]  # the section itself is dropped
+    before = view.copy()
+    for w in (-0.4, 0.2, 0.5, 0.6, 0.7):
+        S.cross_section(dense, T.translation((0, 0, 0, w)))
+    np.testing.assert_array_equal(view, before)
+
+
+def test_faces_are_the_unwelded_numbering_and_read_only():
+    tri = S.cross_section(shapes.cell600(), T.translation((0, 0, 0, 0.1)))
+    np.testing.assert_array_equal(tri.faces, np.arange(3 * len(tri), dtype=np.uint32).reshape(-1, 3))
+    assert tri.faces.dtype == np.uint32 and not tri.faces.flags.writeable
+    assert tri.vertices.flags.c_contiguous and tri.normals.flags.c_contiguous and tri.colors.flags.c_contiguous
+
+
+def test_threads_slicing_one_mesh_take_turns(dense):
+    poses = [T.translation((0, 0, 0, w)) for w in (-0.3, 0.013, 0.25, 0.5)]
+    expected = [arrays(S.cross_section(dense, p)) for p in poses]
+    results = {}
+
+    def work(k):
+        for _ in range(5):
+            results[k] = arrays(S.cross_section(dense, poses[k]))
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(len(poses))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for k, exp in enumerate(expected):
+        assert all(np.array_equal(x, y) for x, y in zip(results[k], exp))
+
+
+def test_padded_case_table_repeats_a_triangles_last_edge():
+    for mask in range(16):
+        k = S.CASE_COUNT[mask]
+        np.testing.assert_array_equal(S.CASE_EDGES_PADDED[mask, :k], S.CASE_EDGES[mask, :k])
+        if k == 3:
+            np.testing.assert_array_equal(S.CASE_EDGES_PADDED[mask, 3], S.CASE_EDGES[mask, 2])
+        for e in range(k):
+            a, b = sorted(S.CASE_EDGES[mask, e])
+            assert tuple(S.TET_EDGE_PAIRS[S.CASE_LOCAL_EDGES[mask, e]]) == (a, b)
