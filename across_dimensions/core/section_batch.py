@@ -37,7 +37,7 @@ import numpy as np
 from ._jit import njit
 from .cells import Cells, mesh_cells
 from .mesh import TetMesh4
-from .section import CASE_COUNT, CASE_EDGES, _layout_colors, _tet_normal, mesh_clusters
+from .section import CASE_COUNT, CASE_EDGES, _layout_colors, _normal_of, mesh_clusters
 from .transform import inverse
 
 #: Floats per output vertex: position 3, normal 3, colour 4 (the renderer's layout).
@@ -389,8 +389,8 @@ def _slice_batch(
     never reuses.
     """
     # The loops below are written out rather than split into small helpers:
-    # a helper taking arrays costs reference counting on every call, which
-    # made the tet loop several times slower.
+    # numba counts references (atomically) on every call of a helper that takes
+    # arrays, even an inlined one, which made the tet loop several times slower.
     cap = out.shape[0]
     o = start_row
     q = np.empty((4, 3))
@@ -462,7 +462,12 @@ def _slice_batch(
                     li = tets[t, j] - v_lo
                     for r in range(4):
                         p[j, r] = cam[li, r]
-                nx, ny, nz = _tet_normal(p, flip)
+                nx, ny, nz = _normal_of(
+                    p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2], p[1, 3] - p[0, 3],
+                    p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2], p[2, 3] - p[0, 3],
+                    p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2], p[3, 3] - p[0, 3],
+                    flip,
+                )  # fmt: skip
                 for e in range(nk):
                     a = case_edges[mask, e, 0]
                     b = case_edges[mask, e, 1]
@@ -571,7 +576,12 @@ def _slice_cells(
             li = cell_tet[c, j] - v_lo
             for r in range(4):
                 p[j, r] = cam[li, r]
-        nx, ny, nz = _tet_normal(p, flip)
+        nx, ny, nz = _normal_of(
+            p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2], p[1, 3] - p[0, 3],
+            p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2], p[2, 3] - p[0, 3],
+            p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2], p[3, 3] - p[0, 3],
+            flip,
+        )  # fmt: skip
         # Angles in the polygon's plane about the centroid, in the basis (u, n x u).
         mx = my = mz = 0.0
         for i in range(k):
