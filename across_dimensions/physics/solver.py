@@ -32,7 +32,8 @@ import numpy as np
 
 from across_dimensions.core._jit import njit
 
-from .bivector import PLANE_I, PLANE_J, mat6_vec, tangent_basis, wedge
+from .bivector import PLANE_I, PLANE_J, tangent_frame
+from .borrow import borrowed, keep
 
 
 @njit(cache=True)
@@ -98,6 +99,12 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
     spin_radius = prm.spin_friction
     rolling = prm.rolling_resistance
     spin = rows_out.spin
+    slim = spin.limits
+    sbv = spin.planes
+    sia = spin.inv_i_planes_a
+    sib = spin.inv_i_planes_b
+    smass = spin.eff_mass
+    slam = spin.impulse
     old_key = warm.key
     old_point = warm.local_point
     old_normal = warm.normal_impulse
@@ -117,14 +124,18 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
     vn0 = rows_out.approach_speed
     maxlam = rows_out.max_normal_impulse
     cloc = rows_out.local_point
-    ra = np.empty(4)
-    rb = np.empty(4)
-    tb = np.empty((4, 4))
+    # Small work arrays, borrowed (see .borrow): the helpers inlined below
+    # would otherwise count references to them for every row.
+    own = np.empty((10, 6))
+    work = borrowed(own)
+    ra = work[0, :4]
+    rb = work[1, :4]
+    wa = work[2]
+    wb = work[3]
+    ia = work[4]
+    ib = work[5]
+    tb = work[6:10, :4]
     olo = 0
-    wa = np.empty(6)
-    wb = np.empty(6)
-    ia = np.empty(6)
-    ib = np.empty(6)
     for c in range(nc):
         a = body_a[c]
         b = body_b[c]
@@ -146,18 +157,19 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
             cmu[c] = np.sqrt(mu[a] * world_mu)
             ce[c] = max(rest[a], world_e)
             imb = 0.0
-        tangent_basis(tb[0], tb[1:])
+        # No views (tb[r], iinv[a]) in this loop: each would cost an atomic
+        # reference-count update, which made up most of its time.
+        tangent_frame(tb)
         vn = 0.0
         for r in range(4):
-            d = tb[r]
-            wedge(ra, d, wa)
-            _inv_inertia_times(iinv[a], iso[a], wa, ia)
+            _wedge_row(ra, tb, r, wa)
+            _inv_inertia_times(iinv, a, iso[a], wa, ia)
             kk = inv_mass[a] + imb
             for k in range(6):
                 kk += wa[k] * ia[k]
             if b >= 0:
-                wedge(rb, d, wb)
-                _inv_inertia_times(iinv[b], iso[b], wb, ib)
+                _wedge_row(rb, tb, r, wb)
+                _inv_inertia_times(iinv, b, iso[b], wb, ib)
                 for k in range(6):
                     kk += wb[k] * ib[k]
             else:
@@ -165,7 +177,7 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
                     wb[k] = 0.0
                     ib[k] = 0.0
             for m in range(4):
-                rows[c, r, m] = d[m]
+                rows[c, r, m] = tb[r, m]
             for k in range(6):
                 ja[c, r, k] = wa[k]
                 jb[c, r, k] = wb[k]
@@ -181,20 +193,22 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
             rmass[c, r] = 1.0 / kk if kk > 0.0 else 0.0
             if r == 0:
                 for m in range(4):
-                    vn -= d[m] * vel[a, m]
+                    vn -= tb[0, m] * vel[a, m]
                 for k in range(6):
                     vn -= wa[k] * omg[a, k]
                 if b >= 0:
                     for m in range(4):
-                        vn += d[m] * vel[b, m]
+                        vn += tb[0, m] * vel[b, m]
                     for k in range(6):
                         vn += wb[k] * omg[b, k]
                 else:
                     for m in range(4):
-                        vn += d[m] * surf[c, m]
+                        vn += tb[0, m] * surf[c, m]
         vn0[c] = vn
         maxlam[c] = 0.0
-        _prepare_spin(c, a, b, tb, cmu[c], shape, bound, iinv, iso, spin_radius, rolling, spin)
+        _prepare_spin(
+            c, a, b, tb, cmu[c], shape, bound, iinv, iso, spin_radius, rolling, slim, sbv, sia, sib, smass, slam
+        )
         # The contact point in a's frame: the same material point next tick.
         for m in range(4):
             s = 0.0
@@ -229,10 +243,11 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
                 for m in range(4):
                     s += old_friction[pick, m] * tb[r + 1, m]
                 lam[c, r + 1] = s
+    keep(own)
 
 
-@njit(cache=True)
-def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, rolling, spin):
+@njit(inline="always")
+def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, rolling, lim, bv, sia, sib, smass, slam):
     """Spin friction and rolling resistance of a contact involving a ball.
 
     A ball touching at one point can spin freely in the three planes of the
@@ -243,16 +258,10 @@ def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, rolling
     by at most ``rolling * N * r``. Rows: the unit bivectors acting on the
     relative angular velocity, three per group.
 
-    ``spin`` is the :class:`~.state.SpinRows` to fill; the limits are 0 for
-    contacts without a ball, and ``I^-1 B`` is only stored for anisotropic
-    bodies (as in :func:`prepare`).
+    ``lim, bv, sia, sib, smass, slam`` are the fields of the :class:`~.state.SpinRows`
+    to fill; the limits are 0 for contacts without a ball, and ``I^-1 B`` is only
+    stored for anisotropic bodies (as in :func:`prepare`).
     """
-    lim = spin.limits
-    bv = spin.planes
-    sia = spin.inv_i_planes_a
-    sib = spin.inv_i_planes_b
-    smass = spin.eff_mass
-    slam = spin.impulse
     r = np.inf
     if shape[a] == 0:
         r = bound[a]
@@ -284,7 +293,7 @@ def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, rolling
             slam[c, row] = 0.0
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _add_spin_inv_mass(kk, c, row, body, iinv, iso, planes, inv_i_planes):
     """``kk`` plus the inverse angular mass ``B . I^-1 B`` of ``body`` on spin row ``row``.
 
@@ -303,15 +312,31 @@ def _add_spin_inv_mass(kk, c, row, body, iinv, iso, planes, inv_i_planes):
     return kk
 
 
-@njit(cache=True)
-def _inv_inertia_times(m, iso, v, out):
-    """``out = m @ v`` for a ``(6, 6)`` inverse inertia; ``iso >= 0`` says that
-    ``m == iso * I`` (balls, hypercubes, non-dynamic bodies), the common case."""
+@njit(inline="always")
+def _inv_inertia_times(iinv, body, iso, v, out):
+    """``out = iinv[body] @ v`` for ``(N, 6, 6)`` inverse inertias; ``iso >= 0`` says
+    that ``iinv[body] == iso * I`` (balls, hypercubes, non-dynamic bodies), the common case."""
     if iso >= 0.0:
         for k in range(6):
             out[k] = iso * v[k]
     else:
-        mat6_vec(m, v, out)
+        # mat6_vec's sums, read by index (no view of iinv[body]).
+        for k in range(6):
+            s = 0.0
+            for j in range(6):
+                s += iinv[body, k, j] * v[j]
+            out[k] = s
+
+
+@njit(inline="always")
+def _wedge_row(r, f, row, out):
+    """``out = r ^ f[row]`` (:func:`.bivector.wedge` on a row read by index)."""
+    out[0] = r[0] * f[row, 1] - r[1] * f[row, 0]
+    out[1] = r[0] * f[row, 2] - r[2] * f[row, 0]
+    out[2] = r[1] * f[row, 2] - r[2] * f[row, 1]
+    out[3] = r[0] * f[row, 3] - r[3] * f[row, 0]
+    out[4] = r[1] * f[row, 3] - r[3] * f[row, 1]
+    out[5] = r[2] * f[row, 3] - r[3] * f[row, 2]
 
 
 @njit(cache=True)
