@@ -124,23 +124,31 @@ def reduce_points(cp, cd, cnt, n, rot, wk, out_p, out_n, out_d, k):
             for b in range(4):
                 s += cp[i, b] * u[q, b]
             pr[i, q] = s
+    # The eight scans in one pass over the candidates (each scan keeps its own
+    # farthest value and pick, so the picks are those of eight separate scans).
+    far = np.full(8, -np.inf)
+    picks = np.full(8, -1, dtype=np.int64)
+    for i in range(cnt):
+        p0 = pr[i, 0]
+        p1 = pr[i, 1]
+        p2 = pr[i, 2]
+        for sgn in range(8):
+            s0 = 1.0 if sgn & 1 else -1.0
+            s1 = 1.0 if sgn & 2 else -1.0
+            s2 = 1.0 if sgn & 4 else -1.0
+            s = s0 * p0 + s1 * p1 + s2 * p2
+            f = far[sgn]
+            if s > f + 1e-4:
+                far[sgn] = s
+                picks[sgn] = i
+            elif s >= f - 1e-4:
+                if cd[i] > cd[picks[sgn]]:
+                    picks[sgn] = i
+                if s > f:
+                    far[sgn] = s
     written = 0
     for sgn in range(8):
-        s0 = 1.0 if sgn & 1 else -1.0
-        s1 = 1.0 if sgn & 2 else -1.0
-        s2 = 1.0 if sgn & 4 else -1.0
-        far = -np.inf
-        pick = -1
-        for i in range(cnt):
-            s = s0 * pr[i, 0] + s1 * pr[i, 1] + s2 * pr[i, 2]
-            if s > far + 1e-4:
-                far = s
-                pick = i
-            elif s >= far - 1e-4:
-                if cd[i] > cd[pick]:
-                    pick = i
-                if s > far:
-                    far = s
+        pick = picks[sgn]
         if written_before(out_p, k, written, cp, pick):
             continue
         for b in range(4):
