@@ -48,7 +48,7 @@ from .solver import (
     store,
     warm_start,
 )
-from .sorting import argsort_stable
+from .sorting import argsort_by_body, argsort_stable
 from .state import Bodies, Contacts, Scratch, SolverRows, SpinRows, StaticWorld, WarmStart
 from .tet_mesh import box_tets, sphere_tets
 
@@ -412,11 +412,13 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
     if npairs * MAX_POINTS > cp.shape[0]:
         return -npairs * MAX_POINTS
     keys = np.empty(npairs, dtype=np.int64)
+    first = np.empty(npairs, dtype=np.int64)
     for p in range(npairs):
         a = pairs[p, 0]
         b = pairs[p, 1]
         keys[p] = (a << 32) | (b if b >= 0 else STATIC_KEY + (-1 - b))
-    order = argsort_stable(keys)
+        first[p] = a
+    order = argsort_by_body(keys, first, bodies.count)
     nh = hs.shape[0]
     k = 0
     so = static.solids
