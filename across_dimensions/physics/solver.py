@@ -602,7 +602,11 @@ def solve(
                 vb[m] += imb * d * R[0, m]
             for k in range(6):
                 wa[k] -= d * fa * IA[0, k]
-                wb[k] += d * fb * IB[0, k]
+            if b >= 0:
+                # (The static side's spin stays +0.0 whatever is added to it,
+                # since fb is 0 there: skipping it changes no bit.)
+                for k in range(6):
+                    wb[k] += d * fb * IB[0, k]
             # Friction: one vector impulse lamped to the friction ball.
             limit = cmu[c] * new
             s2 = 0.0
@@ -626,7 +630,9 @@ def solve(
                     vb[m] += imb * d * R[r + 1, m]
                 for k in range(6):
                     wa[k] -= d * fa * IA[r + 1, k]
-                    wb[k] += d * fb * IB[r + 1, k]
+                if b >= 0:
+                    for k in range(6):
+                        wb[k] += d * fb * IB[r + 1, k]
             sa = sbv if iso[a] >= 0.0 else sia
             sb = sbv if b < 0 or iso[b] >= 0.0 else sib
             for g in range(2):
@@ -649,7 +655,9 @@ def solve(
                     slam[c, 3 * g + r] = dl[r]
                     for k in range(6):
                         wa[k] -= d * fa * sa[c, 3 * g + r, k]
-                        wb[k] += d * fb * sb[c, 3 * g + r, k]
+                    if b >= 0:
+                        for k in range(6):
+                            wb[k] += d * fb * sb[c, 3 * g + r, k]
             for m in range(4):
                 vel[a, m] = va[m]
             for k in range(6):
