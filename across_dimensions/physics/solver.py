@@ -12,7 +12,7 @@ the ball of radius ``mu * normal impulse`` (a Coulomb cone in 4D), which is what
 turns a sliding hypersphere's slip into spin in whatever plane the slip is.
 Contacts of hyperspheres also get angular-only rows: spin friction in the three
 planes of the contact hyperplane and optional rolling resistance in the three
-planes containing the normal (see :func:`_prepare_spin`).
+planes containing the normal (see :func:`_prepare_spins`).
 
 The time stepping is Box2D v3's "soft step": contacts are found and prepared
 once per tick, then several substeps each warm start, solve with a soft
@@ -99,12 +99,6 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
     spin_radius = prm.spin_friction
     rolling = prm.rolling_resistance
     spin = rows_out.spin
-    slim = spin.limits
-    sbv = spin.planes
-    sia = spin.inv_i_planes_a
-    sib = spin.inv_i_planes_b
-    smass = spin.eff_mass
-    slam = spin.impulse
     old_key = warm.key
     old_point = warm.local_point
     old_normal = warm.normal_impulse
@@ -162,14 +156,43 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
         tangent_frame(tb)
         vn = 0.0
         for r in range(4):
-            _wedge_row(ra, tb, r, wa)
-            _inv_inertia_times(iinv, a, iso[a], wa, ia)
+            # wa = ra ^ row r, ia = I_a^-1 wa (bivector.wedge and mat6_vec written
+            # out: a helper, even inlined, costs a reference-count call per
+            # array per row, and each such call makes the compiler reload).
+            wa[0] = ra[0] * tb[r, 1] - ra[1] * tb[r, 0]
+            wa[1] = ra[0] * tb[r, 2] - ra[2] * tb[r, 0]
+            wa[2] = ra[1] * tb[r, 2] - ra[2] * tb[r, 1]
+            wa[3] = ra[0] * tb[r, 3] - ra[3] * tb[r, 0]
+            wa[4] = ra[1] * tb[r, 3] - ra[3] * tb[r, 1]
+            wa[5] = ra[2] * tb[r, 3] - ra[3] * tb[r, 2]
+            if iso[a] >= 0.0:
+                for k in range(6):
+                    ia[k] = iso[a] * wa[k]
+            else:
+                for k in range(6):
+                    t = 0.0
+                    for j in range(6):
+                        t += iinv[a, k, j] * wa[j]
+                    ia[k] = t
             kk = inv_mass[a] + imb
             for k in range(6):
                 kk += wa[k] * ia[k]
             if b >= 0:
-                _wedge_row(rb, tb, r, wb)
-                _inv_inertia_times(iinv, b, iso[b], wb, ib)
+                wb[0] = rb[0] * tb[r, 1] - rb[1] * tb[r, 0]
+                wb[1] = rb[0] * tb[r, 2] - rb[2] * tb[r, 0]
+                wb[2] = rb[1] * tb[r, 2] - rb[2] * tb[r, 1]
+                wb[3] = rb[0] * tb[r, 3] - rb[3] * tb[r, 0]
+                wb[4] = rb[1] * tb[r, 3] - rb[3] * tb[r, 1]
+                wb[5] = rb[2] * tb[r, 3] - rb[3] * tb[r, 2]
+                if iso[b] >= 0.0:
+                    for k in range(6):
+                        ib[k] = iso[b] * wb[k]
+                else:
+                    for k in range(6):
+                        t = 0.0
+                        for j in range(6):
+                            t += iinv[b, k, j] * wb[j]
+                        ib[k] = t
                 for k in range(6):
                     kk += wb[k] * ib[k]
             else:
@@ -206,9 +229,6 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
                         vn += tb[0, m] * surf[c, m]
         vn0[c] = vn
         maxlam[c] = 0.0
-        _prepare_spin(
-            c, a, b, tb, cmu[c], shape, bound, iinv, iso, spin_radius, rolling, slim, sbv, sia, sib, smass, slam
-        )
         # The contact point in a's frame: the same material point next tick.
         for m in range(4):
             s = 0.0
@@ -244,11 +264,12 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
                     s += old_friction[pick, m] * tb[r + 1, m]
                 lam[c, r + 1] = s
     keep(own)
+    _prepare_spins(nc, body_a, body_b, rows, cmu, shape, bound, iinv, iso, spin_radius, rolling, spin)
 
 
-@njit(inline="always")
-def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, rolling, lim, bv, sia, sib, smass, slam):
-    """Spin friction and rolling resistance of a contact involving a ball.
+@njit(cache=True)
+def _prepare_spins(nc, body_a, body_b, frames, friction, shape, bound, iinv, iso, spin_radius, rolling, spin):
+    """Spin friction and rolling resistance of the contacts involving a ball.
 
     A ball touching at one point can spin freely in the three planes of the
     contact hyperplane (``t_i ^ t_j``) - point friction has no lever there -
@@ -258,85 +279,71 @@ def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, rolling
     by at most ``rolling * N * r``. Rows: the unit bivectors acting on the
     relative angular velocity, three per group.
 
-    ``lim, bv, sia, sib, smass, slam`` are the fields of the :class:`~.state.SpinRows`
-    to fill; the limits are 0 for contacts without a ball, and ``I^-1 B`` is only
-    stored for anisotropic bodies (as in :func:`prepare`).
+    ``frames`` are the contacts' row directions (normal, then tangents) and
+    ``friction`` their friction coefficients, from :func:`prepare`. ``spin`` is
+    the :class:`~.state.SpinRows` to fill; the limits are 0 for contacts without
+    a ball, and ``I^-1 B`` is only stored for anisotropic bodies (as in
+    :func:`prepare`). One loop over all contacts with the arrays taken out once:
+    a call per contact would cost a reference-count call per array.
     """
-    r = np.inf
-    if shape[a] == 0:
-        r = bound[a]
-    if b >= 0 and shape[b] == 0:
-        r = min(r, bound[b])
-    if r == np.inf:
-        lim[c, 0] = 0.0
-        lim[c, 1] = 0.0
-        return
-    lim[c, 0] = mu * spin_radius * r
-    lim[c, 1] = rolling * r
-    if lim[c, 0] == 0.0 and lim[c, 1] == 0.0:
-        return
-    for i in range(4):
-        if lim[c, 0 if i > 0 else 1] == 0.0:
-            continue  # a group that is off is never solved: its rows need not be built
-        for j in range(i + 1, 4):
-            # Unit bivectors t_i ^ t_j (k = 0..2) then n ^ t_j (k = 3..5); the
-            # frame is orthonormal.
-            row = j + 2 if i == 0 else i + j - 3
-            for q in range(6):
-                pi = PLANE_I[q]
-                pj = PLANE_J[q]
-                bv[c, row, q] = tb[i, pi] * tb[j, pj] - tb[i, pj] * tb[j, pi]
-            kk = _add_spin_inv_mass(0.0, c, row, a, iinv, iso, bv, sia)
-            if b >= 0:
-                kk = _add_spin_inv_mass(kk, c, row, b, iinv, iso, bv, sib)
-            smass[c, row] = 1.0 / kk if kk > 0.0 else 0.0
-            slam[c, row] = 0.0
-
-
-@njit(inline="always")
-def _add_spin_inv_mass(kk, c, row, body, iinv, iso, planes, inv_i_planes):
-    """``kk`` plus the inverse angular mass ``B . I^-1 B`` of ``body`` on spin row ``row``.
-
-    ``I^-1 B`` is stored in ``inv_i_planes`` for an anisotropic body only.
-    The terms are added to ``kk`` one by one (not summed apart first) so the
-    rounding is that of one running sum over both bodies.
-    """
-    if iso[body] >= 0.0:
-        return kk + iso[body]
-    for q in range(6):
-        s = 0.0
-        for j in range(6):
-            s += iinv[body, q, j] * planes[c, row, j]
-        inv_i_planes[c, row, q] = s
-        kk += planes[c, row, q] * s
-    return kk
-
-
-@njit(inline="always")
-def _inv_inertia_times(iinv, body, iso, v, out):
-    """``out = iinv[body] @ v`` for ``(N, 6, 6)`` inverse inertias; ``iso >= 0`` says
-    that ``iinv[body] == iso * I`` (balls, hypercubes, non-dynamic bodies), the common case."""
-    if iso >= 0.0:
-        for k in range(6):
-            out[k] = iso * v[k]
-    else:
-        # mat6_vec's sums, read by index (no view of iinv[body]).
-        for k in range(6):
-            s = 0.0
-            for j in range(6):
-                s += iinv[body, k, j] * v[j]
-            out[k] = s
-
-
-@njit(inline="always")
-def _wedge_row(r, f, row, out):
-    """``out = r ^ f[row]`` (:func:`.bivector.wedge` on a row read by index)."""
-    out[0] = r[0] * f[row, 1] - r[1] * f[row, 0]
-    out[1] = r[0] * f[row, 2] - r[2] * f[row, 0]
-    out[2] = r[1] * f[row, 2] - r[2] * f[row, 1]
-    out[3] = r[0] * f[row, 3] - r[3] * f[row, 0]
-    out[4] = r[1] * f[row, 3] - r[3] * f[row, 1]
-    out[5] = r[2] * f[row, 3] - r[3] * f[row, 2]
+    lim = spin.limits
+    bv = spin.planes
+    sia = spin.inv_i_planes_a
+    sib = spin.inv_i_planes_b
+    smass = spin.eff_mass
+    slam = spin.impulse
+    for c in range(nc):
+        a = body_a[c]
+        b = body_b[c]
+        r = np.inf
+        if shape[a] == 0:
+            r = bound[a]
+        if b >= 0 and shape[b] == 0:
+            r = min(r, bound[b])
+        if r == np.inf:
+            lim[c, 0] = 0.0
+            lim[c, 1] = 0.0
+            continue
+        lim[c, 0] = friction[c] * spin_radius * r
+        lim[c, 1] = rolling * r
+        if lim[c, 0] == 0.0 and lim[c, 1] == 0.0:
+            continue
+        for i in range(4):
+            if lim[c, 0 if i > 0 else 1] == 0.0:
+                continue  # a group that is off is never solved: its rows need not be built
+            for j in range(i + 1, 4):
+                # Unit bivectors t_i ^ t_j (k = 0..2) then n ^ t_j (k = 3..5); the
+                # frame is orthonormal.
+                row = j + 2 if i == 0 else i + j - 3
+                for q in range(6):
+                    pi = PLANE_I[q]
+                    pj = PLANE_J[q]
+                    bv[c, row, q] = frames[c, i, pi] * frames[c, j, pj] - frames[c, i, pj] * frames[c, j, pi]
+                # The inverse angular mass B . I^-1 B of each body, added term by
+                # term to one running sum (a's, then b's); I^-1 B is stored for
+                # an anisotropic body only.
+                kk = 0.0
+                if iso[a] >= 0.0:
+                    kk = kk + iso[a]
+                else:
+                    for q in range(6):
+                        t = 0.0
+                        for m in range(6):
+                            t += iinv[a, q, m] * bv[c, row, m]
+                        sia[c, row, q] = t
+                        kk += bv[c, row, q] * t
+                if b >= 0:
+                    if iso[b] >= 0.0:
+                        kk = kk + iso[b]
+                    else:
+                        for q in range(6):
+                            t = 0.0
+                            for m in range(6):
+                                t += iinv[b, q, m] * bv[c, row, m]
+                            sib[c, row, q] = t
+                            kk += bv[c, row, q] * t
+                smass[c, row] = 1.0 / kk if kk > 0.0 else 0.0
+                slam[c, row] = 0.0
 
 
 @njit(cache=True)
