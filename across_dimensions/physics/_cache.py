@@ -48,7 +48,7 @@ def sources_digest() -> str:
     paths = sorted(_HERE.glob("*.py")) + [_HERE.parent / "core" / "transform.py"]
     for path in paths:
         text = path.read_bytes()
-        if b"@njit" not in text and path.name != "state.py":
+        if b"@njit" not in text and b"@intrinsic" not in text and path.name != "state.py":
             continue
         h.update(path.name.encode())
         h.update(text)

@@ -32,6 +32,7 @@ __all__ = [
     "rotate_by",
     "spin_velocity",
     "tangent_basis",
+    "tangent_frame",
     "wedge",
     "world_inverse_inertia",
 ]
@@ -227,3 +228,35 @@ def tangent_basis(n, out):
         q = 1.0 / np.sqrt(q)
         for i in range(4):
             out[t, i] *= q
+
+
+@njit(inline="always")
+def tangent_frame(f):
+    """Complete row 0 of ``f`` (a unit normal) with rows 1-3 as :func:`tangent_basis` does.
+
+    The same arithmetic on one ``(4, 4)`` float64 array read by index: the
+    solver calls this for every contact, and the row views ``f[0]``, ``f[1:]``
+    would each cost an atomic reference-count update.
+    """
+    big = 0
+    for k in range(1, 4):
+        if abs(f[0, k]) > abs(f[0, big]):
+            big = k
+    for t in range(3):
+        # The three axes with the smallest |n_k| (ties to the lower index).
+        ax = t if t < big else t + 1
+        for i in range(4):
+            f[t + 1, i] = -f[0, ax] * f[0, i]
+        f[t + 1, ax] += 1.0
+        for s in range(t):
+            d = 0.0
+            for i in range(4):
+                d += f[t + 1, i] * f[s + 1, i]
+            for i in range(4):
+                f[t + 1, i] -= d * f[s + 1, i]
+        q = 0.0
+        for i in range(4):
+            q += f[t + 1, i] * f[t + 1, i]
+        q = 1.0 / np.sqrt(q)
+        for i in range(4):
+            f[t + 1, i] *= q

@@ -12,7 +12,7 @@ the ball of radius ``mu * normal impulse`` (a Coulomb cone in 4D), which is what
 turns a sliding hypersphere's slip into spin in whatever plane the slip is.
 Contacts of hyperspheres also get angular-only rows: spin friction in the three
 planes of the contact hyperplane and optional rolling resistance in the three
-planes containing the normal (see :func:`_prepare_spin`).
+planes containing the normal (see :func:`_prepare_spins`).
 
 The time stepping is Box2D v3's "soft step": contacts are found and prepared
 once per tick, then several substeps each warm start, solve with a soft
@@ -32,7 +32,8 @@ import numpy as np
 
 from across_dimensions.core._jit import njit
 
-from .bivector import PLANE_I, PLANE_J, mat6_vec, tangent_basis, wedge
+from .bivector import PLANE_I, PLANE_J, tangent_frame
+from .borrow import borrowed, keep
 
 
 @njit(cache=True)
@@ -117,14 +118,18 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
     vn0 = rows_out.approach_speed
     maxlam = rows_out.max_normal_impulse
     cloc = rows_out.local_point
-    ra = np.empty(4)
-    rb = np.empty(4)
-    tb = np.empty((4, 4))
+    # Small work arrays, borrowed (see .borrow): the helpers inlined below
+    # would otherwise count references to them for every row.
+    own = np.empty((10, 6))
+    work = borrowed(own)
+    ra = work[0, :4]
+    rb = work[1, :4]
+    wa = work[2]
+    wb = work[3]
+    ia = work[4]
+    ib = work[5]
+    tb = work[6:10, :4]
     olo = 0
-    wa = np.empty(6)
-    wb = np.empty(6)
-    ia = np.empty(6)
-    ib = np.empty(6)
     for c in range(nc):
         a = body_a[c]
         b = body_b[c]
@@ -146,18 +151,48 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
             cmu[c] = np.sqrt(mu[a] * world_mu)
             ce[c] = max(rest[a], world_e)
             imb = 0.0
-        tangent_basis(tb[0], tb[1:])
+        # No views (tb[r], iinv[a]) in this loop: each would cost an atomic
+        # reference-count update, which made up most of its time.
+        tangent_frame(tb)
         vn = 0.0
         for r in range(4):
-            d = tb[r]
-            wedge(ra, d, wa)
-            _inv_inertia_times(iinv[a], iso[a], wa, ia)
+            # wa = ra ^ row r, ia = I_a^-1 wa (bivector.wedge and mat6_vec written
+            # out: a helper, even inlined, costs a reference-count call per
+            # array per row, and each such call makes the compiler reload).
+            wa[0] = ra[0] * tb[r, 1] - ra[1] * tb[r, 0]
+            wa[1] = ra[0] * tb[r, 2] - ra[2] * tb[r, 0]
+            wa[2] = ra[1] * tb[r, 2] - ra[2] * tb[r, 1]
+            wa[3] = ra[0] * tb[r, 3] - ra[3] * tb[r, 0]
+            wa[4] = ra[1] * tb[r, 3] - ra[3] * tb[r, 1]
+            wa[5] = ra[2] * tb[r, 3] - ra[3] * tb[r, 2]
+            if iso[a] >= 0.0:
+                for k in range(6):
+                    ia[k] = iso[a] * wa[k]
+            else:
+                for k in range(6):
+                    t = 0.0
+                    for j in range(6):
+                        t += iinv[a, k, j] * wa[j]
+                    ia[k] = t
             kk = inv_mass[a] + imb
             for k in range(6):
                 kk += wa[k] * ia[k]
             if b >= 0:
-                wedge(rb, d, wb)
-                _inv_inertia_times(iinv[b], iso[b], wb, ib)
+                wb[0] = rb[0] * tb[r, 1] - rb[1] * tb[r, 0]
+                wb[1] = rb[0] * tb[r, 2] - rb[2] * tb[r, 0]
+                wb[2] = rb[1] * tb[r, 2] - rb[2] * tb[r, 1]
+                wb[3] = rb[0] * tb[r, 3] - rb[3] * tb[r, 0]
+                wb[4] = rb[1] * tb[r, 3] - rb[3] * tb[r, 1]
+                wb[5] = rb[2] * tb[r, 3] - rb[3] * tb[r, 2]
+                if iso[b] >= 0.0:
+                    for k in range(6):
+                        ib[k] = iso[b] * wb[k]
+                else:
+                    for k in range(6):
+                        t = 0.0
+                        for j in range(6):
+                            t += iinv[b, k, j] * wb[j]
+                        ib[k] = t
                 for k in range(6):
                     kk += wb[k] * ib[k]
             else:
@@ -165,7 +200,7 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
                     wb[k] = 0.0
                     ib[k] = 0.0
             for m in range(4):
-                rows[c, r, m] = d[m]
+                rows[c, r, m] = tb[r, m]
             for k in range(6):
                 ja[c, r, k] = wa[k]
                 jb[c, r, k] = wb[k]
@@ -181,20 +216,19 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
             rmass[c, r] = 1.0 / kk if kk > 0.0 else 0.0
             if r == 0:
                 for m in range(4):
-                    vn -= d[m] * vel[a, m]
+                    vn -= tb[0, m] * vel[a, m]
                 for k in range(6):
                     vn -= wa[k] * omg[a, k]
                 if b >= 0:
                     for m in range(4):
-                        vn += d[m] * vel[b, m]
+                        vn += tb[0, m] * vel[b, m]
                     for k in range(6):
                         vn += wb[k] * omg[b, k]
                 else:
                     for m in range(4):
-                        vn += d[m] * surf[c, m]
+                        vn += tb[0, m] * surf[c, m]
         vn0[c] = vn
         maxlam[c] = 0.0
-        _prepare_spin(c, a, b, tb, cmu[c], shape, bound, iinv, iso, spin_radius, rolling, spin)
         # The contact point in a's frame: the same material point next tick.
         for m in range(4):
             s = 0.0
@@ -229,11 +263,13 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
                 for m in range(4):
                     s += old_friction[pick, m] * tb[r + 1, m]
                 lam[c, r + 1] = s
+    keep(own)
+    _prepare_spins(nc, body_a, body_b, rows, cmu, shape, bound, iinv, iso, spin_radius, rolling, spin)
 
 
 @njit(cache=True)
-def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, rolling, spin):
-    """Spin friction and rolling resistance of a contact involving a ball.
+def _prepare_spins(nc, body_a, body_b, frames, friction, shape, bound, iinv, iso, spin_radius, rolling, spin):
+    """Spin friction and rolling resistance of the contacts involving a ball.
 
     A ball touching at one point can spin freely in the three planes of the
     contact hyperplane (``t_i ^ t_j``) - point friction has no lever there -
@@ -243,9 +279,12 @@ def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, rolling
     by at most ``rolling * N * r``. Rows: the unit bivectors acting on the
     relative angular velocity, three per group.
 
-    ``spin`` is the :class:`~.state.SpinRows` to fill; the limits are 0 for
-    contacts without a ball, and ``I^-1 B`` is only stored for anisotropic
-    bodies (as in :func:`prepare`).
+    ``frames`` are the contacts' row directions (normal, then tangents) and
+    ``friction`` their friction coefficients, from :func:`prepare`. ``spin`` is
+    the :class:`~.state.SpinRows` to fill; the limits are 0 for contacts without
+    a ball, and ``I^-1 B`` is only stored for anisotropic bodies (as in
+    :func:`prepare`). One loop over all contacts with the arrays taken out once:
+    a call per contact would cost a reference-count call per array.
     """
     lim = spin.limits
     bv = spin.planes
@@ -253,65 +292,58 @@ def _prepare_spin(c, a, b, tb, mu, shape, bound, iinv, iso, spin_radius, rolling
     sib = spin.inv_i_planes_b
     smass = spin.eff_mass
     slam = spin.impulse
-    r = np.inf
-    if shape[a] == 0:
-        r = bound[a]
-    if b >= 0 and shape[b] == 0:
-        r = min(r, bound[b])
-    if r == np.inf:
-        lim[c, 0] = 0.0
-        lim[c, 1] = 0.0
-        return
-    lim[c, 0] = mu * spin_radius * r
-    lim[c, 1] = rolling * r
-    if lim[c, 0] == 0.0 and lim[c, 1] == 0.0:
-        return
-    for i in range(4):
-        if lim[c, 0 if i > 0 else 1] == 0.0:
-            continue  # a group that is off is never solved: its rows need not be built
-        for j in range(i + 1, 4):
-            # Unit bivectors t_i ^ t_j (k = 0..2) then n ^ t_j (k = 3..5); the
-            # frame is orthonormal.
-            row = j + 2 if i == 0 else i + j - 3
-            for q in range(6):
-                pi = PLANE_I[q]
-                pj = PLANE_J[q]
-                bv[c, row, q] = tb[i, pi] * tb[j, pj] - tb[i, pj] * tb[j, pi]
-            kk = _add_spin_inv_mass(0.0, c, row, a, iinv, iso, bv, sia)
-            if b >= 0:
-                kk = _add_spin_inv_mass(kk, c, row, b, iinv, iso, bv, sib)
-            smass[c, row] = 1.0 / kk if kk > 0.0 else 0.0
-            slam[c, row] = 0.0
-
-
-@njit(cache=True)
-def _add_spin_inv_mass(kk, c, row, body, iinv, iso, planes, inv_i_planes):
-    """``kk`` plus the inverse angular mass ``B . I^-1 B`` of ``body`` on spin row ``row``.
-
-    ``I^-1 B`` is stored in ``inv_i_planes`` for an anisotropic body only.
-    The terms are added to ``kk`` one by one (not summed apart first) so the
-    rounding is that of one running sum over both bodies.
-    """
-    if iso[body] >= 0.0:
-        return kk + iso[body]
-    for q in range(6):
-        s = 0.0
-        for j in range(6):
-            s += iinv[body, q, j] * planes[c, row, j]
-        inv_i_planes[c, row, q] = s
-        kk += planes[c, row, q] * s
-    return kk
-
-
-@njit(cache=True)
-def _inv_inertia_times(m, iso, v, out):
-    """``out = m @ v`` for a ``(6, 6)`` inverse inertia; ``iso >= 0`` says that
-    ``m == iso * I`` (balls, hypercubes, non-dynamic bodies), the common case."""
-    if iso >= 0.0:
-        for k in range(6):
-            out[k] = iso * v[k]
-    else:
-        mat6_vec(m, v, out)
+    for c in range(nc):
+        a = body_a[c]
+        b = body_b[c]
+        r = np.inf
+        if shape[a] == 0:
+            r = bound[a]
+        if b >= 0 and shape[b] == 0:
+            r = min(r, bound[b])
+        if r == np.inf:
+            lim[c, 0] = 0.0
+            lim[c, 1] = 0.0
+            continue
+        lim[c, 0] = friction[c] * spin_radius * r
+        lim[c, 1] = rolling * r
+        if lim[c, 0] == 0.0 and lim[c, 1] == 0.0:
+            continue
+        for i in range(4):
+            if lim[c, 0 if i > 0 else 1] == 0.0:
+                continue  # a group that is off is never solved: its rows need not be built
+            for j in range(i + 1, 4):
+                # Unit bivectors t_i ^ t_j (k = 0..2) then n ^ t_j (k = 3..5); the
+                # frame is orthonormal.
+                row = j + 2 if i == 0 else i + j - 3
+                for q in range(6):
+                    pi = PLANE_I[q]
+                    pj = PLANE_J[q]
+                    bv[c, row, q] = frames[c, i, pi] * frames[c, j, pj] - frames[c, i, pj] * frames[c, j, pi]
+                # The inverse angular mass B . I^-1 B of each body, added term by
+                # term to one running sum (a's, then b's); I^-1 B is stored for
+                # an anisotropic body only.
+                kk = 0.0
+                if iso[a] >= 0.0:
+                    kk = kk + iso[a]
+                else:
+                    for q in range(6):
+                        t = 0.0
+                        for m in range(6):
+                            t += iinv[a, q, m] * bv[c, row, m]
+                        sia[c, row, q] = t
+                        kk += bv[c, row, q] * t
+                if b >= 0:
+                    if iso[b] >= 0.0:
+                        kk = kk + iso[b]
+                    else:
+                        for q in range(6):
+                            t = 0.0
+                            for m in range(6):
+                                t += iinv[b, q, m] * bv[c, row, m]
+                            sib[c, row, q] = t
+                            kk += bv[c, row, q] * t
+                smass[c, row] = 1.0 / kk if kk > 0.0 else 0.0
+                slam[c, row] = 0.0
 
 
 @njit(cache=True)
@@ -577,7 +609,11 @@ def solve(
                 vb[m] += imb * d * R[0, m]
             for k in range(6):
                 wa[k] -= d * fa * IA[0, k]
-                wb[k] += d * fb * IB[0, k]
+            if b >= 0:
+                # (The static side's spin stays +0.0 whatever is added to it,
+                # since fb is 0 there: skipping it changes no bit.)
+                for k in range(6):
+                    wb[k] += d * fb * IB[0, k]
             # Friction: one vector impulse lamped to the friction ball.
             limit = cmu[c] * new
             s2 = 0.0
@@ -601,7 +637,9 @@ def solve(
                     vb[m] += imb * d * R[r + 1, m]
                 for k in range(6):
                     wa[k] -= d * fa * IA[r + 1, k]
-                    wb[k] += d * fb * IB[r + 1, k]
+                if b >= 0:
+                    for k in range(6):
+                        wb[k] += d * fb * IB[r + 1, k]
             sa = sbv if iso[a] >= 0.0 else sia
             sb = sbv if b < 0 or iso[b] >= 0.0 else sib
             for g in range(2):
@@ -624,7 +662,9 @@ def solve(
                     slam[c, 3 * g + r] = dl[r]
                     for k in range(6):
                         wa[k] -= d * fa * sa[c, 3 * g + r, k]
-                        wb[k] += d * fb * sb[c, 3 * g + r, k]
+                    if b >= 0:
+                        for k in range(6):
+                            wb[k] += d * fb * sb[c, 3 * g + r, k]
             for m in range(4):
                 vel[a, m] = va[m]
             for k in range(6):

@@ -229,7 +229,7 @@ class WarmStart(NamedTuple):
 
 
 class SpinRows(NamedTuple):
-    """Spin friction and rolling resistance of contacts with a ball (see :func:`.solver._prepare_spin`).
+    """Spin friction and rolling resistance of contacts with a ball (see :func:`.solver._prepare_spins`).
 
     Attributes
     ----------
