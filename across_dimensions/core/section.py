@@ -19,10 +19,14 @@ cases                 vertices above        cut edges, in cycle order
 3, 5, 6, 9, 10, 12    two: ``a0 a1``        ``a0b0 a0b1 a1b1 a1b0`` -> a quad
 ====================  ====================  ===============================
 
-The table fixes which edges form the polygon and their cyclic order; the
-winding is then fixed per tet by the tet's outward 4D normal projected into the
-hyperplane (the section's outward normal), so triangles come out
-counter-clockwise seen from outside whatever the tet's vertex order.
+The table fixes which edges form the polygon and their cyclic order. The
+section's outward normal is the xyz part of the tet's outward 4D normal
+(``cross4`` of its edges, times the sign of the model-view's determinant), and
+the polygon's winding against it depends on the case alone
+(:data:`CASE_REVERSED`), so triangles come out counter-clockwise seen from
+outside whatever the tet's vertex order, with no geometry per tet to decide it.
+The kernel turns each tet's object-space normal (:func:`layout_normals`) by the
+model-view's inverse transpose (:func:`normal_transforms`).
 
 Two implementations share these rules: :func:`cross_section` (numba, clustered,
 single-threaded) and :func:`cross_section_reference` (plain Python/numpy, the
@@ -81,6 +85,44 @@ CASE_LOCAL_EDGES = np.array(
 )
 
 
+def _build_case_reversed() -> np.ndarray:
+    """Whether each case's polygon, in table order, is clockwise seen from outside.
+
+    The outward normal is ``cross4`` of the tet's edges (times the sign of the
+    model-view's determinant) and the polygon's corners lie on the same edges,
+    so the two turn together: for a tet that is not flat, the polygon's winding
+    against the normal depends on the case alone (any non-flat tet can be
+    deformed into any other of its case without flattening it or its section).
+    Read off one tet here; ``tests/test_section_kernels.py`` checks random ones.
+
+    Returns
+    -------
+    (2, 16) uint8
+        Row 0 for a model-view of positive determinant, row 1 (the opposite) for
+        a mirroring one; 0 for the cases that cut nothing.
+    """
+    rev = np.zeros(16, np.uint8)
+    for mask in range(1, 15):
+        w = np.array([1.0 if mask >> i & 1 else -1.0 for i in range(4)]) * (1.0 + 0.1 * np.arange(4))
+        p = np.column_stack([np.vstack([np.zeros(3), np.eye(3)]), w])
+        pts = []
+        for a, b in CASE_EDGES[mask, : CASE_COUNT[mask]]:
+            s = p[a, 3] / (p[a, 3] - p[b, 3])
+            pts.append(p[a, :3] + s * (p[b, :3] - p[a, :3]))
+        normal = cross4(p[1] - p[0], p[2] - p[0], p[3] - p[0])[:3]
+        if len(pts) == 4:
+            poly = np.cross(pts[2] - pts[0], pts[3] - pts[1])
+        else:
+            poly = np.cross(pts[1] - pts[0], pts[2] - pts[0])
+        rev[mask] = poly @ normal < 0
+    return np.stack([rev, np.where(CASE_COUNT > 0, 1 - rev, 0).astype(np.uint8)])
+
+
+#: ``CASE_REVERSED[det < 0, mask]``: a case's polygon is wound the other way round (see
+#: :func:`_build_case_reversed`).
+CASE_REVERSED = _build_case_reversed()
+
+
 def _model_view(mesh_model, camera_pose) -> np.ndarray:
     """Object-to-camera 5x5 transform."""
     view = np.eye(5) if camera_pose is None else inverse(camera_pose)
@@ -117,12 +159,11 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
     a = mv[:4, :4]
     # Bound on how far a unit object-space step moves camera-space w.
     w_gain = float(np.linalg.norm(a[3]))
-    flip = 1.0 if np.linalg.det(a) > 0 else -1.0
     ws = _workspace(mesh, layout)
     with ws.lock:
         ncut, ntri = _find_cut(
             layout.vertices, layout.tets, mv, layout.lo, layout.hi, layout.centers, layout.radii, w_gain, cull,
-            CASE_TRIANGLES, ws.keep, ws.above, ws.cut,
+            CASE_TRIANGLES, ws.keep, ws.above, ws.cut, ws.cmask,
         )  # fmt: skip
         if ntri == 0:
             return TriMesh3.empty()
@@ -131,14 +172,15 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
         by_edge = EDGE_TABLE_FRACTION * ncut > len(layout.tets)
         if by_edge and ws.edges is None:
             ws.set_edges(layout_edges(layout))
-        if len(ws.tn) < 3 * ncut:
+        if ws.tn.shape[1] < ncut:
             ws.grow_tets(ncut)
         edges = ws.edges if by_edge else _NO_EDGES
         _emit(
-            layout.vertices, layout.tets, colors, mv, flip, ws.cut[:ncut], by_edge,
+            layout.vertices, layout.tets, colors, mv, layout_normals(mesh, layout).reshape(-1),
+            normal_transforms(a).reshape(-1), ws.cut[:ncut], ws.cmask, by_edge,
             EVERY_VERTEX_FRACTION * ncut > len(layout.vertices), ws.cam, ws.vmark, ws.vlist,
-            CASE_EDGES_PADDED, CASE_COUNT, CASE_LOCAL_EDGES, *edges, ws.point, ws.elist, ws.q, ws.c32,
-            ws.tj, ws.tn, ov, on, oc,
+            CASE_EDGES_PADDED, CASE_COUNT, CASE_REVERSED[int(not np.linalg.det(a) > 0)], CASE_LOCAL_EDGES, *edges,
+            ws.point, ws.elist, ws.rec, ws.tj, ws.n64, ws.tn, ov, on, oc,
         )  # fmt: skip
     return TriMesh3(ov.reshape(-1, 3), _faces(ntri), on.reshape(-1, 3), oc.reshape(-1, 4))
 
@@ -167,11 +209,12 @@ class _Workspace:
         self.keep = np.empty(len(layout.lo), np.int64)  # clusters the hyperplane meets
         self.above = np.empty(n, np.uint8)  # per vertex: camera-space w > 0
         self.cut = np.empty(m, np.uint32)  # the cut tets (pages touched only as far as used)
+        self.cmask = np.empty(m, np.uint8)  # and their cases
         self.cam = np.empty(4 * n)  # camera-space vertices, flat
         self.vmark = np.zeros(n, np.uint8)  # per vertex: used by a cut tet (0 between calls)
         self.edges = None  # layout_edges(layout), once a dense section needs it
         self.point = np.zeros(0, np.int32)  # per edge: its point number, -1 between calls
-        self.tn = np.empty(0)
+        self.tn = np.empty((3, 0), np.float32)
         self.grow_tets(0)
         self.blocks: list[np.ndarray] = []  # output blocks of earlier sections
 
@@ -199,13 +242,13 @@ class _Workspace:
 
     def grow_tets(self, count: int) -> None:
         """Room for ``count`` cut tets (and four times as many section points)."""
-        count = max(count, len(self.tn) // 3 * 5 // 4)  # grow by a quarter at least
-        self.tn = np.empty(3 * count)  # per cut tet: its outward normal
+        count = max(count, self.tn.shape[1] * 5 // 4)  # grow by a quarter at least
+        self.n64 = np.empty((3, count))  # per cut tet: its outward normal, not yet unit
+        self.tn = np.empty((3, count), np.float32)  # and unit
         self.tj = np.empty(5 * count, np.int32)  # and its polygon's point numbers, then its case
         self.elist = np.empty(4 * count, np.uint32)  # per point: its edge (the edge path)
         self.vlist = np.empty(4 * count, np.uint32)  # the vertices of the cut tets
-        self.q = np.empty(12 * count)  # points, float64 for the winding test
-        self.c32 = np.empty(16 * count, np.float32)  # their colours
+        self.rec = np.empty(32 * count, np.float32)  # per point: xyz, rgba and one unused
 
 
 def _refs_when_free() -> int:
@@ -316,6 +359,49 @@ def mesh_clusters(mesh: TetMesh4, size: int = CLUSTER_SIZE) -> Layout:
     return mesh._cache[key]
 
 
+def layout_normals(mesh: TetMesh4, layout: Layout) -> np.ndarray:
+    """Outward normals ``(m, 4) float64`` of the layout's tets in object space (cached)."""
+    key = ("layout_normals", id(layout))  # layouts live as long as the mesh (its cache)
+    if key not in mesh._cache:
+        p = layout.vertices.astype(np.float64)[layout.tets]
+        mesh._cache[key] = np.ascontiguousarray(cross4(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))
+    return mesh._cache[key]
+
+
+def normal_transforms(a: np.ndarray) -> np.ndarray:
+    """What turns object-space tet normals into camera space: the xyz rows of ``inv(a).T``.
+
+    ``cross4(A u, A v, A t) = cof(A) cross4(u, v, t)`` with ``cof(A) = det(A) inv(A).T``
+    the cofactor matrix: the camera-space normal of a tet, times the sign of
+    ``det(A)`` (outward for a mirroring ``A`` too), points along ``inv(A).T`` of
+    its object-space normal.
+
+    Parameters
+    ----------
+    a : (..., 4, 4) float64
+        Linear parts of model-view transforms.
+
+    Returns
+    -------
+    (..., 3, 4) float64, C-contiguous
+        For a singular ``a`` (an object flattened), minus its cofactor matrix
+        (its sign is then taken as negative): the normal of the flat space.
+    """
+    a = np.asarray(a, np.float64)
+    singular = np.linalg.det(a) == 0.0
+    g = np.swapaxes(np.linalg.inv(np.where(singular[..., None, None], np.eye(4), a)), -1, -2)
+    if singular.any():
+        flat = a[singular]
+        cof = np.empty_like(flat)
+        keep = np.arange(4)
+        for i in range(4):
+            for j in range(4):
+                minor = flat[:, keep != i][:, :, keep != j]
+                cof[:, i, j] = (-1) ** (i + j) * np.linalg.det(minor)
+        g[singular] = -cof
+    return np.ascontiguousarray(g[..., :3, :])
+
+
 def _layout_colors(mesh: TetMesh4, layout: Layout) -> np.ndarray:
     """The mesh's vertex colours in the layout's order (cached with the colours)."""
     key = ("layout_colors", len(layout.source))
@@ -390,8 +476,9 @@ CASE_TRIANGLES = np.where(CASE_COUNT > 0, CASE_COUNT - 2, 0).astype(np.int64)
 
 
 @njit(cache=True)
-def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles, keep, above, cut):
-    """The tets the hyperplane cuts, into ``cut``; returns their number and their triangles'.
+def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles, keep, above, cut, cmask):
+    """The tets the hyperplane cuts, into ``cut`` (their cases into ``cmask``); returns their
+    number and their triangles'.
 
     Arrays are read through flat views: their constant strides let the
     compiler vectorize the per-vertex loop. ``keep``, ``above`` and ``cut`` are
@@ -454,6 +541,7 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
             )
             k = case_triangles[mask]
             cut[ncut] = t
+            cmask[ncut] = mask
             ncut += k != 0
             ntri += k
         last = ncut - before
@@ -462,8 +550,8 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
 
 @njit(cache=True)
 def _emit(
-    v, tets, colors, mv, flip, cut, by_edge, every_vertex, cam, vmark, vlist, case_edges, case_count, case_local,
-    tet_edges, edge_lo, edge_hi, point, elist, q, c32, tj, tn, ov, on, oc,
+    v, tets, colors, mv, nobj, g, cut, cmask, by_edge, every_vertex, cam, vmark, vlist, case_edges, case_count,
+    reverse, case_local, tet_edges, edge_lo, edge_hi, point, elist, rec, tj, n64, tn, ov, on, oc,
 ):  # fmt: skip
     """Triangles of the cut tets into the flat outputs ``ov``, ``on`` (3 per row), ``oc`` (4 per row).
 
@@ -481,7 +569,11 @@ def _emit(
     than the arithmetic it skips): the vertices, the tets' normals and points,
     the points' positions and colours, the rows. The loops call no function
     taking arrays: numba would count references on each call, with atomic
-    operations. The other arrays are scratch (:class:`_Workspace`).
+    operations. Each tet's case comes from :func:`_find_cut` (``cmask``), its
+    normal from its object-space normal ``nobj`` and ``g``
+    (:func:`normal_transforms`, flat), its winding from ``reverse``
+    (:data:`CASE_REVERSED`, the row for the model-view's orientation). The
+    other arrays are scratch (:class:`_Workspace`).
     """
     vf = v.reshape(-1)
     tf = tets.reshape(-1)
@@ -513,36 +605,58 @@ def _emit(
             cam[4 * i + 1] = a10 * x + a11 * y + a12 * z + a13 * w + a14
             cam[4 * i + 2] = a20 * x + a21 * y + a22 * z + a23 * w + a24
             cam[4 * i + 3] = a30 * x + a31 * y + a32 * z + a33 * w + a34
+    _normals(cut, nobj, g, n64, tn)
     if by_edge:
-        _points_by_edge(
-            tets, colors, cam, flip, cut, case_local, tet_edges, edge_lo, edge_hi, point, elist, q, c32, tj, tn
-        )
+        _points_by_edge(colors, cam, cut, cmask, case_local, tet_edges, edge_lo, edge_hi, point, elist, rec, tj)
     else:
-        _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, c32, tj, tn)
-    _rows(cut.shape[0], case_count, q, c32, tj, tn, ov, on, oc)
+        _points_by_tet(tets, colors, cam, cut, cmask, case_edges, rec, tj)
+    _rows(cut.shape[0], case_count, reverse, rec, tj, tn, ov, on, oc)
 
 
 @njit(cache=True)
-def _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, c32, tj, tn):
-    """Per cut tet ``i``: its normal into ``tn[3 i:]``, its case into ``tj[5 i + 4]`` and its
-    polygon's points into rows ``4 i ... 4 i + 3`` of ``q``, ``c32`` (numbered in ``tj[5 i:]``)."""
+def _normals(cut, nobj, g, n64, tn):
+    """Per cut tet ``i``: its section's unit outward normal, float32, into ``tn[:, i]``.
+
+    The tet's object-space normal ``nobj`` (:func:`layout_normals`, flat) turned
+    by ``g``, the xyz rows of the model-view's inverse transpose (flat 3x4):
+    four loads per tet where the normal of its camera-space corners needs
+    sixteen. The batched slicer uses the same expression, bit for bit. Two
+    loops: the second, over ``n64`` ``(3, k)`` float64 scratch, one component
+    per row, is vectorized (a square root and a division per tet, one at a
+    time, cost more than everything else here).
+    """
+    g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
+    g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
+    ncut = cut.shape[0]
+    for idx in range(ncut):
+        t = np.uint64(cut[idx])
+        n0, n1, n2, n3 = nobj[4 * t], nobj[4 * t + 1], nobj[4 * t + 2], nobj[4 * t + 3]
+        n64[0, idx] = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
+        n64[1, idx] = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
+        n64[2, idx] = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
+    nx, ny, nz = n64[0], n64[1], n64[2]
+    tx, ty, tz = tn[0], tn[1], tn[2]
+    for idx in range(ncut):
+        x, y, z = nx[idx], ny[idx], nz[idx]
+        ln = np.sqrt(x * x + y * y + z * z)
+        inv = 1.0 / ln if ln > 0.0 else 0.0  # a degenerate tet: zero stays zero
+        tx[idx] = np.float32(x * inv)
+        ty[idx] = np.float32(y * inv)
+        tz[idx] = np.float32(z * inv)
+
+
+@njit(cache=True)
+def _points_by_tet(tets, colors, cam, cut, cmask, case_edges, rec, tj):
+    """Per cut tet ``i``: its case into ``tj[5 i + 4]`` and its polygon's points into
+    records ``4 i ... 4 i + 3`` of ``rec`` (numbered in ``tj[5 i:]``).
+
+    A record is eight float32: the point's camera-space xyz, its colour, one unused.
+    """
     tf = tets.reshape(-1)
     cf = colors.reshape(-1)
     for idx in range(cut.shape[0]):
-        t = cut[idx]
-        # Scalars, not a small array: the compiler keeps them in registers.
-        i0, i1, i2, i3 = 4 * tf[4 * t], 4 * tf[4 * t + 1], 4 * tf[4 * t + 2], 4 * tf[4 * t + 3]
-        x0, y0, z0, w0 = cam[i0], cam[i0 + 1], cam[i0 + 2], cam[i0 + 3]
-        x1, y1, z1, w1 = cam[i1], cam[i1 + 1], cam[i1 + 2], cam[i1 + 3]
-        x2, y2, z2, w2 = cam[i2], cam[i2 + 1], cam[i2 + 2], cam[i2 + 3]
-        x3, y3, z3, w3 = cam[i3], cam[i3 + 1], cam[i3 + 2], cam[i3 + 3]
-        mask = (w0 > 0.0) | ((w1 > 0.0) << 1) | ((w2 > 0.0) << 2) | ((w3 > 0.0) << 3)
-        tn[3 * idx], tn[3 * idx + 1], tn[3 * idx + 2] = _normal_of(
-            x1 - x0, y1 - y0, z1 - z0, w1 - w0,
-            x2 - x0, y2 - y0, z2 - z0, w2 - w0,
-            x3 - x0, y3 - y0, z3 - z0, w3 - w0,
-            flip,
-        )  # fmt: skip
+        t = np.uint64(cut[idx])
+        mask = cmask[idx]
         tj[5 * idx + 4] = mask
         for e in range(4):
             ia = tf[4 * t + case_edges[mask, e, 0]]
@@ -554,40 +668,25 @@ def _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, c32, tj, tn):
             s = cam[ca + 3] / (cam[ca + 3] - cam[cb + 3])
             j = 4 * idx + e
             for r in range(3):
-                q[3 * j + r] = cam[ca + r] + s * (cam[cb + r] - cam[ca + r])
+                rec[8 * j + r] = np.float32(cam[ca + r] + s * (cam[cb + r] - cam[ca + r]))
             for r in range(4):
-                c32[4 * j + r] = cf[ca + r] + s * (cf[cb + r] - cf[ca + r])
+                rec[8 * j + 3 + r] = np.float32(cf[ca + r] + s * (cf[cb + r] - cf[ca + r]))
             tj[5 * idx + e] = j
 
 
 @njit(cache=True)
-def _points_by_edge(
-    tets, colors, cam, flip, cut, case_local, tet_edges, edge_lo, edge_hi, point, elist, q, c32, tj, tn
-):
+def _points_by_edge(colors, cam, cut, cmask, case_local, tet_edges, edge_lo, edge_hi, point, elist, rec, tj):
     """:func:`_points_by_tet` computing each cut edge's point once.
 
     ``point``: per edge, its point number (-1 on entry and on return);
     ``elist``: per point, its edge.
     """
-    tf = tets.reshape(-1)
     cf = colors.reshape(-1)
     ef = tet_edges.reshape(-1)
     npt = 0
     for idx in range(cut.shape[0]):
-        t = cut[idx]
-        # Scalars, not a small array: the compiler keeps them in registers.
-        i0, i1, i2, i3 = 4 * tf[4 * t], 4 * tf[4 * t + 1], 4 * tf[4 * t + 2], 4 * tf[4 * t + 3]
-        x0, y0, z0, w0 = cam[i0], cam[i0 + 1], cam[i0 + 2], cam[i0 + 3]
-        x1, y1, z1, w1 = cam[i1], cam[i1 + 1], cam[i1 + 2], cam[i1 + 3]
-        x2, y2, z2, w2 = cam[i2], cam[i2 + 1], cam[i2 + 2], cam[i2 + 3]
-        x3, y3, z3, w3 = cam[i3], cam[i3 + 1], cam[i3 + 2], cam[i3 + 3]
-        mask = (w0 > 0.0) | ((w1 > 0.0) << 1) | ((w2 > 0.0) << 2) | ((w3 > 0.0) << 3)
-        tn[3 * idx], tn[3 * idx + 1], tn[3 * idx + 2] = _normal_of(
-            x1 - x0, y1 - y0, z1 - z0, w1 - w0,
-            x2 - x0, y2 - y0, z2 - z0, w2 - w0,
-            x3 - x0, y3 - y0, z3 - z0, w3 - w0,
-            flip,
-        )  # fmt: skip
+        t = np.uint64(cut[idx])
+        mask = cmask[idx]
         tj[5 * idx + 4] = mask
         for e in range(4):
             # Number the edge's point if it has none yet, without a branch.
@@ -606,31 +705,25 @@ def _points_by_edge(
         cb = 4 * edge_hi[eid]
         s = cam[ca + 3] / (cam[ca + 3] - cam[cb + 3])
         for r in range(3):
-            q[3 * j + r] = cam[ca + r] + s * (cam[cb + r] - cam[ca + r])
+            rec[8 * j + r] = np.float32(cam[ca + r] + s * (cam[cb + r] - cam[ca + r]))
         for r in range(4):
-            c32[4 * j + r] = cf[ca + r] + s * (cf[cb + r] - cf[ca + r])
+            rec[8 * j + 3 + r] = np.float32(cf[ca + r] + s * (cf[cb + r] - cf[ca + r]))
 
 
 @njit(cache=True)
-def _rows(ncut, case_count, q, c32, tj, tn, ov, on, oc):
-    """Three rows per triangle: the polygon of each tet fanned from its first point, wound outward."""
+def _rows(ncut, case_count, reverse, rec, tj, tn, ov, on, oc):
+    """Three rows per triangle: the polygon of each tet fanned from its first point, wound outward.
+
+    The winding is the case's (``reverse``, see :data:`CASE_REVERSED`): copies
+    only, no geometry.
+    """
     o = 0
     for idx in range(ncut):
         j0, j1, j2, j3 = tj[5 * idx], tj[5 * idx + 1], tj[5 * idx + 2], tj[5 * idx + 3]
-        four = case_count[tj[5 * idx + 4]] == 4
-        nx, ny, nz = tn[3 * idx], tn[3 * idx + 1], tn[3 * idx + 2]
-        # Winding: compare the polygon's own normal with the outward normal; a
-        # quad uses its diagonals (robust when one triangle is a sliver).
-        e1 = j2 if four else j1
-        e2 = j3 if four else j2
-        e0 = j1 if four else j0
-        ax, ay, az = q[3 * e1] - q[3 * j0], q[3 * e1 + 1] - q[3 * j0 + 1], q[3 * e1 + 2] - q[3 * j0 + 2]
-        bx, by, bz = q[3 * e2] - q[3 * e0], q[3 * e2 + 1] - q[3 * e0 + 1], q[3 * e2 + 2] - q[3 * e0 + 2]
-        cxp = ay * bz - az * by
-        cyp = az * bx - ax * bz
-        czp = ax * by - ay * bx
-        rev = cxp * nx + cyp * ny + czp * nz < 0.0
-        fx, fy, fz = np.float32(nx), np.float32(ny), np.float32(nz)
+        mask = tj[5 * idx + 4]
+        four = case_count[mask] == 4
+        rev = reverse[mask] != 0
+        fx, fy, fz = tn[0, idx], tn[1, idx], tn[2, idx]
         # Fan from point 0: triangles (0, 1, 2) and (0, 2, 3), their last two swapped when reversed.
         for k in range(6 if four else 3):
             j = j0
@@ -640,8 +733,8 @@ def _rows(ncut, case_count, q, c32, tj, tn, ov, on, oc):
                 j = j3 if rev == (k == 4) else j2
             # All loads, then all stores: lets the compiler move each row's
             # floats as vectors (it cannot tell the arrays apart).
-            x, y, z = np.float32(q[3 * j]), np.float32(q[3 * j + 1]), np.float32(q[3 * j + 2])
-            cr, cg, cb, ca = c32[4 * j], c32[4 * j + 1], c32[4 * j + 2], c32[4 * j + 3]
+            x, y, z = rec[8 * j], rec[8 * j + 1], rec[8 * j + 2]
+            cr, cg, cb, ca = rec[8 * j + 3], rec[8 * j + 4], rec[8 * j + 5], rec[8 * j + 6]
             r = o + k
             ov[3 * r] = x
             ov[3 * r + 1] = y
