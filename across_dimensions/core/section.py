@@ -84,6 +84,11 @@ CASE_LOCAL_EDGES = np.array(
     np.int64,
 )
 
+#: ``CASE_LOCAL_EDGES`` flat, as bytes (``[4 * mask + e]``): the kernels' copy.
+CASE_LOCAL_FLAT = CASE_LOCAL_EDGES.astype(np.uint8).reshape(-1)
+#: Unsigned index type of the kernels' inner loops.
+U = np.uint64
+
 
 def _build_case_reversed() -> np.ndarray:
     """Whether each case's polygon, in table order, is clockwise seen from outside.
@@ -179,7 +184,7 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
             layout.vertices, layout.tets, colors, mv, layout_normals(mesh, layout).reshape(-1),
             normal_transforms(a).reshape(-1), ws.cut[:ncut], ws.cmask, by_edge,
             EVERY_VERTEX_FRACTION * ncut > len(layout.vertices), ws.cam, ws.vmark, ws.vlist,
-            CASE_EDGES_PADDED, CASE_COUNT, CASE_REVERSED[int(not np.linalg.det(a) > 0)], CASE_LOCAL_EDGES, *edges,
+            CASE_EDGES_PADDED, CASE_COUNT, CASE_REVERSED[int(not np.linalg.det(a) > 0)], CASE_LOCAL_FLAT, *edges,
             ws.point, ws.elist, ws.rec, ws.tj, ws.n64, ws.tn, ov, on, oc,
         )  # fmt: skip
     return TriMesh3(ov.reshape(-1, 3), _faces(ntri), on.reshape(-1, 3), oc.reshape(-1, 4))
@@ -678,36 +683,40 @@ def _points_by_tet(tets, colors, cam, cut, cmask, case_edges, rec, tj):
 def _points_by_edge(colors, cam, cut, cmask, case_local, tet_edges, edge_lo, edge_hi, point, elist, rec, tj):
     """:func:`_points_by_tet` computing each cut edge's point once.
 
-    ``point``: per edge, its point number (-1 on entry and on return);
-    ``elist``: per point, its edge.
+    ``case_local``: :data:`CASE_LOCAL_FLAT`; ``point``: per edge, its point
+    number (-1 on entry and on return); ``elist``: per point, its edge.
+    Indices are unsigned (``U``): numba then skips the negative-index fix-up,
+    a sizeable part of these short loops.
     """
     cf = colors.reshape(-1)
     ef = tet_edges.reshape(-1)
     npt = 0
     for idx in range(cut.shape[0]):
-        t = np.uint64(cut[idx])
-        mask = cmask[idx]
-        tj[5 * idx + 4] = mask
+        i = U(idx)
+        t = U(cut[i])
+        mask = U(cmask[i])
+        tj[U(5) * i + U(4)] = mask
         for e in range(4):
             # Number the edge's point if it has none yet, without a branch.
-            eid = ef[6 * t + case_local[mask, e]]
+            eid = U(ef[U(6) * t + case_local[U(4) * mask + U(e)]])
             j = point[eid]
             new = j < 0
             j = npt if new else j
             point[eid] = j
             elist[npt] = eid
             npt += new
-            tj[5 * idx + e] = j
-    for j in range(npt):
-        eid = elist[j]
+            tj[U(5) * i + U(e)] = j
+    for k in range(npt):
+        j = U(k)
+        eid = U(elist[j])
         point[eid] = -1
-        ca = 4 * edge_lo[eid]
-        cb = 4 * edge_hi[eid]
-        s = cam[ca + 3] / (cam[ca + 3] - cam[cb + 3])
+        ca = U(4) * U(edge_lo[eid])
+        cb = U(4) * U(edge_hi[eid])
+        s = cam[ca + U(3)] / (cam[ca + U(3)] - cam[cb + U(3)])
         for r in range(3):
-            rec[8 * j + r] = np.float32(cam[ca + r] + s * (cam[cb + r] - cam[ca + r]))
+            rec[U(8) * j + U(r)] = np.float32(cam[ca + U(r)] + s * (cam[cb + U(r)] - cam[ca + U(r)]))
         for r in range(4):
-            rec[8 * j + 3 + r] = np.float32(cf[ca + r] + s * (cf[cb + r] - cf[ca + r]))
+            rec[U(8) * j + U(3 + r)] = np.float32(cf[ca + U(r)] + s * (cf[cb + U(r)] - cf[ca + U(r)]))
 
 
 @njit(cache=True)
@@ -715,15 +724,17 @@ def _rows(ncut, case_count, reverse, rec, tj, tn, ov, on, oc):
     """Three rows per triangle: the polygon of each tet fanned from its first point, wound outward.
 
     The winding is the case's (``reverse``, see :data:`CASE_REVERSED`): copies
-    only, no geometry.
+    only, no geometry. Unsigned indices (see :func:`_points_by_edge`).
     """
-    o = 0
+    tx, ty, tz = tn[0], tn[1], tn[2]
+    o = U(0)
     for idx in range(ncut):
-        j0, j1, j2, j3 = tj[5 * idx], tj[5 * idx + 1], tj[5 * idx + 2], tj[5 * idx + 3]
-        mask = tj[5 * idx + 4]
+        i = U(idx)
+        j0, j1, j2, j3 = U(tj[U(5) * i]), U(tj[U(5) * i + U(1)]), U(tj[U(5) * i + U(2)]), U(tj[U(5) * i + U(3)])
+        mask = U(tj[U(5) * i + U(4)])
         four = case_count[mask] == 4
         rev = reverse[mask] != 0
-        fx, fy, fz = tn[0, idx], tn[1, idx], tn[2, idx]
+        fx, fy, fz = tx[i], ty[i], tz[i]
         # Fan from point 0: triangles (0, 1, 2) and (0, 2, 3), their last two swapped when reversed.
         for k in range(6 if four else 3):
             j = j0
@@ -733,20 +744,21 @@ def _rows(ncut, case_count, reverse, rec, tj, tn, ov, on, oc):
                 j = j3 if rev == (k == 4) else j2
             # All loads, then all stores: lets the compiler move each row's
             # floats as vectors (it cannot tell the arrays apart).
-            x, y, z = rec[8 * j], rec[8 * j + 1], rec[8 * j + 2]
-            cr, cg, cb, ca = rec[8 * j + 3], rec[8 * j + 4], rec[8 * j + 5], rec[8 * j + 6]
-            r = o + k
-            ov[3 * r] = x
-            ov[3 * r + 1] = y
-            ov[3 * r + 2] = z
-            on[3 * r] = fx
-            on[3 * r + 1] = fy
-            on[3 * r + 2] = fz
-            oc[4 * r] = cr
-            oc[4 * r + 1] = cg
-            oc[4 * r + 2] = cb
-            oc[4 * r + 3] = ca
-        o += 6 if four else 3
+            b = U(8) * j
+            x, y, z = rec[b], rec[b + U(1)], rec[b + U(2)]
+            cr, cg, cb, ca = rec[b + U(3)], rec[b + U(4)], rec[b + U(5)], rec[b + U(6)]
+            r = o + U(k)
+            ov[U(3) * r] = x
+            ov[U(3) * r + U(1)] = y
+            ov[U(3) * r + U(2)] = z
+            on[U(3) * r] = fx
+            on[U(3) * r + U(1)] = fy
+            on[U(3) * r + U(2)] = fz
+            oc[U(4) * r] = cr
+            oc[U(4) * r + U(1)] = cg
+            oc[U(4) * r + U(2)] = cb
+            oc[U(4) * r + U(3)] = ca
+        o += U(6) if four else U(3)
 
 
 def cross_section_reference(mesh: TetMesh4, camera_pose=None, model=None) -> TriMesh3:
