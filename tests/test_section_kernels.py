@@ -186,7 +186,21 @@ def test_a_flattened_object_is_sliced_without_error():
     model = np.diag([0.0, 1.0, 1.0, 1.0, 1.0])
     tri = S.cross_section(shapes.cell600(), T.translation((0, 0, 0, 0.013)), model=model)
     assert len(tri) > 0 and np.isfinite(tri.normals).all()
-    g = S.normal_transforms(model[:4, :4])
-    u, v, t = np.random.default_rng(2).normal(size=(3, 4))
-    a = model[:4, :4]
-    np.testing.assert_allclose(g @ cross4(u, v, t), -cross4(a @ u, a @ v, a @ t)[:3], atol=1e-12)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_normal_transform_turns_object_normals_like_the_camera_space_cross_product(seed):
+    rng = np.random.default_rng(seed)
+    mv = np.eye(5)
+    mv[:4] = rng.normal(size=(4, 5))
+    if seed == 3:
+        mv[:4, 1] = 0.0  # singular: flattened along y
+    det = np.linalg.det(mv[:4, :4])
+    flip = 1.0 if det > 0 else -1.0
+    g = np.empty(12)
+    S.normal_transform(mv, flip, g)
+    a = mv[:4, :4]
+    u, v, t = rng.normal(size=(3, 4))
+    np.testing.assert_allclose(g.reshape(3, 4) @ cross4(u, v, t), flip * cross4(a @ u, a @ v, a @ t)[:3], atol=1e-9)
+    if seed < 3:  # the inverse transpose, up to the positive factor |det|
+        np.testing.assert_allclose(g.reshape(3, 4), abs(det) * np.linalg.inv(a).T[:3], atol=1e-9)

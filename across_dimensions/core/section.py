@@ -26,7 +26,7 @@ the polygon's winding against it depends on the case alone
 (:data:`CASE_REVERSED`), so triangles come out counter-clockwise seen from
 outside whatever the tet's vertex order, with no geometry per tet to decide it.
 The kernel turns each tet's object-space normal (:func:`layout_normals`) by the
-model-view's inverse transpose (:func:`normal_transforms`).
+model-view's cofactor matrix (:func:`normal_transform`).
 
 Two implementations share these rules: :func:`cross_section` (numba, clustered,
 single-threaded) and :func:`cross_section_reference` (plain Python/numpy, the
@@ -164,6 +164,7 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
     a = mv[:4, :4]
     # Bound on how far a unit object-space step moves camera-space w.
     w_gain = float(np.linalg.norm(a[3]))
+    flip = 1.0 if np.linalg.det(a) > 0 else -1.0
     ws = _workspace(mesh, layout)
     with ws.lock:
         ncut, ntri = _find_cut(
@@ -182,9 +183,9 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
         edges = ws.edges if by_edge else _NO_EDGES
         _emit(
             layout.vertices, layout.tets, colors, mv, layout_normals(mesh, layout).reshape(-1),
-            normal_transforms(a).reshape(-1), ws.cut[:ncut], ws.cmask, by_edge,
+            flip, ws.g, ws.cut[:ncut], ws.cmask, by_edge,
             EVERY_VERTEX_FRACTION * ncut > len(layout.vertices), ws.cam, ws.vmark, ws.vlist,
-            CASE_EDGES_PADDED, CASE_COUNT, CASE_REVERSED[int(not np.linalg.det(a) > 0)], CASE_LOCAL_FLAT, *edges,
+            CASE_EDGES_PADDED, CASE_COUNT, CASE_REVERSED[int(flip < 0)], CASE_LOCAL_FLAT, *edges,
             ws.point, ws.elist, ws.rec, ws.tj, ws.n64, ws.tn, ov, on, oc,
         )  # fmt: skip
     return TriMesh3(ov.reshape(-1, 3), _faces(ntri), on.reshape(-1, 3), oc.reshape(-1, 4))
@@ -215,6 +216,7 @@ class _Workspace:
         self.above = np.empty(n, np.uint8)  # per vertex: camera-space w > 0
         self.cut = np.empty(m, np.uint32)  # the cut tets (pages touched only as far as used)
         self.cmask = np.empty(m, np.uint8)  # and their cases
+        self.g = np.empty(12)  # the normals' transform (normal_transform)
         self.cam = np.empty(4 * n)  # camera-space vertices, flat
         self.vmark = np.zeros(n, np.uint8)  # per vertex: used by a cut tet (0 between calls)
         self.edges = None  # layout_edges(layout), once a dense section needs it
@@ -373,38 +375,39 @@ def layout_normals(mesh: TetMesh4, layout: Layout) -> np.ndarray:
     return mesh._cache[key]
 
 
-def normal_transforms(a: np.ndarray) -> np.ndarray:
-    """What turns object-space tet normals into camera space: the xyz rows of ``inv(a).T``.
+@njit(cache=True)
+def normal_transform(mv, flip, g):
+    """What turns object-space tet normals into camera-space section normals, into ``g``.
 
-    ``cross4(A u, A v, A t) = cof(A) cross4(u, v, t)`` with ``cof(A) = det(A) inv(A).T``
-    the cofactor matrix: the camera-space normal of a tet, times the sign of
-    ``det(A)`` (outward for a mirroring ``A`` too), points along ``inv(A).T`` of
-    its object-space normal.
+    ``cross4(A u, A v, A t) = cof(A) cross4(u, v, t)``, with ``cof(A)`` the
+    cofactor matrix of ``A = mv[:4, :4]`` (``det(A) inv(A).T``, defined for a
+    singular ``A`` too). So a tet's camera-space normal, outward (times
+    ``flip``, the sign of ``det(A)``: -1 for a singular one, as the winding
+    rule takes it), is ``flip cof(A)`` of its object-space normal, up to a
+    positive factor that normalizing removes.
 
     Parameters
     ----------
-    a : (..., 4, 4) float64
-        Linear parts of model-view transforms.
-
-    Returns
-    -------
-    (..., 3, 4) float64, C-contiguous
-        For a singular ``a`` (an object flattened), minus its cofactor matrix
-        (its sign is then taken as negative): the normal of the flat space.
+    mv : (5, 5) float64
+        Model-view transform.
+    flip : float
+        ``1.0`` if ``det(mv[:4, :4]) > 0`` else ``-1.0``.
+    g : (12,) float64
+        Out: the xyz rows of ``flip cof(A)``, flat.
     """
-    a = np.asarray(a, np.float64)
-    singular = np.linalg.det(a) == 0.0
-    g = np.swapaxes(np.linalg.inv(np.where(singular[..., None, None], np.eye(4), a)), -1, -2)
-    if singular.any():
-        flat = a[singular]
-        cof = np.empty_like(flat)
-        keep = np.arange(4)
-        for i in range(4):
-            for j in range(4):
-                minor = flat[:, keep != i][:, :, keep != j]
-                cof[:, i, j] = (-1) ** (i + j) * np.linalg.det(minor)
-        g[singular] = -cof
-    return np.ascontiguousarray(g[..., :3, :])
+    for i in range(3):
+        r0 = 1 if i == 0 else 0
+        r1 = 2 if i <= 1 else 1
+        for j in range(4):
+            c0 = 1 if j == 0 else 0
+            c1 = 2 if j <= 1 else 1
+            c2 = 3 if j <= 2 else 2
+            minor = (
+                mv[r0, c0] * (mv[r1, c1] * mv[3, c2] - mv[r1, c2] * mv[3, c1])
+                - mv[r0, c1] * (mv[r1, c0] * mv[3, c2] - mv[r1, c2] * mv[3, c0])
+                + mv[r0, c2] * (mv[r1, c0] * mv[3, c1] - mv[r1, c1] * mv[3, c0])
+            )
+            g[4 * i + j] = flip * minor if (i + j) % 2 == 0 else -flip * minor
 
 
 def _layout_colors(mesh: TetMesh4, layout: Layout) -> np.ndarray:
@@ -555,7 +558,7 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
 
 @njit(cache=True)
 def _emit(
-    v, tets, colors, mv, nobj, g, cut, cmask, by_edge, every_vertex, cam, vmark, vlist, case_edges, case_count,
+    v, tets, colors, mv, nobj, flip, g, cut, cmask, by_edge, every_vertex, cam, vmark, vlist, case_edges, case_count,
     reverse, case_local, tet_edges, edge_lo, edge_hi, point, elist, rec, tj, n64, tn, ov, on, oc,
 ):  # fmt: skip
     """Triangles of the cut tets into the flat outputs ``ov``, ``on`` (3 per row), ``oc`` (4 per row).
@@ -575,8 +578,8 @@ def _emit(
     the points' positions and colours, the rows. The loops call no function
     taking arrays: numba would count references on each call, with atomic
     operations. Each tet's case comes from :func:`_find_cut` (``cmask``), its
-    normal from its object-space normal ``nobj`` and ``g``
-    (:func:`normal_transforms`, flat), its winding from ``reverse``
+    normal from its object-space normal ``nobj`` and ``g`` (scratch for
+    :func:`normal_transform`), its winding from ``reverse``
     (:data:`CASE_REVERSED`, the row for the model-view's orientation). The
     other arrays are scratch (:class:`_Workspace`).
     """
@@ -610,6 +613,7 @@ def _emit(
             cam[4 * i + 1] = a10 * x + a11 * y + a12 * z + a13 * w + a14
             cam[4 * i + 2] = a20 * x + a21 * y + a22 * z + a23 * w + a24
             cam[4 * i + 3] = a30 * x + a31 * y + a32 * z + a33 * w + a34
+    normal_transform(mv, flip, g)
     _normals(cut, nobj, g, n64, tn)
     if by_edge:
         _points_by_edge(colors, cam, cut, cmask, case_local, tet_edges, edge_lo, edge_hi, point, elist, rec, tj)
@@ -623,7 +627,7 @@ def _normals(cut, nobj, g, n64, tn):
     """Per cut tet ``i``: its section's unit outward normal, float32, into ``tn[:, i]``.
 
     The tet's object-space normal ``nobj`` (:func:`layout_normals`, flat) turned
-    by ``g``, the xyz rows of the model-view's inverse transpose (flat 3x4):
+    by ``g`` (:func:`normal_transform`):
     four loads per tet where the normal of its camera-space corners needs
     sixteen. The batched slicer uses the same expression, bit for bit. Two
     loops: the second, over ``n64`` ``(3, k)`` float64 scratch, one component

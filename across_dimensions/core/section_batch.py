@@ -45,7 +45,7 @@ from .section import (
     _normal_of,
     layout_normals,
     mesh_clusters,
-    normal_transforms,
+    normal_transform,
 )
 from .transform import inverse
 
@@ -257,9 +257,8 @@ class SectionBatch:
         pos = {k: i for i, k in enumerate(keys)}
         idx = np.array([pos[k] for k in order], np.int64)
         start_row = int(self._start[first]) if first else 0
-        # The winding rule needs each transform's orientation; tet normals, the inverse transpose.
+        # The winding rule needs each transform's orientation.
         flips = np.where(np.linalg.det(mvs[:, :4, :4]) > 0, 1.0, -1.0)
-        gs = normal_transforms(mvs[:, :4, :4])
         if len(self._stamp) < pool.max_vertices:
             self._cam = np.empty((pool.max_vertices, 4))
             self._stamp = np.full(pool.max_vertices, -1, np.int64)
@@ -270,7 +269,6 @@ class SectionBatch:
         args = (
             np.ascontiguousarray(mvs[idx]),
             np.ascontiguousarray(flips[idx]),
-            np.ascontiguousarray(gs[idx]),
             visible[idx].astype(np.uint8),
         )
         while True:
@@ -387,7 +385,6 @@ def _slice_batch(
     inst_mesh,
     mvs,
     flips,
-    gs,
     visible,
     first,
     start_row,
@@ -417,6 +414,7 @@ def _slice_batch(
     o = start_row
     q = np.empty((4, 3))
     qc = np.empty((4, 4))
+    g = np.empty(12)
     p = np.empty((4, 4))
     for k in range(first, inst_mesh.shape[0]):
         start[k] = o
@@ -429,6 +427,21 @@ def _slice_batch(
         v_lo = mesh_v[m, 0]
         flip = flips[k]
         neg = 1 if flip < 0.0 else 0  # which row of case_reversed
+        normal_transform(mv, flip, g)
+        g0, g1, g2, g3, g4, g5, g6, g7, g8, g9, g10, g11 = (
+            g[0],
+            g[1],
+            g[2],
+            g[3],
+            g[4],
+            g[5],
+            g[6],
+            g[7],
+            g[8],
+            g[9],
+            g[10],
+            g[11],
+        )
         if mesh_cells[m, 1] > mesh_cells[m, 0]:
             o = _slice_cells(
                 verts,
@@ -487,9 +500,9 @@ def _slice_batch(
                         p[j, r] = cam[li, r]
                 # The normal and winding of the per-object slicer (core.section._normals, _rows).
                 n0, n1, n2, n3 = tet_normals[t, 0], tet_normals[t, 1], tet_normals[t, 2], tet_normals[t, 3]
-                nx = gs[k, 0, 0] * n0 + gs[k, 0, 1] * n1 + gs[k, 0, 2] * n2 + gs[k, 0, 3] * n3
-                ny = gs[k, 1, 0] * n0 + gs[k, 1, 1] * n1 + gs[k, 1, 2] * n2 + gs[k, 1, 3] * n3
-                nz = gs[k, 2, 0] * n0 + gs[k, 2, 1] * n1 + gs[k, 2, 2] * n2 + gs[k, 2, 3] * n3
+                nx = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
+                ny = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
+                nz = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
                 ln = np.sqrt(nx * nx + ny * ny + nz * nz)
                 inv = 1.0 / ln if ln > 0.0 else 0.0
                 nx, ny, nz = nx * inv, ny * inv, nz * inv
