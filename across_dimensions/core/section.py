@@ -527,9 +527,9 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
     # cut ones compacted without a branch: far from the hyperplane a scan is
     # one predictable branch per cluster, and near it which tets are cut is a
     # coin toss. Unsigned indices spare the negative-index checks.
-    ncut = 0
+    ncut = U(0)
     ntri = 0
-    last = 0  # cut tets in the previous cluster: if any, this one likely has some too
+    last = U(0)  # cut tets in the previous cluster: if any, this one likely has some too
     for kc in range(nkeep):
         c = keep[kc]
         t0, t1 = np.uint64(lo[c]), np.uint64(hi[c])
@@ -542,15 +542,15 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
         before = ncut
         for t in range(t0, t1):
             mask = (
-                above[tf[4 * t]]
-                | (above[tf[4 * t + 1]] << 1)
-                | (above[tf[4 * t + 2]] << 2)
-                | (above[tf[4 * t + 3]] << 3)
+                U(above[tf[4 * t]])
+                | (U(above[tf[4 * t + 1]]) << U(1))
+                | (U(above[tf[4 * t + 2]]) << U(2))
+                | (U(above[tf[4 * t + 3]]) << U(3))
             )
             k = case_triangles[mask]
             cut[ncut] = t
             cmask[ncut] = mask
-            ncut += k != 0
+            ncut += U(k != 0)
             ntri += k
         last = ncut - before
     return ncut, ntri
@@ -637,13 +637,14 @@ def _normals(cut, nobj, g, n64, tn):
     g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
     g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
     ncut = cut.shape[0]
-    for idx in range(ncut):
-        t = np.uint64(cut[idx])
-        n0, n1, n2, n3 = nobj[4 * t], nobj[4 * t + 1], nobj[4 * t + 2], nobj[4 * t + 3]
-        n64[0, idx] = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
-        n64[1, idx] = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
-        n64[2, idx] = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
     nx, ny, nz = n64[0], n64[1], n64[2]
+    for idx in range(ncut):
+        i = U(idx)
+        t = U(4) * U(cut[i])
+        n0, n1, n2, n3 = nobj[t], nobj[t + U(1)], nobj[t + U(2)], nobj[t + U(3)]
+        nx[i] = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
+        ny[i] = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
+        nz[i] = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
     tx, ty, tz = tn[0], tn[1], tn[2]
     for idx in range(ncut):
         x, y, z = nx[idx], ny[idx], nz[idx]
