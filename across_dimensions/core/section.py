@@ -627,9 +627,8 @@ def _normals(cut, nobj, g, n64, tn):
     """Per cut tet ``i``: its section's unit outward normal, float32, into ``tn[:, i]``.
 
     The tet's object-space normal ``nobj`` (:func:`layout_normals`, flat) turned
-    by ``g`` (:func:`normal_transform`):
-    four loads per tet where the normal of its camera-space corners needs
-    sixteen. The batched slicer uses the same expression, bit for bit. Two
+    by ``g`` (:func:`normal_transform`): four loads per tet where the normal of
+    its camera-space corners needs sixteen. The batched slicer uses the same expression, bit for bit. Two
     loops: the second, over ``n64`` ``(3, k)`` float64 scratch, one component
     per row, is vectorized (a square root and a division per tet, one at a
     time, cost more than everything else here).
