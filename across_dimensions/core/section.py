@@ -614,36 +614,25 @@ def _emit(
             cam[4 * i + 2] = a20 * x + a21 * y + a22 * z + a23 * w + a24
             cam[4 * i + 3] = a30 * x + a31 * y + a32 * z + a33 * w + a34
     normal_transform(mv, flip, g)
-    _normals(cut, nobj, g, n64, tn)
     if by_edge:
-        _points_by_edge(colors, cam, cut, cmask, case_local, tet_edges, edge_lo, edge_hi, point, elist, rec, tj)
+        _points_by_edge(
+            colors, cam, nobj, g, cut, cmask, case_local, tet_edges, edge_lo, edge_hi, point, elist, rec, tj, n64
+        )
     else:
-        _points_by_tet(tets, colors, cam, cut, cmask, case_edges, rec, tj)
+        _points_by_tet(tets, colors, cam, nobj, g, cut, cmask, case_edges, rec, tj, n64)
+    _unit_normals(cut.shape[0], n64, tn)
     _rows(cut.shape[0], case_count, reverse, rec, tj, tn, ov, on, oc)
 
 
 @njit(cache=True)
-def _normals(cut, nobj, g, n64, tn):
-    """Per cut tet ``i``: its section's unit outward normal, float32, into ``tn[:, i]``.
+def _unit_normals(ncut, n64, tn):
+    """Per cut tet ``i``: its section's normal ``n64[:, i]`` made unit, float32, into ``tn[:, i]``.
 
-    The tet's object-space normal ``nobj`` (:func:`layout_normals`, flat) turned
-    by ``g`` (:func:`normal_transform`): four loads per tet where the normal of
-    its camera-space corners needs sixteen. The batched slicer uses the same expression, bit for bit. Two
-    loops: the second, over ``n64`` ``(3, k)`` float64 scratch, one component
-    per row, is vectorized (a square root and a division per tet, one at a
-    time, cost more than everything else here).
+    A loop of its own, over one component per row: it is vectorized (a square
+    root and a division per tet, one at a time, cost more than all the rest of
+    a tet's normal). The batched slicer uses the same expressions, bit for bit.
     """
-    g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
-    g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
-    ncut = cut.shape[0]
     nx, ny, nz = n64[0], n64[1], n64[2]
-    for idx in range(ncut):
-        i = U(idx)
-        t = U(4) * U(cut[i])
-        n0, n1, n2, n3 = nobj[t], nobj[t + U(1)], nobj[t + U(2)], nobj[t + U(3)]
-        nx[i] = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
-        ny[i] = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
-        nz[i] = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
     tx, ty, tz = tn[0], tn[1], tn[2]
     for idx in range(ncut):
         x, y, z = nx[idx], ny[idx], nz[idx]
@@ -655,17 +644,29 @@ def _normals(cut, nobj, g, n64, tn):
 
 
 @njit(cache=True)
-def _points_by_tet(tets, colors, cam, cut, cmask, case_edges, rec, tj):
-    """Per cut tet ``i``: its case into ``tj[5 i + 4]`` and its polygon's points into
-    records ``4 i ... 4 i + 3`` of ``rec`` (numbered in ``tj[5 i:]``).
+def _points_by_tet(tets, colors, cam, nobj, g, cut, cmask, case_edges, rec, tj, n64):
+    """Per cut tet ``i``: its case into ``tj[5 i + 4]``, its polygon's points into
+    records ``4 i ... 4 i + 3`` of ``rec`` (numbered in ``tj[5 i:]``) and its normal into
+    ``n64[:, i]`` (not yet unit, see :func:`_unit_normals`).
 
-    A record is eight float32: the point's camera-space xyz, its colour, one unused.
+    A record is eight float32: the point's camera-space xyz, its colour, one
+    unused. The normal is the tet's object-space normal ``nobj``
+    (:func:`layout_normals`, flat) turned by ``g`` (:func:`normal_transform`):
+    four loads where the normal of its camera-space corners needs sixteen;
+    in this loop, whose other loads wait on memory, it costs little.
     """
     tf = tets.reshape(-1)
     cf = colors.reshape(-1)
+    g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
+    g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
+    nx, ny, nz = n64[0], n64[1], n64[2]
     for idx in range(cut.shape[0]):
         t = np.uint64(cut[idx])
         mask = cmask[idx]
+        n0, n1, n2, n3 = nobj[4 * t], nobj[4 * t + 1], nobj[4 * t + 2], nobj[4 * t + 3]
+        nx[idx] = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
+        ny[idx] = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
+        nz[idx] = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
         tj[5 * idx + 4] = mask
         for e in range(4):
             ia = tf[4 * t + case_edges[mask, e, 0]]
@@ -684,7 +685,9 @@ def _points_by_tet(tets, colors, cam, cut, cmask, case_edges, rec, tj):
 
 
 @njit(cache=True)
-def _points_by_edge(colors, cam, cut, cmask, case_local, tet_edges, edge_lo, edge_hi, point, elist, rec, tj):
+def _points_by_edge(
+    colors, cam, nobj, g, cut, cmask, case_local, tet_edges, edge_lo, edge_hi, point, elist, rec, tj, n64
+):
     """:func:`_points_by_tet` computing each cut edge's point once.
 
     ``case_local``: :data:`CASE_LOCAL_FLAT`; ``point``: per edge, its point
@@ -694,11 +697,19 @@ def _points_by_edge(colors, cam, cut, cmask, case_local, tet_edges, edge_lo, edg
     """
     cf = colors.reshape(-1)
     ef = tet_edges.reshape(-1)
+    g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
+    g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
+    nx, ny, nz = n64[0], n64[1], n64[2]
     npt = 0
     for idx in range(cut.shape[0]):
         i = U(idx)
         t = U(cut[i])
         mask = U(cmask[i])
+        tn4 = U(4) * t
+        n0, n1, n2, n3 = nobj[tn4], nobj[tn4 + U(1)], nobj[tn4 + U(2)], nobj[tn4 + U(3)]
+        nx[i] = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
+        ny[i] = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
+        nz[i] = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
         tj[U(5) * i + U(4)] = mask
         for e in range(4):
             # Number the edge's point if it has none yet, without a branch.

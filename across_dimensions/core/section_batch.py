@@ -498,7 +498,7 @@ def _slice_batch(
                     li = tets[t, j] - v_lo
                     for r in range(4):
                         p[j, r] = cam[li, r]
-                # The normal and winding of the per-object slicer (core.section._normals, _rows).
+                # The normal and winding of the per-object slicer (core.section._points_by_edge, _unit_normals, _rows).
                 n0, n1, n2, n3 = tet_normals[t, 0], tet_normals[t, 1], tet_normals[t, 2], tet_normals[t, 3]
                 nx = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
                 ny = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
