@@ -19,7 +19,7 @@ from across_dimensions.core import section as S
 from across_dimensions.core import shapes
 from across_dimensions.core import transform as T
 from across_dimensions.core.bench import tiled_scene
-from across_dimensions.core.mesh import TetMesh4
+from across_dimensions.core.mesh import TetMesh4, cross4
 
 
 def arrays(tri):
@@ -127,3 +127,80 @@ def test_padded_case_table_repeats_a_triangles_last_edge():
         for e in range(k):
             a, b = sorted(S.CASE_EDGES[mask, e])
             assert tuple(S.TET_EDGE_PAIRS[S.CASE_LOCAL_EDGES[mask, e]]) == (a, b)
+
+
+def test_a_cases_winding_is_the_same_for_every_tet():
+    """CASE_REVERSED against the winding measured from each polygon's own corners."""
+    rng = np.random.default_rng(11)
+    seen = set()
+    for _ in range(3000):
+        p = rng.normal(size=(4, 4))
+        mask = int(sum((p[i, 3] > 0) << i for i in range(4)))
+        k = S.CASE_COUNT[mask]
+        if k == 0:
+            continue
+        pts = []
+        for a, b in S.CASE_EDGES[mask, :k]:
+            s = p[a, 3] / (p[a, 3] - p[b, 3])
+            pts.append(p[a, :3] + s * (p[b, :3] - p[a, :3]))
+        normal = cross4(p[1] - p[0], p[2] - p[0], p[3] - p[0])[:3]
+        # Both diagonals of a quad (robust to slivers), two edges of a triangle.
+        if k == 4:
+            poly = np.cross(pts[2] - pts[0], pts[3] - pts[1])
+        else:
+            poly = np.cross(pts[1] - pts[0], pts[2] - pts[0])
+        assert (poly @ normal < 0) == bool(S.CASE_REVERSED[0, mask]), mask
+        assert S.CASE_REVERSED[1, mask] == 1 - S.CASE_REVERSED[0, mask]
+        seen.add(mask)
+    assert seen == set(range(1, 15))
+
+
+def _sheared_mirror():
+    m = np.eye(5)
+    m[:4, :4] = [[-1.3, 0.4, 0.0, 0.2], [0.1, 0.8, 0.3, 0.0], [0.0, -0.5, 1.1, 0.3], [0.2, 0.0, 0.4, 0.9]]
+    return m
+
+
+@pytest.mark.parametrize("mirror", [False, True])
+def test_normals_turned_from_object_space_are_the_camera_space_normals(mirror):
+    """Under a shear (and a mirror), each triangle's normal is the camera-space tet's and the winding agrees."""
+    mesh = shapes.cell600()
+    model = _sheared_mirror() if mirror else T.pose((0.1, 0, 0, 0.05), {"xw": 0.4, "yz": 0.3}, (1.0, 1.5, 0.7, 1.2))
+    assert (np.linalg.det(model[:4, :4]) < 0) == mirror
+    cam = T.translation((0, 0, 0, 0.013))  # off any vertex
+    fast, slow = S.cross_section(mesh, cam, model), S.cross_section_reference(mesh, cam, model)
+    assert len(fast) == len(slow) > 100
+    key = lambda tri: np.lexsort(np.round(tri.vertices[tri.faces].reshape(len(tri), 9), 4).T)  # noqa: E731
+    f, s = key(fast), key(slow)
+    np.testing.assert_allclose(fast.vertices[fast.faces][f], slow.vertices[slow.faces][s], atol=1e-5)
+    np.testing.assert_allclose(fast.normals[::3][f], slow.normals[::3][s], atol=1e-5)
+    # Counter-clockwise seen from outside: the face's own normal along the outward one.
+    v = fast.vertices.astype(np.float64)[fast.faces]
+    own = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    big = np.linalg.norm(own, axis=1) > 1e-6
+    assert ((own * fast.normals[::3]).sum(axis=1)[big] > 0).all()
+
+
+def test_a_flattened_object_is_sliced_without_error():
+    """A singular model (scale 0 along x): normals are the flat space's, no exception."""
+    model = np.diag([0.0, 1.0, 1.0, 1.0, 1.0])
+    tri = S.cross_section(shapes.cell600(), T.translation((0, 0, 0, 0.013)), model=model)
+    assert len(tri) > 0 and np.isfinite(tri.normals).all()
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_normal_transform_turns_object_normals_like_the_camera_space_cross_product(seed):
+    rng = np.random.default_rng(seed)
+    mv = np.eye(5)
+    mv[:4] = rng.normal(size=(4, 5))
+    if seed == 3:
+        mv[:4, 1] = 0.0  # singular: flattened along y
+    det = np.linalg.det(mv[:4, :4])
+    flip = 1.0 if det > 0 else -1.0
+    g = np.empty(12)
+    S.normal_transform(mv, flip, g)
+    a = mv[:4, :4]
+    u, v, t = rng.normal(size=(3, 4))
+    np.testing.assert_allclose(g.reshape(3, 4) @ cross4(u, v, t), flip * cross4(a @ u, a @ v, a @ t)[:3], atol=1e-9)
+    if seed < 3:  # the inverse transpose, up to the positive factor |det|
+        np.testing.assert_allclose(g.reshape(3, 4), abs(det) * np.linalg.inv(a).T[:3], atol=1e-9)

@@ -19,10 +19,14 @@ cases                 vertices above        cut edges, in cycle order
 3, 5, 6, 9, 10, 12    two: ``a0 a1``        ``a0b0 a0b1 a1b1 a1b0`` -> a quad
 ====================  ====================  ===============================
 
-The table fixes which edges form the polygon and their cyclic order; the
-winding is then fixed per tet by the tet's outward 4D normal projected into the
-hyperplane (the section's outward normal), so triangles come out
-counter-clockwise seen from outside whatever the tet's vertex order.
+The table fixes which edges form the polygon and their cyclic order. The
+section's outward normal is the xyz part of the tet's outward 4D normal
+(``cross4`` of its edges, times the sign of the model-view's determinant), and
+the polygon's winding against it depends on the case alone
+(:data:`CASE_REVERSED`), so triangles come out counter-clockwise seen from
+outside whatever the tet's vertex order, with no geometry per tet to decide it.
+The kernel turns each tet's object-space normal (:func:`layout_normals`) by the
+model-view's cofactor matrix (:func:`normal_transform`).
 
 Two implementations share these rules: :func:`cross_section` (numba, clustered,
 single-threaded) and :func:`cross_section_reference` (plain Python/numpy, the
@@ -80,6 +84,49 @@ CASE_LOCAL_EDGES = np.array(
     np.int64,
 )
 
+#: ``CASE_LOCAL_EDGES`` flat, as bytes (``[4 * mask + e]``): the kernels' copy.
+CASE_LOCAL_FLAT = CASE_LOCAL_EDGES.astype(np.uint8).reshape(-1)
+#: Unsigned index type of the kernels' inner loops.
+U = np.uint64
+
+
+def _build_case_reversed() -> np.ndarray:
+    """Whether each case's polygon, in table order, is clockwise seen from outside.
+
+    The outward normal is ``cross4`` of the tet's edges (times the sign of the
+    model-view's determinant) and the polygon's corners lie on the same edges,
+    so the two turn together: for a tet that is not flat, the polygon's winding
+    against the normal depends on the case alone (any non-flat tet can be
+    deformed into any other of its case without flattening it or its section).
+    Read off one tet here; ``tests/test_section_kernels.py`` checks random ones.
+
+    Returns
+    -------
+    (2, 16) uint8
+        Row 0 for a model-view of positive determinant, row 1 (the opposite) for
+        a mirroring one; 0 for the cases that cut nothing.
+    """
+    rev = np.zeros(16, np.uint8)
+    for mask in range(1, 15):
+        w = np.array([1.0 if mask >> i & 1 else -1.0 for i in range(4)]) * (1.0 + 0.1 * np.arange(4))
+        p = np.column_stack([np.vstack([np.zeros(3), np.eye(3)]), w])
+        pts = []
+        for a, b in CASE_EDGES[mask, : CASE_COUNT[mask]]:
+            s = p[a, 3] / (p[a, 3] - p[b, 3])
+            pts.append(p[a, :3] + s * (p[b, :3] - p[a, :3]))
+        normal = cross4(p[1] - p[0], p[2] - p[0], p[3] - p[0])[:3]
+        if len(pts) == 4:
+            poly = np.cross(pts[2] - pts[0], pts[3] - pts[1])
+        else:
+            poly = np.cross(pts[1] - pts[0], pts[2] - pts[0])
+        rev[mask] = poly @ normal < 0
+    return np.stack([rev, np.where(CASE_COUNT > 0, 1 - rev, 0).astype(np.uint8)])
+
+
+#: ``CASE_REVERSED[det < 0, mask]``: a case's polygon is wound the other way round (see
+#: :func:`_build_case_reversed`).
+CASE_REVERSED = _build_case_reversed()
+
 
 def _model_view(mesh_model, camera_pose) -> np.ndarray:
     """Object-to-camera 5x5 transform."""
@@ -122,7 +169,7 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
     with ws.lock:
         ncut, ntri = _find_cut(
             layout.vertices, layout.tets, mv, layout.lo, layout.hi, layout.centers, layout.radii, w_gain, cull,
-            CASE_TRIANGLES, ws.keep, ws.above, ws.cut,
+            CASE_TRIANGLES, ws.keep, ws.above, ws.cut, ws.cmask,
         )  # fmt: skip
         if ntri == 0:
             return TriMesh3.empty()
@@ -131,14 +178,15 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
         by_edge = EDGE_TABLE_FRACTION * ncut > len(layout.tets)
         if by_edge and ws.edges is None:
             ws.set_edges(layout_edges(layout))
-        if len(ws.tn) < 3 * ncut:
+        if ws.tn.shape[1] < ncut:
             ws.grow_tets(ncut)
         edges = ws.edges if by_edge else _NO_EDGES
         _emit(
-            layout.vertices, layout.tets, colors, mv, flip, ws.cut[:ncut], by_edge,
+            layout.vertices, layout.tets, colors, mv, layout_normals(mesh, layout).reshape(-1),
+            flip, ws.g, ws.cut[:ncut], ws.cmask, by_edge,
             EVERY_VERTEX_FRACTION * ncut > len(layout.vertices), ws.cam, ws.vmark, ws.vlist,
-            CASE_EDGES_PADDED, CASE_COUNT, CASE_LOCAL_EDGES, *edges, ws.point, ws.elist, ws.q, ws.c32,
-            ws.tj, ws.tn, ov, on, oc,
+            CASE_EDGES_PADDED, CASE_COUNT, CASE_REVERSED[int(flip < 0)], CASE_LOCAL_FLAT, *edges,
+            ws.point, ws.elist, ws.rec, ws.tj, ws.n64, ws.tn, ov, on, oc,
         )  # fmt: skip
     return TriMesh3(ov.reshape(-1, 3), _faces(ntri), on.reshape(-1, 3), oc.reshape(-1, 4))
 
@@ -167,11 +215,13 @@ class _Workspace:
         self.keep = np.empty(len(layout.lo), np.int64)  # clusters the hyperplane meets
         self.above = np.empty(n, np.uint8)  # per vertex: camera-space w > 0
         self.cut = np.empty(m, np.uint32)  # the cut tets (pages touched only as far as used)
+        self.cmask = np.empty(m, np.uint8)  # and their cases
+        self.g = np.empty(12)  # the normals' transform (normal_transform)
         self.cam = np.empty(4 * n)  # camera-space vertices, flat
         self.vmark = np.zeros(n, np.uint8)  # per vertex: used by a cut tet (0 between calls)
         self.edges = None  # layout_edges(layout), once a dense section needs it
         self.point = np.zeros(0, np.int32)  # per edge: its point number, -1 between calls
-        self.tn = np.empty(0)
+        self.tn = np.empty((3, 0), np.float32)
         self.grow_tets(0)
         self.blocks: list[np.ndarray] = []  # output blocks of earlier sections
 
@@ -199,13 +249,13 @@ class _Workspace:
 
     def grow_tets(self, count: int) -> None:
         """Room for ``count`` cut tets (and four times as many section points)."""
-        count = max(count, len(self.tn) // 3 * 5 // 4)  # grow by a quarter at least
-        self.tn = np.empty(3 * count)  # per cut tet: its outward normal
+        count = max(count, self.tn.shape[1] * 5 // 4)  # grow by a quarter at least
+        self.n64 = np.empty((3, count))  # per cut tet: its outward normal, not yet unit
+        self.tn = np.empty((3, count), np.float32)  # and unit
         self.tj = np.empty(5 * count, np.int32)  # and its polygon's point numbers, then its case
         self.elist = np.empty(4 * count, np.uint32)  # per point: its edge (the edge path)
         self.vlist = np.empty(4 * count, np.uint32)  # the vertices of the cut tets
-        self.q = np.empty(12 * count)  # points, float64 for the winding test
-        self.c32 = np.empty(16 * count, np.float32)  # their colours
+        self.rec = np.empty(32 * count, np.float32)  # per point: xyz, rgba and one unused
 
 
 def _refs_when_free() -> int:
@@ -316,6 +366,50 @@ def mesh_clusters(mesh: TetMesh4, size: int = CLUSTER_SIZE) -> Layout:
     return mesh._cache[key]
 
 
+def layout_normals(mesh: TetMesh4, layout: Layout) -> np.ndarray:
+    """Outward normals ``(m, 4) float64`` of the layout's tets in object space (cached)."""
+    key = ("layout_normals", id(layout))  # layouts live as long as the mesh (its cache)
+    if key not in mesh._cache:
+        p = layout.vertices.astype(np.float64)[layout.tets]
+        mesh._cache[key] = np.ascontiguousarray(cross4(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))
+    return mesh._cache[key]
+
+
+@njit(cache=True)
+def normal_transform(mv, flip, g):
+    """What turns object-space tet normals into camera-space section normals, into ``g``.
+
+    ``cross4(A u, A v, A t) = cof(A) cross4(u, v, t)``, with ``cof(A)`` the
+    cofactor matrix of ``A = mv[:4, :4]`` (``det(A) inv(A).T``, defined for a
+    singular ``A`` too). So a tet's camera-space normal, outward (times
+    ``flip``, the sign of ``det(A)``: -1 for a singular one, as the winding
+    rule takes it), is ``flip cof(A)`` of its object-space normal, up to a
+    positive factor that normalizing removes.
+
+    Parameters
+    ----------
+    mv : (5, 5) float64
+        Model-view transform.
+    flip : float
+        ``1.0`` if ``det(mv[:4, :4]) > 0`` else ``-1.0``.
+    g : (12,) float64
+        Out: the xyz rows of ``flip cof(A)``, flat.
+    """
+    for i in range(3):
+        r0 = 1 if i == 0 else 0
+        r1 = 2 if i <= 1 else 1
+        for j in range(4):
+            c0 = 1 if j == 0 else 0
+            c1 = 2 if j <= 1 else 1
+            c2 = 3 if j <= 2 else 2
+            minor = (
+                mv[r0, c0] * (mv[r1, c1] * mv[3, c2] - mv[r1, c2] * mv[3, c1])
+                - mv[r0, c1] * (mv[r1, c0] * mv[3, c2] - mv[r1, c2] * mv[3, c0])
+                + mv[r0, c2] * (mv[r1, c0] * mv[3, c1] - mv[r1, c1] * mv[3, c0])
+            )
+            g[4 * i + j] = flip * minor if (i + j) % 2 == 0 else -flip * minor
+
+
 def _layout_colors(mesh: TetMesh4, layout: Layout) -> np.ndarray:
     """The mesh's vertex colours in the layout's order (cached with the colours)."""
     key = ("layout_colors", len(layout.source))
@@ -390,8 +484,9 @@ CASE_TRIANGLES = np.where(CASE_COUNT > 0, CASE_COUNT - 2, 0).astype(np.int64)
 
 
 @njit(cache=True)
-def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles, keep, above, cut):
-    """The tets the hyperplane cuts, into ``cut``; returns their number and their triangles'.
+def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles, keep, above, cut, cmask):
+    """The tets the hyperplane cuts, into ``cut`` (their cases into ``cmask``); returns their
+    number and their triangles'.
 
     Arrays are read through flat views: their constant strides let the
     compiler vectorize the per-vertex loop. ``keep``, ``above`` and ``cut`` are
@@ -432,9 +527,9 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
     # cut ones compacted without a branch: far from the hyperplane a scan is
     # one predictable branch per cluster, and near it which tets are cut is a
     # coin toss. Unsigned indices spare the negative-index checks.
-    ncut = 0
+    ncut = U(0)
     ntri = 0
-    last = 0  # cut tets in the previous cluster: if any, this one likely has some too
+    last = U(0)  # cut tets in the previous cluster: if any, this one likely has some too
     for kc in range(nkeep):
         c = keep[kc]
         t0, t1 = np.uint64(lo[c]), np.uint64(hi[c])
@@ -447,14 +542,15 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
         before = ncut
         for t in range(t0, t1):
             mask = (
-                above[tf[4 * t]]
-                | (above[tf[4 * t + 1]] << 1)
-                | (above[tf[4 * t + 2]] << 2)
-                | (above[tf[4 * t + 3]] << 3)
+                U(above[tf[4 * t]])
+                | (U(above[tf[4 * t + 1]]) << U(1))
+                | (U(above[tf[4 * t + 2]]) << U(2))
+                | (U(above[tf[4 * t + 3]]) << U(3))
             )
             k = case_triangles[mask]
             cut[ncut] = t
-            ncut += k != 0
+            cmask[ncut] = mask
+            ncut += U(k != 0)
             ntri += k
         last = ncut - before
     return ncut, ntri
@@ -462,8 +558,8 @@ def _find_cut(v, tets, mv, lo, hi, centers, radii, w_gain, cull, case_triangles,
 
 @njit(cache=True)
 def _emit(
-    v, tets, colors, mv, flip, cut, by_edge, every_vertex, cam, vmark, vlist, case_edges, case_count, case_local,
-    tet_edges, edge_lo, edge_hi, point, elist, q, c32, tj, tn, ov, on, oc,
+    v, tets, colors, mv, nobj, flip, g, cut, cmask, by_edge, every_vertex, cam, vmark, vlist, case_edges, case_count,
+    reverse, case_local, tet_edges, edge_lo, edge_hi, point, elist, rec, tj, n64, tn, ov, on, oc,
 ):  # fmt: skip
     """Triangles of the cut tets into the flat outputs ``ov``, ``on`` (3 per row), ``oc`` (4 per row).
 
@@ -481,7 +577,11 @@ def _emit(
     than the arithmetic it skips): the vertices, the tets' normals and points,
     the points' positions and colours, the rows. The loops call no function
     taking arrays: numba would count references on each call, with atomic
-    operations. The other arrays are scratch (:class:`_Workspace`).
+    operations. Each tet's case comes from :func:`_find_cut` (``cmask``), its
+    normal from its object-space normal ``nobj`` and ``g`` (scratch for
+    :func:`normal_transform`), its winding from ``reverse``
+    (:data:`CASE_REVERSED`, the row for the model-view's orientation). The
+    other arrays are scratch (:class:`_Workspace`).
     """
     vf = v.reshape(-1)
     tf = tets.reshape(-1)
@@ -513,36 +613,60 @@ def _emit(
             cam[4 * i + 1] = a10 * x + a11 * y + a12 * z + a13 * w + a14
             cam[4 * i + 2] = a20 * x + a21 * y + a22 * z + a23 * w + a24
             cam[4 * i + 3] = a30 * x + a31 * y + a32 * z + a33 * w + a34
+    normal_transform(mv, flip, g)
     if by_edge:
         _points_by_edge(
-            tets, colors, cam, flip, cut, case_local, tet_edges, edge_lo, edge_hi, point, elist, q, c32, tj, tn
+            colors, cam, nobj, g, cut, cmask, case_local, tet_edges, edge_lo, edge_hi, point, elist, rec, tj, n64
         )
     else:
-        _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, c32, tj, tn)
-    _rows(cut.shape[0], case_count, q, c32, tj, tn, ov, on, oc)
+        _points_by_tet(tets, colors, cam, nobj, g, cut, cmask, case_edges, rec, tj, n64)
+    _unit_normals(cut.shape[0], n64, tn)
+    _rows(cut.shape[0], case_count, reverse, rec, tj, tn, ov, on, oc)
 
 
 @njit(cache=True)
-def _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, c32, tj, tn):
-    """Per cut tet ``i``: its normal into ``tn[3 i:]``, its case into ``tj[5 i + 4]`` and its
-    polygon's points into rows ``4 i ... 4 i + 3`` of ``q``, ``c32`` (numbered in ``tj[5 i:]``)."""
+def _unit_normals(ncut, n64, tn):
+    """Per cut tet ``i``: its section's normal ``n64[:, i]`` made unit, float32, into ``tn[:, i]``.
+
+    A loop of its own, over one component per row: it is vectorized (a square
+    root and a division per tet, one at a time, cost more than all the rest of
+    a tet's normal). The batched slicer uses the same expressions, bit for bit.
+    """
+    nx, ny, nz = n64[0], n64[1], n64[2]
+    tx, ty, tz = tn[0], tn[1], tn[2]
+    for idx in range(ncut):
+        x, y, z = nx[idx], ny[idx], nz[idx]
+        ln = np.sqrt(x * x + y * y + z * z)
+        inv = 1.0 / ln if ln > 0.0 else 0.0  # a degenerate tet: zero stays zero
+        tx[idx] = np.float32(x * inv)
+        ty[idx] = np.float32(y * inv)
+        tz[idx] = np.float32(z * inv)
+
+
+@njit(cache=True)
+def _points_by_tet(tets, colors, cam, nobj, g, cut, cmask, case_edges, rec, tj, n64):
+    """Per cut tet ``i``: its case into ``tj[5 i + 4]``, its polygon's points into
+    records ``4 i ... 4 i + 3`` of ``rec`` (numbered in ``tj[5 i:]``) and its normal into
+    ``n64[:, i]`` (not yet unit, see :func:`_unit_normals`).
+
+    A record is eight float32: the point's camera-space xyz, its colour, one
+    unused. The normal is the tet's object-space normal ``nobj``
+    (:func:`layout_normals`, flat) turned by ``g`` (:func:`normal_transform`):
+    four loads where the normal of its camera-space corners needs sixteen;
+    in this loop, whose other loads wait on memory, it costs little.
+    """
     tf = tets.reshape(-1)
     cf = colors.reshape(-1)
+    g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
+    g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
+    nx, ny, nz = n64[0], n64[1], n64[2]
     for idx in range(cut.shape[0]):
-        t = cut[idx]
-        # Scalars, not a small array: the compiler keeps them in registers.
-        i0, i1, i2, i3 = 4 * tf[4 * t], 4 * tf[4 * t + 1], 4 * tf[4 * t + 2], 4 * tf[4 * t + 3]
-        x0, y0, z0, w0 = cam[i0], cam[i0 + 1], cam[i0 + 2], cam[i0 + 3]
-        x1, y1, z1, w1 = cam[i1], cam[i1 + 1], cam[i1 + 2], cam[i1 + 3]
-        x2, y2, z2, w2 = cam[i2], cam[i2 + 1], cam[i2 + 2], cam[i2 + 3]
-        x3, y3, z3, w3 = cam[i3], cam[i3 + 1], cam[i3 + 2], cam[i3 + 3]
-        mask = (w0 > 0.0) | ((w1 > 0.0) << 1) | ((w2 > 0.0) << 2) | ((w3 > 0.0) << 3)
-        tn[3 * idx], tn[3 * idx + 1], tn[3 * idx + 2] = _normal_of(
-            x1 - x0, y1 - y0, z1 - z0, w1 - w0,
-            x2 - x0, y2 - y0, z2 - z0, w2 - w0,
-            x3 - x0, y3 - y0, z3 - z0, w3 - w0,
-            flip,
-        )  # fmt: skip
+        t = np.uint64(cut[idx])
+        mask = cmask[idx]
+        n0, n1, n2, n3 = nobj[4 * t], nobj[4 * t + 1], nobj[4 * t + 2], nobj[4 * t + 3]
+        nx[idx] = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
+        ny[idx] = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
+        nz[idx] = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
         tj[5 * idx + 4] = mask
         for e in range(4):
             ia = tf[4 * t + case_edges[mask, e, 0]]
@@ -554,83 +678,78 @@ def _points_by_tet(tets, colors, cam, flip, cut, case_edges, q, c32, tj, tn):
             s = cam[ca + 3] / (cam[ca + 3] - cam[cb + 3])
             j = 4 * idx + e
             for r in range(3):
-                q[3 * j + r] = cam[ca + r] + s * (cam[cb + r] - cam[ca + r])
+                rec[8 * j + r] = np.float32(cam[ca + r] + s * (cam[cb + r] - cam[ca + r]))
             for r in range(4):
-                c32[4 * j + r] = cf[ca + r] + s * (cf[cb + r] - cf[ca + r])
+                rec[8 * j + 3 + r] = np.float32(cf[ca + r] + s * (cf[cb + r] - cf[ca + r]))
             tj[5 * idx + e] = j
 
 
 @njit(cache=True)
 def _points_by_edge(
-    tets, colors, cam, flip, cut, case_local, tet_edges, edge_lo, edge_hi, point, elist, q, c32, tj, tn
+    colors, cam, nobj, g, cut, cmask, case_local, tet_edges, edge_lo, edge_hi, point, elist, rec, tj, n64
 ):
     """:func:`_points_by_tet` computing each cut edge's point once.
 
-    ``point``: per edge, its point number (-1 on entry and on return);
-    ``elist``: per point, its edge.
+    ``case_local``: :data:`CASE_LOCAL_FLAT`; ``point``: per edge, its point
+    number (-1 on entry and on return); ``elist``: per point, its edge.
+    Indices are unsigned (``U``): numba then skips the negative-index fix-up,
+    a sizeable part of these short loops.
     """
-    tf = tets.reshape(-1)
     cf = colors.reshape(-1)
     ef = tet_edges.reshape(-1)
+    g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
+    g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
+    nx, ny, nz = n64[0], n64[1], n64[2]
     npt = 0
     for idx in range(cut.shape[0]):
-        t = cut[idx]
-        # Scalars, not a small array: the compiler keeps them in registers.
-        i0, i1, i2, i3 = 4 * tf[4 * t], 4 * tf[4 * t + 1], 4 * tf[4 * t + 2], 4 * tf[4 * t + 3]
-        x0, y0, z0, w0 = cam[i0], cam[i0 + 1], cam[i0 + 2], cam[i0 + 3]
-        x1, y1, z1, w1 = cam[i1], cam[i1 + 1], cam[i1 + 2], cam[i1 + 3]
-        x2, y2, z2, w2 = cam[i2], cam[i2 + 1], cam[i2 + 2], cam[i2 + 3]
-        x3, y3, z3, w3 = cam[i3], cam[i3 + 1], cam[i3 + 2], cam[i3 + 3]
-        mask = (w0 > 0.0) | ((w1 > 0.0) << 1) | ((w2 > 0.0) << 2) | ((w3 > 0.0) << 3)
-        tn[3 * idx], tn[3 * idx + 1], tn[3 * idx + 2] = _normal_of(
-            x1 - x0, y1 - y0, z1 - z0, w1 - w0,
-            x2 - x0, y2 - y0, z2 - z0, w2 - w0,
-            x3 - x0, y3 - y0, z3 - z0, w3 - w0,
-            flip,
-        )  # fmt: skip
-        tj[5 * idx + 4] = mask
+        i = U(idx)
+        t = U(cut[i])
+        mask = U(cmask[i])
+        tn4 = U(4) * t
+        n0, n1, n2, n3 = nobj[tn4], nobj[tn4 + U(1)], nobj[tn4 + U(2)], nobj[tn4 + U(3)]
+        nx[i] = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
+        ny[i] = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
+        nz[i] = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
+        tj[U(5) * i + U(4)] = mask
         for e in range(4):
             # Number the edge's point if it has none yet, without a branch.
-            eid = ef[6 * t + case_local[mask, e]]
+            eid = U(ef[U(6) * t + case_local[U(4) * mask + U(e)]])
             j = point[eid]
             new = j < 0
             j = npt if new else j
             point[eid] = j
             elist[npt] = eid
             npt += new
-            tj[5 * idx + e] = j
-    for j in range(npt):
-        eid = elist[j]
+            tj[U(5) * i + U(e)] = j
+    for k in range(npt):
+        j = U(k)
+        eid = U(elist[j])
         point[eid] = -1
-        ca = 4 * edge_lo[eid]
-        cb = 4 * edge_hi[eid]
-        s = cam[ca + 3] / (cam[ca + 3] - cam[cb + 3])
+        ca = U(4) * U(edge_lo[eid])
+        cb = U(4) * U(edge_hi[eid])
+        s = cam[ca + U(3)] / (cam[ca + U(3)] - cam[cb + U(3)])
         for r in range(3):
-            q[3 * j + r] = cam[ca + r] + s * (cam[cb + r] - cam[ca + r])
+            rec[U(8) * j + U(r)] = np.float32(cam[ca + U(r)] + s * (cam[cb + U(r)] - cam[ca + U(r)]))
         for r in range(4):
-            c32[4 * j + r] = cf[ca + r] + s * (cf[cb + r] - cf[ca + r])
+            rec[U(8) * j + U(3 + r)] = np.float32(cf[ca + U(r)] + s * (cf[cb + U(r)] - cf[ca + U(r)]))
 
 
 @njit(cache=True)
-def _rows(ncut, case_count, q, c32, tj, tn, ov, on, oc):
-    """Three rows per triangle: the polygon of each tet fanned from its first point, wound outward."""
-    o = 0
+def _rows(ncut, case_count, reverse, rec, tj, tn, ov, on, oc):
+    """Three rows per triangle: the polygon of each tet fanned from its first point, wound outward.
+
+    The winding is the case's (``reverse``, see :data:`CASE_REVERSED`): copies
+    only, no geometry. Unsigned indices (see :func:`_points_by_edge`).
+    """
+    tx, ty, tz = tn[0], tn[1], tn[2]
+    o = U(0)
     for idx in range(ncut):
-        j0, j1, j2, j3 = tj[5 * idx], tj[5 * idx + 1], tj[5 * idx + 2], tj[5 * idx + 3]
-        four = case_count[tj[5 * idx + 4]] == 4
-        nx, ny, nz = tn[3 * idx], tn[3 * idx + 1], tn[3 * idx + 2]
-        # Winding: compare the polygon's own normal with the outward normal; a
-        # quad uses its diagonals (robust when one triangle is a sliver).
-        e1 = j2 if four else j1
-        e2 = j3 if four else j2
-        e0 = j1 if four else j0
-        ax, ay, az = q[3 * e1] - q[3 * j0], q[3 * e1 + 1] - q[3 * j0 + 1], q[3 * e1 + 2] - q[3 * j0 + 2]
-        bx, by, bz = q[3 * e2] - q[3 * e0], q[3 * e2 + 1] - q[3 * e0 + 1], q[3 * e2 + 2] - q[3 * e0 + 2]
-        cxp = ay * bz - az * by
-        cyp = az * bx - ax * bz
-        czp = ax * by - ay * bx
-        rev = cxp * nx + cyp * ny + czp * nz < 0.0
-        fx, fy, fz = np.float32(nx), np.float32(ny), np.float32(nz)
+        i = U(idx)
+        j0, j1, j2, j3 = U(tj[U(5) * i]), U(tj[U(5) * i + U(1)]), U(tj[U(5) * i + U(2)]), U(tj[U(5) * i + U(3)])
+        mask = U(tj[U(5) * i + U(4)])
+        four = case_count[mask] == 4
+        rev = reverse[mask] != 0
+        fx, fy, fz = tx[i], ty[i], tz[i]
         # Fan from point 0: triangles (0, 1, 2) and (0, 2, 3), their last two swapped when reversed.
         for k in range(6 if four else 3):
             j = j0
@@ -640,20 +759,21 @@ def _rows(ncut, case_count, q, c32, tj, tn, ov, on, oc):
                 j = j3 if rev == (k == 4) else j2
             # All loads, then all stores: lets the compiler move each row's
             # floats as vectors (it cannot tell the arrays apart).
-            x, y, z = np.float32(q[3 * j]), np.float32(q[3 * j + 1]), np.float32(q[3 * j + 2])
-            cr, cg, cb, ca = c32[4 * j], c32[4 * j + 1], c32[4 * j + 2], c32[4 * j + 3]
-            r = o + k
-            ov[3 * r] = x
-            ov[3 * r + 1] = y
-            ov[3 * r + 2] = z
-            on[3 * r] = fx
-            on[3 * r + 1] = fy
-            on[3 * r + 2] = fz
-            oc[4 * r] = cr
-            oc[4 * r + 1] = cg
-            oc[4 * r + 2] = cb
-            oc[4 * r + 3] = ca
-        o += 6 if four else 3
+            b = U(8) * j
+            x, y, z = rec[b], rec[b + U(1)], rec[b + U(2)]
+            cr, cg, cb, ca = rec[b + U(3)], rec[b + U(4)], rec[b + U(5)], rec[b + U(6)]
+            r = o + U(k)
+            ov[U(3) * r] = x
+            ov[U(3) * r + U(1)] = y
+            ov[U(3) * r + U(2)] = z
+            on[U(3) * r] = fx
+            on[U(3) * r + U(1)] = fy
+            on[U(3) * r + U(2)] = fz
+            oc[U(4) * r] = cr
+            oc[U(4) * r + U(1)] = cg
+            oc[U(4) * r + U(2)] = cb
+            oc[U(4) * r + U(3)] = ca
+        o += U(6) if four else U(3)
 
 
 def cross_section_reference(mesh: TetMesh4, camera_pose=None, model=None) -> TriMesh3:

@@ -37,7 +37,16 @@ import numpy as np
 from ._jit import njit
 from .cells import Cells, mesh_cells
 from .mesh import TetMesh4
-from .section import CASE_COUNT, CASE_EDGES, _layout_colors, _normal_of, mesh_clusters
+from .section import (
+    CASE_COUNT,
+    CASE_EDGES,
+    CASE_REVERSED,
+    _layout_colors,
+    _normal_of,
+    layout_normals,
+    mesh_clusters,
+    normal_transform,
+)
 from .transform import inverse
 
 #: Floats per output vertex: position 3, normal 3, colour 4 (the renderer's layout).
@@ -61,6 +70,7 @@ class _Pool:
         self.vertices = np.zeros((0, 4), np.float32)
         self.colors = np.zeros((0, 4), np.float32)
         self.tets = np.zeros((0, 4), np.uint32)
+        self.tet_normals = np.zeros((0, 4))  # per tet: outward normal in object space
         self.clo = np.zeros(0, np.int64)  # per cluster: tet range
         self.chi = np.zeros(0, np.int64)
         self.ccenter = np.zeros((0, 4))
@@ -88,6 +98,7 @@ class _Pool:
         self.vertices = np.concatenate([self.vertices, layout.vertices])
         self.colors = np.concatenate([self.colors, colors.astype(np.float32)])
         self.tets = np.concatenate([self.tets, layout.tets + np.uint32(v0)])
+        self.tet_normals = np.concatenate([self.tet_normals, layout_normals(mesh, layout)])
         self.clo = np.concatenate([self.clo, layout.lo + t0])
         self.chi = np.concatenate([self.chi, layout.hi + t0])
         self.ccenter = np.concatenate([self.ccenter, layout.centers])
@@ -255,11 +266,16 @@ class SectionBatch:
         count = np.zeros(n, np.int64)
         start[: first + 1] = self._start[: first + 1]
         count[:first] = self._count[:first]
-        args = (np.ascontiguousarray(mvs[idx]), np.ascontiguousarray(flips[idx]), visible[idx].astype(np.uint8))
+        args = (
+            np.ascontiguousarray(mvs[idx]),
+            np.ascontiguousarray(flips[idx]),
+            visible[idx].astype(np.uint8),
+        )
         while True:
             rows = _slice_batch(
                 pool.vertices,
                 pool.tets,
+                pool.tet_normals,
                 pool.colors,
                 pool.mesh_v,
                 pool.mesh_c,
@@ -285,6 +301,7 @@ class SectionBatch:
                 self._tag,
                 CASE_EDGES,
                 CASE_COUNT,
+                CASE_REVERSED,
             )
             self._tag += n + 1
             if rows <= len(self._out):
@@ -351,6 +368,7 @@ class SectionBatch:
 def _slice_batch(
     verts,
     tets,
+    tet_normals,
     colors,
     mesh_v,
     mesh_c,
@@ -378,6 +396,7 @@ def _slice_batch(
     tag,
     case_edges,
     case_count,
+    case_reversed,
 ):
     """Slice instances ``first..`` into ``out`` from row ``start_row``.
 
@@ -395,6 +414,7 @@ def _slice_batch(
     o = start_row
     q = np.empty((4, 3))
     qc = np.empty((4, 4))
+    g = np.empty(12)
     p = np.empty((4, 4))
     for k in range(first, inst_mesh.shape[0]):
         start[k] = o
@@ -406,6 +426,22 @@ def _slice_batch(
             continue
         v_lo = mesh_v[m, 0]
         flip = flips[k]
+        neg = 1 if flip < 0.0 else 0  # which row of case_reversed
+        normal_transform(mv, flip, g)
+        g0, g1, g2, g3, g4, g5, g6, g7, g8, g9, g10, g11 = (
+            g[0],
+            g[1],
+            g[2],
+            g[3],
+            g[4],
+            g[5],
+            g[6],
+            g[7],
+            g[8],
+            g[9],
+            g[10],
+            g[11],
+        )
         if mesh_cells[m, 1] > mesh_cells[m, 0]:
             o = _slice_cells(
                 verts,
@@ -462,12 +498,14 @@ def _slice_batch(
                     li = tets[t, j] - v_lo
                     for r in range(4):
                         p[j, r] = cam[li, r]
-                nx, ny, nz = _normal_of(
-                    p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2], p[1, 3] - p[0, 3],
-                    p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2], p[2, 3] - p[0, 3],
-                    p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2], p[3, 3] - p[0, 3],
-                    flip,
-                )  # fmt: skip
+                # The normal and winding of the per-object slicer (core.section._points_by_edge, _unit_normals, _rows).
+                n0, n1, n2, n3 = tet_normals[t, 0], tet_normals[t, 1], tet_normals[t, 2], tet_normals[t, 3]
+                nx = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
+                ny = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
+                nz = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
+                ln = np.sqrt(nx * nx + ny * ny + nz * nz)
+                inv = 1.0 / ln if ln > 0.0 else 0.0
+                nx, ny, nz = nx * inv, ny * inv, nz * inv
                 for e in range(nk):
                     a = case_edges[mask, e, 0]
                     b = case_edges[mask, e, 1]
@@ -480,15 +518,7 @@ def _slice_batch(
                     cb = tets[t, b]
                     for r in range(4):
                         qc[e, r] = colors[ca, r] + s * (colors[cb, r] - colors[ca, r])
-                ax, ay, az = q[1, 0] - q[0, 0], q[1, 1] - q[0, 1], q[1, 2] - q[0, 2]
-                bx, by, bz = q[2, 0] - q[0, 0], q[2, 1] - q[0, 1], q[2, 2] - q[0, 2]
-                if nk == 4:
-                    ax, ay, az = q[2, 0] - q[0, 0], q[2, 1] - q[0, 1], q[2, 2] - q[0, 2]
-                    bx, by, bz = q[3, 0] - q[1, 0], q[3, 1] - q[1, 1], q[3, 2] - q[1, 2]
-                cxp = ay * bz - az * by
-                cyp = az * bx - ax * bz
-                czp = ax * by - ay * bx
-                reverse = cxp * nx + cyp * ny + czp * nz < 0.0
+                reverse = case_reversed[neg, mask] != 0
                 for tri in range(nk - 2):
                     for j in range(3):
                         src = 0 if j == 0 else tri + j
