@@ -9,8 +9,11 @@ import subprocess
 import time
 from pathlib import Path
 
-import numpy as np
 import pytest
+
+# Before numpy: importing the package pins numpy's BLAS kernels (across_dimensions/_blas.py), so
+# replays played in this process match their recorded hashes on a CPU with AVX-512 too.
+import across_dimensions  # noqa: F401
 
 GOLDEN_DIR = Path(__file__).parent / "golden"
 
@@ -37,6 +40,8 @@ def compare_golden(tmp_path):
     ``REGENERATE_GOLDEN=1`` (or when the file is missing) it writes the image
     and skips, asking for a look before committing.
     """
+    import numpy as np
+
     from across_dimensions.render.png import read_png, write_png
 
     def compare(name: str, img: np.ndarray) -> None:
