@@ -48,8 +48,6 @@ class Cells(NamedTuple):
     centers : (c, 4) float64
         Bounding sphere of each cell.
     radii : (c,) float64
-    tets : int
-        Tets of the mesh (for the tets-per-cell ratio).
     """
 
     edge_start: np.ndarray
@@ -57,12 +55,6 @@ class Cells(NamedTuple):
     tets_of: np.ndarray
     centers: np.ndarray
     radii: np.ndarray
-    tets: int
-
-    @property
-    def max_edges(self) -> int:
-        """Most real edges of one cell: a bound on the corners of its section."""
-        return int(np.diff(self.edge_start).max(initial=0))
 
 
 def mesh_cells(mesh: TetMesh4) -> Cells | None:
@@ -117,9 +109,9 @@ def _find_cells(mesh: TetMesh4) -> Cells | None:
     e, e_cell = e[real], e_cell[real]  # sorted by cell already
     edge_start = np.searchsorted(e_cell, np.arange(count + 1))
     centers, radii = _spheres(v, e, e_cell, count)
-    if not _convex(v, tri, tri_cell, tn, e, e_cell, centers, radii):
+    if not _convex(v, tri, tri_cell, tn, e, e_cell, radii):
         return None
-    return Cells(edge_start.astype(np.int64), e, mesh.tets[first_tet].astype(np.int64), centers, radii, len(mesh.tets))
+    return Cells(edge_start.astype(np.int64), e, mesh.tets[first_tet].astype(np.int64), centers, radii)
 
 
 def _components(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -151,23 +143,28 @@ def _spheres(v, e, e_cell, count):
     return centers, np.sqrt(r2)
 
 
-def _convex(v, tri, tri_cell, tn, e, e_cell, centers, radii) -> bool:
-    """Does every cell lie on the inner side of each of its boundary triangles?"""
-    # Orient each triangle's normal away from its cell's centre (the centre of a
-    # convex cell is inside it), then test the cell's vertices against it.
-    out = np.einsum("ij,ij->i", v[tri[:, 0]] - centers[tri_cell], tn)
-    tn = tn * np.where(out < 0, -1.0, 1.0)[:, None]
+def _convex(v, tri, tri_cell, tn, e, e_cell, radii) -> bool:
+    """Does every cell lie on one side of the plane of each of its boundary triangles?
+
+    A closed polyhedron is convex exactly when every face's plane has all its
+    vertices on one side. Each triangle's normal is turned away from the mean of
+    the cell's vertices (inside a convex cell) and the vertices are tested against it.
+    """
+    count = len(radii)
     ends = np.concatenate([e[:, 0], e[:, 1]])
     owner = np.concatenate([e_cell, e_cell])
     order = np.argsort(owner, kind="stable")
     ends, owner = ends[order], owner[order]
-    v_start = np.searchsorted(owner, np.arange(len(centers) + 1))
+    v_start = np.searchsorted(owner, np.arange(count + 1))
     t_order = np.argsort(tri_cell, kind="stable")
-    t_start = np.searchsorted(tri_cell[t_order], np.arange(len(centers) + 1))
-    for c in range(len(centers)):
+    t_start = np.searchsorted(tri_cell[t_order], np.arange(count + 1))
+    for c in range(count):
         verts = v[np.unique(ends[v_start[c] : v_start[c + 1]])]
         ts = t_order[t_start[c] : t_start[c + 1]]
-        side = np.einsum("tvj,tj->tv", verts[None, :, :] - v[tri[ts, 0]][:, None, :], tn[ts])
+        corner = v[tri[ts, 0]]
+        outward = np.einsum("tj,tj->t", corner - verts.mean(axis=0), tn[ts]) >= 0
+        normal = tn[ts] * np.where(outward, 1.0, -1.0)[:, None]
+        side = np.einsum("tvj,tj->tv", verts[None, :, :] - corner[:, None, :], normal)
         if (side > 1e-6 * max(radii[c], 1e-12)).any():
             return False
     return True
