@@ -139,6 +139,15 @@ class SectionBatch:
         batch.vertices      # (3 * triangles, 10) float32, ready to upload
         batch.changed_from  # rows before this are the same as last frame
 
+    Parameters
+    ----------
+    capacity_rows : int
+        Rows the output holds at the least (it grows and shrinks with the scene).
+    by_cells : bool
+        Slice meshes made of convex cells cell by cell (fewer triangles, the same
+        section); False slices every mesh tet by tet, exactly as
+        :func:`~core.section.cross_section` does.
+
     Attributes
     ----------
     vertices : (k, 10) float32
