@@ -450,21 +450,11 @@ def _cluster_spheres(v, tets, starts, ends):
 
 
 @njit(inline="always")
-def _tet_normal(p, flip):
-    """Unit outward normal of the section of the tet with camera-space corners ``p`` ``(4, 4)``:
-    the xyz part of cross4(p1 - p0, p2 - p0, p3 - p0), times ``flip`` (+-1); zero stays zero."""
-    return _normal_of(
-        p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2], p[1, 3] - p[0, 3],
-        p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2], p[2, 3] - p[0, 3],
-        p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2], p[3, 3] - p[0, 3],
-        flip,
-    )  # fmt: skip
-
-
-@njit(inline="always")
 def _normal_of(ux, uy, uz, uw, vx, vy, vz, vw, tx, ty, tz, tw, flip):
-    """:func:`_tet_normal` from the edge vectors ``u v t`` (scalars: an inlined
-    function taking arrays would count references on every call)."""
+    """Unit normal of a section of the tet with camera-space edge vectors ``u v t``:
+    the xyz part of ``cross4(u, v, t)`` times ``flip`` (+-1), normalized; zero stays zero.
+    Scalars in, scalars out: an inlined function taking arrays would count references on
+    every call."""
     nx = -(uy * (vz * tw - vw * tz) - uz * (vy * tw - vw * ty) + uw * (vy * tz - vz * ty))
     ny = ux * (vz * tw - vw * tz) - uz * (vx * tw - vw * tx) + uw * (vx * tz - vz * tx)
     nz = -(ux * (vy * tw - vw * ty) - uy * (vx * tw - vw * tx) + uw * (vx * ty - vy * tx))
