@@ -854,8 +854,6 @@ def _borrow(bodies, static, contacts, warm, rows, scratch):
     spin = SpinRows(
         borrowed(sp.limits),
         borrowed(sp.planes),
-        borrowed(sp.inv_i_planes_a),
-        borrowed(sp.inv_i_planes_b),
         borrowed(sp.eff_mass),
         borrowed(sp.impulse),
     )
@@ -864,10 +862,7 @@ def _borrow(bodies, static, contacts, warm, rows, scratch):
         borrowed(r.direction),
         borrowed(r.anchor_a),
         borrowed(r.anchor_b),
-        borrowed(r.jac_a),
-        borrowed(r.jac_b),
-        borrowed(r.inv_i_jac_a),
-        borrowed(r.inv_i_jac_b),
+        borrowed(r.normal_response),
         borrowed(r.eff_mass),
         borrowed(r.impulse),
         borrowed(r.local_point),
@@ -952,6 +947,8 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
                 if inv_inertia[i, k] != inv_inertia[i, 0]:
                     iso[i] = -1.0
     prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows)
+    own_iinv = iinv
+    iinv = borrowed(own_iinv)
     x0 = pos[:nb].copy()
     r0 = rot[:nb].copy()
     dpos = np.zeros((nb, 4))
@@ -971,9 +968,9 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
         total[c] = 0.0
     for _ in range(ns):
         apply_forces(bodies, prm, h)
-        warm_start(nc, contacts, rows, bodies, iso)
+        warm_start(nc, contacts, rows, bodies, iso, iinv)
         current_separation(nc, contacts, rows, dpos, drot)
-        solve(nc, contacts, rows, bodies, iso, inv_h, True, bias_rate, mass_scale, impulse_scale, prm.max_push, iters)
+        solve(nc, contacts, rows, bodies, iso, iinv, inv_h, True, bias_rate, mass_scale, impulse_scale, prm.max_push, iters)
         integrate_positions(bodies, h)
         for i in range(nb):
             if not alive[i] or kind[i] == STATIC:
@@ -992,14 +989,15 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
                         s += rot[i, m, k] * r0[i, q, k]
                     drot[i, m, q] = s
         current_separation(nc, contacts, rows, dpos, drot)
-        solve(nc, contacts, rows, bodies, iso, inv_h, False, bias_rate, mass_scale, impulse_scale, prm.max_push, relax)
+        solve(nc, contacts, rows, bodies, iso, iinv, inv_h, False, bias_rate, mass_scale, impulse_scale, prm.max_push, relax)
         for c in range(nc):
             total[c] += lam[c, 0]
     for c in range(nc):
         total[c] -= lam[c, 0]
-    restitution(nc, contacts, rows, bodies, iso, prm.restitution_threshold)
+    restitution(nc, contacts, rows, bodies, iso, iinv, prm.restitution_threshold)
     for c in range(nc):
         total[c] += lam[c, 0]
+    keep(own_iinv)
     store(nc, contacts, rows, warm)
     update_sleep(bodies, npairs, scratch.pairs, prm)
     return nc

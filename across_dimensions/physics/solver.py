@@ -107,10 +107,7 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
     rows = rows_out.direction
     ra_ = rows_out.anchor_a
     rb_ = rows_out.anchor_b
-    ja = rows_out.jac_a
-    jb = rows_out.jac_b
-    ija = rows_out.inv_i_jac_a
-    ijb = rows_out.inv_i_jac_b
+    resp = rows_out.normal_response
     rmass = rows_out.eff_mass
     lam = rows_out.impulse
     cmu = rows_out.friction
@@ -201,20 +198,15 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
                     ib[k] = 0.0
             for m in range(4):
                 rows[c, r, m] = tb[r, m]
-            for k in range(6):
-                ja[c, r, k] = wa[k]
-                jb[c, r, k] = wb[k]
-            # I^-1 J is only stored where the inertia is not a multiple of
-            # the identity; elsewhere the solver scales J (less memory to
-            # stream through every pass).
-            if iso[a] < 0.0:
-                for k in range(6):
-                    ija[c, r, k] = ia[k]
-            if b >= 0 and iso[b] < 0.0:
-                for k in range(6):
-                    ijb[c, r, k] = ib[k]
             rmass[c, r] = 1.0 / kk if kk > 0.0 else 0.0
             if r == 0:
+                # K n: the change of the contact points' relative velocity per
+                # unit normal impulse, so the solver can update that velocity
+                # after the normal row without touching the bodies.
+                ka = _spin_velocity(ia[0], ia[1], ia[2], ia[3], ia[4], ia[5], ra[0], ra[1], ra[2], ra[3])
+                kb = _spin_velocity(ib[0], ib[1], ib[2], ib[3], ib[4], ib[5], rb[0], rb[1], rb[2], rb[3])
+                for m in range(4):
+                    resp[c, m] = (inv_mass[a] + imb) * tb[0, m] + ka[m] + kb[m]
                 for m in range(4):
                     vn -= tb[0, m] * vel[a, m]
                 for k in range(6):
@@ -288,8 +280,6 @@ def _prepare_spins(nc, body_a, body_b, frames, friction, shape, bound, iinv, iso
     """
     lim = spin.limits
     bv = spin.planes
-    sia = spin.inv_i_planes_a
-    sib = spin.inv_i_planes_b
     smass = spin.eff_mass
     slam = spin.impulse
     for c in range(nc):
@@ -320,8 +310,7 @@ def _prepare_spins(nc, body_a, body_b, frames, friction, shape, bound, iinv, iso
                     pj = PLANE_J[q]
                     bv[c, row, q] = frames[c, i, pi] * frames[c, j, pj] - frames[c, i, pj] * frames[c, j, pi]
                 # The inverse angular mass B . I^-1 B of each body, added term by
-                # term to one running sum (a's, then b's); I^-1 B is stored for
-                # an anisotropic body only.
+                # term to one running sum (a's, then b's).
                 kk = 0.0
                 if iso[a] >= 0.0:
                     kk = kk + iso[a]
@@ -330,7 +319,6 @@ def _prepare_spins(nc, body_a, body_b, frames, friction, shape, bound, iinv, iso
                         t = 0.0
                         for m in range(6):
                             t += iinv[a, q, m] * bv[c, row, m]
-                        sia[c, row, q] = t
                         kk += bv[c, row, q] * t
                 if b >= 0:
                     if iso[b] >= 0.0:
@@ -340,105 +328,174 @@ def _prepare_spins(nc, body_a, body_b, frames, friction, shape, bound, iinv, iso
                             t = 0.0
                             for m in range(6):
                                 t += iinv[b, q, m] * bv[c, row, m]
-                            sib[c, row, q] = t
                             kk += bv[c, row, q] * t
                 smass[c, row] = 1.0 / kk if kk > 0.0 else 0.0
                 slam[c, row] = 0.0
 
 
-@njit(cache=True)
-def _rel_vel(c, r, a, b, rows, ja, jb, vel, omg, surf):
-    """Relative velocity of b (or the static surface, ``surf``) with respect to a along row
-    ``r`` of contact ``c``."""
-    v = 0.0
-    for m in range(4):
-        v -= rows[c, r, m] * vel[a, m]
-    for k in range(6):
-        v -= ja[c, r, k] * omg[a, k]
-    if b >= 0:
-        for m in range(4):
-            v += rows[c, r, m] * vel[b, m]
-        for k in range(6):
-            v += jb[c, r, k] * omg[b, k]
-    else:
-        for m in range(4):
-            v += rows[c, r, m] * surf[c, m]
-    return v
+# Scalar helpers of the hot loops. Vectors travel as tuples (4 floats for a
+# velocity or point, 6 for a bivector), which the compiler keeps in registers:
+# small work arrays would go through memory, and a helper taking arrays would
+# cost a reference-count call each time it runs.
+
+
+@njit(inline="always")
+def _load4(x, i):
+    return x[i, 0], x[i, 1], x[i, 2], x[i, 3]
+
+
+@njit(inline="always")
+def _load6(x, i):
+    return x[i, 0], x[i, 1], x[i, 2], x[i, 3], x[i, 4], x[i, 5]
+
+
+@njit(inline="always")
+def _store4(x, i, v):
+    x[i, 0] = v[0]
+    x[i, 1] = v[1]
+    x[i, 2] = v[2]
+    x[i, 3] = v[3]
+
+
+@njit(inline="always")
+def _store6(x, i, v):
+    x[i, 0] = v[0]
+    x[i, 1] = v[1]
+    x[i, 2] = v[2]
+    x[i, 3] = v[3]
+    x[i, 4] = v[4]
+    x[i, 5] = v[5]
+
+
+@njit(inline="always")
+def _row(rows, c, r):
+    return rows[c, r, 0], rows[c, r, 1], rows[c, r, 2], rows[c, r, 3]
+
+
+@njit(inline="always")
+def _dot4(x, y):
+    # Summed in pairs: two short dependency chains instead of one long one.
+    return (x[0] * y[0] + x[1] * y[1]) + (x[2] * y[2] + x[3] * y[3])
+
+
+@njit(inline="always")
+def _add4(x, y):
+    return x[0] + y[0], x[1] + y[1], x[2] + y[2], x[3] + y[3]
+
+
+@njit(inline="always")
+def _sub4(x, y):
+    return x[0] - y[0], x[1] - y[1], x[2] - y[2], x[3] - y[3]
+
+
+@njit(inline="always")
+def _axpy4(s, x, y):
+    """``s x + y``."""
+    return s * x[0] + y[0], s * x[1] + y[1], s * x[2] + y[2], s * x[3] + y[3]
+
+
+@njit(inline="always")
+def _axpy6(s, x, y):
+    """``s x + y``."""
+    return s * x[0] + y[0], s * x[1] + y[1], s * x[2] + y[2], s * x[3] + y[3], s * x[4] + y[4], s * x[5] + y[5]
+
+
+@njit(inline="always")
+def _spin_velocity(w0, w1, w2, w3, w4, w5, r0, r1, r2, r3):
+    """Velocity of the point at offset ``r`` of a body spinning at bivector ``w``.
+
+    It is the vector ``u`` with ``d . u = (r ^ d) . w`` for every ``d`` (the
+    angular part of a row's relative velocity), planes ordered xy, xz, yz, xw,
+    yw, zw as in :mod:`.bivector`.
+    """
+    return (
+        -w0 * r1 - w1 * r2 - w3 * r3,
+        w0 * r0 - w2 * r2 - w4 * r3,
+        w1 * r0 + w2 * r1 - w5 * r3,
+        w3 * r0 + w4 * r1 + w5 * r2,
+    )
+
+
+@njit(inline="always")
+def _point_velocity(v, w, r):
+    """Velocity of the point at offset ``r`` of a body moving at ``v`` and spinning at ``w``."""
+    s = _spin_velocity(w[0], w[1], w[2], w[3], w[4], w[5], r[0], r[1], r[2], r[3])
+    return v[0] + s[0], v[1] + s[1], v[2] + s[2], v[3] + s[3]
+
+
+@njit(inline="always")
+def _wedge(r, p):
+    """The bivector ``r ^ p``."""
+    return (
+        r[0] * p[1] - r[1] * p[0],
+        r[0] * p[2] - r[2] * p[0],
+        r[1] * p[2] - r[2] * p[1],
+        r[0] * p[3] - r[3] * p[0],
+        r[1] * p[3] - r[3] * p[1],
+        r[2] * p[3] - r[3] * p[2],
+    )
+
+
+@njit(inline="always")
+def _mat6_row(m, i, k, w):
+    return (m[i, k, 0] * w[0] + m[i, k, 1] * w[1]) + (m[i, k, 2] * w[2] + m[i, k, 3] * w[3]) + (m[i, k, 4] * w[4] + m[i, k, 5] * w[5])
+
+
+@njit(inline="always")
+def _spin_change(i, iso, iinv, q):
+    """``I^-1 q``: the spin that angular impulse ``q`` (a bivector) gives body ``i``."""
+    f = iso[i]
+    if f >= 0.0:
+        return f * q[0], f * q[1], f * q[2], f * q[3], f * q[4], f * q[5]
+    return (
+        _mat6_row(iinv, i, 0, q),
+        _mat6_row(iinv, i, 1, q),
+        _mat6_row(iinv, i, 2, q),
+        _mat6_row(iinv, i, 3, q),
+        _mat6_row(iinv, i, 4, q),
+        _mat6_row(iinv, i, 5, q),
+    )
+
+
+@njit(inline="always")
+def _push(i, r, p, sign, inv_mass, iso, iinv, vel, omg):
+    """Apply impulse ``sign * p`` at offset ``r`` of body ``i`` (in place)."""
+    v = _axpy4(sign * inv_mass[i], p, _load4(vel, i))
+    w = _axpy6(sign, _spin_change(i, iso, iinv, _wedge(r, p)), _load6(omg, i))
+    _store4(vel, i, v)
+    _store6(omg, i, w)
 
 
 @njit(cache=True)
-def _apply(c, r, a, b, lam, rows, ja, jb, ija, ijb, vel, omg, inv_mass, iso):
-    """Apply impulse ``lam`` along row ``r``: +lam on b, -lam on a."""
-    ima = inv_mass[a] * lam
-    for m in range(4):
-        vel[a, m] -= ima * rows[c, r, m]
-    if iso[a] >= 0.0:
-        for k in range(6):
-            omg[a, k] -= lam * iso[a] * ja[c, r, k]
-    else:
-        for k in range(6):
-            omg[a, k] -= lam * ija[c, r, k]
-    if b >= 0:
-        imb = inv_mass[b] * lam
-        for m in range(4):
-            vel[b, m] += imb * rows[c, r, m]
-        if iso[b] >= 0.0:
-            for k in range(6):
-                omg[b, k] += lam * iso[b] * jb[c, r, k]
-        else:
-            for k in range(6):
-                omg[b, k] += lam * ijb[c, r, k]
-
-
-@njit(cache=True)
-def warm_start(nc, contacts, rows_in, bodies, iso):
+def warm_start(nc, contacts, rows_in, bodies, iso, iinv):
     """Apply the accumulated impulses so the iterations start near the answer.
 
     Spin friction is not warm started: it only damps, so it restarts from zero
     each substep.
+
+    ``iso`` and ``iinv`` are the bodies' inverse inertias (see :func:`prepare`).
     """
     body_a = contacts.body_a
     body_b = contacts.body_b
     lam = rows_in.impulse
     rows = rows_in.direction
-    ja = rows_in.jac_a
-    jb = rows_in.jac_b
-    ija = rows_in.inv_i_jac_a
-    ijb = rows_in.inv_i_jac_b
+    anchor_a = rows_in.anchor_a
+    anchor_b = rows_in.anchor_b
     vel = bodies.velocity
     omg = bodies.angular_velocity
     inv_mass = bodies.inv_mass
     slam = rows_in.spin.impulse
-    p = np.empty(4)
     for c in range(nc):
         for k in range(6):
             slam[c, k] = 0.0
         a = body_a[c]
         b = body_b[c]
-        for m in range(4):
-            s = 0.0
-            for r in range(4):
-                s += lam[c, r] * rows[c, r, m]
-            p[m] = s
-        for m in range(4):
-            vel[a, m] -= inv_mass[a] * p[m]
-        ia = ja if iso[a] >= 0.0 else ija
-        fa = iso[a] if iso[a] >= 0.0 else 1.0
-        for k in range(6):
-            s = 0.0
-            for r in range(4):
-                s += lam[c, r] * ia[c, r, k]
-            omg[a, k] -= fa * s
+        p = _axpy4(lam[c, 0], _row(rows, c, 0), (0.0, 0.0, 0.0, 0.0))
+        for r in range(1, 4):
+            p = _axpy4(lam[c, r], _row(rows, c, r), p)
+        _push(a, _load4(anchor_a, c), p, -1.0, inv_mass, iso, iinv, vel, omg)
         if b >= 0:
-            for m in range(4):
-                vel[b, m] += inv_mass[b] * p[m]
-            ib = jb if iso[b] >= 0.0 else ijb
-            fb = iso[b] if iso[b] >= 0.0 else 1.0
-            for k in range(6):
-                s = 0.0
-                for r in range(4):
-                    s += lam[c, r] * ib[c, r, k]
-                omg[b, k] += fb * s
+            _push(b, _load4(anchor_b, c), p, 1.0, inv_mass, iso, iinv, vel, omg)
 
 
 @njit(cache=True)
@@ -482,9 +539,27 @@ def current_separation(nc, contacts, rows_in, dpos, drot):
 
 @njit(cache=True)
 def solve(
-    nc, contacts, rows_in, bodies, iso, inv_h, use_bias, bias_rate, mass_scale, impulse_scale, max_push, iterations
+    nc,
+    contacts,
+    rows_in,
+    bodies,
+    iso,
+    iinv,
+    inv_h,
+    use_bias,
+    bias_rate,
+    mass_scale,
+    impulse_scale,
+    max_push,
+    iterations,
 ):
-    """Gauss-Seidel sweeps over all contacts: normal, then friction.
+    """Gauss-Seidel sweeps over all contacts: normal, then friction, then a ball's spin rows.
+
+    Each contact works on the relative velocity ``u`` of its two contact
+    points (b's minus a's): a row's velocity is ``d . u``. After the normal
+    impulse ``u`` moves by ``K n`` times it (``normal_response``), so the
+    friction rows see it without a round trip through the bodies; the bodies
+    then take the contact's whole impulse at once.
 
     Parameters
     ----------
@@ -497,6 +572,8 @@ def solve(
         Velocities updated in place.
     iso : (N,) float64
         Scalar inverse inertia, or -1 (see :func:`prepare`).
+    iinv : (N, 6, 6) float64
+        World-frame inverse inertias (used where ``iso`` is -1).
     inv_h : float
         One over the substep.
     use_bias : bool
@@ -513,10 +590,9 @@ def solve(
     lam = rows_in.impulse
     cmu = rows_in.friction
     rows = rows_in.direction
-    ja = rows_in.jac_a
-    jb = rows_in.jac_b
-    ija = rows_in.inv_i_jac_a
-    ijb = rows_in.inv_i_jac_b
+    anchor_a = rows_in.anchor_a
+    anchor_b = rows_in.anchor_b
+    resp = rows_in.normal_response
     rmass = rows_in.eff_mass
     maxlam = rows_in.max_normal_impulse
     vel = bodies.velocity
@@ -525,64 +601,35 @@ def solve(
     spin = rows_in.spin
     slim = spin.limits
     sbv = spin.planes
-    sia = spin.inv_i_planes_a
-    sib = spin.inv_i_planes_b
     smass = spin.eff_mass
     slam = spin.impulse
-    # The two bodies' velocities live in small local arrays while a contact is
-    # solved: writing straight into vel/omg would make the compiler reload
-    # every Jacobian after each store (it cannot rule out aliasing), which
-    # made this loop three times slower.
-    va = np.empty(4)
-    vb = np.empty(4)
-    wa = np.empty(6)
-    wb = np.empty(6)
-    dl = np.empty(3)
+    zero4 = (0.0, 0.0, 0.0, 0.0)
+    zero6 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     for _ in range(iterations):
         for c in range(nc):
             a = body_a[c]
             b = body_b[c]
-            for m in range(4):
-                va[m] = vel[a, m]
-            for k in range(6):
-                wa[k] = omg[a, k]
+            ra = _load4(anchor_a, c)
+            va = _load4(vel, a)
+            wa = _load6(omg, a)
+            ima = inv_mass[a]
             if b >= 0:
-                for m in range(4):
-                    vb[m] = vel[b, m]
-                for k in range(6):
-                    wb[k] = omg[b, k]
+                rb = _load4(anchor_b, c)
+                vb = _load4(vel, b)
+                wb = _load6(omg, b)
                 imb = inv_mass[b]
+                u = _sub4(_point_velocity(vb, wb, rb), _point_velocity(va, wa, ra))
             else:
                 # The static world: still, or a moving tet mesh's surface (see Contacts).
-                for m in range(4):
-                    vb[m] = surf[c, m]
-                for k in range(6):
-                    wb[k] = 0.0
+                rb = zero4
+                vb = zero4
+                wb = zero6
                 imb = 0.0
-            ima = inv_mass[a]
-            R = rows[c]
-            JA = ja[c]
-            JB = jb[c]
-            # Isotropic bodies: I^-1 J = iso * J (see prepare).
-            if iso[a] >= 0.0:
-                IA = JA
-                fa = iso[a]
-            else:
-                IA = ija[c]
-                fa = 1.0
-            if b >= 0 and iso[b] < 0.0:
-                IB = ijb[c]
-                fb = 1.0
-            else:
-                IB = JB
-                fb = iso[b] if b >= 0 else 0.0
+                u = _sub4(_load4(surf, c), _point_velocity(va, wa, ra))
             # Normal: a speculative contact (s > 0) may close its gap this
             # substep; an overlapping one is pushed out softly (solve pass only).
-            vn = 0.0
-            for m in range(4):
-                vn += R[0, m] * (vb[m] - va[m])
-            for k in range(6):
-                vn += JB[0, k] * wb[k] - JA[0, k] * wa[k]
+            n = _row(rows, c, 0)
+            vn = _dot4(n, u)
             s = sep[c]
             ms = 1.0
             isc = 0.0
@@ -600,84 +647,82 @@ def solve(
             new = old - rmass[c, 0] * ms * (vn + bias) - isc * old
             if new < 0.0:
                 new = 0.0
-            d = new - old
+            dn = new - old
             lam[c, 0] = new
             if new > maxlam[c]:
                 maxlam[c] = new
-            for m in range(4):
-                va[m] -= ima * d * R[0, m]
-                vb[m] += imb * d * R[0, m]
-            for k in range(6):
-                wa[k] -= d * fa * IA[0, k]
-            if b >= 0:
-                # (The static side's spin stays +0.0 whatever is added to it,
-                # since fb is 0 there: skipping it changes no bit.)
-                for k in range(6):
-                    wb[k] += d * fb * IB[0, k]
-            # Friction: one vector impulse lamped to the friction ball.
+            u = _axpy4(dn, _load4(resp, c), u)
+            # Friction: one vector impulse clamped to the friction ball.
+            t1 = _row(rows, c, 1)
+            t2 = _row(rows, c, 2)
+            t3 = _row(rows, c, 3)
+            o1 = lam[c, 1]
+            o2 = lam[c, 2]
+            o3 = lam[c, 3]
+            f1 = o1 - rmass[c, 1] * _dot4(t1, u)
+            f2 = o2 - rmass[c, 2] * _dot4(t2, u)
+            f3 = o3 - rmass[c, 3] * _dot4(t3, u)
             limit = cmu[c] * new
-            s2 = 0.0
-            for r in range(3):
-                v = 0.0
-                for m in range(4):
-                    v += R[r + 1, m] * (vb[m] - va[m])
-                for k in range(6):
-                    v += JB[r + 1, k] * wb[k] - JA[r + 1, k] * wa[k]
-                dl[r] = lam[c, r + 1] - rmass[c, r + 1] * v
-                s2 += dl[r] * dl[r]
+            s2 = f1 * f1 + f2 * f2 + f3 * f3
             if s2 > limit * limit:
                 sc = limit / np.sqrt(s2) if s2 > 0.0 else 0.0
-                for r in range(3):
-                    dl[r] *= sc
-            for r in range(3):
-                d = dl[r] - lam[c, r + 1]
-                lam[c, r + 1] = dl[r]
-                for m in range(4):
-                    va[m] -= ima * d * R[r + 1, m]
-                    vb[m] += imb * d * R[r + 1, m]
-                for k in range(6):
-                    wa[k] -= d * fa * IA[r + 1, k]
-                if b >= 0:
-                    for k in range(6):
-                        wb[k] += d * fb * IB[r + 1, k]
-            sa = sbv if iso[a] >= 0.0 else sia
-            sb = sbv if b < 0 or iso[b] >= 0.0 else sib
+                f1 *= sc
+                f2 *= sc
+                f3 *= sc
+            lam[c, 1] = f1
+            lam[c, 2] = f2
+            lam[c, 3] = f3
+            p = _axpy4(dn, n, _axpy4(f1 - o1, t1, _axpy4(f2 - o2, t2, _axpy4(f3 - o3, t3, zero4))))
+            va = _axpy4(-ima, p, va)
+            wa = _axpy6(-1.0, _spin_change(a, iso, iinv, _wedge(ra, p)), wa)
+            if b >= 0:
+                vb = _axpy4(imb, p, vb)
+                wb = _axpy6(1.0, _spin_change(b, iso, iinv, _wedge(rb, p)), wb)
+            # A ball's spin friction and rolling resistance: angular rows on
+            # the relative spin, each group one impulse clamped to its ball.
             for g in range(2):
                 if slim[c, g] == 0.0:
                     continue
                 limit = slim[c, g] * new
-                s2 = 0.0
-                for r in range(3):
-                    v = 0.0
-                    for k in range(6):
-                        v += sbv[c, 3 * g + r, k] * (wb[k] - wa[k])
-                    dl[r] = slam[c, 3 * g + r] - smass[c, 3 * g + r] * v
-                    s2 += dl[r] * dl[r]
+                rel = _axpy6(-1.0, wa, wb)
+                q0 = 3 * g
+                d1 = slam[c, q0] - smass[c, q0] * _dot6(sbv, c, q0, rel)
+                d2 = slam[c, q0 + 1] - smass[c, q0 + 1] * _dot6(sbv, c, q0 + 1, rel)
+                d3 = slam[c, q0 + 2] - smass[c, q0 + 2] * _dot6(sbv, c, q0 + 2, rel)
+                s2 = d1 * d1 + d2 * d2 + d3 * d3
                 if s2 > limit * limit:
                     sc = limit / np.sqrt(s2) if s2 > 0.0 else 0.0
-                    for r in range(3):
-                        dl[r] *= sc
-                for r in range(3):
-                    d = dl[r] - slam[c, 3 * g + r]
-                    slam[c, 3 * g + r] = dl[r]
-                    for k in range(6):
-                        wa[k] -= d * fa * sa[c, 3 * g + r, k]
-                    if b >= 0:
-                        for k in range(6):
-                            wb[k] += d * fb * sb[c, 3 * g + r, k]
-            for m in range(4):
-                vel[a, m] = va[m]
-            for k in range(6):
-                omg[a, k] = wa[k]
+                    d1 *= sc
+                    d2 *= sc
+                    d3 *= sc
+                q = _axpy6(d1 - slam[c, q0], _load6r(sbv, c, q0), zero6)
+                q = _axpy6(d2 - slam[c, q0 + 1], _load6r(sbv, c, q0 + 1), q)
+                q = _axpy6(d3 - slam[c, q0 + 2], _load6r(sbv, c, q0 + 2), q)
+                slam[c, q0] = d1
+                slam[c, q0 + 1] = d2
+                slam[c, q0 + 2] = d3
+                wa = _axpy6(-1.0, _spin_change(a, iso, iinv, q), wa)
+                if b >= 0:
+                    wb = _axpy6(1.0, _spin_change(b, iso, iinv, q), wb)
+            _store4(vel, a, va)
+            _store6(omg, a, wa)
             if b >= 0:
-                for m in range(4):
-                    vel[b, m] = vb[m]
-                for k in range(6):
-                    omg[b, k] = wb[k]
+                _store4(vel, b, vb)
+                _store6(omg, b, wb)
+
+
+@njit(inline="always")
+def _load6r(x, c, r):
+    return x[c, r, 0], x[c, r, 1], x[c, r, 2], x[c, r, 3], x[c, r, 4], x[c, r, 5]
+
+
+@njit(inline="always")
+def _dot6(x, c, r, w):
+    return (x[c, r, 0] * w[0] + x[c, r, 1] * w[1]) + (x[c, r, 2] * w[2] + x[c, r, 3] * w[3]) + (x[c, r, 4] * w[4] + x[c, r, 5] * w[5])
 
 
 @njit(cache=True)
-def restitution(nc, contacts, rows_in, bodies, iso, threshold):
+def restitution(nc, contacts, rows_in, bodies, iso, iinv, threshold):
     """Bounce: drive the normal velocity to ``-e * vn0`` for contacts that were hit.
 
     Only contacts approaching faster than ``threshold`` and that actually pushed
@@ -689,10 +734,8 @@ def restitution(nc, contacts, rows_in, bodies, iso, threshold):
     impulse = rows_in.impulse
     ce = rows_in.restitution
     rows = rows_in.direction
-    ja = rows_in.jac_a
-    jb = rows_in.jac_b
-    ija = rows_in.inv_i_jac_a
-    ijb = rows_in.inv_i_jac_b
+    anchor_a = rows_in.anchor_a
+    anchor_b = rows_in.anchor_b
     rmass = rows_in.eff_mass
     vn0 = rows_in.approach_speed
     maxlam = rows_in.max_normal_impulse
@@ -704,7 +747,12 @@ def restitution(nc, contacts, rows_in, bodies, iso, threshold):
             continue
         a = body_a[c]
         b = body_b[c]
-        vn = _rel_vel(c, 0, a, b, rows, ja, jb, vel, omg, surf)
+        ra = _load4(anchor_a, c)
+        rb = _load4(anchor_b, c)
+        pa = _point_velocity(_load4(vel, a), _load6(omg, a), ra)
+        pb = _point_velocity(_load4(vel, b), _load6(omg, b), rb) if b >= 0 else _load4(surf, c)
+        n = _row(rows, c, 0)
+        vn = _dot4(n, _sub4(pb, pa))
         lam = -rmass[c, 0] * (vn + ce[c] * vn0[c])
         new = impulse[c, 0] + lam
         if new < 0.0:
@@ -712,7 +760,10 @@ def restitution(nc, contacts, rows_in, bodies, iso, threshold):
         d = new - impulse[c, 0]
         impulse[c, 0] = new
         if d != 0.0:
-            _apply(c, 0, a, b, d, rows, ja, jb, ija, ijb, vel, omg, inv_mass, iso)
+            p = _axpy4(d, n, (0.0, 0.0, 0.0, 0.0))
+            _push(a, ra, p, -1.0, inv_mass, iso, iinv, vel, omg)
+            if b >= 0:
+                _push(b, rb, p, 1.0, inv_mass, iso, iinv, vel, omg)
 
 
 @njit(cache=True)

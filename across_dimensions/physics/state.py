@@ -238,16 +238,12 @@ class SpinRows(NamedTuple):
     planes : (C, 6, 6) float64
         Unit bivectors the rows act on: the three contact-hyperplane planes, then
         the three planes containing the normal.
-    inv_i_planes_a, inv_i_planes_b : (C, 6, 6) float64
-        ``I^-1`` times those bivectors (only for bodies with an anisotropic inertia).
     eff_mass : (C, 6) float64
     impulse : (C, 6) float64
     """
 
     limits: np.ndarray
     planes: np.ndarray
-    inv_i_planes_a: np.ndarray
-    inv_i_planes_b: np.ndarray
     eff_mass: np.ndarray
     impulse: np.ndarray
 
@@ -261,10 +257,9 @@ class SolverRows(NamedTuple):
         Row directions: the normal, then three tangents.
     anchor_a, anchor_b : (C, 4) float64
         Contact point relative to each body's centre.
-    jac_a, jac_b : (C, 4, 6) float64
-        Angular Jacobians ``r ^ d``.
-    inv_i_jac_a, inv_i_jac_b : (C, 4, 6) float64
-        Their images under ``I^-1`` (only for bodies with an anisotropic inertia).
+    normal_response : (C, 4) float64
+        How the relative velocity of the two contact points changes per unit
+        of normal impulse (``K n``, with ``K`` the contact's 4x4 mass matrix).
     eff_mass : (C, 4) float64
         Effective mass of each row.
     impulse : (C, 4) float64
@@ -285,10 +280,7 @@ class SolverRows(NamedTuple):
     direction: np.ndarray
     anchor_a: np.ndarray
     anchor_b: np.ndarray
-    jac_a: np.ndarray
-    jac_b: np.ndarray
-    inv_i_jac_a: np.ndarray
-    inv_i_jac_b: np.ndarray
+    normal_response: np.ndarray
     eff_mass: np.ndarray
     impulse: np.ndarray
     local_point: np.ndarray
@@ -368,8 +360,6 @@ def new_solver_rows(cap: int) -> SolverRows:
     spin = SpinRows(
         np.zeros((cap, 2), f),
         np.zeros((cap, 6, 6), f),
-        np.zeros((cap, 6, 6), f),
-        np.zeros((cap, 6, 6), f),
         np.zeros((cap, 6), f),
         np.zeros((cap, 6), f),
     )
@@ -377,10 +367,7 @@ def new_solver_rows(cap: int) -> SolverRows:
         np.zeros((cap, 4, 4), f),
         np.zeros((cap, 4), f),
         np.zeros((cap, 4), f),
-        np.zeros((cap, 4, 6), f),
-        np.zeros((cap, 4, 6), f),
-        np.zeros((cap, 4, 6), f),
-        np.zeros((cap, 4, 6), f),
+        np.zeros((cap, 4), f),
         np.zeros((cap, 4), f),
         np.zeros((cap, 4), f),
         np.zeros((cap, 4), f),
