@@ -4,7 +4,7 @@
 
     play [LEVEL] [--record FILE]       play a level in a window
     demo [--screenshots DIR]           the headless demo (no window needed)
-    replay LEVEL REPLAY [--json] [--screenshots DIR --every N]
+    replay LEVEL REPLAY [--json] [--screenshots DIR --every N] [--update-hashes]
     check-level FILE...                check level files, report every problem
     level-schema [-o FILE.json]        the level format as a JSON Schema
     slice SHAPE|FILE [--rotate xw=30 ...] [--translate w=0.3 ...] [--mode section|frustum] -o OUT
@@ -69,7 +69,15 @@ def _parser() -> argparse.ArgumentParser:
         action="store_true",
         help="print one JSON object (outcome, ticks, hash, events, energy, position, ...) and nothing else",
     )
-    rp.set_defaults(func=commands.replay)
+    rp.add_argument(
+        "--update-hashes",
+        action="store_true",
+        help=(
+            "after a deliberate simulation change: record the state hashes again and rewrite REPLAY "
+            "(actions unchanged), only if it still ends with the same outcome at the same tick"
+        ),
+    )
+    rp.set_defaults(func=_replay(rp))
 
     ck = sub.add_parser("check-level", help="check level files and list every problem")
     ck.add_argument("files", nargs="+", metavar="FILE")
@@ -123,6 +131,20 @@ def _parser() -> argparse.ArgumentParser:
     ed.add_argument("--quit-after", type=positive_float, metavar="SECONDS", help="close the window after SECONDS")
     ed.set_defaults(func=_edit, record=None, fullscreen=None)
     return p
+
+
+def _replay(parser: argparse.ArgumentParser):
+    """``replay``, refusing option pairs that contradict each other as argparse refuses them."""
+
+    def run(args) -> int:
+        if args.update_hashes:
+            # --update-hashes takes the hashes from a plain run: nothing to skip, nothing to draw.
+            for flag, given in (("--no-check", args.no_check), ("--screenshots", args.screenshots)):
+                if given:
+                    parser.error(f"argument --update-hashes: not allowed with argument {flag}")
+        return commands.replay(args)
+
+    return run
 
 
 def _add_bench_scene_args(p):

@@ -114,7 +114,13 @@ def replay(args) -> int:
     from .warmup import warm_up
 
     as_json = getattr(args, "json", False)
+    update = getattr(args, "update_hashes", False)
     rep = Replay.load(args.replay)
+    if update and rep.recovered:
+        raise UserError(
+            f"{args.replay}: a recording that was cut short has no final outcome to keep; "
+            "--update-hashes rewrites finished replays only"
+        )
     if rep.recovered:
         print(
             f"{PROG}: note: {args.replay} is a recording that was cut short ({len(rep.actions)} ticks kept); "
@@ -123,6 +129,8 @@ def replay(args) -> int:
         )
     game = _load_game(args.level, rep.seed)
     warm_up()
+    if update:
+        return _update_hashes(args, rep, game, as_json)
     shooter = _screenshotter(args, game) if args.screenshots else None
     result = play(rep, game, on_tick=shooter, check=not args.no_check)
     say = (lambda msg: print(msg, file=sys.stderr, flush=True)) if as_json else _out  # stdout is the JSON's alone
@@ -139,6 +147,74 @@ def replay(args) -> int:
         print(f"{PROG}: {result.divergence}", file=sys.stderr)
         return 3
     return 0
+
+
+def _update_hashes(args, rep, game, as_json: bool) -> int:
+    """``replay --update-hashes``: record the replay's state hashes afresh.
+
+    After a deliberate change of the simulation (same behaviour, different
+    last bits) the recorded actions still hold but the hashes do not. The
+    actions are played unchecked; when the run ends as recorded (same
+    outcome, same tick) the file is rewritten atomically with the new hashes
+    and its actions unchanged (exit 0). A different ending leaves the file
+    untouched (exit 1); a changed level file is refused as ``replay`` refuses
+    it (exit 3), and the level hash is never rewritten.
+    """
+    import json
+    from dataclasses import replace
+
+    from ..game.replay import changed_hashes, level_divergence, rehash, summary
+
+    result, fresh = rehash(rep, game)
+    refused = level_divergence(rep, game)
+    problem = None
+    if refused is None and (result.outcome, result.ticks) != (rep.outcome, rep.final_ticks):
+        problem = (
+            f"{PROG}: {args.replay}: hashes not updated: expected outcome {_outcome(rep.outcome)} at tick "
+            f"{rep.final_ticks}, got {_outcome(result.outcome)} at tick {result.ticks}"
+        )
+    updated = False
+    changed, total = changed_hashes(rep, fresh)
+    if refused is None and problem is None and changed:
+        _check_actions_kept(args.replay, fresh)
+        fresh.save(args.replay)  # temporary file in the same folder, then os.replace
+        updated = True
+    if as_json:
+        _out(json.dumps({**summary(game, replace(result, divergence=refused)), "updated": updated}, allow_nan=False))
+    if refused is not None:
+        print(f"{PROG}: {refused}", file=sys.stderr)
+        return 3
+    if problem is not None:
+        print(problem, file=sys.stderr)
+        return 1
+    say = (lambda msg: print(msg, file=sys.stderr, flush=True)) if as_json else _out  # stdout is the JSON's alone
+    say(f"{args.replay}: " + (f"hashes updated ({changed} of {total} changed)" if updated else "hashes unchanged"))
+    return 0
+
+
+def _outcome(outcome) -> str:
+    return f'"{outcome}"' if outcome else "no outcome (not finished)"
+
+
+def _check_actions_kept(path, fresh) -> None:
+    """Refuse to rewrite ``path`` unless its actions would be written back as they are.
+
+    The writer is the recorder's, so a recorded file always passes; a file
+    edited by hand (``1`` for ``1.0``, two equal runs side by side) would have
+    its actions re-spelled, and ``--update-hashes`` never changes actions.
+    """
+    import json
+
+    from ..core.fileio import read_text
+    from ..game.replay import MAX_BYTES, ReplayError
+
+    dumps = {"separators": (",", ":"), "allow_nan": False}
+    before = json.dumps(json.loads(read_text(path, limit=MAX_BYTES, what="replay"))["actions"], **dumps)
+    if before != json.dumps(fresh.to_json()["actions"], **dumps):
+        raise ReplayError(
+            f"{path}: entry 'actions': not written as a recording writes it (runs merged, floats as floats); "
+            "--update-hashes would change it, so the file is left untouched"
+        )
 
 
 def demo(args) -> int:

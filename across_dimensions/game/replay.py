@@ -650,13 +650,7 @@ def play(replay: Replay, game: Game, on_tick=None, check: bool = True) -> PlayRe
         Compare state hashes; the first mismatch is reported in ``divergence``
         and the run continues so the outcome is still known.
     """
-    if check and game.level.source_hash != replay.level_hash:
-        divergence = (
-            "the level file changed since this replay was recorded "
-            f"(level hash {game.level.source_hash[:12]}, replay expects {replay.level_hash[:12]})"
-        )
-    else:
-        divergence = None
+    divergence = level_divergence(replay, game) if check else None
     for a in replay.actions:
         game.step(a)
         if on_tick is not None:
@@ -672,6 +666,64 @@ def play(replay: Replay, game: Game, on_tick=None, check: bool = True) -> PlayRe
     if check and divergence is None and replay.final_hash and replay.final_hash != final:
         divergence = f"replay diverges at the end (tick {game.tick}): expected state {replay.final_hash}, got {final}"
     return PlayResult(game.tick, game.outcome, final, divergence)
+
+
+def level_divergence(replay: Replay, game: Game) -> str | None:
+    """Why ``replay`` cannot be checked against ``game``'s level file, or None.
+
+    The replay names the sha256 of the level file it was recorded on; a
+    different file makes every state hash meaningless.
+    """
+    if game.level.source_hash == replay.level_hash:
+        return None
+    return (
+        "the level file changed since this replay was recorded "
+        f"(level hash {game.level.source_hash[:12]}, replay expects {replay.level_hash[:12]})"
+    )
+
+
+def rehash(replay: Replay, game: Game) -> tuple[PlayResult, Replay]:
+    """Play the replay's actions unchecked and record its state hashes afresh.
+
+    For a deliberate change of the simulation that keeps behaviour but not
+    the last bits: the actions stay, the hashes are taken again by the same
+    :class:`Recorder` a recording uses (a hash every ``hash_every`` ticks and
+    a final one), so the new replay has exactly the layout a recording would.
+
+    Parameters
+    ----------
+    replay : Replay
+        A finished replay (not a recovered journal).
+    game : Game
+        Fresh, built from the replay's level and seed.
+
+    Returns
+    -------
+    result : PlayResult
+        How the run ended now (``divergence`` is None: nothing is compared).
+    fresh : Replay
+        ``replay`` with the new hashes, final hash, ticks and outcome; its
+        header (level, level hash, seed, hash_every) and actions are the
+        replay's own.
+    """
+    recorder = Recorder(game, replay.level)
+    fresh = recorder.replay
+    fresh.level_hash = replay.level_hash  # kept as recorded, never rewritten
+    fresh.seed = replay.seed
+    fresh.hash_every = replay.hash_every
+    for a in replay.actions:
+        game.step(a)
+        recorder.record(a)
+    recorder.finish()
+    return PlayResult(game.tick, game.outcome, fresh.final_hash, None), fresh
+
+
+def changed_hashes(old: Replay, new: Replay) -> tuple[int, int]:
+    """``(changed, total)``: how many of ``new``'s state hashes, the final one
+    included, differ from (or are missing in) ``old``."""
+    changed = sum(old.hashes.get(tick) != h for tick, h in new.hashes.items())
+    changed += old.final_hash != new.final_hash
+    return changed, len(new.hashes) + 1
 
 
 # ----------------------------------------------------------------- summary
