@@ -284,6 +284,12 @@ def bivector_rotation(omega, dt: float = 1.0) -> np.ndarray:
 def expm_skew(w, h, out, wk):
     """Rotation ``expm(h * skew(w))`` by scaling and squaring a Taylor series.
 
+    A 4x4 skew matrix satisfies ``A^4 = -p A^2 - q I`` (Cayley-Hamilton, with
+    ``p`` the squared norm of the bivector and ``q`` its squared Pfaffian), so
+    every power of ``A`` is a combination of ``I, A, A^2, A^3``: the series is
+    summed on those four coefficients, in scalars, and only ``A^2`` and ``A^3``
+    are matrix products (this runs for every moving body every substep).
+
     Parameters
     ----------
     w : (6,) float64
@@ -291,12 +297,11 @@ def expm_skew(w, h, out, wk):
     out : (4, 4) float64
         Overwritten with a rotation (orthogonal to rounding).
     wk : (3, 4, 4) float64
-        Scratch (this runs for every moving body every substep, so it does
-        not allocate).
+        Scratch (so that nothing is allocated).
     """
     a = wk[0]
-    term = wk[1]
-    tmp = wk[2]
+    a2 = wk[1]
+    a3 = wk[2]
     for i in range(4):
         for j in range(4):
             a[i, j] = 0.0
@@ -311,46 +316,63 @@ def expm_skew(w, h, out, wk):
         for j in range(4):
             s += abs(a[i, j])
         norm = max(norm, s)
-    # Halve until the series converges to rounding in ten terms (|A| <= 1/4).
+    # Halve until the series converges fast and without cancellation (|A| <= 1/4).
     squarings = 0
     while norm > 0.25:
         norm *= 0.5
         squarings += 1
     scale = 1.0 / (2.0**squarings)
+    p = 0.0
+    for k in range(6):
+        t = w[k] * h * scale
+        p += t * t
+    # Planes xy, xz, yz, xw, yw, zw: the Pfaffian is a01 a23 - a02 a13 + a03 a12.
+    pf = (w[0] * w[5] - w[1] * w[4] + w[3] * w[2]) * (h * scale) * (h * scale)
+    q = pf * pf
     for i in range(4):
         for j in range(4):
             a[i, j] *= scale
-            term[i, j] = 1.0 if i == j else 0.0
-            out[i, j] = term[i, j]
-    if norm == 0.0:
-        return
-    for n in range(1, 11):
+    # Coefficients of A^n / n! on I, A, A^2, A^3, and their running sums.
+    t0, t1, t2, t3 = 1.0, 0.0, 0.0, 0.0
+    c0, c1, c2, c3 = 1.0, 0.0, 0.0, 0.0
+    bound = 1.0
+    for n in range(1, 30):
         inv_n = 1.0 / n
-        big = 0.0
-        for i in range(4):
-            for j in range(4):
-                s = 0.0
-                for k in range(4):
-                    s += term[i, k] * a[k, j]
-                tmp[i, j] = s * inv_n
-                big = max(big, abs(tmp[i, j]))
-        for i in range(4):
-            for j in range(4):
-                term[i, j] = tmp[i, j]
-                out[i, j] += tmp[i, j]
-        # Slow spins (the usual case) converge in a handful of terms.
-        if big < 1e-18:
+        t0, t1, t2, t3 = -t3 * q * inv_n, t0 * inv_n, (t1 - t3 * p) * inv_n, t2 * inv_n
+        c0 += t0
+        c1 += t1
+        c2 += t2
+        c3 += t3
+        # |A^n / n!| <= |A|^n / n!: stop once that is below rounding.
+        bound *= norm * inv_n
+        if bound < 1e-18:
             break
+    for i in range(4):
+        for j in range(4):
+            s = 0.0
+            for k in range(4):
+                s += a[i, k] * a[k, j]
+            a2[i, j] = s
+    for i in range(4):
+        for j in range(4):
+            s = 0.0
+            for k in range(4):
+                s += a[i, k] * a2[k, j]
+            a3[i, j] = s
+    for i in range(4):
+        for j in range(4):
+            out[i, j] = c1 * a[i, j] + c2 * a2[i, j] + c3 * a3[i, j]
+        out[i, i] += c0
     for _ in range(squarings):
         for i in range(4):
             for j in range(4):
                 s = 0.0
                 for k in range(4):
                     s += out[i, k] * out[k, j]
-                tmp[i, j] = s
+                a2[i, j] = s
         for i in range(4):
             for j in range(4):
-                out[i, j] = tmp[i, j]
+                out[i, j] = a2[i, j]
 
 
 def skew(omega) -> np.ndarray:

@@ -962,6 +962,7 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
     inv_h = 1.0 / h
     iters = int(prm.iterations)
     relax = int(prm.relax_iterations)
+    push = prm.max_push
     total = contacts.normal_impulse
     lam = rows.impulse
     for c in range(nc):
@@ -970,7 +971,7 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
         apply_forces(bodies, prm, h)
         warm_start(nc, contacts, rows, bodies, iso, iinv)
         current_separation(nc, contacts, rows, dpos, drot)
-        solve(nc, contacts, rows, bodies, iso, iinv, inv_h, True, bias_rate, mass_scale, impulse_scale, prm.max_push, iters)
+        solve(nc, contacts, rows, bodies, iso, iinv, inv_h, True, bias_rate, mass_scale, impulse_scale, push, iters)
         integrate_positions(bodies, h)
         for i in range(nb):
             if not alive[i] or kind[i] == STATIC:
@@ -989,7 +990,7 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
                         s += rot[i, m, k] * r0[i, q, k]
                     drot[i, m, q] = s
         current_separation(nc, contacts, rows, dpos, drot)
-        solve(nc, contacts, rows, bodies, iso, iinv, inv_h, False, bias_rate, mass_scale, impulse_scale, prm.max_push, relax)
+        solve(nc, contacts, rows, bodies, iso, iinv, inv_h, False, bias_rate, mass_scale, impulse_scale, push, relax)
         for c in range(nc):
             total[c] += lam[c, 0]
     for c in range(nc):

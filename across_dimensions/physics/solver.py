@@ -117,15 +117,13 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
     cloc = rows_out.local_point
     # Small work arrays, borrowed (see .borrow): the helpers inlined below
     # would otherwise count references to them for every row.
-    own = np.empty((10, 6))
+    own = np.empty((8, 6))
     work = borrowed(own)
     ra = work[0, :4]
     rb = work[1, :4]
     wa = work[2]
     wb = work[3]
-    ia = work[4]
-    ib = work[5]
-    tb = work[6:10, :4]
+    tb = work[4:8, :4]
     olo = 0
     for c in range(nc):
         a = body_a[c]
@@ -151,74 +149,58 @@ def prepare(nc, contacts, bodies, iinv, iso, prm, warm, rows_out):
         # No views (tb[r], iinv[a]) in this loop: each would cost an atomic
         # reference-count update, which made up most of its time.
         tangent_frame(tb)
-        vn = 0.0
         for r in range(4):
-            # wa = ra ^ row r, ia = I_a^-1 wa (bivector.wedge and mat6_vec written
-            # out: a helper, even inlined, costs a reference-count call per
-            # array per row, and each such call makes the compiler reload).
-            wa[0] = ra[0] * tb[r, 1] - ra[1] * tb[r, 0]
-            wa[1] = ra[0] * tb[r, 2] - ra[2] * tb[r, 0]
-            wa[2] = ra[1] * tb[r, 2] - ra[2] * tb[r, 1]
-            wa[3] = ra[0] * tb[r, 3] - ra[3] * tb[r, 0]
-            wa[4] = ra[1] * tb[r, 3] - ra[3] * tb[r, 1]
-            wa[5] = ra[2] * tb[r, 3] - ra[3] * tb[r, 2]
+            for m in range(4):
+                rows[c, r, m] = tb[r, m]
+            # The row's inverse effective mass: 1/mA + 1/mB + (r ^ d) . I^-1 (r ^ d)
+            # for each body, which for an isotropic inertia i is
+            # i (|r|^2 - (r . d)^2).
+            kk = inv_mass[a] + imb
             if iso[a] >= 0.0:
-                for k in range(6):
-                    ia[k] = iso[a] * wa[k]
+                rd = 0.0
+                rr = 0.0
+                for m in range(4):
+                    rd += ra[m] * tb[r, m]
+                    rr += ra[m] * ra[m]
+                kk += iso[a] * (rr - rd * rd)
             else:
+                _wedge_into(ra, tb, r, wa)
                 for k in range(6):
                     t = 0.0
                     for j in range(6):
                         t += iinv[a, k, j] * wa[j]
-                    ia[k] = t
-            kk = inv_mass[a] + imb
-            for k in range(6):
-                kk += wa[k] * ia[k]
+                    kk += wa[k] * t
             if b >= 0:
-                wb[0] = rb[0] * tb[r, 1] - rb[1] * tb[r, 0]
-                wb[1] = rb[0] * tb[r, 2] - rb[2] * tb[r, 0]
-                wb[2] = rb[1] * tb[r, 2] - rb[2] * tb[r, 1]
-                wb[3] = rb[0] * tb[r, 3] - rb[3] * tb[r, 0]
-                wb[4] = rb[1] * tb[r, 3] - rb[3] * tb[r, 1]
-                wb[5] = rb[2] * tb[r, 3] - rb[3] * tb[r, 2]
                 if iso[b] >= 0.0:
-                    for k in range(6):
-                        ib[k] = iso[b] * wb[k]
+                    rd = 0.0
+                    rr = 0.0
+                    for m in range(4):
+                        rd += rb[m] * tb[r, m]
+                        rr += rb[m] * rb[m]
+                    kk += iso[b] * (rr - rd * rd)
                 else:
+                    _wedge_into(rb, tb, r, wb)
                     for k in range(6):
                         t = 0.0
                         for j in range(6):
                             t += iinv[b, k, j] * wb[j]
-                        ib[k] = t
-                for k in range(6):
-                    kk += wb[k] * ib[k]
-            else:
-                for k in range(6):
-                    wb[k] = 0.0
-                    ib[k] = 0.0
-            for m in range(4):
-                rows[c, r, m] = tb[r, m]
+                        kk += wb[k] * t
             rmass[c, r] = 1.0 / kk if kk > 0.0 else 0.0
-            if r == 0:
-                # K n: the change of the contact points' relative velocity per
-                # unit normal impulse, so the solver can update that velocity
-                # after the normal row without touching the bodies.
-                ka = _spin_velocity(ia[0], ia[1], ia[2], ia[3], ia[4], ia[5], ra[0], ra[1], ra[2], ra[3])
-                kb = _spin_velocity(ib[0], ib[1], ib[2], ib[3], ib[4], ib[5], rb[0], rb[1], rb[2], rb[3])
-                for m in range(4):
-                    resp[c, m] = (inv_mass[a] + imb) * tb[0, m] + ka[m] + kb[m]
-                for m in range(4):
-                    vn -= tb[0, m] * vel[a, m]
-                for k in range(6):
-                    vn -= wa[k] * omg[a, k]
-                if b >= 0:
-                    for m in range(4):
-                        vn += tb[0, m] * vel[b, m]
-                    for k in range(6):
-                        vn += wb[k] * omg[b, k]
-                else:
-                    for m in range(4):
-                        vn += tb[0, m] * surf[c, m]
+        # K n: the change of the contact points' relative velocity per unit
+        # normal impulse, so the solver can update that velocity after the
+        # normal row without touching the bodies.
+        n = (tb[0, 0], tb[0, 1], tb[0, 2], tb[0, 3])
+        pa = (ra[0], ra[1], ra[2], ra[3])
+        pb = (rb[0], rb[1], rb[2], rb[3])
+        ka = _spin_change(a, iso, iinv, _wedge(pa, n))
+        kn = _axpy4(inv_mass[a] + imb, n, _point_velocity((0.0, 0.0, 0.0, 0.0), ka, pa))
+        if b >= 0:
+            kb = _spin_change(b, iso, iinv, _wedge(pb, n))
+            kn = _point_velocity(kn, kb, pb)
+        _store4(resp, c, kn)
+        # The approach speed, for restitution.
+        u = _point_velocity(_load4(vel, b), _load6(omg, b), pb) if b >= 0 else _load4(surf, c)
+        vn = _dot4(n, _sub4(u, _point_velocity(_load4(vel, a), _load6(omg, a), pa)))
         vn0[c] = vn
         maxlam[c] = 0.0
         # The contact point in a's frame: the same material point next tick.
@@ -437,8 +419,23 @@ def _wedge(r, p):
 
 
 @njit(inline="always")
+def _wedge_into(r, rows, k, out):
+    """``out = r ^ rows[k]`` (arrays: the anisotropic path of :func:`prepare`)."""
+    out[0] = r[0] * rows[k, 1] - r[1] * rows[k, 0]
+    out[1] = r[0] * rows[k, 2] - r[2] * rows[k, 0]
+    out[2] = r[1] * rows[k, 2] - r[2] * rows[k, 1]
+    out[3] = r[0] * rows[k, 3] - r[3] * rows[k, 0]
+    out[4] = r[1] * rows[k, 3] - r[3] * rows[k, 1]
+    out[5] = r[2] * rows[k, 3] - r[3] * rows[k, 2]
+
+
+@njit(inline="always")
 def _mat6_row(m, i, k, w):
-    return (m[i, k, 0] * w[0] + m[i, k, 1] * w[1]) + (m[i, k, 2] * w[2] + m[i, k, 3] * w[3]) + (m[i, k, 4] * w[4] + m[i, k, 5] * w[5])
+    return (
+        (m[i, k, 0] * w[0] + m[i, k, 1] * w[1])
+        + (m[i, k, 2] * w[2] + m[i, k, 3] * w[3])
+        + (m[i, k, 4] * w[4] + m[i, k, 5] * w[5])
+    )
 
 
 @njit(inline="always")
@@ -718,7 +715,11 @@ def _load6r(x, c, r):
 
 @njit(inline="always")
 def _dot6(x, c, r, w):
-    return (x[c, r, 0] * w[0] + x[c, r, 1] * w[1]) + (x[c, r, 2] * w[2] + x[c, r, 3] * w[3]) + (x[c, r, 4] * w[4] + x[c, r, 5] * w[5])
+    return (
+        (x[c, r, 0] * w[0] + x[c, r, 1] * w[1])
+        + (x[c, r, 2] * w[2] + x[c, r, 3] * w[3])
+        + (x[c, r, 4] * w[4] + x[c, r, 5] * w[5])
+    )
 
 
 @njit(cache=True)
