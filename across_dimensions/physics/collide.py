@@ -350,10 +350,11 @@ def _clip_into(tx, trot, th, loc_c, loc_axes, oh, margin, m, sup, cp, cd, cnt, v
     below = 0
     for j in range(16):
         for a in range(4):
-            if v[j, a] > lim[a]:
-                above |= 1 << (16 * a + j)
-            if v[j, a] < -lim[a]:
-                below |= 1 << (16 * a + j)
+            # Without a branch: which side of a face a vertex lies is a coin
+            # toss to the processor, and the mispredictions cost as much as
+            # the rest of the clipping.
+            above |= np.int64(v[j, a] > lim[a]) << (16 * a + j)
+            below |= np.int64(v[j, a] < -lim[a]) << (16 * a + j)
     outside = above | below
     for j in range(16):
         if (outside >> j) & _AXIS_BITS == 0:
