@@ -39,6 +39,7 @@ from .collide import (
     sphere_halfspace,
     sphere_sphere,
 )
+from .reuse import emit_kept, keep_points, pair_pose, pose_close
 from .solver import (
     current_separation,
     prepare,
@@ -49,7 +50,7 @@ from .solver import (
     warm_start,
 )
 from .sorting import argsort_by_body, argsort_stable
-from .state import Bodies, Contacts, Scratch, SolverRows, SpinRows, StaticWorld, WarmStart
+from .state import Bodies, Contacts, Manifolds, Scratch, SolverRows, SpinRows, StaticWorld, WarmStart
 from .tet_mesh import box_tets, sphere_tets
 
 STATIC = 0
@@ -381,8 +382,14 @@ def find_pairs(bodies, static, h, base_margin, pairs, marg):
 
 
 @njit(cache=True)
-def narrowphase(npairs, bodies, static, scratch, contacts):
+def narrowphase(npairs, bodies, static, scratch, contacts, kept, kept_out, reuse_distance, reuse_angle):
     """Contacts of all candidate pairs (``scratch.pairs[:npairs]``) in pair-key order.
+
+    Box pairs (with each other or with a static collider other than a tet
+    mesh) reuse their manifold in ``kept`` while they move less than
+    ``reuse_distance`` and turn less than ``reuse_angle`` (see :mod:`.reuse`;
+    an angle of 0 turns reuse off); every box manifold of this tick goes to
+    ``kept_out``.
 
     Returns
     -------
@@ -437,7 +444,7 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
     surf = contacts.surface_velocity
     # Work arrays of the loop, borrowed (see .borrow): the routines below get
     # them (and views of them) for every pair.
-    own = np.empty((SCRATCH_ROWS + 8, 4))
+    own = np.empty((SCRATCH_ROWS + 17, 4))
     work = borrowed(own)
     wk = work[:SCRATCH_ROWS]
     vx = work[SCRATCH_ROWS]
@@ -445,13 +452,82 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
     pn = work[SCRATCH_ROWS + 2]
     vs = work[SCRATCH_ROWS + 4 : SCRATCH_ROWS + 8]
     vr = np.eye(4)
+    zero = np.zeros(4)
+    nw = wb.shape[0]
+    ns = so.shape[0]
+    ncv = cr.shape[0]
+    reuse = reuse_angle > 0.0
+    old_key = kept.key
+    old_first = kept.first
+    old_count = kept.count
+    old_pose = kept.pose
+    old_local = kept.local
+    n_old = kept.pairs[0]
+    new_key = kept_out.key
+    new_first = kept_out.first
+    new_count = kept_out.count
+    new_pose = kept_out.pose
+    new_local = kept_out.local
+    pose = work[SCRATCH_ROWS + 8 : SCRATCH_ROWS + 13].reshape(20)
+    solid_rot = work[SCRATCH_ROWS + 13 : SCRATCH_ROWS + 17]
+    oi = 0
+    n_new = 0
+    rows = 0
     for op in range(npairs):
         p = order[op]
         a = pairs[p, 0]
         b = pairs[p, 1]
         got = 0
         tq = -1
-        if b >= 0:
+        # The frame of b if this is a box pair whose manifold can be kept:
+        # 1 body b, 2 a solid box, 0 the world; -1 not kept.
+        frame = -1
+        if reuse and shape[a] == BOX:
+            if b >= 0:
+                if shape[b] == BOX:
+                    frame = 1
+            else:
+                s = -1 - b
+                if s < nh + nw or nh + nw + ns <= s < nh + nw + ns + ncv:
+                    frame = 0
+                elif s < nh + nw + ns:
+                    frame = 2
+        fx = zero
+        fr = vr
+        if frame == 1:
+            fx = pos[b]
+            fr = rot[b]
+        elif frame == 2:
+            s = -1 - b - nh - nw
+            fx = so[s, :4]
+            for t in range(4):
+                for q in range(4):
+                    solid_rot[t, q] = so[s, 8 + 4 * t + q]
+            fr = solid_rot
+        reused = False
+        if frame >= 0:
+            pair_pose(pos[a], rot[a], fx, fr, pose)
+            while oi < n_old and old_key[oi] < keys[p]:
+                oi += 1
+            if oi < n_old and old_key[oi] == keys[p] and pose_close(pose, old_pose, oi, reuse_distance, reuse_angle):
+                reused = True
+                m = marg[a] + (marg[b] if b >= 0 else 0.0)
+                got = emit_kept(old_local, old_first[oi], old_count[oi], pos[a], rot[a], fx, fr, m, cp, cn, cd, k)
+                # Kept as it was (with the pose it was found at, so slow drift
+                # still reaches the tolerance).
+                new_key[n_new] = keys[p]
+                new_first[n_new] = rows
+                new_count[n_new] = old_count[oi]
+                for t in range(20):
+                    new_pose[n_new, t] = old_pose[oi, t]
+                for j in range(old_count[oi]):
+                    for t in range(12):
+                        new_local[rows + j, t] = old_local[old_first[oi] + j, t]
+                rows += old_count[oi]
+                n_new += 1
+        if reused:
+            pass
+        elif b >= 0:
             m = marg[a] + marg[b]
             # Bounding balls apart by more than the margin: no contact whatever
             # the shapes (a cheap exit before the full test; the box-box test
@@ -567,6 +643,15 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
                             cn[k + q, t] = -cn[k + q, t]
                 else:
                     got = box_box(pos[a], rot[a], half[a], vx, vr, vh, m, scratch_p, scratch_d, wk, cp, cn, cd, k)
+        if frame >= 0 and not reused and got > 0:
+            keep_points(cp, cn, cd, k, got, pos[a], rot[a], fx, fr, new_local, rows)
+            new_key[n_new] = keys[p]
+            new_first[n_new] = rows
+            new_count[n_new] = got
+            for t in range(20):
+                new_pose[n_new, t] = pose[t]
+            rows += got
+            n_new += 1
         for q in range(got):
             body_a[k + q] = a
             body_b[k + q] = b
@@ -580,6 +665,7 @@ def narrowphase(npairs, bodies, static, scratch, contacts):
                         v += tmo[tq, t, j] * cp[k + q, j]
                 surf[k + q, t] = v
         k += got
+    kept_out.pairs[0] = n_new
     keep(own)
     return k
 
@@ -888,7 +974,14 @@ def _borrow(bodies, static, contacts, warm, rows, scratch):
 
 
 @njit(cache=True)
-def tick(bodies, static, params, contacts, warm, rows, scratch):
+def _borrow_kept(k):
+    return Manifolds(
+        borrowed(k.key), borrowed(k.first), borrowed(k.count), borrowed(k.pose), borrowed(k.local), borrowed(k.pairs)
+    )
+
+
+@njit(cache=True)
+def tick(bodies, static, params, contacts, warm, rows, scratch, kept, kept_out):
     """Advance the world by one tick of ``tick_dt`` in ``substeps`` substeps.
 
     Parameters
@@ -904,6 +997,9 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
     rows : SolverRows
         Solver scratch sized like ``contacts``.
     scratch : Scratch
+    kept, kept_out : Manifolds
+        Last tick's box manifolds, and where this tick's go (the caller swaps
+        them after a tick that ran).
 
     Returns
     -------
@@ -915,6 +1011,8 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
     """
     # The arrays without reference counting (see .borrow): the caller holds them.
     bodies, static, contacts, warm, rows, scratch = _borrow(bodies, static, contacts, warm, rows, scratch)
+    kept = _borrow_kept(kept)
+    kept_out = _borrow_kept(kept_out)
     prm = params[0]
     nb = bodies.count
     alive = bodies.alive
@@ -931,7 +1029,7 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
     if npairs < 0:
         scratch.needed[0] = -npairs
         return -1
-    nc = narrowphase(npairs, bodies, static, scratch, contacts)
+    nc = narrowphase(npairs, bodies, static, scratch, contacts, kept, kept_out, prm.reuse_distance, prm.reuse_angle)
     if nc < 0:
         scratch.needed[0] = -nc
         return -2
@@ -967,10 +1065,12 @@ def tick(bodies, static, params, contacts, warm, rows, scratch):
     lam = rows.impulse
     for c in range(nc):
         total[c] = 0.0
+    # The separations before the first substep; later substeps start with those
+    # of the previous relax pass (the bodies have not moved since).
+    current_separation(nc, contacts, rows, dpos, drot)
     for _ in range(ns):
         apply_forces(bodies, prm, h)
         warm_start(nc, contacts, rows, bodies, iso, iinv)
-        current_separation(nc, contacts, rows, dpos, drot)
         solve(nc, contacts, rows, bodies, iso, iinv, inv_h, True, bias_rate, mass_scale, impulse_scale, push, iters)
         integrate_positions(bodies, h)
         for i in range(nb):

@@ -11,7 +11,8 @@ receives
 * :class:`Contacts` - this tick's contact points, filled by the narrowphase;
 * :class:`WarmStart` - last tick's impulses, keyed by pair, replaced each tick;
 * :class:`SolverRows` (with :class:`SpinRows`) - per-contact solver rows;
-* :class:`Scratch` - buffers the broadphase and narrowphase reuse.
+* :class:`Scratch` - buffers the broadphase and narrowphase reuse;
+* :class:`Manifolds` - the last tick's box manifolds in the bodies' frames.
 
 All arrays are indexed by body id (``N`` slots) or contact index (``C``
 capacity); only the first ``Bodies.count`` bodies and the first ``n`` contacts
@@ -57,6 +58,8 @@ PARAMS_DTYPE = np.dtype(
         ("angular_damping", np.float64),  # 1/s
         ("spin_friction", np.float64),  # contact-patch radius of a ball / its radius
         ("rolling_resistance", np.float64),  # ball rolling-resistance coefficient
+        ("reuse_distance", np.float64),  # m, a box manifold is reused while its pair moves less
+        ("reuse_angle", np.float64),  # rad, ...and turns less than this (0 turns reuse off)
     ]
 )
 
@@ -205,6 +208,39 @@ class Contacts(NamedTuple):
     surface_velocity: np.ndarray
 
 
+class Manifolds(NamedTuple):
+    """Box contact manifolds kept in the bodies' own frames, sorted by pair key.
+
+    A pair whose relative pose has changed by less than the ``reuse_distance``
+    and ``reuse_angle`` parameters since its manifold was found reuses it:
+    its points ride along with the two bodies and only their depths are
+    measured again (the narrowphase of two 4D boxes costs far more).
+
+    Attributes
+    ----------
+    key : (P,) int64
+        Pair keys, sorted.
+    first, count : (P,) int64
+        Each pair's rows of ``local``.
+    pose : (P, 20) float64
+        The pair's pose when its manifold was found: b's centre in a's frame
+        (4), then ``R_a^T R_b`` (16, row-major). A static collider's frame is
+        the world's (a solid box's is its own).
+    local : (C, 12) float64
+        Per point: its place on a's surface in a's frame, on b's surface in
+        b's frame, and the normal in a's frame.
+    pairs : (1,) int64
+        Number of pairs stored.
+    """
+
+    key: np.ndarray
+    first: np.ndarray
+    count: np.ndarray
+    pose: np.ndarray
+    local: np.ndarray
+    pairs: np.ndarray
+
+
 class WarmStart(NamedTuple):
     """Last tick's contact impulses, to start this tick's solve near the answer.
 
@@ -339,6 +375,27 @@ def new_contacts(cap: int) -> Contacts:
         np.zeros(cap),
         np.zeros((cap, 4)),
     )
+
+
+def new_manifolds(pair_cap: int, cap: int, old: Manifolds | None = None) -> Manifolds:
+    """Manifold store for ``pair_cap`` pairs and ``cap`` points, keeping the entries of ``old``."""
+    out = Manifolds(
+        np.zeros(pair_cap, np.int64),
+        np.zeros(pair_cap, np.int64),
+        np.zeros(pair_cap, np.int64),
+        np.zeros((pair_cap, 20)),
+        np.zeros((cap, 12)),
+        np.zeros(1, np.int64),
+    )
+    if old is not None:
+        n = int(old.pairs[0])
+        rows = int(old.first[n - 1] + old.count[n - 1]) if n else 0
+        if n <= pair_cap and rows <= cap:
+            for name in ("key", "first", "count", "pose"):
+                getattr(out, name)[:n] = getattr(old, name)[:n]
+            out.local[:rows] = old.local[:rows]
+            out.pairs[0] = n
+    return out
 
 
 def new_warm_start(cap: int, old: WarmStart | None = None) -> WarmStart:

@@ -39,6 +39,7 @@ from .state import (
     Scratch,
     StaticWorld,
     new_contacts,
+    new_manifolds,
     new_params,
     new_solver_rows,
     new_warm_start,
@@ -136,6 +137,10 @@ class PhysicsWorld:
         times the normal force times the radius. 0 (the default) rolls on
         ideally, as the physics tests expect; a level may want about 0.02 so
         balls come to rest and sleep.
+    reuse_distance, reuse_angle : float
+        A box pair's contact manifold is reused while the pair moves less than
+        this (m) and turns less than this (rad) since it was found (see
+        :mod:`.reuse`); an angle of 0 finds every manifold every tick.
 
     Attributes
     ----------
@@ -172,6 +177,8 @@ class PhysicsWorld:
         max_push: float = 3.0,
         spin_friction: float = 0.1,
         rolling_resistance: float = 0.0,
+        reuse_distance: float = 1e-3,
+        reuse_angle: float = np.radians(2.0),
     ):
         if not tick_dt > 0 or int(substeps) < 1:
             raise ValueError("tick_dt must be positive and substeps at least 1")
@@ -191,6 +198,8 @@ class PhysicsWorld:
         p["restitution_threshold"] = 0.5
         p["spin_friction"] = spin_friction
         p["rolling_resistance"] = rolling_resistance
+        p["reuse_distance"] = reuse_distance
+        p["reuse_angle"] = reuse_angle
         p["sleep_linear"] = 0.05
         p["sleep_angular"] = 0.1
         p["sleep_time"] = sleep_time
@@ -318,6 +327,8 @@ class PhysicsWorld:
         )
         self.contacts = new_contacts(contact_cap)
         self._rows = new_solver_rows(contact_cap)
+        old = getattr(self, "_kept", (None, None))[0]
+        self._kept = (new_manifolds(pair_cap, contact_cap, old), new_manifolds(pair_cap, contact_cap))
         self._touch_buf = np.zeros(contact_cap, dtype=np.int64)
         if self.warm.key.shape[0] != contact_cap:
             self.warm = new_warm_start(contact_cap, self.warm)
@@ -445,6 +456,26 @@ class PhysicsWorld:
             warm.count[0] = k
         self._touch_keys = self._touch_keys[~_pair_involves(self._touch_keys, i)]
         self._touch_prev = self._touch_prev[~_pair_involves(self._touch_prev, i)]
+        self._forget_manifolds(_pair_involves(self._kept[0].key[: int(self._kept[0].pairs[0])], i))
+
+    def _forget_manifolds(self, drop: np.ndarray) -> None:
+        """Drop the kept box manifolds of the pairs marked in ``drop``: a newcomer in a
+        freed slot, or a changed static collider, must not inherit them."""
+        kept = self._kept[0]
+        n = int(kept.pairs[0])
+        keep = ~drop
+        k = int(keep.sum())
+        if k != n:
+            for name in ("key", "first", "count", "pose"):
+                arr = getattr(kept, name)
+                arr[:k] = arr[:n][keep]
+            kept.pairs[0] = k
+
+    def _forget_static_manifolds(self) -> None:
+        if not hasattr(self, "_kept"):
+            return
+        kept = self._kept[0]
+        self._forget_manifolds((kept.key[: int(kept.pairs[0])] & 0xFFFFFFFF) >= pl.STATIC_KEY)
 
     def _wake_near(self, i: int) -> None:
         n = self._n
@@ -586,6 +617,7 @@ class PhysicsWorld:
             raise ValueError("normal must be non-zero")
         row = np.append(n / ln, float(offset) / ln)
         self.static = self.static._replace(half_spaces=np.vstack([self.static.half_spaces, row[None]]))
+        self._forget_static_manifolds()
         self._wake_all()
         return self.static.half_spaces.shape[0] - 1
 
@@ -600,6 +632,7 @@ class PhysicsWorld:
                 raise ValueError("world box half extents must be positive")
             rows.append(np.concatenate([c, h]))
         self.static = self.static._replace(boxes=np.array(rows, dtype=np.float64).reshape(-1, 6))
+        self._forget_static_manifolds()
         self._wake_all()
 
     def set_static_solids(self, solids: Iterable[tuple]) -> None:
@@ -626,6 +659,7 @@ class PhysicsWorld:
         if new.shape == old.shape and np.array_equal(new, old):
             return
         self.static = self.static._replace(solids=new)
+        self._forget_static_manifolds()
         changed = [r for r in old if not any(np.array_equal(r, q) for q in new)]
         changed += [r for r in new if not any(np.array_equal(r, q) for q in old)]
         self._wake_near_solids(changed)
@@ -665,6 +699,7 @@ class PhysicsWorld:
         if all(a.shape == b.shape and np.array_equal(a, b) for a, b in zip(new, old)):
             return
         self.static = st._replace(convex_planes=new[0], convex_ranges=new[1], convex_bounds=new[2])
+        self._forget_static_manifolds()
         # Wake sleepers near every convex solid before and after (changes are rare: a door opens).
         boxes = [np.concatenate([0.5 * (b[:4] + b[4:]), 0.5 * (b[4:] - b[:4]), np.eye(4).ravel()]) for b in old[2]]
         boxes += [np.concatenate([0.5 * (b[:4] + b[4:]), 0.5 * (b[4:] - b[:4]), np.eye(4).ravel()]) for b in new[2]]
@@ -836,13 +871,17 @@ class PhysicsWorld:
         self._prev_position[:n] = self.bodies.position[:n]
         self._prev_rotation[:n] = self.bodies.rotation[:n]
         while True:
-            nc = pl.tick(self.bodies, self.static, params, self.contacts, self.warm, self._rows, self._scratch)
+            kept, kept_out = self._kept
+            nc = pl.tick(
+                self.bodies, self.static, params, self.contacts, self.warm, self._rows, self._scratch, kept, kept_out
+            )
             if nc == -1:
                 self._alloc_contacts(2 * int(self._scratch.needed[0]), self.contacts.key.shape[0])
             elif nc == -2:
                 self._alloc_contacts(self._scratch.pairs.shape[0], 2 * int(self._scratch.needed[0]))
             else:
                 break
+        self._kept = (kept_out, kept)
         self.last_contact_count = nc
         self.time += self.tick_dt
         nt = touching_keys(nc, self.contacts, _TOUCH_TOL, self._touch_buf)
@@ -883,7 +922,7 @@ class PhysicsWorld:
 
     # ------------------------------------------------------------------ determinism
     def state_bytes(self) -> bytes:
-        """Everything that determines the future: bodies, sleep state, warm-start cache."""
+        """Everything that determines the future: bodies, sleep state, warm-start impulses, kept manifolds."""
         n = self._n
         warm = self.warm
         c = int(warm.count[0])
@@ -909,11 +948,19 @@ class PhysicsWorld:
         ):
             parts.append(getattr(b, name)[:n])
         # The params record's bytes are those of its 25 float64 fields in order.
+        kept = self._kept[0]
+        k = int(kept.pairs[0])
         parts += [
             warm.key[:c],
             warm.local_point[:c],
             warm.normal_impulse[:c],
             warm.friction_impulse[:c],
+            kept.key[:k],
+            kept.count[:k],
+            kept.pose[:k],
+        ]
+        parts += [kept.local[f : f + n] for f, n in zip(kept.first[:k], kept.count[:k])]
+        parts += [
             self.static.half_spaces,
             self.static.boxes,  # (the solids are not here: see set_static_solids)
             self.params,
