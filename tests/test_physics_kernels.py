@@ -117,7 +117,8 @@ def test_prepared_rows_match_the_contact_jacobians():
     npairs = pipeline.find_pairs(
         b, world.static, prm["tick_dt"], prm["margin"], world._scratch.pairs, world._scratch.margin
     )
-    nc = pipeline.narrowphase(npairs, b, world.static, world._scratch, world.contacts)
+    kept = world._kept
+    nc = pipeline.narrowphase(npairs, b, world.static, world._scratch, world.contacts, kept[0], kept[1], 0.0, 0.0)
     nb = b.count
     iinv = np.zeros((nb, 6, 6))
     iso = np.zeros(nb)
