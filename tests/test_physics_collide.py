@@ -21,7 +21,7 @@ def _box_box(xa, ra, ha, xb, rb, hb, margin=0.02):
     cd = np.zeros(collide.SCRATCH_POINTS)
     wk = np.zeros((collide.SCRATCH_ROWS, 4))
     op, on, od = np.zeros((8, 4)), np.zeros((8, 4)), np.zeros(8)
-    n = collide.box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, wk, op, on, od, 0)
+    n = max(collide.box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, wk, op, on, od, 0), 0)
     return op[:n], on[:n], od[:n]
 
 
@@ -84,3 +84,29 @@ def test_box_sphere_depth_is_exact(a, h, off, r):
         c2 = c + on[0] * (od[0] + 1e-9)
         q2 = rot.T @ c2
         assert np.linalg.norm(q2 - np.clip(q2, -half, half)) >= r - 1e-6
+
+
+def test_box_box_names_its_separating_axis_and_that_axis_alone_tells_apart():
+    """``box_box`` reports the first candidate axis that separates two boxes, and
+    ``separated_along`` on that axis agrees; on any other pose it never calls a
+    touching pair apart (it only ever skips the full test when that finds nothing)."""
+    rng = np.random.default_rng(21)
+    cp = np.zeros((collide.SCRATCH_POINTS, 4))
+    cd = np.zeros(collide.SCRATCH_POINTS)
+    wk = np.zeros((collide.SCRATCH_ROWS, 4))
+    op, on, od = np.zeros((8, 4)), np.zeros((8, 4)), np.zeros(8)
+    seen = set()
+    for _ in range(3000):
+        xa, xb = rng.normal(size=4) * 0.3, rng.normal(size=4) * 0.3
+        ra, rb = _rot(rng.uniform(-np.pi, np.pi, 6)), _rot(rng.uniform(-np.pi, np.pi, 6))
+        ha, hb = rng.uniform(0.05, 0.3, 4), rng.uniform(0.05, 0.3, 4)
+        n = collide.box_box(xa, ra, ha, xb, rb, hb, 0.01, cp, cd, wk, op, on, od, 0)
+        if n < 0:
+            axis = -1 - n
+            assert 0 <= axis < 56
+            seen.add(axis >= 8)
+            assert collide.separated_along(axis, xa, ra, ha, xb, rb, hb, 0.01, wk)
+        else:
+            for axis in rng.integers(0, 56, 5):
+                assert not collide.separated_along(axis, xa, ra, ha, xb, rb, hb, 0.01, wk)
+    assert seen == {False, True}  # both face and face-edge axes were met

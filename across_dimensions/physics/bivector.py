@@ -140,7 +140,7 @@ def mat6_vec(m, v, out):
 
 
 @njit(cache=True)
-def rotate_by(w, h, rot, wk):
+def rotate_by(w, h, rot, wk, orthonormalise=True):
     """Advance ``rot`` in place to ``expm(h * skew(w)) @ rot``, re-orthonormalised.
 
     The update is in the world frame because ``w`` is a world-frame angular
@@ -155,6 +155,10 @@ def rotate_by(w, h, rot, wk):
         Updated in place.
     wk : (5, 4, 4) float64
         Scratch.
+    orthonormalise : bool
+        False skips the Gram-Schmidt step (it costs as much as the rest): the
+        product of two rotations drifts from one by rounding only, so once a
+        tick is enough.
     """
     e = wk[3]
     tmp = wk[4]
@@ -165,7 +169,8 @@ def rotate_by(w, h, rot, wk):
             for k in range(4):
                 s += e[i, k] * rot[k, j]
             tmp[i, j] = s
-    gram_schmidt(tmp)
+    if orthonormalise:
+        gram_schmidt(tmp)
     for i in range(4):
         for j in range(4):
             rot[i, j] = tmp[i, j]

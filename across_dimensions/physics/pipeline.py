@@ -36,6 +36,7 @@ from .collide import (
     box_box,
     box_halfspace,
     box_sphere,
+    separated_along,
     sphere_halfspace,
     sphere_sphere,
 )
@@ -460,12 +461,14 @@ def narrowphase(npairs, bodies, static, scratch, contacts, kept, kept_out, reuse
     old_key = kept.key
     old_first = kept.first
     old_count = kept.count
+    old_axis = kept.axis
     old_pose = kept.pose
     old_local = kept.local
     n_old = kept.pairs[0]
     new_key = kept_out.key
     new_first = kept_out.first
     new_count = kept_out.count
+    new_axis = kept_out.axis
     new_pose = kept_out.pose
     new_local = kept_out.local
     pose = work[SCRATCH_ROWS + 8 : SCRATCH_ROWS + 13].reshape(20)
@@ -505,12 +508,18 @@ def narrowphase(npairs, bodies, static, scratch, contacts, kept, kept_out, reuse
                     solid_rot[t, q] = so[s, 8 + 4 * t + q]
             fr = solid_rot
         reused = False
+        tried = -1
         if frame >= 0:
-            pair_pose(pos[a], rot[a], fx, fr, pose)
             while oi < n_old and old_key[oi] < keys[p]:
                 oi += 1
-            if oi < n_old and old_key[oi] == keys[p] and pose_close(pose, old_pose, oi, reuse_distance, reuse_angle):
-                reused = True
+            if oi < n_old and old_key[oi] == keys[p]:
+                if old_count[oi] == 0:
+                    # Two boxes that were apart: try last tick's separating axis first.
+                    tried = old_axis[oi]
+                else:
+                    pair_pose(pos[a], rot[a], fx, fr, pose)
+                    reused = pose_close(pose, old_pose, oi, reuse_distance, reuse_angle)
+            if reused:
                 m = marg[a] + (marg[b] if b >= 0 else 0.0)
                 got = emit_kept(old_local, old_first[oi], old_count[oi], pos[a], rot[a], fx, fr, m, cp, cn, cd, k)
                 # Kept as it was (with the pose it was found at, so slow drift
@@ -518,6 +527,7 @@ def narrowphase(npairs, bodies, static, scratch, contacts, kept, kept_out, reuse
                 new_key[n_new] = keys[p]
                 new_first[n_new] = rows
                 new_count[n_new] = old_count[oi]
+                new_axis[n_new] = -1
                 for t in range(20):
                     new_pose[n_new, t] = old_pose[oi, t]
                 for j in range(old_count[oi]):
@@ -548,6 +558,8 @@ def narrowphase(npairs, bodies, static, scratch, contacts, kept, kept_out, reuse
                 for q in range(got):
                     for t in range(4):
                         cn[k + q, t] = -cn[k + q, t]
+            elif tried >= 0 and separated_along(tried, pos[a], rot[a], half[a], pos[b], rot[b], half[b], m, wk):
+                got = -1 - tried
             else:
                 got = box_box(
                     pos[a], rot[a], half[a], pos[b], rot[b], half[b], m, scratch_p, scratch_d, wk, cp, cn, cd, k
@@ -643,11 +655,24 @@ def narrowphase(npairs, bodies, static, scratch, contacts, kept, kept_out, reuse
                             cn[k + q, t] = -cn[k + q, t]
                 else:
                     got = box_box(pos[a], rot[a], half[a], vx, vr, vh, m, scratch_p, scratch_d, wk, cp, cn, cd, k)
-        if frame >= 0 and not reused and got > 0:
+        apart = -1
+        if got < 0:
+            # box_box found a separating axis.
+            apart = -1 - got
+            got = 0
+        if frame == 1 and apart >= 0:
+            new_key[n_new] = keys[p]
+            new_first[n_new] = rows
+            new_count[n_new] = 0
+            new_axis[n_new] = apart
+            n_new += 1
+        elif frame >= 0 and not reused and got > 0:
+            pair_pose(pos[a], rot[a], fx, fr, pose)
             keep_points(cp, cn, cd, k, got, pos[a], rot[a], fx, fr, new_local, rows)
             new_key[n_new] = keys[p]
             new_first[n_new] = rows
             new_count[n_new] = got
+            new_axis[n_new] = -1
             for t in range(20):
                 new_pose[n_new, t] = pose[t]
             rows += got
@@ -714,7 +739,7 @@ def apply_forces(bodies, prm, h):
 
 
 @njit(cache=True)
-def integrate_positions(bodies, h):
+def integrate_positions(bodies, h, orthonormalise=True):
     """Move awake dynamic and kinematic bodies by one substep.
 
     Bodies with an isotropic inertia (hyperspheres, hypercubes) keep their
@@ -722,6 +747,7 @@ def integrate_positions(bodies, h):
     momentum ``L = I_world(R) omega`` is what is conserved, so the rotation uses
     the midpoint rate recomputed from ``L`` and ``omega`` is re-derived from
     ``L`` afterwards (second order, and ``L`` is kept exactly).
+    ``orthonormalise`` is passed on to :func:`.bivector.rotate_by`.
     """
     nb = bodies.count
     alive = bodies.alive
@@ -753,7 +779,7 @@ def integrate_positions(bodies, h):
             if inv_inertia[i, k] != inv_inertia[i, 0]:
                 iso = False
         if iso or kind[i] == KINEMATIC:
-            rotate_by(omg[i], h, rot[i], wk)
+            rotate_by(omg[i], h, rot[i], wk, orthonormalise)
             continue
         compound(rot[i], M)
         for k in range(6):
@@ -769,9 +795,9 @@ def integrate_positions(bodies, h):
         for a in range(4):
             for b in range(4):
                 rh[a, b] = rot[i, a, b]
-        rotate_by(omg[i], 0.5 * h, rh, wk)
+        rotate_by(omg[i], 0.5 * h, rh, wk, False)
         _omega_from_l(rh, inv_inertia[i], lw, M, wh)
-        rotate_by(wh, h, rot[i], wk)
+        rotate_by(wh, h, rot[i], wk, orthonormalise)
         _omega_from_l(rot[i], inv_inertia[i], lw, M, omg[i])
     keep(own)
     keep(own6)
@@ -976,7 +1002,13 @@ def _borrow(bodies, static, contacts, warm, rows, scratch):
 @njit(cache=True)
 def _borrow_kept(k):
     return Manifolds(
-        borrowed(k.key), borrowed(k.first), borrowed(k.count), borrowed(k.pose), borrowed(k.local), borrowed(k.pairs)
+        borrowed(k.key),
+        borrowed(k.first),
+        borrowed(k.count),
+        borrowed(k.axis),
+        borrowed(k.pose),
+        borrowed(k.local),
+        borrowed(k.pairs),
     )
 
 
@@ -1068,11 +1100,12 @@ def tick(bodies, static, params, contacts, warm, rows, scratch, kept, kept_out):
     # The separations before the first substep; later substeps start with those
     # of the previous relax pass (the bodies have not moved since).
     current_separation(nc, contacts, rows, dpos, drot)
-    for _ in range(ns):
+    for step in range(ns):
         apply_forces(bodies, prm, h)
         warm_start(nc, contacts, rows, bodies, iso, iinv)
         solve(nc, contacts, rows, bodies, iso, iinv, inv_h, True, bias_rate, mass_scale, impulse_scale, push, iters)
-        integrate_positions(bodies, h)
+        # Rotations are re-orthonormalised once a tick, after the last substep.
+        integrate_positions(bodies, h, step == ns - 1)
         for i in range(nb):
             if not alive[i] or kind[i] == STATIC:
                 continue

@@ -222,6 +222,10 @@ class Manifolds(NamedTuple):
         Pair keys, sorted.
     first, count : (P,) int64
         Each pair's rows of ``local``.
+    axis : (P,) int64
+        For two boxes found apart (``count`` 0): the candidate axis of
+        :func:`~.collide.box_box` that separated them, tried first next
+        tick; -1 for a manifold.
     pose : (P, 20) float64
         The pair's pose when its manifold was found: b's centre in a's frame
         (4), then ``R_a^T R_b`` (16, row-major). A static collider's frame is
@@ -236,6 +240,7 @@ class Manifolds(NamedTuple):
     key: np.ndarray
     first: np.ndarray
     count: np.ndarray
+    axis: np.ndarray
     pose: np.ndarray
     local: np.ndarray
     pairs: np.ndarray
@@ -383,6 +388,7 @@ def new_manifolds(pair_cap: int, cap: int, old: Manifolds | None = None) -> Mani
         np.zeros(pair_cap, np.int64),
         np.zeros(pair_cap, np.int64),
         np.zeros(pair_cap, np.int64),
+        np.zeros(pair_cap, np.int64),
         np.zeros((pair_cap, 20)),
         np.zeros((cap, 12)),
         np.zeros(1, np.int64),
@@ -391,7 +397,7 @@ def new_manifolds(pair_cap: int, cap: int, old: Manifolds | None = None) -> Mani
         n = int(old.pairs[0])
         rows = int(old.first[n - 1] + old.count[n - 1]) if n else 0
         if n <= pair_cap and rows <= cap:
-            for name in ("key", "first", "count", "pose"):
+            for name in ("key", "first", "count", "axis", "pose"):
                 getattr(out, name)[:n] = getattr(old, name)[:n]
             out.local[:rows] = old.local[:rows]
             out.pairs[0] = n

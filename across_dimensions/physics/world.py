@@ -466,7 +466,7 @@ class PhysicsWorld:
         keep = ~drop
         k = int(keep.sum())
         if k != n:
-            for name in ("key", "first", "count", "pose"):
+            for name in ("key", "first", "count", "axis", "pose"):
                 arr = getattr(kept, name)
                 arr[:k] = arr[:n][keep]
             kept.pairs[0] = k
@@ -957,6 +957,7 @@ class PhysicsWorld:
             warm.friction_impulse[:c],
             kept.key[:k],
             kept.count[:k],
+            kept.axis[:k],
             kept.pose[:k],
         ]
         parts += [kept.local[f : f + n] for f, n in zip(kept.first[:k], kept.count[:k])]
