@@ -8,7 +8,9 @@ on the inputs, never on timing or hashing):
    the level's solid objects as 4D boxes, convex solids or tet meshes);
 2. wake sleeping islands touched by moving bodies;
 3. narrowphase contacts for the pairs, sorted by pair key (so last tick's
-   contacts can be matched for warm starting in one forward pass);
+   contacts can be matched for warm starting in one forward pass); box pairs
+   that barely moved reuse last tick's manifold (:mod:`.reuse`), and box pairs
+   that were apart try last tick's separating axis first;
 4. solver rows for every contact (see :mod:`.solver`);
 5. substeps of the soft-step solver: forces (gravity, optional inverse-cube
    attraction), warm start, solve, move, relax; then restitution;

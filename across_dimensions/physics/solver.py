@@ -6,6 +6,11 @@ hyperplane (a 3D space in 4D). A row along unit direction ``d`` at offsets
 on ``(vA, wA, vB, wB)``, so the relative velocity along ``d`` is
 ``d . (vB - vA) + (rB ^ d) . wB - (rA ^ d) . wA`` and its effective mass is
 ``1 / (1/mA + 1/mB + (rA^d) . IA^-1 (rA^d) + (rB^d) . IB^-1 (rB^d))``.
+That relative velocity is ``d . u`` with ``u`` the velocity of b's contact
+point minus a's (``v + w r`` each, see :func:`_spin_velocity`), which is how
+the solver computes it: ``u`` once per contact, then one dot product per row,
+and the contact's whole impulse applied to the bodies at once. For an
+isotropic inertia ``i`` the angular term is ``i (|r|^2 - (r . d)^2)``.
 
 Friction is isotropic: the three tangent impulses form one vector clamped to
 the ball of radius ``mu * normal impulse`` (a Coulomb cone in 4D), which is what
@@ -256,8 +261,7 @@ def _prepare_spins(nc, body_a, body_b, frames, friction, shape, bound, iinv, iso
     ``frames`` are the contacts' row directions (normal, then tangents) and
     ``friction`` their friction coefficients, from :func:`prepare`. ``spin`` is
     the :class:`~.state.SpinRows` to fill; the limits are 0 for contacts without
-    a ball, and ``I^-1 B`` is only stored for anisotropic bodies (as in
-    :func:`prepare`). One loop over all contacts with the arrays taken out once:
+    a ball. One loop over all contacts with the arrays taken out once:
     a call per contact would cost a reference-count call per array.
     """
     lim = spin.limits
@@ -384,7 +388,8 @@ def _axpy6(s, x, y):
 
 @njit(inline="always")
 def _spin_velocity(w0, w1, w2, w3, w4, w5, r0, r1, r2, r3):
-    """Velocity of the point at offset ``r`` of a body spinning at bivector ``w``.
+    """Velocity of the point at offset ``r`` of a body spinning at bivector ``w``
+    (:func:`.bivector.spin_velocity` on scalars).
 
     It is the vector ``u`` with ``d . u = (r ^ d) . w`` for every ``d`` (the
     angular part of a row's relative velocity), planes ordered xy, xz, yz, xw,
