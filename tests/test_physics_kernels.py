@@ -118,7 +118,9 @@ def test_prepared_rows_match_the_contact_jacobians():
         b, world.static, prm["tick_dt"], prm["margin"], world._scratch.pairs, world._scratch.margin
     )
     kept = world._kept
-    nc = pipeline.narrowphase(npairs, b, world.static, world._scratch, world.contacts, kept[0], kept[1], 0.0, 0.0)
+    prm_off = world.params.copy()
+    prm_off["reuse_angle"] = 0.0
+    nc = pipeline.narrowphase(npairs, b, world.static, world._scratch, world.contacts, kept[0], kept[1], prm_off[0])
     nb = b.count
     iinv = np.zeros((nb, 6, 6))
     iso = np.zeros(nb)
