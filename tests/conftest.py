@@ -16,6 +16,17 @@ import pytest
 import across_dimensions  # noqa: F401
 
 GOLDEN_DIR = Path(__file__).parent / "golden"
+REPO = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def env() -> dict:
+    """Environment for running the command as a subprocess: this checkout first on the path, the
+    numba cache as the caller set it (a test module may define its own)."""
+    e = dict(os.environ)
+    e["PYTHONPATH"] = os.pathsep.join(p for p in (str(REPO), e.get("PYTHONPATH")) if p)
+    e.pop("PYTHONWARNINGS", None)
+    return e
 
 
 @pytest.fixture(scope="session")

@@ -32,15 +32,6 @@ SHIPPED = {p.stem: p for p in sorted((LEVELS / "replays").glob("*.json"))}
 TIMEOUT = 240  # the first run may compile the numba kernels
 
 
-@pytest.fixture(scope="module")
-def env() -> dict:
-    """This checkout first on the path; the numba cache as the caller set it."""
-    e = dict(os.environ)
-    e["PYTHONPATH"] = os.pathsep.join(p for p in (str(REPO), e.get("PYTHONPATH")) if p)
-    e.pop("PYTHONWARNINGS", None)
-    return e
-
-
 def run(env, cwd, *args, timeout=TIMEOUT) -> subprocess.CompletedProcess:
     return subprocess.run(
         [sys.executable, "-m", "across_dimensions", *map(str, args)],

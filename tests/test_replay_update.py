@@ -8,22 +8,12 @@ ends as recorded. The shortest shipped replay (the Tumbling Hall, 244 ticks) kee
 from __future__ import annotations
 
 import json
-import os
 
 import pytest
-from test_replay_cli import REPO, SHIPPED, describe, one_line_error, replay_json, run
+from test_replay_cli import SHIPPED, describe, one_line_error, replay_json, run
 
 NAME = "03_tumbling_hall"
 SOURCE = SHIPPED[NAME]
-
-
-@pytest.fixture(scope="module")
-def env() -> dict:
-    """This checkout first on the path; the numba cache as the caller set it."""
-    e = dict(os.environ)
-    e["PYTHONPATH"] = os.pathsep.join(p for p in (str(REPO), e.get("PYTHONPATH")) if p)
-    e.pop("PYTHONWARNINGS", None)
-    return e
 
 
 def _compact(data: dict) -> str:
