@@ -31,10 +31,11 @@ Game-facing API of :class:`PhysicsWorld`:
 * level settings: ``gravity``, ``inverse_cube_G``, ``allow_sleep``.
 
 Modules: :mod:`.bivector` (rotation maths on bivectors), :mod:`.mass`
-(hypervolumes and inertia), :mod:`.collide` (narrowphase), :mod:`.solver`
-(contact impulses), :mod:`.state` (the named bundles a tick works on),
-:mod:`.pipeline` (one compiled tick), :mod:`.queries` (ray casts, box push-out),
-:mod:`.body_def`, :mod:`.events`, :mod:`.debug_draw`, :mod:`.world`, :mod:`.bench`.
+(hypervolumes and inertia), :mod:`.collide` (narrowphase), :mod:`.reuse`
+(box manifolds kept while a pair barely moves), :mod:`.solver` (contact impulses),
+:mod:`.state` (the named bundles a tick works on), :mod:`.pipeline` (one compiled tick),
+:mod:`.queries` (ray casts, box push-out), :mod:`.body_def`, :mod:`.events`,
+:mod:`.debug_draw`, :mod:`.world`, :mod:`.bench`.
 """
 
 from ._cache import drop_stale_kernels
