@@ -1,0 +1,131 @@
+"""Size guides of CONVENTIONS.md (*Sizes*), checked on the syntax tree of every module.
+
+Modules under 600 lines; functions under 80 lines and with at most 8 parameters, unless the
+line above the function (or above its decorators) says why with a ``# size: ...`` comment.
+``DEBT`` lists what does not meet the guides yet; an entry that is met fails the test until it is
+removed, so the list only shrinks.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+PKG = Path(__file__).resolve().parents[1] / "across_dimensions"
+MAX_MODULE_LINES = 600
+MAX_FUNCTION_LINES = 80
+MAX_PARAMETERS = 8
+
+#: Modules and functions still over a guide: ``"path"`` for a module, ``"path:function"`` for a function.
+DEBT: set[str] = {
+    "app/settings.py",
+    "app/window.py",
+    "core/mesh.py",
+    "core/section.py",
+    "core/section_batch.py",
+    "core/shapes.py",
+    "game/replay.py",
+    "physics/collide.py",
+    "physics/pipeline.py",
+    "physics/solver.py",
+    "physics/tet_mesh.py",
+    "physics/world.py",
+    "render/hud.py",
+    "render/radar.py",
+    "render/renderer.py",
+    "world/gameplay.py",
+    "world/level.py",
+    "app/cli.py:_parser",
+    "app/commands.py:_bench_game",
+    "app/settings.py:load_settings",
+    "app/window.py:__init__",
+    "core/frustum_batch.py:_project_batch",
+    "core/section_batch.py:_slice_batch",
+    "core/section_batch.py:_slice_cells",
+    "core/section_batch.py:update",
+    "core/transform.py:expm_skew",
+    "game/player.py:step_player",
+    "physics/collide.py:reduce_points",
+    "physics/collide.py:_clip_into",
+    "physics/collide.py:box_box",
+    "physics/pipeline.py:find_pairs",
+    "physics/pipeline.py:narrowphase",
+    "physics/pipeline.py:_borrow",
+    "physics/pipeline.py:tick",
+    "physics/queries.py:raycast_kernel",
+    "physics/solver.py:prepare",
+    "physics/solver.py:solve",
+    "physics/tet_mesh.py:_emit_box",
+    "physics/tet_mesh.py:sphere_tets",
+    "physics/tet_mesh.py:box_tets",
+    "physics/world.py:__init__",
+    "physics/world.py:add_body",
+    "physics/world.py:set_static_tets",
+    "render/hud.py:hud_quads",
+    "render/menu.py:menu_quads",
+    "render/png.py:decode_png",
+    "render/radar.py:radar_geometry",
+    "render/renderer.py:draw",
+    "world/level.py:_object_table",
+    "world/level.py:load_level",
+    "core/lift.py:extend_solid",
+    "core/meshio.py:_try_collapse",
+    "core/section.py:_normal_of",
+    "core/section.py:_find_cut",
+    "core/section.py:_emit",
+    "core/section.py:_points_by_tet",
+    "core/section.py:_points_by_edge",
+    "core/section.py:_rows",
+    "physics/collide.py:sphere_sphere",
+    "physics/collide.py:box_sphere",
+    "physics/collide.py:_emit",
+    "physics/collide.py:_face_edge_axes",
+    "physics/collide.py:separated_along",
+    "physics/collide.py:sphere_halfspace",
+    "physics/collide.py:box_halfspace",
+    "physics/reuse.py:emit_kept",
+    "physics/reuse.py:keep_points",
+    "physics/solver.py:_prepare_spins",
+    "physics/solver.py:_spin_velocity",
+    "physics/solver.py:_push",
+    "physics/tet_mesh.py:_add",
+    "physics/tet_mesh.py:_keep_least_deep",
+    "physics/tet_mesh.py:_surface_point",
+    "world/bake.py:lift_asset",
+}
+
+
+def _excused(lines: list[str], node: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    first = min([node.lineno, *(d.lineno for d in node.decorator_list)])
+    return first >= 2 and lines[first - 2].strip().startswith("# size:")
+
+
+def offenders() -> set[str]:
+    """Every module and function over a guide and not excused, as ``DEBT`` names them."""
+    found = set()
+    for path in sorted(PKG.rglob("*.py")):
+        rel = path.relative_to(PKG).as_posix()
+        text = path.read_text(encoding="utf-8")
+        lines = text.splitlines()
+        if len(lines) >= MAX_MODULE_LINES:
+            found.add(rel)
+        for node in ast.walk(ast.parse(text)):
+            if not isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef) or _excused(lines, node):
+                continue
+            a = node.args
+            params = [x.arg for x in (*a.posonlyargs, *a.args, *a.kwonlyargs) if x.arg not in ("self", "cls")]
+            if node.end_lineno - node.lineno + 1 >= MAX_FUNCTION_LINES or len(params) > MAX_PARAMETERS:
+                found.add(f"{rel}:{node.name}")
+    return found
+
+
+def test_no_new_module_or_function_over_the_guides():
+    new = sorted(offenders() - DEBT)
+    assert not new, "over the size guides of CONVENTIONS.md (split it, or mark a kernel '# size: why'):\n" + "\n".join(
+        new
+    )
+
+
+def test_debt_only_shrinks():
+    paid = sorted(DEBT - offenders())
+    assert not paid, "these now meet the size guides; remove them from DEBT in tests/test_sizes.py:\n" + "\n".join(paid)
