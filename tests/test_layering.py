@@ -2,7 +2,8 @@
 
 * ``core/`` imports only numpy, numba, the standard library and
   ``across_dimensions.core`` itself (no exception: even GLB export is numpy).
-* only ``render/`` imports moderngl; only ``app/`` imports pyglet.
+* only ``render/`` imports moderngl; only ``app/`` imports pyglet; only the Flatland prologue's
+  simulation (``game/flatland/``) imports pymunk, so it never reaches ``core`` or ``physics``.
 * ``game/``, ``physics/``, ``world/`` and ``core/`` never read the wall clock
   (benchmarks excepted) and never use global random state: randomness comes
   from seeded ``np.random.default_rng`` generators.
@@ -258,6 +259,14 @@ def test_only_app_imports_pyglet():
     assert not problems, _report(problems)
 
 
+def test_only_the_prologue_imports_pymunk():
+    problems = [
+        p for rel, src in SOURCES.items() for p in exclusive_import_problems(rel, src, "pymunk", "game/flatland/")
+    ]
+    assert not problems, _report(problems)
+    assert any("pymunk" in {i.module for i in imports(rel, src)} for rel, src in SOURCES.items())  # still used
+
+
 def test_no_wall_clock_in_deterministic_layers():
     problems = [
         p for rel, src in _deterministic_files().items() if rel not in CLOCK_ALLOWED for p in clock_problems(rel, src)
@@ -306,6 +315,15 @@ def test_checker_moderngl(rel, source, bad):
     assert bool(problems) == bad, problems
     if bad:
         assert f"across_dimensions/{rel}:" in problems[0] and "moderngl" in problems[0]
+
+
+@pytest.mark.parametrize(
+    "rel, bad",
+    [("core/flat_section.py", True), ("physics/world.py", True), ("game/sim.py", True), ("game/flatland/x.py", False)],
+)
+def test_checker_pymunk(rel, bad):
+    problems = exclusive_import_problems(rel, "import pymunk\n", "pymunk", "game/flatland/")
+    assert bool(problems) == bad, problems
 
 
 @pytest.mark.parametrize(
@@ -361,13 +379,13 @@ def _modules_after_import(*modules: str, tmp_path) -> set[str]:
 
 
 def test_importing_the_simulation_loads_no_window_or_gpu(tmp_path):
-    loaded = _modules_after_import("across_dimensions.game.sim", tmp_path=tmp_path)
+    loaded = _modules_after_import("across_dimensions.game.sim", "across_dimensions.physics", tmp_path=tmp_path)
     assert "across_dimensions" in loaded
-    assert not loaded & {"pyglet", "moderngl"}, sorted(loaded & {"pyglet", "moderngl"})
+    assert not loaded & {"pyglet", "moderngl", "pymunk"}, sorted(loaded & {"pyglet", "moderngl", "pymunk"})
 
 
 def test_importing_the_core_loads_no_optional_packages(tmp_path):
     core = [f"across_dimensions.core.{p.stem}" for p in sorted((PKG / "core").glob("*.py")) if p.stem != "__init__"]
     loaded = _modules_after_import("across_dimensions.core", *core, tmp_path=tmp_path)
-    unwanted = {"pyglet", "moderngl", "trimesh"}
+    unwanted = {"pyglet", "moderngl", "trimesh", "pymunk"}
     assert not loaded & unwanted, sorted(loaded & unwanted)

@@ -51,6 +51,7 @@ from .limits import (
     SPIN,
     Range,
 )
+from .resources import FLAT_FORMAT
 
 PROFILES = ("prism", "round", "taper")
 OBJECT_BODIES = ("none", "hypersphere", "hypercube")
@@ -816,6 +817,9 @@ def load_level(path, source: bytes | None = None) -> Level:
     """
     path = Path(path)
     data, raw = _parse(path, source)
+    if isinstance(data.get("level"), dict) and data["level"].get("format") == FLAT_FORMAT:
+        what = f'format = "{FLAT_FORMAT}" is a Flatland prologue level, not a 4D one (world/flat_level.py reads it)'
+        raise LevelError(path, [f"{path}: [level]: {what}"])
     r = _Reader(path)
     r.unknown(data, MODELS, "top level")
     meta, w_ok = _level_table(r, data, path)

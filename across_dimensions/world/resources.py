@@ -10,9 +10,15 @@ folder ``sys._MEIPASS`` names. Everything else asks this module, never ``__file_
 from __future__ import annotations
 
 import sys
+import tomllib
 from pathlib import Path
 
+from ..core.fileio import FileProblem, read_text
+from .limits import MAX_LEVEL_BYTES
+
 _PACKAGE = Path(__file__).resolve().parent.parent
+#: ``[level] format`` of the Flatland prologue's levels (``world/flat_level.py``); 4D levels have a number.
+FLAT_FORMAT = "flatland"
 
 
 def _bundle_dir() -> Path | None:
@@ -42,9 +48,32 @@ def assets_dir() -> Path:
     return _data_dir("assets")
 
 
-def level_files() -> list[Path]:
-    """Shipped levels sorted by file name (the campaign file beside them is not a level)."""
+def is_prologue_file(path) -> bool:
+    """Whether the level file at ``path`` says ``format = "flatland"`` (a Flatland prologue level).
+
+    False for a file that cannot be read or parsed: the loader that reads it next says why.
+    """
+    try:
+        data = tomllib.loads(read_text(Path(path), limit=MAX_LEVEL_BYTES, what="level"))
+    except (FileProblem, tomllib.TOMLDecodeError, UnicodeDecodeError, ValueError, RecursionError):
+        return False
+    meta = data.get("level")
+    return isinstance(meta, dict) and meta.get("format") == FLAT_FORMAT
+
+
+def _shipped() -> list[Path]:
     return sorted(p for p in levels_dir().glob("*.toml") if p.name != "campaign.toml")
+
+
+def level_files() -> list[Path]:
+    """Shipped 4D levels sorted by file name (the campaign file beside them is not a level, and the
+    prologue's levels are :func:`prologue_files`)."""
+    return [p for p in _shipped() if not is_prologue_file(p)]
+
+
+def prologue_files() -> list[Path]:
+    """Shipped Flatland prologue levels (``format = "flatland"``), sorted by file name."""
+    return [p for p in _shipped() if is_prologue_file(p)]
 
 
 def resolve_asset(relative: str) -> Path:
@@ -75,10 +104,10 @@ def resolve_level(name_or_path: str) -> Path:
     p = Path(name_or_path)
     if p.suffix == ".toml" and p.exists():
         return p
-    for f in level_files():
+    for f in _shipped():
         if f.stem == name_or_path or f.name == name_or_path:
             return f
     if p.exists():
         return p
-    known = ", ".join(f.stem for f in level_files())
+    known = ", ".join(f.stem for f in _shipped())
     raise FileNotFoundError(f"no level {name_or_path!r}; shipped levels: {known}")
