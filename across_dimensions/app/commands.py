@@ -29,8 +29,10 @@ def check_level(args) -> int:
     stderr and still exits 0 (the estimate is rough; see world/limits.py).
     """
     from ..world.campaign import CAMPAIGN_FILE, CampaignError, load_campaign
+    from ..world.flat_level import load_flat_level
     from ..world.level import LevelError, load_level
     from ..world.limits import FRAME_MS
+    from ..world.resources import is_prologue_file
 
     bad = 0
     for f in args.files:
@@ -43,13 +45,17 @@ def check_level(args) -> int:
                 continue
             _out(f"{f}: ok - the campaign, {len(entries)} levels: {', '.join(e.stem for e in entries)}")
             continue
+        prologue = is_prologue_file(f)
         try:
-            level = load_level(f)
+            level = (load_flat_level if prologue else load_level)(f)
         except LevelError as e:
             bad += 1
             print(f"{f}: {len(e.problems)} problem(s)", file=sys.stderr)
             for p in e.problems:
                 print(f"  {p}", file=sys.stderr)
+            continue
+        if prologue:
+            _out(f"{f}: ok - {_prologue_summary(level)}")
             continue
         extra = ""
         if level.crystals:
@@ -73,6 +79,13 @@ def check_level(args) -> int:
                 file=sys.stderr,
             )
     return 2 if bad else 0
+
+
+def _prologue_summary(level) -> str:
+    """One line on a Flatland prologue level for ``check-level``."""
+    kinds = [(level.solids, "3D solid"), (level.balls, "ball"), (level.crates, "crate"), (level.items, "item")]
+    counts = ", ".join(f"{len(x)} {what}{'s' * (len(x) != 1)}" for x, what in kinds + [(level.hints, "hint")] if x)
+    return f"'{level.name}', a Flatland prologue level: {counts}, z in {list(level.z_range)}"
 
 
 def level_schema(args) -> int:

@@ -263,7 +263,8 @@ def _entries(r: _Reader, data: dict, key: str) -> list[tuple[str, dict]]:
         items = items[:MAX_ENTRIES]
     out = []
     for i, t in enumerate(items, 1):
-        where = f"[[{key}]] #{i}"
+        name = t.get("name")
+        where = f"[[{key}]] #{i}" + (f" {name!r}" if isinstance(name, str) and name else "")
         r.unknown(t, ARRAYS[key], where)
         out.append((where, t))
     return out
