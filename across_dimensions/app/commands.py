@@ -106,15 +106,32 @@ def level_schema(args) -> int:
 
 # ----------------------------------------------------------------- replays
 def _load_game(level_arg: str, seed: int):
-    from ..game.sim import Game
-    from ..world.level import load_level
-    from ..world.resources import resolve_level
+    """The game of a level: a 4D one, or the Flatland prologue's for a ``format = "flatland"`` file."""
+    from ..world.resources import is_prologue_file, resolve_level
 
     try:
         path = resolve_level(level_arg)
     except FileNotFoundError as e:
         raise UserError(str(e)) from None
+    if is_prologue_file(path):
+        from ..game.flatland import FlatGame
+        from ..world.flat_level import load_flat_level
+
+        return FlatGame(load_flat_level(path), seed=seed)
+    from ..game.sim import Game
+    from ..world.level import load_level
+
     return Game(load_level(path), seed=seed)
+
+
+def _summary(game, result) -> dict:
+    from ..game.flatland import FlatGame
+
+    if isinstance(game, FlatGame):
+        from ..game.flatland.sim import summary
+    else:
+        from ..game.replay import summary
+    return summary(game, result)
 
 
 def replay(args) -> int:
@@ -123,7 +140,8 @@ def replay(args) -> int:
     Exit status 3 when the run diverges from the recorded hashes."""
     import json
 
-    from ..game.replay import Replay, play, summary
+    from ..game.flatland import FlatGame
+    from ..game.replay import Replay, play
     from .warmup import warm_up
 
     as_json = getattr(args, "json", False)
@@ -141,7 +159,8 @@ def replay(args) -> int:
             file=sys.stderr,
         )
     game = _load_game(args.level, rep.seed)
-    warm_up()
+    if not isinstance(game, FlatGame):  # the prologue compiles no 4D kernels
+        warm_up()
     if update:
         return _update_hashes(args, rep, game, as_json)
     shooter = _screenshotter(args, game) if args.screenshots else None
@@ -151,7 +170,7 @@ def replay(args) -> int:
         shooter.close()
         say(f"screenshots: {shooter.count} PNG files in {args.screenshots}")
     if as_json:
-        _out(json.dumps(summary(game, result), allow_nan=False))
+        _out(json.dumps(_summary(game, result), allow_nan=False))
     else:
         outcome = result.outcome or "not finished"
         _out(f"level '{game.level.name}': {outcome} after {result.ticks} ticks ({result.ticks / 60:.2f} s)")
@@ -176,7 +195,7 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
     import json
     from dataclasses import replace
 
-    from ..game.replay import changed_hashes, level_divergence, rehash, summary
+    from ..game.replay import changed_hashes, level_divergence, rehash
 
     result, fresh = rehash(rep, game)
     refused = level_divergence(rep, game)
@@ -193,7 +212,7 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
         fresh.save(args.replay)  # temporary file in the same folder, then os.replace
         updated = True
     if as_json:
-        _out(json.dumps({**summary(game, replace(result, divergence=refused)), "updated": updated}, allow_nan=False))
+        _out(json.dumps({**_summary(game, replace(result, divergence=refused)), "updated": updated}, allow_nan=False))
     if refused is not None:
         print(f"{PROG}: {refused}", file=sys.stderr)
         return 3
@@ -242,11 +261,13 @@ def demo(args) -> int:
 
 
 def _screenshotter(args, game):
-    from .headless import Screenshotter
+    from ..game.flatland import FlatGame
+    from .headless import FlatScreenshotter, Screenshotter
 
     if args.every < 1:
         raise UserError(f"--every: expected a positive number of ticks, got {args.every}")
-    return Screenshotter(game, Path(args.screenshots), _size(args.size), args.every)
+    kind = FlatScreenshotter if isinstance(game, FlatGame) else Screenshotter
+    return kind(game, Path(args.screenshots), _size(args.size), args.every)
 
 
 # ------------------------------------------------------------------- core

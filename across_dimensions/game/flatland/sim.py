@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...core.flat_solids import circle_overlaps_box, convex_overlaps_box
-from ...world.flat_level import FlatLevel
+from ...world.flat_level import EVENTS, FlatLevel
 from ..actions import Actions
 from ..player import HALF_WIDTH, HEIGHT, W_ACCEL, W_SPEED
 from .space import FlatSpace, drive
@@ -234,3 +234,20 @@ class FlatGame:
         h.update(self.world.state_bytes())
         h.update(repr((self.outcome, self.z_blocked, self.grounded, self._ground_v)).encode())
         return h.hexdigest()[:16]
+
+
+def summary(game: FlatGame, result) -> dict:
+    """What ``replay --json`` prints for a prologue level: the keys of the 4D game's summary
+    (:func:`..replay.summary`), ``position`` being the being's feet ``[x, y, z]`` and ``energy``
+    null (the prologue has no energy bar), ``events`` a count for every prologue event kind."""
+    return {
+        "level": game.level.name,
+        "outcome": result.outcome,
+        "ticks": result.ticks,
+        "hash": result.final_hash,
+        "events": {kind: game.event_counts.get(kind, 0) for kind in EVENTS},
+        "energy": None,
+        "position": [float(v) for v in game.position],
+        "respawns": game.respawns,
+        "divergence": result.divergence,
+    }

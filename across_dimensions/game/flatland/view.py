@@ -30,12 +30,18 @@ VIEW_ABOVE_FEET = 2.0
 
 @dataclass
 class Piece:
-    """A convex piece of a solid's section, ``points (k, 2) float64`` counter-clockwise."""
+    """A convex piece of a solid's section, ``points (k, 2) float64`` counter-clockwise.
+
+    ``cue`` is where the plane cuts a solid that ends along z within the level's z range,
+    ``(z0 - z of its middle) / half its z extent`` (0 through the middle, +-1 at its ends): the
+    analogue of the 4D game's w cue, drawn as bands. None for what goes on along all of z.
+    """
 
     key: str
     points: np.ndarray
     color: tuple
     kind: str  # "solid", "crate"
+    cue: float | None = None
 
 
 @dataclass
@@ -96,6 +102,7 @@ class FlatFrame:
     facing: float  # +1 right, -1 left
     goal: tuple[tuple[float, float], tuple[float, float]]  # centre, size
     pieces: list[Piece] = field(default_factory=list)
+    outlines: list[Piece] = field(default_factory=list)  # the sections' closed outlines (the pieces' are inner)
     circles: list[Circle] = field(default_factory=list)
     pins: list[Pin] = field(default_factory=list)
     z_blocked: bool = False
@@ -133,12 +140,16 @@ def flat_frame(game, alpha: float = 1.0, hint: str = "", hint_label: str = "", m
         message=message,
         time=game.time,
     )
-    for spec, pieces in zip(lvl.solids, world.pieces(z)):
-        frame.pieces += [Piece(spec.name, p, spec.color, "solid") for p in pieces]
+    for spec, pieces, outlines in zip(lvl.solids, world.pieces(z), world.outlines(z)):
+        lo, hi = spec.solid.z_extent()
+        cue = None if lo <= lvl.z_range[0] and hi >= lvl.z_range[1] else (z - (lo + hi) / 2) / ((hi - lo) / 2)
+        frame.pieces += [Piece(spec.name, p, spec.color, "solid", cue) for p in pieces]
+        frame.outlines += [Piece(spec.name, o, spec.color, "solid", cue) for o in outlines]
     for i, (body, shape) in enumerate(game.space.crates):
         if world.crate_present(i, z):
             corners = np.array([tuple(body.local_to_world(v)) for v in shape.get_vertices()])
             frame.pieces.append(Piece(lvl.crates[i].name, corners, lvl.crates[i].color, "crate"))
+            frame.outlines.append(frame.pieces[-1])
     for i, b in enumerate(lvl.balls):
         r, bz = world.ball_radius(i, z), float(world.ball_z[i])
         if r > 0.0:

@@ -45,7 +45,7 @@ class World3:
         self.gone: set[str] = set()
         self.taken: set[str] = set()
         self._extents = [s.solid.z_extent() for s in level.solids]
-        self._pieces: dict[float, list[list[np.ndarray]]] = {}
+        self._pieces: dict[float, list[tuple[list, list]]] = {}
 
     def advance(self, dt: float) -> None:
         """Roll the balls ``dt`` seconds on: each runs along z at its speed and turns back at the
@@ -63,20 +63,30 @@ class World3:
 
     def pieces(self, z0: float) -> list[list[np.ndarray]]:
         """Each solid's section at ``z0`` as convex counter-clockwise pieces ``(k, 2) float64``, in
-        level order; a solid that is gone or that the plane misses has none. Kept for a few
-        planes: nothing about a solid changes but whether it is gone."""
+        level order; a solid that is gone or that the plane misses has none."""
+        return [[] if s.name in self.gone else p for s, (_, p) in zip(self.level.solids, self._cuts(z0))]
+
+    def outlines(self, z0: float) -> list[list[np.ndarray]]:
+        """Each solid's section at ``z0`` as its closed outlines ``(k, 2) float64`` (what is drawn
+        round it: the pieces' inner edges are the physics' business only)."""
+        return [[] if s.name in self.gone else o for s, (o, _) in zip(self.level.solids, self._cuts(z0))]
+
+    def _cuts(self, z0: float) -> list[tuple[list, list]]:
+        """``(outlines, pieces)`` of every solid at ``z0``, kept for a few planes: nothing about a
+        solid changes but whether it is gone."""
         found = self._pieces.get(z0)
         if found is None:
             if len(self._pieces) >= _KEEP_PLANES:
                 self._pieces.pop(next(iter(self._pieces)))
             found = self._pieces[z0] = [self._cut(i, z0) for i in range(len(self.level.solids))]
-        return [[] if s.name in self.gone else p for s, p in zip(self.level.solids, found)]
+        return found
 
-    def _cut(self, i: int, z0: float) -> list[np.ndarray]:
+    def _cut(self, i: int, z0: float) -> tuple[list, list]:
         lo, hi = self._extents[i]
         if not lo <= z0 < hi:
-            return []
-        return [piece for loop in section_loops(self.level.solids[i].solid, z0) for piece in convex_pieces(loop)]
+            return [], []
+        loops = section_loops(self.level.solids[i].solid, z0)
+        return loops, [piece for loop in loops for piece in convex_pieces(loop)]
 
     def ball_radius(self, i: int, z0: float) -> float:
         """Radius of ball ``i``'s circle in the plane ``z0`` (0 when it misses the plane)."""
