@@ -13,49 +13,6 @@ from ..render.context import Offscreen, create_offscreen_context
 from ..render.renderer import Renderer
 
 
-class FlatScreenshotter:
-    """:class:`Screenshotter` for a Flatland prologue game: its side view, its hint (with the
-    default keys filled in) and, after the goal, the turn to the 3D world."""
-
-    def __init__(self, game, folder: Path, size: tuple[int, int], every: int):
-        from ..game.flatland.hints import StateHints
-        from ..render.flatland import FlatRenderer
-        from .settings import default_settings
-
-        self.folder = ensure_folder(folder)
-        self.ctx = create_offscreen_context()
-        self.target = Offscreen(self.ctx, *size)
-        self.renderer = FlatRenderer(self.ctx)
-        self.hints = StateHints(game.level.hints)
-        self.settings = default_settings()
-        self.every = every
-        self.count = 0
-        self(game)
-
-    def __call__(self, game) -> None:
-        if game.tick:
-            self.hints.tick(game, game.dt)
-        if game.tick % self.every == 0:
-            self.save(game, self.folder / f"frame_{game.tick:05d}.png")
-
-    def save(self, game, path: Path) -> None:
-        from ..game.flatland.view import flat_frame
-        from .onboarding import fill_keys
-
-        h = self.hints.current()
-        text = fill_keys(h.text, self.settings) if h is not None else ""
-        label = f"hint {self.hints.current_index() + 1}/{len(self.hints.specs)}" if h is not None else ""
-        self.target.use()
-        self.renderer.draw(flat_frame(game, hint=text, hint_label=label), self.target.viewport)
-        self.target.save_png(path)
-        self.count += 1
-
-    def close(self) -> None:
-        self.renderer.release()
-        self.target.release()
-        self.ctx.release()
-
-
 class Screenshotter:
     """Saves ``game.frame()`` every ``every`` ticks as ``DIR/frame_NNNNN.png``.
 
@@ -75,10 +32,13 @@ class Screenshotter:
         self.folder = ensure_folder(folder)
         self.ctx = create_offscreen_context()
         self.target = Offscreen(self.ctx, *size)
-        self.renderer = Renderer(self.ctx)
+        self.renderer = self._renderer()
         self.every = every
         self.count = 0
         self(game)  # the starting view
+
+    def _renderer(self):
+        return Renderer(self.ctx)
 
     def __call__(self, game) -> None:
         if game.tick % self.every:
@@ -95,6 +55,41 @@ class Screenshotter:
         self.renderer.release()
         self.target.release()
         self.ctx.release()
+
+
+class FlatScreenshotter(Screenshotter):
+    """:class:`Screenshotter` for a Flatland prologue game: its side view with its hint (the default
+    keys filled in) and, after the goal, the turn to the 3D world."""
+
+    def __init__(self, game, folder: Path, size: tuple[int, int], every: int):
+        from ..game.flatland.hints import StateHints
+        from .settings import default_settings
+
+        self.hints = StateHints(game.level.hints)
+        self.settings = default_settings()
+        super().__init__(game, folder, size, every)
+
+    def _renderer(self):
+        from ..render.flatland import FlatRenderer
+
+        return FlatRenderer(self.ctx)
+
+    def __call__(self, game) -> None:
+        if game.tick:  # called after every tick: the hints follow the game's state
+            self.hints.tick(game, game.dt)
+        super().__call__(game)
+
+    def save(self, game, path: Path) -> None:
+        from ..game.flatland.view import flat_frame
+        from .onboarding import fill_keys
+
+        h, i = self.hints.current(), self.hints.current_index()
+        text = fill_keys(h.text, self.settings) if h is not None else ""
+        label = f"hint {i + 1}/{len(self.hints.specs)}" if h is not None else ""
+        self.target.use()
+        self.renderer.draw(flat_frame(game, hint=text, hint_label=label), self.target.viewport)
+        self.target.save_png(path)
+        self.count += 1
 
 
 def ensure_folder(folder) -> Path:

@@ -50,7 +50,12 @@ PANEL_SHADE = 0.45
 FADE = 0.2
 #: Field of view of the turn to 3D, degrees.
 REVEAL_FOV = 50.0
-FLOATS = 9  # per vertex: x, y | r, g, b, a | across (glow) or radius (rings) | kind | cue
+FLOATS = 8  # per vertex: x, y | r, g, b, a | across (glows) or radius (rings) | cue
+#: The layers of a frame in drawing order, each one draw call with its own fragment shader (one
+#: shader with a branch per kind cost llvmpipe 15 ms for the backdrop alone: it shades every branch).
+LAYERS = ("sky", "back", "panel", "ring", "front", "glow")
+#: Layers drawn without blending while the view is not fading: llvmpipe blends on the CPU.
+OPAQUE = ("panel", "ring")
 
 _VS = """
 #version 330
@@ -59,20 +64,18 @@ uniform vec2 u_half;
 in vec2 in_pos;
 in vec4 in_color;
 in float in_across;
-in float in_kind;
 in float in_cue;
 out vec4 v_color;
 out vec2 v_world;
 out float v_across;
-out float v_kind;
 out float v_cue;
 void main() {
-    v_color = in_color; v_world = in_pos; v_across = in_across; v_kind = in_kind; v_cue = in_cue;
+    v_color = in_color; v_world = in_pos; v_across = in_across; v_cue = in_cue;
     gl_Position = vec4((in_pos - u_center) / u_half, 0.0, 1.0);
 }
 """
 
-_FS = """
+_HEAD = """
 #version 330
 uniform float u_alpha;
 uniform vec3 u_ana;
@@ -80,7 +83,6 @@ uniform vec3 u_kata;
 in vec4 v_color;
 in vec2 v_world;
 in float v_across;
-in float v_kind;
 in float v_cue;
 out vec4 f_color;
 vec3 cue_bands(vec3 base, float coord, float cue) {
@@ -91,73 +93,49 @@ vec3 cue_bands(vec3 base, float coord, float cue) {
     float band = smoothstep(0.35, 0.5, abs(fract(coord * (1.5 + 6.0 * k)) - 0.5));
     return mix(base, tint, (0.25 + 0.5 * k) * band);
 }
-void main() {
-    vec3 c = v_color.rgb;
-    float a = v_color.a;
-    if (v_kind < 0.5) {                      // a panel: seams every metre
-        vec2 g = abs(fract(v_world + 0.5) - 0.5);
-        c *= 1.0 - 0.3 * (1.0 - smoothstep(0.0, 0.025, min(g.x, g.y)));
-        if (v_cue > -1.5) c = cue_bands(c, v_world.x + v_world.y, v_cue);
-    } else if (v_kind < 1.5) {               // a glow across a line: added on top
-        float t = 1.0 - abs(v_across);
-        a *= t * t;
-    } else if (v_kind < 2.5) {               // flat colour
-    } else {                                 // a ball's circle: rings by radius
-        c = cue_bands(c, v_across * 2.0, v_cue);
-        c *= 0.75 + 0.25 * (1.0 - v_across * v_across);
-    }
-    f_color = vec4(c, a * u_alpha);
-}
 """
 
-_BG_VS = """
-#version 330
-in vec2 in_pos;
-out vec2 v_ndc;
-void main() { v_ndc = in_pos; gl_Position = vec4(in_pos, 0.0, 1.0); }
-"""
-
-_BG_FS = """
-#version 330
-uniform vec2 u_center;
-uniform vec2 u_half;
-uniform vec3 u_zenith;
-uniform vec3 u_horizon;
-uniform vec3 u_line;
-uniform float u_alpha;
-in vec2 v_ndc;
-out vec4 f_color;
+_FS = {
+    "flat": _HEAD + "void main() { f_color = vec4(v_color.rgb, v_color.a * u_alpha); }",
+    # a panel: seams every metre, and the z cue's bands on what ends along z
+    "panel": _HEAD
+    + """
 void main() {
-    vec2 w = u_center + v_ndc * u_half;
-    vec3 c = mix(u_horizon, u_zenith, smoothstep(-0.6, 1.0, v_ndc.y));
-    vec2 g = abs(fract(w + 0.5) - 0.5);
-    float fine = 1.0 - smoothstep(0.0, 0.02, min(g.x, g.y));
-    vec2 g5 = abs(fract(w / 5.0 + 0.5) - 0.5) * 5.0;
-    float major = 1.0 - smoothstep(0.0, 0.03, min(g5.x, g5.y));
-    c += u_line * (0.05 * fine + 0.12 * major);
-    vec2 cell = floor(w * 1.7);
-    float h = fract(sin(dot(cell, vec2(12.9898, 78.233))) * 43758.5453);
-    float star = step(0.985, h) * (1.0 - smoothstep(0.0, 0.06, length(fract(w * 1.7) - 0.5)));
-    c += vec3(star) * 0.6;
-    f_color = vec4(c, u_alpha);
+    vec2 g = abs(fract(v_world + 0.5) - 0.5);
+    vec3 c = v_color.rgb * (1.0 - 0.3 * (1.0 - smoothstep(0.0, 0.025, min(g.x, g.y))));
+    if (v_cue > -1.5) c = cue_bands(c, v_world.x + v_world.y, v_cue);
+    f_color = vec4(c, v_color.a * u_alpha);
 }
-"""
+""",
+    # a ball's circle: rings by radius (v_across), banded by where the plane cuts it
+    "ring": _HEAD
+    + """
+void main() {
+    vec3 c = cue_bands(v_color.rgb, v_across * 2.0, v_cue) * (0.75 + 0.25 * (1.0 - v_across * v_across));
+    f_color = vec4(c, v_color.a * u_alpha);
+}
+""",
+    # a glow across a line (v_across from -1 to 1), added on top
+    "glow": _HEAD
+    + "void main() { float t = 1.0 - abs(v_across); f_color = vec4(v_color.rgb, v_color.a * t * t * u_alpha); }",
+}
+_SHADER_OF = {"sky": "flat", "back": "flat", "panel": "panel", "ring": "ring", "front": "flat", "glow": "glow"}
 
 
 class _Mesh:
-    """Vertices of one frame, as rows of :data:`FLOATS`."""
+    """Vertices of one frame by layer, as rows of :data:`FLOATS`."""
 
     def __init__(self):
-        self.rows: list[np.ndarray] = []
+        self.rows: dict[str, list[np.ndarray]] = {layer: [] for layer in LAYERS}
 
-    def fan(self, points, color, kind: float, cue: float | None = None, across=None) -> None:
+    def fan(self, layer: str, points, color, cue: float | None = None, across=None) -> None:
         """A convex polygon ``(k, 2)`` as triangles from its first corner."""
         p = np.asarray(points, np.float64)
         if len(p) < 3:
             return
         a = np.zeros(len(p)) if across is None else np.asarray(across, np.float64)
         idx = np.array([(0, i, i + 1) for i in range(1, len(p) - 1)]).ravel()
-        self._add(p[idx], color, a[idx], kind, -2.0 if cue is None else cue)
+        self.add(layer, p[idx], color, a[idx], -2.0 if cue is None else cue)
 
     def glow(self, points, color, width: float, closed: bool = True) -> None:
         """A glowing line ``width`` world units either side of the polyline ``points (k, 2)``."""
@@ -167,20 +145,20 @@ class _Mesh:
         d = q - p
         n = np.c_[-d[:, 1], d[:, 0]] / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-12)[:, None] * width
         quads = np.stack([p - n, q - n, q + n, p - n, q + n, p + n], axis=1).reshape(-1, 2)
-        across = np.tile([-1.0, -1.0, 1.0, -1.0, 1.0, 1.0], len(p))
-        self._add(quads, color, across, 1.0, -2.0)
+        self.add("glow", quads, color, np.tile([-1.0, -1.0, 1.0, -1.0, 1.0, 1.0], len(p)), -2.0)
 
-    def _add(self, xy, color, across, kind, cue) -> None:
+    def add(self, layer: str, xy, color, across, cue) -> None:
+        """Vertices ``xy (n, 2)`` with one colour or one per vertex ``(n, 4)``."""
         rows = np.empty((len(xy), FLOATS), np.float32)
         rows[:, 0:2] = xy
         rows[:, 2:6] = color
         rows[:, 6] = across
-        rows[:, 7] = kind
-        rows[:, 8] = cue
-        self.rows.append(rows)
+        rows[:, 7] = cue
+        self.rows[layer].append(rows)
 
-    def array(self) -> np.ndarray:
-        return np.concatenate(self.rows) if self.rows else np.zeros((0, FLOATS), np.float32)
+    def array(self, layer: str) -> np.ndarray:
+        rows = self.rows[layer]
+        return np.concatenate(rows) if rows else np.zeros((0, FLOATS), np.float32)
 
 
 def _circle(center, radius: float, n: int = 48) -> np.ndarray:
@@ -210,20 +188,16 @@ class FlatRenderer:
         self.ctx = ctx
         self.renderer = renderer if renderer is not None else Renderer(ctx)
         self._own_renderer = renderer is None
-        self.program = ctx.program(vertex_shader=_VS, fragment_shader=_FS)
-        self.bg = ctx.program(vertex_shader=_BG_VS, fragment_shader=_BG_FS)
-        tri = np.array([[-1.0, -1.0], [3.0, -1.0], [-1.0, 3.0]], np.float32)
-        self._bg_vbo = ctx.buffer(tri.tobytes())
-        self._bg_vao = ctx.vertex_array(self.bg, [(self._bg_vbo, "2f", "in_pos")])
+        self.programs = {name: ctx.program(vertex_shader=_VS, fragment_shader=fs) for name, fs in _FS.items()}
         self._vbo = ctx.buffer(reserve=4096 * FLOATS * 4, dynamic=True)
-        self._vao = self._make_vao()
-        self._meshes3: dict[str, TriMesh3] = {}
+        self._vaos = self._make_vaos()
+        self._meshes3: dict[str, tuple[int, TriMesh3]] = {}
         self.last_quads = np.zeros((0, 12), np.float32)
 
-    def _make_vao(self) -> moderngl.VertexArray:
-        return self.ctx.vertex_array(
-            self.program, [(self._vbo, "2f 4f 1f 1f 1f", "in_pos", "in_color", "in_across", "in_kind", "in_cue")]
-        )
+    def _make_vaos(self) -> dict[str, moderngl.VertexArray]:
+        layout = [(self._vbo, "2f 4f 1f 1f", "in_pos", "in_color", "in_across", "in_cue")]
+        # skip_errors: the flat shader leaves out the attributes it does not read
+        return {name: self.ctx.vertex_array(prog, layout, skip_errors=True) for name, prog in self.programs.items()}
 
     @property
     def palette(self) -> dict:
@@ -253,67 +227,95 @@ class FlatRenderer:
         return frame.center, (half_h * w / h, half_h), 2.0 * half_h / h
 
     def _draw_flat(self, frame: FlatFrame, viewport, alpha: float) -> None:
+        """The side view, one draw call a layer; only the glows blend (additively) unless the view fades."""
         ctx = self.ctx
         ctx.viewport = viewport
         ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
-        ctx.enable(moderngl.BLEND)
-        ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
         center, half, per_px = self._view(frame, viewport)
         pal = self.palette
-        for name, value in (("u_center", center), ("u_half", half), ("u_alpha", alpha)):
-            self.bg[name].value = value
-        for name, key in (("u_zenith", "sky_zenith"), ("u_horizon", "sky_horizon"), ("u_line", "floor_line")):
-            self.bg[name].value = tuple(pal[key])
-        self._bg_vao.render(moderngl.TRIANGLES)
-        panels, glows = self._geometry(frame, per_px)
-        prog = self.program
-        prog["u_center"].value, prog["u_half"].value = center, half
-        prog["u_alpha"].value = alpha
-        prog["u_ana"].value, prog["u_kata"].value = tuple(pal["ana"]), tuple(pal["kata"])
-        self._render(panels)
-        ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE
-        self._render(glows)
+        mesh = self._geometry(frame, center, half, per_px)
+        for prog in self.programs.values():
+            for name, value in (("u_center", center), ("u_half", half), ("u_alpha", alpha)):
+                prog[name].value = value
+            for name in ("u_ana", "u_kata"):
+                if name in prog:  # only the shaders that band use them
+                    prog[name].value = tuple(pal[name[2:]])
+        for layer in LAYERS:
+            ctx.enable(moderngl.BLEND)
+            ctx.blend_func = (
+                (moderngl.SRC_ALPHA, moderngl.ONE)
+                if layer == "glow"
+                else (
+                    moderngl.SRC_ALPHA,
+                    moderngl.ONE_MINUS_SRC_ALPHA,
+                )
+            )
+            self._render(layer, mesh.array(layer))
         ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
         ctx.disable(moderngl.BLEND)
 
-    def _render(self, rows: np.ndarray) -> None:
+    def _render(self, layer: str, rows: np.ndarray) -> None:
         if not len(rows):
             return
         data = rows.astype(np.float32).tobytes()
         if len(data) > self._vbo.size:
             self._vbo.orphan(len(data) * 2)
-            self._vao = self._make_vao()
+            self._vaos = self._make_vaos()
         self._vbo.write(data)
-        self._vao.render(moderngl.TRIANGLES, vertices=len(rows))
+        self._vaos[_SHADER_OF[layer]].render(moderngl.TRIANGLES, vertices=len(rows))
 
-    def _geometry(self, frame: FlatFrame, per_px: float) -> tuple[np.ndarray, np.ndarray]:
-        """The panels and the glows of a frame, as vertex rows."""
-        panels, glows = _Mesh(), _Mesh()
+    def _geometry(self, frame: FlatFrame, center, half, per_px: float) -> _Mesh:
+        """Everything the side view draws, by layer."""
+        mesh = _Mesh()
+        self._backdrop(mesh, center, half, per_px)
         trim = tuple(self.palette["trim"]) + (1.0,)
         width = TRIM_PX * per_px
         (gx, gy), (sx, sy) = frame.goal
         lo, hi = (gx - sx / 2, gy - sy / 2), (gx + sx / 2, gy + sy / 2)
-        beam = np.array([lo, (hi[0], lo[1]), hi, (lo[0], hi[1])])
-        panels.fan(beam, GOAL[:3] + (0.22,), 2.0)
-        glows.glow(np.array([(lo[0], lo[1]), (hi[0], lo[1])]), GOAL, 2 * width, closed=False)
+        mesh.fan("front", np.array([lo, (hi[0], lo[1]), hi, (lo[0], hi[1])]), GOAL[:3] + (0.22,))
+        mesh.glow(np.array([(lo[0], lo[1]), (hi[0], lo[1])]), GOAL, 2 * width, closed=False)
         for piece in frame.pieces:
-            panels.fan(piece.points, _shade(piece.color, PANEL_SHADE), 0.0, piece.cue)
+            mesh.fan("panel", piece.points, _shade(piece.color, PANEL_SHADE), piece.cue)
         for outline in frame.outlines:
-            glows.glow(outline.points, _mix(trim, outline.color, 0.45), width)
+            mesh.glow(outline.points, _mix(trim, outline.color, 0.45), width)
         pulse = 0.75 + 0.25 * math.sin(frame.time * 4.0)
         for c in frame.circles:
             ring = _circle(c.center, c.radius)
             if c.kind == "item":
-                panels.fan(ring, _shade(c.color, pulse), 2.0)
-                glows.glow(ring, ITEM_GLOW, 2.5 * width)
+                mesh.fan("front", ring, _shade(c.color, pulse))
+                mesh.glow(ring, ITEM_GLOW, 2.5 * width)
             else:
-                across = np.r_[0.0, np.ones(len(ring))]
-                panels.fan(np.r_[[c.center], ring, ring[:1]], _shade(c.color, 0.8), 3.0, c.side, np.r_[across, 1.0])
-                glows.glow(ring, _mix(c.color, (1.0, 1.0, 1.0, 1.0), 0.3), width)
-        self._being(frame, panels, glows, width)
-        return panels.array(), glows.array()
+                across = np.r_[0.0, np.ones(len(ring)), 1.0]
+                mesh.fan("ring", np.r_[[c.center], ring, ring[:1]], _shade(c.color, 0.8), c.side, across)
+                mesh.glow(ring, _mix(c.color, (1.0, 1.0, 1.0, 1.0), 0.3), width)
+        self._being(frame, mesh, width)
+        return mesh
 
-    def _being(self, frame: FlatFrame, panels: _Mesh, glows: _Mesh, width: float) -> None:
+    def _backdrop(self, mesh: _Mesh, center, half, per_px: float) -> None:
+        """The sky's gradient (drawn only while the view fades; a clear of its middle otherwise), a
+        metre grid in the plane (every fifth line brighter) and a few stars fixed in the plane."""
+        pal = self.palette
+        (cx, cy), (hx, hy) = center, half
+        lo, hi = (cx - hx, cy - hy), (cx + hx, cy + hy)
+        horizon, zenith = tuple(pal["sky_horizon"]) + (1.0,), tuple(pal["sky_zenith"]) + (1.0,)
+        corners = np.array([lo, (hi[0], lo[1]), hi, lo, hi, (lo[0], hi[1])])
+        mesh.add("sky", corners, np.array([horizon, horizon, zenith, horizon, zenith, zenith]), 0.0, -2.0)
+        line = tuple(pal["floor_line"])
+        for axis in (0, 1):
+            for k in range(int(math.floor(lo[axis])), int(math.ceil(hi[axis])) + 1):
+                w = per_px * (1.0 if k % 5 else 1.5)
+                rect = [(k - w, lo[1]), (k + w, lo[1]), (k + w, hi[1]), (k - w, hi[1])]
+                if axis:
+                    rect = [(lo[0], k - w), (hi[0], k - w), (hi[0], k + w), (lo[0], k + w)]
+                mesh.fan("back", rect, line + (0.12 if k % 5 == 0 else 0.05,))
+        cells = np.stack(np.meshgrid(np.arange(lo[0] // 2, hi[0] // 2 + 1), np.arange(lo[1] // 2, hi[1] // 2 + 1)), -1)
+        cells = cells.reshape(-1, 2)
+        noise = np.modf(np.sin(cells @ (12.9898, 78.233)) * 43758.5453)[0] % 1.0  # the same stars at the same place
+        r = 1.2 * per_px
+        for x, y in 2.0 * cells[noise > 0.93] + 2.0 * noise[noise > 0.93, None]:
+            mesh.fan("back", [(x - r, y - r), (x + r, y - r), (x + r, y + r), (x - r, y + r)], (0.9, 0.93, 1.0, 0.55))
+
+    def _being(self, frame: FlatFrame, mesh: _Mesh, width: float) -> None:
         (x, y), (w, h), f = frame.being, frame.being_size, frame.facing
         c = 0.12  # chamfer, metres
         body = np.array(
@@ -321,10 +323,9 @@ class FlatRenderer:
             + [(x + w / 2 - c, y + h), (x - w / 2 + c, y + h), (x - w / 2, y + h - c), (x - w / 2, y + c)]
         )
         color = BLOCKED if frame.z_blocked else BEING
-        panels.fan(body, color, 2.0)
-        glows.glow(body, color, width)
-        ex, ey, r = x + f * w * 0.22, y + h * 0.82, 0.07
-        panels.fan(_circle((ex, ey), r, 12), EYE, 2.0)
+        mesh.fan("front", body, color)
+        mesh.glow(body, color, width)
+        mesh.fan("front", _circle((x + f * w * 0.22, y + h * 0.82), 0.07, 12), EYE)
 
     # ---------------------------------------------------------------- the z bar
     def _bar_quads(self, frame: FlatFrame, width: int, height: int, alpha: float) -> np.ndarray:
@@ -383,17 +384,20 @@ class FlatRenderer:
         cam.position = pivot - distance * cam.forward()
         scene = Frame(cam, hud=Hud(crosshair=False, w_min=0.0, w_max=0.0), sky="dome", time=frame.time)
         for s in frame.solids3:
-            scene.drawables.append(Drawable(f"flat3:{s.key}", 0, self._mesh3(s.key, s.solid, s.color)))
+            scene.drawables.append(Drawable(f"flat3:{s.key}", *self._mesh3(s.key, s.solid, s.color)))
         for b in frame.balls3:
             solid = sphere_solid(b.center, b.radius, 3)
             scene.drawables.append(Drawable(f"flat3:{b.key}", self._revision(b.center), _trimesh(solid, b.color)))
         scene.drawables += self._plane(frame, lo, hi)
         self.renderer.draw(scene, viewport, hud=False, view="flatland")
 
-    def _mesh3(self, key: str, solid: Solid3, color) -> TriMesh3:
-        if key not in self._meshes3:
-            self._meshes3[key] = _trimesh(solid, color)
-        return self._meshes3[key]
+    def _mesh3(self, key: str, solid: Solid3, color) -> tuple[int, TriMesh3]:
+        """``(revision, mesh)`` of a solid, built again only when it moved (a crate)."""
+        revision = self._revision(solid.vertices)
+        kept = self._meshes3.get(key)
+        if kept is None or kept[0] != revision:
+            kept = self._meshes3[key] = (revision, _trimesh(solid, color))
+        return kept
 
     @staticmethod
     def _revision(position) -> int:
@@ -415,7 +419,7 @@ class FlatRenderer:
         return out
 
     def release(self) -> None:
-        for obj in (self._vao, self._vbo, self._bg_vao, self._bg_vbo, self.program, self.bg):
+        for obj in (*self._vaos.values(), self._vbo, *self.programs.values()):
             obj.release()
         if self._own_renderer:
             self.renderer.release()
