@@ -23,6 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
+from across_dimensions.world.resources import is_prologue_file
+
 from . import mutate as M
 from . import npzgen
 from .emit import Raw, json_dumps, no_int_digit_limit, toml_dumps
@@ -31,7 +33,8 @@ from .mutate import pick
 __all__ = ["Case", "CATALOGUE", "schedule", "build_case", "write_case", "SPECIAL_KINDS"]
 
 REPO = Path(__file__).resolve().parents[2]
-LEVELS = sorted(p for p in (REPO / "levels").glob("*.toml") if p.name != "campaign.toml")
+# The 4D levels: the mutations below follow their format (the prologue's gravity is no 4-vector).
+LEVELS = [p for p in sorted((REPO / "levels").glob("*.toml")) if p.name != "campaign.toml" and not is_prologue_file(p)]
 REPLAYS = sorted((REPO / "levels" / "replays").glob("*.json"))
 SMALL_MESHES = [REPO / "assets" / "meshes" / "crate.obj", REPO / "assets" / "meshes" / "arch.obj"]
 
