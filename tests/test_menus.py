@@ -6,6 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from across_dimensions.app.menu import VISIBLE_ROWS, Menu, menu_verb
@@ -401,29 +402,21 @@ def test_window_flow_title_level_pause_settings(tmp_path):
     assert levels_dir().is_dir()
 
 
-def test_checkpoint_adapter_resumes_where_the_game_can():
+def test_a_saved_checkpoint_resumes_where_the_level_still_has_it():
     from across_dimensions.app.saves import checkpoint_of, resume_at_checkpoint
+    from across_dimensions.game.sim import Game
 
-    class NoCheckpoints:
-        pass
-
-    class WithCheckpoints:
-        checkpoint = None
-
-        def restart_at_checkpoint(self, index):
-            if index >= 2:
-                raise IndexError(index)
-            self.checkpoint = index
-
-    assert checkpoint_of(NoCheckpoints()) is None
-    assert not resume_at_checkpoint(NoCheckpoints(), 1)  # a level without checkpoints: its start
-    game = WithCheckpoints()
-    assert checkpoint_of(game) is None
-    assert resume_at_checkpoint(game, 1) and checkpoint_of(game) == 1
-    assert not resume_at_checkpoint(game, 5)  # the level changed since the save: its start
-    assert not resume_at_checkpoint(game, None)
-    game.checkpoint = True  # not an index
-    assert checkpoint_of(game) is None
+    plain = Game(load_level(levels_dir() / "01_first_steps.toml"))
+    assert checkpoint_of(plain) is None
+    assert not resume_at_checkpoint(plain, 0)  # a level without checkpoints: its start
+    hive = Game(load_level(levels_dir() / "09_hive.toml"))
+    count = len(hive.level.checkpoints)
+    assert count >= 1 and checkpoint_of(hive) is None
+    assert resume_at_checkpoint(hive, count - 1) and checkpoint_of(hive) == count - 1
+    cp = hive.level.checkpoints[count - 1].position
+    assert np.array_equal(hive.player.position, cp)  # standing there
+    assert not resume_at_checkpoint(hive, count)  # the level changed since the save: its start
+    assert not resume_at_checkpoint(hive, None)
 
 
 def test_warm_up_child_reports_every_step():

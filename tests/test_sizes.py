@@ -24,7 +24,6 @@ DEBT: set[str] = {
     "core/section.py",
     "core/section_batch.py",
     "core/shapes.py",
-    "game/replay.py",
     "physics/collide.py",
     "physics/pipeline.py",
     "physics/solver.py",

@@ -170,19 +170,17 @@ class Progress:
 
 def checkpoint_of(game) -> int | None:
     """The index of the last checkpoint the player reached, or None (the level's start, or a
-    level without checkpoints). An adapter: checkpoints belong to the
-    enemies' systems, which expose ``game.checkpoint``."""
-    index = getattr(game, "checkpoint", None)
-    return index if isinstance(index, int) and not isinstance(index, bool) and index >= 0 else None
+    level without checkpoints)."""
+    return game.checkpoint
 
 
 def resume_at_checkpoint(game, index: int | None) -> bool:
-    """Put the player at checkpoint ``index`` if the game knows how; False leaves them at the start."""
-    restart = getattr(game, "restart_at_checkpoint", None)
-    if index is None or restart is None:
+    """Put the player at checkpoint ``index``; False leaves them at the start (no index, or a
+    level that has no such checkpoint since it changed after the save)."""
+    if index is None:
         return False
     try:
-        restart(index)
+        game.restart_at_checkpoint(index)
     except (IndexError, ValueError):  # the level changed since the save: its start, then
         return False
     return True
