@@ -260,7 +260,7 @@ def order_problems(rel: str, source: str) -> list[str]:
         theirs = _rank(imp.module)
         if theirs > mine:
             out.append(
-                f"{imp.where()}  ({module_of(rel).split('.')[1]} may not import {imp.module}: "
+                f"{imp.where()}  ({module_of(rel)} may not import {imp.module}: "
                 f"the packages stand in the order {' <- '.join(PACKAGE_ORDER)})"
             )
     return out

@@ -88,8 +88,8 @@ def bodies_block(physics, position, w: float, radius: float, height: float) -> b
     return bool(np.linalg.norm(there) > np.linalg.norm(here) + 1e-4)
 
 
-def debug_draw_game(game, drawer, options=None) -> None:
-    """Report the physics of ``game`` in the player's slice, and the player's collider, to ``drawer``.
+def debug_draw_game(game, drawer, options=None, w: float | None = None) -> None:
+    """Report the physics of ``game`` in the slice at ``w``, and the player's collider, to ``drawer``.
 
     Parameters
     ----------
@@ -98,11 +98,13 @@ def debug_draw_game(game, drawer, options=None) -> None:
     drawer : DebugDrawer
         See :mod:`across_dimensions.physics.debug_draw`.
     options : DebugDrawOptions, optional
+    w : float, optional
+        The slice drawn: a frame's eye (``frame.camera.w``); the player's w by default.
     """
     opt = options or DebugDrawOptions()
     p = game.player
     box = player_box(p.position, HALF_WIDTH, HEIGHT)
-    w = float(p.position[3])
+    w = float(p.position[3]) if w is None else float(w)
     if game.physics is not None:
         game.physics.debug_draw(drawer, w, opt, boxes=[box])
     elif opt.boxes:
