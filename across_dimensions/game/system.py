@@ -29,6 +29,7 @@ and not as attributes hung on the game.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import struct
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -53,9 +54,14 @@ def derived(**kw) -> Any:
     return dataclasses.field(metadata=DERIVED, **kw)
 
 
-def state_fields(obj) -> list[dataclasses.Field]:
+def state_fields(obj) -> tuple[dataclasses.Field, ...]:
     """The fields of dataclass ``obj`` that are state (neither :func:`fixed` nor :func:`derived`)."""
-    return [f for f in dataclasses.fields(obj) if "state" not in f.metadata]
+    return _state_fields(type(obj))
+
+
+@functools.cache
+def _state_fields(cls: type) -> tuple[dataclasses.Field, ...]:
+    return tuple(f for f in dataclasses.fields(cls) if "state" not in f.metadata)
 
 
 @dataclass(frozen=True)
