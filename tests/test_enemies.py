@@ -221,7 +221,7 @@ def test_an_attack_is_announced_and_can_be_dodged_along_w(tmp_path):
     dodger = Game(level(tmp_path, SCOUT))
     dodger.player.position[:] = [0.0, 0.0, 4.0, 0.0]
     dodger.step(Actions())
-    while not dodger.hive.shots:
+    while not dodger.states.enemies.shots:
         dodger.step(Actions())
     hits = [ev for ev in run(dodger, 90, Actions(w=1.0)) if ev.kind == "player_hit"]
     assert hits == []
@@ -468,11 +468,11 @@ def test_enemies_rng_draws_are_in_the_state_hash_and_runs_repeat():
     assert b2.state_hash() != a.state_hash()
 
 
-def test_levels_without_enemies_add_nothing_to_the_state_hash():
+def test_levels_without_enemies_have_no_hive_and_no_health():
     game = Game(load_level(levels_dir() / "04_armory.toml"))
     run(game, 5)
-    assert en.state_bytes(game) == b""
-    assert game.frame().hud.health is None
+    assert game.states.enemies is None and game.states.health is None
+    assert not game.entities.of_kind("enemy") and game.frame().hud.health is None
 
 
 # ------------------------------------------------------------------ level entries and HUD
