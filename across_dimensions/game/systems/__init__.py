@@ -44,7 +44,8 @@ from . import (
 #: steer bullets before physics runs, bullets read its contacts after; enemies (the blast, bullet
 #: hits, their moves and shots) and the player's health after the bullets; pickups; the outcome.
 #: Frame order: manipulation (its ghost previews, HUD line), scenery, entities, radar, HUD,
-#: then the ghosts along w, after everything solid.
+#: then the ghosts along w, after everything solid. Setup runs in the same order, so the
+#: entities systems spawn get their ids in it: targets, then enemies, then the level's crystals.
 SYSTEMS = (
     energy.SYSTEM,
     camera.SYSTEM,
