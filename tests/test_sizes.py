@@ -18,7 +18,6 @@ MAX_PARAMETERS = 8
 
 #: Modules and functions still over a guide: ``"path"`` for a module, ``"path:function"`` for a function.
 DEBT: set[str] = {
-    "app/settings.py",
     "core/mesh.py",
     "core/section.py",
     "core/section_batch.py",

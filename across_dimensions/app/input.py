@@ -19,7 +19,8 @@ import functools
 import pyglet
 
 from ..game.actions import CAMERA_BUTTONS, MAX_PRESSES, PRESSES, Actions
-from .settings import KEY_NAMES, Settings
+from .keymap import KEY_NAMES
+from .settings import Settings
 
 _MOUSE = {
     "MOUSE_LEFT": "LEFT",

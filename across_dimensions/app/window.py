@@ -28,7 +28,8 @@ from ..world.level import load_level
 from ..world.resources import level_files, resolve_level
 from . import pyglet_options  # noqa: F401  (before pyglet.window or pyglet.gl load)
 from .session import Session, Start, timing
-from .settings import Settings, load_settings, report_warnings, save_settings, settings_path, warning_screen_line
+from .settings import Settings, load_settings, save_settings, settings_path
+from .settings_log import report_warnings, warning_screen_line
 from .views.base import View
 from .warmup import BackgroundWarmUp, warm_up
 
