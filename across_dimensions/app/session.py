@@ -108,6 +108,7 @@ class Session:
         self.sound_director = SoundDirector()
         ghosts = GhostView(settings.ghosts, settings.ghost_distance, settings.ghost_strength, settings.ghost_layers)
         self.options = PlayOptions(settings.show_fps, settings.pip, ghosts)
+        self.debug_overlay = None  # the physics overlay's GL objects (render/debug_draw.py), made on first use
         self.notice = ("", 0.0)  # (text, seconds left)
         self.progress, progress_warnings = load_progress()
         self.save_problem_said = False

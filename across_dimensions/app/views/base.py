@@ -31,9 +31,6 @@ class View:
     def on_show(self) -> None:
         """Now on top of the stack: shown first, or the view above it went away."""
 
-    def on_hide(self) -> None:
-        """No longer on top: removed, or another view went over it."""
-
     def on_update(self, dt: float) -> None:
         """``dt`` wall-clock seconds passed since the last frame."""
 

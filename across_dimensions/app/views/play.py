@@ -50,7 +50,6 @@ class PlayView(View):
     def __init__(self, session, path: Path, checkpoint: int | None = None):
         super().__init__(session)
         self.input = PlayInput(session.bindings, self.window.keys)
-        self.debug_overlay: DebugOverlay | None = None  # made on first use, drawn while on
         self.load(path, checkpoint)
         if session.recording.path_given:  # --record FILE: the first level played
             self.start_recording()
@@ -185,9 +184,10 @@ class PlayView(View):
             draw_pip(s.renderer, frame, viewport, s.settings.pip_size)
 
     def _debug_draw(self, frame, viewport) -> None:
-        if self.session.options.debug_draw:
-            self.debug_overlay = self.debug_overlay or DebugOverlay(self.window.ctx)
-            self.debug_overlay.draw_game(self.game, frame.camera, viewport)
+        s = self.session
+        if s.options.debug_draw:
+            s.debug_overlay = s.debug_overlay or DebugOverlay(self.window.ctx)
+            s.debug_overlay.draw_game(self.game, frame.camera, viewport)
 
     def current_frame(self):
         """The game's frame with the app's HUD additions (fps, notices, hints)."""
