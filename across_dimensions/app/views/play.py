@@ -30,6 +30,7 @@ from .base import View
 from .complete import LevelCompleteView
 from .menus import PauseView
 
+#: Most ticks run in one frame: a machine that falls further behind drops time instead.
 MAX_CATCH_UP = 5
 
 
