@@ -296,13 +296,11 @@ def test_a_body_on_a_turned_object_follows_it_or_falls_and_never_sinks_in(tmp_pa
 
 
 _PROMPT = """
-import types
 import pyglet
-pyglet.options["headless"] = True  # no X display needed: the window class is only imported
+pyglet.options["headless"] = True  # no X display needed: the input module is only imported
+from across_dimensions.app.input import with_keys
 from across_dimensions.app.settings import default_settings
-from across_dimensions.app.window import GameWindow
-fake = types.SimpleNamespace(settings=default_settings("azerty"))
-print(GameWindow.with_keys(fake, {message!r}))
+print(with_keys({message!r}, default_settings("azerty")))
 """
 
 

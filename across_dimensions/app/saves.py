@@ -111,6 +111,15 @@ class Progress:
             result.append(i == 0 or stem in self.finished or stems[i - 1] in self.finished)
         return result
 
+    def play(self, level: str, checkpoint: int | None, stems: list[str]) -> bool:
+        """``level`` starts (at ``checkpoint``): it becomes where *Continue* resumes when it is an
+        unlocked level of the campaign ``stems``. A locked level, or one outside the campaign
+        (played from the command line), leaves *Continue* where it was. Returns whether it moved."""
+        if level not in stems or not self.unlocked(stems)[stems.index(level)]:
+            return False
+        self.current, self.checkpoint = level, checkpoint
+        return True
+
     def continue_level(self, stems: list[str]) -> tuple[str | None, int | None]:
         """Where *Continue* goes: the level left mid-way and its checkpoint, else the first
         unfinished level, else None (the campaign is done)."""
