@@ -234,10 +234,7 @@ PACKAGE_ORDER = ("core", "physics", "world", "game", "render", "app")
 BELOW_ALL = {"across_dimensions", "across_dimensions._blas"}
 #: Lazy imports that hide a circle and are being removed (``"path -> module"``). The list
 #: only shrinks: an entry that no longer hides a circle fails until it is removed.
-KNOWN_CIRCLES: set[str] = {
-    "render/cards.py -> across_dimensions.render.hud",
-    "render/hud.py -> across_dimensions.render.cards",
-}
+KNOWN_CIRCLES: set[str] = set()
 
 
 def _rank(module: str) -> int:
