@@ -12,7 +12,8 @@ import sys
 import pytest
 
 from across_dimensions.game.flatland import FlatGame
-from across_dimensions.game.replay import Replay, play
+from across_dimensions.game.playback import play
+from across_dimensions.game.replay import Replay
 from across_dimensions.world.flat_level import load_flat_level
 from across_dimensions.world.resources import levels_dir
 

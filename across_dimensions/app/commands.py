@@ -130,18 +130,19 @@ def _summary(game, result) -> dict:
     if isinstance(game, FlatGame):
         from ..game.flatland.sim import summary
     else:
-        from ..game.replay import summary
+        from ..game.playback import summary
     return summary(game, result)
 
 
 def replay(args) -> int:
     """Play a replay headless; print the outcome and final hash, or with
-    ``--json`` exactly one JSON object on stdout (see ``game.replay.summary``).
+    ``--json`` exactly one JSON object on stdout (see ``game.playback.summary``).
     Exit status 3 when the run diverges from the recorded hashes."""
     import json
 
     from ..game.flatland import FlatGame
-    from ..game.replay import Replay, play
+    from ..game.playback import play
+    from ..game.replay import Replay
     from .warmup import warm_up
 
     as_json = getattr(args, "json", False)
@@ -195,7 +196,7 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
     import json
     from dataclasses import replace
 
-    from ..game.replay import changed_hashes, level_divergence, rehash
+    from ..game.playback import changed_hashes, level_divergence, rehash
 
     result, fresh = rehash(rep, game)
     refused = level_divergence(rep, game)

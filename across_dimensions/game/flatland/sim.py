@@ -4,7 +4,7 @@
 (and ``forward``: either key pair walks), ``jump`` jumps, and ``w``, the player's w keys, moves the
 being's plane along z. It never reads the clock and uses no randomness, so the same actions give
 the same :meth:`FlatGame.state_hash` in any run and any process, which is what replays check
-(:mod:`..replay` plays a prologue level as it plays a 4D one: ``step``, ``tick``, ``state_hash``,
+(:mod:`..playback` plays a prologue level as it plays a 4D one: ``step``, ``tick``, ``state_hash``,
 ``outcome``, ``level.source_hash``).
 
 A tick, in order:
@@ -238,7 +238,7 @@ class FlatGame:
 
 def summary(game: FlatGame, result) -> dict:
     """What ``replay --json`` prints for a prologue level: the keys of the 4D game's summary
-    (:func:`..replay.summary`), ``position`` being the being's feet ``[x, y, z]`` and ``energy``
+    (:func:`..playback.summary`), ``position`` being the being's feet ``[x, y, z]`` and ``energy``
     null (the prologue has no energy bar), ``events`` a count for every prologue event kind."""
     return {
         "level": game.level.name,
