@@ -13,8 +13,9 @@ from across_dimensions.app.menu import VISIBLE_ROWS, Menu, menu_verb
 from across_dimensions.app.saves import Progress, load_progress, save_progress
 from across_dimensions.app.settings import ACTIONS, PRESETS, Settings, load_settings, save_settings
 from across_dimensions.world.campaign import CampaignError, load_campaign, next_in_campaign
+from across_dimensions.world.flat_level import load_flat_level
 from across_dimensions.world.level import load_level
-from across_dimensions.world.resources import level_files, levels_dir
+from across_dimensions.world.resources import level_files, levels_dir, prologue_files
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -24,6 +25,7 @@ def test_campaign_order_skips_missing_files_and_every_entry_loads():
     campaign = load_campaign()
     stems = [e.stem for e in campaign]
     order = [
+        "prologue",
         "00_arrival",
         "01_first_steps",
         "02_crystal_cache",
@@ -35,12 +37,14 @@ def test_campaign_order_skips_missing_files_and_every_entry_loads():
         "08_around_the_corner",
         "09_hive",
     ]
-    shipped = {p.stem for p in level_files()}
+    shipped = {p.stem for p in level_files() + prologue_files()}
     assert stems == [s for s in order if s in shipped]  # the campaign's order, minus what is not shipped
-    assert stems[:6] == order[:6]
+    assert stems[:7] == order[:7]
     for entry in campaign:
-        level = load_level(entry.path)  # raises on a broken level
+        level = (load_flat_level if entry.stem == "prologue" else load_level)(entry.path)  # raises on a broken level
         assert level.name and entry.title
+    assert [e.stem for e in campaign if e.optional] == ["prologue"]  # the prologue may be skipped
+    assert next_in_campaign(campaign, "prologue").stem == "00_arrival"
     assert next_in_campaign(campaign, "00_arrival").stem == "01_first_steps"
     assert next_in_campaign(campaign, "01_first_steps").stem == "02_crystal_cache"
     assert next_in_campaign(campaign, stems[-1]) is None
@@ -76,7 +80,7 @@ def test_check_level_checks_the_campaign_file_as_a_campaign(tmp_path):
     # `check-level levels/*.toml` takes the campaign file in too: it is checked as the campaign.
     r = check(*level_files(), levels_dir() / "campaign.toml")
     assert r.returncode == 0, r.stderr
-    assert "campaign.toml: ok - the campaign, 10 levels: 00_arrival, 01_first_steps" in r.stdout
+    assert "campaign.toml: ok - the campaign, 11 levels: prologue, 00_arrival, 01_first_steps" in r.stdout
     bad = tmp_path / "campaign.toml"
     bad.write_text('[[level]]\nfile = "../outside"\ntitle = "Out"\n', encoding="utf-8")
     r = check(bad)
@@ -136,6 +140,18 @@ def test_unlocking_and_continue():
     assert p.continue_level(stems) == (None, None)
 
 
+def test_an_optional_level_may_be_skipped_and_is_not_offered_again():
+    stems, optional = ["prologue", "a", "b"], {"prologue"}
+    p = Progress()
+    assert p.unlocked(stems, optional) == [True, True, False]  # the level after it is open at once
+    assert p.continue_level(stems, optional) == ("prologue", None)  # a new player starts with it
+    assert p.play("a", None, stems, optional) and p.continue_level(stems, optional) == ("a", None)
+    p.current = None
+    p.finish("a", 5.0)
+    assert p.continue_level(stems, optional) == ("b", None)  # skipped, then not offered again
+    assert Progress().unlocked(stems) == [True, False, False]  # without the campaign's word, nothing is optional
+
+
 def test_only_an_unlocked_campaign_level_becomes_continue():
     stems = ["a", "b", "c"]
     p = Progress()
@@ -164,6 +180,7 @@ def test_play_from_the_command_line_never_moves_continue_to_a_locked_level(tmp_p
     e = dict(env, DISPLAY=xvfb, ACROSS_DIMENSIONS_DATA_DIR=str(data), ACROSS_DIMENSIONS_CONFIG_DIR=str(tmp_path))
     e.pop("WAYLAND_DISPLAY", None)
     stems = [entry.stem for entry in load_campaign()]
+    optional = {entry.stem for entry in load_campaign() if entry.optional}
     for level, current in (
         ("05_blast_and_field", None),
         ("02_crystal_cache", None),
@@ -180,7 +197,8 @@ def test_play_from_the_command_line_never_moves_continue_to_a_locked_level(tmp_p
         assert r.returncode == 0, r.stderr
         back, warnings = load_progress(data / "progress.json")
         assert warnings == [] and back.current == current, (level, back)
-        assert back.continue_level(stems) == ("01_first_steps", None), level  # the first level not finished
+        # The first level not finished (the prologue, skipped, is not offered again).
+        assert back.continue_level(stems, optional) == ("01_first_steps", None), level
 
 
 # ---- menus ----------------------------------------------------------------------------
@@ -219,12 +237,12 @@ def test_title_to_level_select_shows_locked_and_finished():
     assert rows["level:01_first_steps"].value.startswith("done  1:23.2")
     assert rows["level:02_crystal_cache"].enabled and "crystals 2/3" in rows["level:02_crystal_cache"].value
     assert not rows["level:03_tumbling_hall"].enabled and rows["level:03_tumbling_hall"].value == "locked"
-    # Down never lands on a locked level: from level 2 it goes to Back.
-    menu.selected["levels"] = 2
+    # Down never lands on a locked level: from level 2 (the fourth row, after the prologue) it goes to Back.
+    menu.selected["levels"] = 3
     menu.input("down")
     assert menu.items()[menu.selected["levels"]].key == "back"
-    assert menu.click(3) is None  # a locked level cannot be clicked either
-    assert menu.click(2) == "play:02_crystal_cache"
+    assert menu.click(4) is None  # a locked level cannot be clicked either
+    assert menu.click(3) == "play:02_crystal_cache"
     assert menu.input("back") is None and menu.screen == "title"
     assert _select(menu, "continue") == "continue"
     assert _select(menu, "quit") == "quit"
@@ -371,7 +389,7 @@ w.update(DT)
 assert s.menu.screen == "title" and view() == "TitleView", (s.menu.screen, view())
 w.on_key_press(key.DOWN, 0); w.on_key_press(key.RETURN, 0)      # Level select
 assert s.menu.screen == "levels" and view() == "LevelSelectView"
-w.on_key_press(key.RETURN, 0)                                     # the first level
+w.on_key_press(key.DOWN, 0); w.on_key_press(key.RETURN, 0)      # Arrival, after the prologue
 w.update(DT)
 assert view() == "PlayView" and w.current_view.game.level.name == "Arrival"
 play = w.current_view
@@ -411,7 +429,7 @@ def click(index):
     w.on_mouse_press(x * sx, w.height - y * sy, mouse.LEFT, 0)
 click(1)
 assert s.menu.screen == "levels"
-click(0)
+click(1)
 w.update(DT)
 assert view() == "PlayView"
 # Finishing a level through the window: level 2's shipped replay, fed as the player's input.

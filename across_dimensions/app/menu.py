@@ -11,7 +11,7 @@ Screens:
 
 * ``title``: Continue, Level select, Settings, Quit (and the kernel compile's
   progress while it runs).
-* ``pause``: Resume, Restart level, Settings, Quit to title.
+* ``pause``: Resume, Restart level, (Skip the prologue,) Settings, Quit to title.
 * ``levels``: the campaign, each level unlocked or locked, finished with its best
   time and crystals found.
 * ``settings``: Controls, mouse sensitivity, invert X and Y, field of view,
@@ -23,7 +23,7 @@ Screens:
   both (the rows stay marked until resolved), or cancel.
 
 Selecting an item that leaves the menus returns a *command* string for the
-window: ``"continue"``, ``"play:<level>"``, ``"resume"``, ``"restart"``,
+window: ``"continue"``, ``"play:<level>"``, ``"resume"``, ``"restart"``, ``"skip"``,
 ``"quit_to_title"`` or ``"quit"``.
 """
 
@@ -227,6 +227,8 @@ class Menu:
         self.conflict: tuple[str, str, tuple[str, ...]] | None = None  # (action, key, other actions)
         self.progress_bar: tuple[int, int, str] | None = None
         self.message = ""
+        self.skippable = False  # the paused level may be skipped (the prologue): the pause menu says so
+        self.optional = frozenset(e.stem for e in campaign if e.optional)
 
     # ------------------------------------------------------------------ screens
     @property
@@ -271,7 +273,7 @@ class Menu:
 
     def _items_title(self) -> list[Item]:
         stems = [e.stem for e in self.campaign]
-        stem, checkpoint = self.progress.continue_level(stems)
+        stem, checkpoint = self.progress.continue_level(stems, self.optional)
         if stem is None:
             value = "campaign complete"
         else:
@@ -284,9 +286,11 @@ class Menu:
         ]
 
     def _items_pause(self) -> list[Item]:
+        skip = [Item("skip", "Skip the prologue")] if self.skippable else []
         return [
             Item("resume", "Resume"),
             Item("restart", "Restart level"),
+            *skip,
             Item("settings", "Settings"),
             Item("quit_to_title", "Quit to title"),
         ]
@@ -294,7 +298,7 @@ class Menu:
     def _items_levels(self) -> list[Item]:
         stems = [e.stem for e in self.campaign]
         rows = []
-        for i, (entry, open_) in enumerate(zip(self.campaign, self.progress.unlocked(stems))):
+        for i, (entry, open_) in enumerate(zip(self.campaign, self.progress.unlocked(stems, self.optional))):
             best = self.progress.finished.get(entry.stem)
             found = self.progress.crystals.get(entry.stem)
             if not open_:
@@ -428,7 +432,7 @@ class Menu:
         key = item.key
         if not item.enabled:
             return None
-        if key in ("continue", "resume", "restart", "quit_to_title", "quit"):
+        if key in ("continue", "resume", "restart", "skip", "quit_to_title", "quit"):
             return key
         if key.startswith("level:"):
             return "play:" + key[6:]

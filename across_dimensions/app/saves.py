@@ -104,29 +104,35 @@ class Progress:
         old = self.crystals.get(level, (0, total))[0]
         self.crystals[level] = (max(old, min(found, total)), total)
 
-    def unlocked(self, stems: list[str]) -> list[bool]:
-        """Which campaign levels may be played: the first, every finished one, and the one after each."""
+    def unlocked(self, stems: list[str], optional=frozenset()) -> list[bool]:
+        """Which campaign levels may be played: the first, every finished one, and the one after
+        each; the one after an ``optional`` level (the prologue) is open whenever that one is."""
         result = []
         for i, stem in enumerate(stems):
-            result.append(i == 0 or stem in self.finished or stems[i - 1] in self.finished)
+            before = stems[i - 1] if i else None
+            result.append(
+                i == 0 or stem in self.finished or before in self.finished or (before in optional and result[-1])
+            )
         return result
 
-    def play(self, level: str, checkpoint: int | None, stems: list[str]) -> bool:
+    def play(self, level: str, checkpoint: int | None, stems: list[str], optional=frozenset()) -> bool:
         """``level`` starts (at ``checkpoint``): it becomes where *Continue* resumes when it is an
         unlocked level of the campaign ``stems``. A locked level, or one outside the campaign
         (played from the command line), leaves *Continue* where it was. Returns whether it moved."""
-        if level not in stems or not self.unlocked(stems)[stems.index(level)]:
+        if level not in stems or not self.unlocked(stems, optional)[stems.index(level)]:
             return False
         self.current, self.checkpoint = level, checkpoint
         return True
 
-    def continue_level(self, stems: list[str]) -> tuple[str | None, int | None]:
+    def continue_level(self, stems: list[str], optional=frozenset()) -> tuple[str | None, int | None]:
         """Where *Continue* goes: the level left mid-way and its checkpoint, else the first
-        unfinished level, else None (the campaign is done)."""
+        unfinished level (an ``optional`` one only before any later level was finished: a
+        skipped prologue is not offered again), else None (the campaign is done)."""
         if self.current in stems:
             return self.current, self.checkpoint
-        for stem in stems:
-            if stem not in self.finished:
+        for i, stem in enumerate(stems):
+            skipped = stem in optional and any(s in self.finished for s in stems[i + 1 :])
+            if stem not in self.finished and not skipped:
                 return stem, None
         return None, None
 

@@ -22,7 +22,7 @@ from ..render.menu import MenuRenderer
 from ..render.renderer import Renderer
 from ..render.scale import ScaledTarget, resolve_render_scale
 from ..world.campaign import CampaignEntry, CampaignError, load_campaign, next_in_campaign
-from ..world.resources import level_files
+from ..world.resources import is_prologue_file, level_files
 from .editor import missing_message
 from .input import Bindings
 from .menu import Menu
@@ -33,6 +33,7 @@ from .settings import Settings, save_settings
 from .sound import SoundDirector, SoundOut
 from .views.menus import TitleView
 from .views.play import PlayView
+from .views.prologue import FlatPlayView
 from .views.startup import StartupView
 from .warmup import BackgroundWarmUp
 
@@ -109,15 +110,21 @@ class Session:
         ghosts = GhostView(settings.ghosts, settings.ghost_distance, settings.ghost_strength, settings.ghost_layers)
         self.options = PlayOptions(settings.show_fps, settings.pip, ghosts)
         self.debug_overlay = None  # the physics overlay's GL objects (render/debug_draw.py), made on first use
+        self.flat_renderer = None  # the prologue's renderer (render/flatland.py), made on first use
         self.notice = ("", 0.0)  # (text, seconds left)
         self.progress, progress_warnings = load_progress()
         self.save_problem_said = False
         for w in progress_warnings:
             print(f"warning: {w}", file=sys.stderr, flush=True)
+        self.campaign = _campaign()
+        #: Levels the campaign lets a player skip (the prologue): the next one is open without them.
+        self.optional = frozenset(e.stem for e in self.campaign if e.optional)
+        # The flat-being card teaches what the prologue did: not again after it.
+        played = any(stem in self.progress.finished for stem in self.optional)
         # Settings and save warnings: one line at the bottom (details in the log and on the
         # terminal), never over a hint.
-        self.onboarding = Onboarding(" ".join([*start.warnings, *progress_warnings]), card=not start.record)
-        self.campaign = _campaign()
+        warning = " ".join([*start.warnings, *progress_warnings])
+        self.onboarding = Onboarding(warning, card=not start.record and not played)
         self.menu = Menu(settings, self.progress, self.campaign, on_change=self.setting_changed)
         self.recording = Recording(start.record, self.say, self.warn)
         self.warm = start.warm
@@ -139,8 +146,12 @@ class Session:
             self.open_editor(self.window.current_view, from_play=False)
 
     def start_level(self, path: Path, checkpoint: int | None = None) -> None:
-        """Play ``path`` from ``checkpoint``, once the kernels are ready (a loading view until then)."""
+        """Play ``path`` from ``checkpoint``, once the kernels are ready (a loading view until then).
+        The Flatland prologue needs none of them: it starts at once, while they compile."""
         self.menu.close()
+        if is_prologue_file(path):
+            self.window.show_view(FlatPlayView(self, Path(path)))
+            return
         if self.warm is not None and not self.warm.ready:
             self.window.show_view(StartupView(self, Path(path), checkpoint))
             return

@@ -24,8 +24,9 @@ import pyglet
 
 from ..core.errors import InputError
 from ..render.context import Offscreen, RenderError, wrap_current_context
+from ..world.flat_level import load_flat_level
 from ..world.level import load_level
-from ..world.resources import level_files, resolve_level
+from ..world.resources import is_prologue_file, level_files, resolve_level
 from . import pyglet_options  # noqa: F401  (before pyglet.window or pyglet.gl load)
 from .session import Session, Start, timing
 from .settings import Settings, load_settings, save_settings, settings_path
@@ -243,7 +244,8 @@ def run_window(args) -> int:
     editing = getattr(args, "edit", False)
     if args.level or args.record or editing:  # a level named, or needed: straight into it
         path = resolve_level(args.level) if args.level else level_files()[0]
-        load_level(path)  # a broken level is reported before a window opens
+        # A broken level is reported before a window opens.
+        (load_flat_level if is_prologue_file(path) else load_level)(path)
     warm = None
     if editing:  # the editor builds games of its own from its first frame: compile before it opens
         warm_up()

@@ -11,6 +11,7 @@ The file is data only::
     file = "01_first_steps"   # a level in the levels folder, without ".toml"
     title = "First Steps"     # shown on the level-select screen
     teaches = "..."           # optional, one line under the title
+    optional = false          # true: the levels after it are open without it (the prologue)
 """
 
 from __future__ import annotations
@@ -46,12 +47,16 @@ class CampaignEntry:
         One line on what the level introduces (may be empty).
     path : Path
         The level file.
+    optional : bool
+        The level after it is open whether or not this one was played (the prologue, which a
+        player may skip).
     """
 
     stem: str
     title: str
     teaches: str
     path: Path
+    optional: bool = False
 
 
 def campaign_path() -> Path:
@@ -97,9 +102,10 @@ def load_campaign(path: Path | None = None) -> list[CampaignEntry]:
             problems.append(f"{where}: expected a table with file and title, got {entry!r}")
             continue
         stem, title, teaches = entry.get("file"), entry.get("title"), entry.get("teaches", "")
+        optional = entry.get("optional", False)
         for key in entry:
-            if key not in ("file", "title", "teaches"):
-                problems.append(f"{where}: unknown key {key!r}: expected file, title and teaches")
+            if key not in ("file", "title", "teaches", "optional"):
+                problems.append(f"{where}: unknown key {key!r}: expected file, title, teaches and optional")
         if not isinstance(stem, str) or not stem or "/" in stem or "\\" in stem or stem.startswith("."):
             expected = f"a level name in {path.parent} such as '01_first_steps'"
             problems.append(f"{where}: file = {stem!r}: expected {expected}")
@@ -110,13 +116,16 @@ def load_campaign(path: Path | None = None) -> list[CampaignEntry]:
         if not isinstance(teaches, str):
             problems.append(f"{where} ({stem}): teaches = {teaches!r}: expected one line of text")
             continue
+        if not isinstance(optional, bool):
+            problems.append(f"{where} ({stem}): optional = {optional!r}: expected true or false")
+            continue
         if stem in seen:
             problems.append(f"{where}: file = {stem!r} is already in the campaign; expected each level once")
             continue
         seen.add(stem)
         level = path.parent / f"{stem}.toml"
         if level.is_file():  # not shipped yet: skipped, so the campaign can name future levels
-            result.append(CampaignEntry(stem, title.strip(), teaches.strip(), level))
+            result.append(CampaignEntry(stem, title.strip(), teaches.strip(), level, optional))
     if problems:
         raise CampaignError("\n".join(problems))
     return result

@@ -15,8 +15,9 @@ class LevelCompleteView(View):
 
     When first shown it saves the run (best time, crystals, the next level for Continue), stops
     a recording and says the time; the level keeps running under it, with the player's input
-    (Esc still pauses), for :data:`NEXT_LEVEL_DELAY` seconds of play, and then the next level of
-    the campaign starts.
+    (Esc still pauses), for the play view's ``finish_seconds`` of play (:data:`NEXT_LEVEL_DELAY`
+    for a 4D level; the prologue's turn to the 3D world takes longer), and then the next level of
+    the campaign starts, with the play view's ``farewell`` said over it when it has one.
     """
 
     shows_level = True
@@ -52,8 +53,10 @@ class LevelCompleteView(View):
             self.window.pop_view()
             return
         self.finished_for += self.play.run(dt) * DT
-        if self.finished_for >= NEXT_LEVEL_DELAY:
+        if self.finished_for >= self.play.finish_seconds:
             self.session.next_level(self.play.level_path)
+            if self.play.farewell:
+                self.session.say(self.play.farewell, 6.0)
 
     # The level is still played: everything else is the play view's.
     def on_draw(self, target, viewport) -> None:

@@ -142,7 +142,7 @@ class TitleView(MenuScreen):
     def run(self, command: str) -> None:
         s = self.session
         if command == "continue":
-            stem, checkpoint = s.progress.continue_level([e.stem for e in s.campaign])
+            stem, checkpoint = s.progress.continue_level([e.stem for e in s.campaign], s.optional)
             if stem is not None:
                 s.start_level(next(e.path for e in s.campaign if e.stem == stem), checkpoint)
         elif command == "quit":
@@ -174,6 +174,7 @@ class PauseView(MenuScreen):
     def on_show(self) -> None:
         super().on_show()
         if self.menu.stack[:1] != ["pause"]:  # just paused, not back from the settings
+            self.menu.skippable = self.backdrop.level_path.stem in self.session.optional
             self.menu.open("pause")
             self.session.sound.ui("menu_back")
             self.session.save_progress()  # quitting from here (closing the window) keeps the level to continue
@@ -187,6 +188,9 @@ class PauseView(MenuScreen):
         elif command == "restart":
             s.recording.stop()
             s.start_level(self.backdrop.level_path)
+        elif command == "skip":  # the prologue: on to the level after it
+            s.recording.stop()
+            s.next_level(self.backdrop.level_path)
         elif command == "quit_to_title":
             s.to_title()
 

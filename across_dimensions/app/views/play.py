@@ -27,7 +27,7 @@ from ..onboarding import fill_keys
 from ..saves import checkpoint_of, resume_at_checkpoint
 from ..settings import look_delta
 from .base import View
-from .complete import LevelCompleteView
+from .complete import NEXT_LEVEL_DELAY, LevelCompleteView
 from .menus import PauseView
 
 #: Most ticks run in one frame: a machine that falls further behind drops time instead.
@@ -47,6 +47,10 @@ class PlayView(View):
     """
 
     shows_level = True
+    #: Seconds of play after the goal before the next level starts.
+    finish_seconds = NEXT_LEVEL_DELAY
+    #: Said as the next level starts ("": nothing).
+    farewell = ""
 
     def __init__(self, session, path: Path, checkpoint: int | None = None):
         super().__init__(session)
@@ -66,7 +70,8 @@ class PlayView(View):
         self.hints = True
         resume_at_checkpoint(self.game, checkpoint)
         # A level is where Continue resumes only when it is open in the campaign.
-        self.continues = s.progress.play(self._path.stem, checkpoint_of(self.game), [e.stem for e in s.campaign])
+        stems = [e.stem for e in s.campaign]
+        self.continues = s.progress.play(self._path.stem, checkpoint_of(self.game), stems, s.optional)
         s.save_progress()
         s.renderer.forget_meshes()  # a new world: its meshes reuse the old one's keys and revisions
         st = s.settings
