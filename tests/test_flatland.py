@@ -232,3 +232,20 @@ def test_the_frame_shows_the_sections_and_the_z_bar(tmp_path):
     (ball,) = [c for c in frame.circles if c.kind == "ball"]
     assert ball.radius == pytest.approx(math.sqrt(1 - (game.z - 2.0) ** 2))
     assert frame.reveal == 0.0 and frame.solids3 == []
+
+
+def test_the_pit_needs_the_ball(tmp_path):
+    # The prologue without its ball: a running jump from the pit's edge falls in (the pit is wider
+    # than a jump carries), so crossing it is the ball's lesson, not a long jump.
+    text = PROLOGUE.read_text(encoding="utf-8")
+    text = text[: text.index("[[ball]]")].replace(
+        "position = [0.0, 0.0, 0.0]   # x, y (feet), z", "position = [31.0, 0.0, 0.0]"
+    )
+    path = tmp_path / "no_ball.toml"
+    path.write_text(text, encoding="utf-8")
+    game = FlatGame(load_flat_level(path))
+    while game.position[0] < 35.5:  # full speed by the edge
+        game.step(Actions(right=1.0))
+    run(game, Actions(right=1.0, jump=True), 3)
+    run(game, Actions(right=1.0), 120)
+    assert game.position[1] < -2.5 and game.position[0] < 41.4  # in the pit, short of the far side

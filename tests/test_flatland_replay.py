@@ -72,4 +72,5 @@ def test_screenshots_of_a_prologue_replay(tmp_path, env):
     shots = tmp_path / "shots"
     r = cli(env, "replay", "prologue", REPLAY, "--screenshots", shots, "--every", "400", "--size", "320x180")
     assert r.returncode == 0, r.stderr
-    assert sorted(p.name for p in shots.glob("*.png")) == [f"frame_{t:05d}.png" for t in range(0, 1236, 400)]
+    ticks = Replay.load(REPLAY).final_ticks
+    assert sorted(p.name for p in shots.glob("*.png")) == [f"frame_{t:05d}.png" for t in range(0, ticks + 1, 400)]
