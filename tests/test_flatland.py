@@ -16,6 +16,7 @@ import pytest
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.flatland import FlatGame
 from across_dimensions.game.flatland.hints import StateHints
+from across_dimensions.game.flatland.sim import COYOTE_TICKS
 from across_dimensions.game.flatland.space import CRATE_FRICTION, SOLID_FRICTION
 from across_dimensions.game.flatland.view import flat_frame
 from across_dimensions.game.player import JUMP_SPEED, WALK_SPEED
@@ -249,3 +250,19 @@ def test_the_pit_needs_the_ball(tmp_path):
     run(game, Actions(right=1.0, jump=True), 3)
     run(game, Actions(right=1.0), 120)
     assert game.position[1] < -2.5 and game.position[0] < 41.4  # in the pit, short of the far side
+
+
+@pytest.mark.parametrize("late, jumps", [(3, True), (COYOTE_TICKS + 3, False)])
+def test_a_jump_just_after_leaving_the_ground_still_goes(tmp_path, late, jumps):
+    # Coyote time: a being that walked off a ledge (or whose circle shrank away under it) may jump
+    # for a few ticks more, so a tap late by a frame still jumps; later it is falling.
+    level = ROOM.replace("position = [0.0, 0.0, 0.0]", "position = [0.0, 2.0, 0.0]")
+    level += '[[box]]\nname = "ledge"\ncenter = [-1.0, 1.5, 0.0]\nsize = [2.4, 1.0, 8.0]\n'
+    (tmp_path / "ledge.toml").write_text(level, encoding="utf-8")
+    game = FlatGame(load_flat_level(tmp_path / "ledge.toml"))
+    run(game, Actions(), 20)
+    while game.grounded:
+        game.step(Actions(right=1.0))
+    run(game, Actions(right=1.0), late - 1)
+    game.step(Actions(right=1.0, jump=True))
+    assert (game.space.being.velocity.y > 0.8 * JUMP_SPEED) == jumps

@@ -34,6 +34,11 @@ from .world3 import World3
 
 TICK_RATE = 60
 DT = 1.0 / TICK_RATE
+#: Ticks after leaving the ground (running off an edge, or a shrinking circle sinking away under
+#: the feet) in which a jump still goes (coyote time), and ticks a jump pressed in the air is kept
+#: for the landing: a tap shorter than a frame on a circle that shrinks under the being jumps.
+COYOTE_TICKS = 6
+JUMP_BUFFER_TICKS = 6
 #: How deep (m) something must reach into the being (or a crate) at a new z to refuse the move:
 #: more than pymunk's resting overlap (:data:`.space.COLLISION_SLOP`), so standing on a floor that
 #: goes on at the new z never blocks.
@@ -95,6 +100,9 @@ class FlatGame:
         self.z_blocked = 0.0  # the sign of the w input a move was refused for, 0 when none
         self.facing = 1.0  # which way the being last walked: drawn, never simulated
         self.grounded, self._ground_v = False, (0.0, 0.0)
+        self.air_ticks = 0  # ticks since the being last stood on something
+        self.jump_buffer = 0  # ticks a jump press is still waiting for ground
+        self.jumped = False  # it jumped since it last stood on something
         self.prev_position = self.position.copy()
         self._sync()
 
@@ -128,9 +136,17 @@ class FlatGame:
         self._sync()
         walk = max(-1.0, min(1.0, float(actions.right) + float(actions.forward)))
         self.facing = float(np.sign(walk)) if walk else self.facing
-        drive(self.space, walk, bool(actions.jump), self.grounded, self._ground_v)
+        self.jump_buffer = JUMP_BUFFER_TICKS if actions.jump else max(0, self.jump_buffer - 1)
+        jump = self.jump_buffer > 0 and self.air_ticks <= COYOTE_TICKS and not self.jumped
+        if jump:
+            self.jump_buffer, self.jumped = 0, True
+        drive(self.space, walk, jump, self.grounded, self._ground_v)
         self.space.step()
         self.grounded, self._ground_v = self.space.ground()
+        # Still touching the ground the tick after a jump is not landing: the jump is on its way up.
+        landed = self.grounded and not (jump or self.space.being.velocity.y > self._ground_v[1] + 1.0)
+        self.air_ticks = 0 if self.grounded else self.air_ticks + 1
+        self.jumped = self.jumped and not landed
         self._rules()
         self.tick += 1
 
@@ -229,10 +245,11 @@ class FlatGame:
     def state_hash(self) -> str:
         """A short hash of the whole state: the being (and its z), the crates, the contacts pymunk
         carries to the next tick, the 3D world, the counters. Equal states give equal hashes."""
-        h = hashlib.sha256(np.array([self.tick, self.z, self.vz, self.checkpoint, self.respawns], np.float64).tobytes())
+        counters = [self.tick, self.z, self.vz, self.checkpoint, self.respawns, self.air_ticks, self.jump_buffer]
+        h = hashlib.sha256(np.array(counters, np.float64).tobytes())
         h.update(self.space.state_bytes())
         h.update(self.world.state_bytes())
-        h.update(repr((self.outcome, self.z_blocked, self.grounded, self._ground_v)).encode())
+        h.update(repr((self.outcome, self.z_blocked, self.grounded, self._ground_v, self.jumped)).encode())
         return h.hexdigest()[:16]
 
 

@@ -168,14 +168,14 @@ def _body_bytes(b: pymunk.Body) -> bytes:
     return struct.pack("<6d", *b.position, *b.velocity, b.angle, b.angular_velocity)
 
 
-def drive(space: FlatSpace, walk: float, jump: bool, grounded: bool, ground_velocity) -> bool:
-    """Set the being's walk for the next tick; returns whether it jumped.
+def drive(space: FlatSpace, walk: float, jump: bool, grounded: bool, ground_velocity) -> None:
+    """Set the being's walk (and its jump, when ``jump``) for the next tick.
 
     On the ground the feet's surface velocity asks for ``walk * WALK_SPEED`` relative to what they
     stand on, and their friction (``GROUND_ACCEL`` over gravity) bounds the force that gets it, so
     a crate in the way is pushed only as hard as feet can push. In the air the being steers at
-    ``AIR_ACCEL``. A jump (on the ground) sets the upward speed to :data:`JUMP_SPEED` plus that of
-    the ground.
+    ``AIR_ACCEL``. A jump sets the upward speed to :data:`JUMP_SPEED` plus that of the ground
+    (whether a jump may happen now is the simulation's call: see ``FlatGame``'s coyote time).
     """
     b, feet = space.being, space.feet
     want = walk * WALK_SPEED
@@ -187,8 +187,5 @@ def drive(space: FlatSpace, walk: float, jump: bool, grounded: bool, ground_velo
         vx, vy = b.velocity
         step = AIR_ACCEL * space.dt
         b.velocity = (vx + min(max(want - vx, -step), step), vy)
-        return False
     if jump:
         b.velocity = (b.velocity.x, JUMP_SPEED + ground_velocity[1])
-        return True
-    return False
