@@ -24,9 +24,9 @@ def drawn(gl_ctx):
     target = Offscreen(gl_ctx, W, H)
     renderer = FlatRenderer(gl_ctx)
 
-    def draw(frame):
+    def draw(frame, hud=True):
         target.use()
-        renderer.draw(frame, target.viewport)
+        renderer.draw(frame, target.viewport, hud)
         return target.read_rgb(), renderer.last_quads
 
     yield draw
@@ -57,6 +57,8 @@ def test_the_side_view_shows_the_being_the_ground_and_the_z_bar(drawn):
     assert img[row, col].max() < 110 and img[row, col].min() > 20  # the ground: a dark panel
     assert _has(quads, "Walk with A and D.") and _has(quads, "z +0.00")
     assert _has(quads, "key > 20 m")  # its pin: the key lies 20 m on (at z = -2)
+    paused, quads = drawn(frame, hud=False)  # under the pause menu: the view without bar or hint
+    assert len(quads) == 0 and np.array_equal(paused[H // 2, : W // 2], img[H // 2, : W // 2])
 
 
 def test_after_the_goal_the_view_turns_to_the_3d_world(drawn):

@@ -204,17 +204,21 @@ class FlatRenderer:
         return self.renderer.palette
 
     # ---------------------------------------------------------------- a frame
-    def draw(self, frame: FlatFrame, viewport: tuple[int, int, int, int]) -> None:
-        """Draw ``frame`` into ``viewport`` (``(x, y, w, h)``, GL convention) of the bound framebuffer."""
+    def draw(self, frame: FlatFrame, viewport: tuple[int, int, int, int], hud: bool = True) -> None:
+        """Draw ``frame`` into ``viewport`` (``(x, y, w, h)``, GL convention) of the bound framebuffer;
+        with ``hud`` also the z bar, the hint and the messages (a menu over the paused level has none)."""
         viewport = tuple(int(v) for v in viewport)
         fade = 1.0 - min(1.0, frame.reveal / FADE) if frame.reveal > 0.0 else 1.0
         if frame.reveal > 0.0:
             self._draw_3d(frame, viewport)
         if fade > 0.0:
             self._draw_flat(frame, viewport, fade)
-        hud = Hud(crosshair=False, w_min=0.0, w_max=0.0, hint=frame.hint, hint_label=frame.hint_label)
-        hud.message = frame.line if frame.reveal >= 0.35 else frame.message
-        quads = hud_quads(hud, viewport[2], viewport[3])
+        if not hud:
+            self.last_quads = np.zeros((0, 12), np.float32)
+            return
+        panel = Hud(crosshair=False, w_min=0.0, w_max=0.0, hint=frame.hint, hint_label=frame.hint_label)
+        panel.message = frame.line if frame.reveal >= 0.35 else frame.message
+        quads = hud_quads(panel, viewport[2], viewport[3])
         if fade > 0.0:
             quads = np.concatenate([self._bar_quads(frame, viewport[2], viewport[3], fade), quads])
         self.last_quads = quads

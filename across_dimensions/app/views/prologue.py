@@ -181,7 +181,7 @@ class FlatPlayView(View):
             message = s.notice_text or ("REC" if s.recording.active else "")
         frame = flat_frame(self.game, self.accumulator / DT, hint, label, message)
         target.use()
-        s.flat_renderer.draw(frame, viewport)
+        s.flat_renderer.draw(frame, viewport, hud=playing)
 
     # ---------------------------------------------------------------- input
     def on_key_press(self, symbol, modifiers) -> None:
