@@ -166,6 +166,24 @@ class Game:
         self._prev_eye = self._eye4()
         self._prev_view = (p.yaw, p.pitch)
 
+    def place_player(self, position, yaw: float | None = None, pitch: float | None = None) -> None:
+        """Stand the player at ``position (4,)`` (feet), at rest, turned to ``yaw`` and ``pitch``
+        (radians) when given, and draw from there without blending from where it was (a
+        benchmark's viewpoint, a test's setup)."""
+        p = self.player
+        p.position = np.array(position, dtype=np.float64).reshape(4)
+        p.velocity = np.zeros(4)
+        if yaw is not None:
+            p.yaw = float(yaw)
+        if pitch is not None:
+            p.pitch = float(pitch)
+        self.reset_interpolation()
+
+    def solids_moved(self) -> None:
+        """Solid objects moved within this tick (an object turned by the player, a tool): the
+        walker's colliders and sections of the tick are worked out again."""
+        self.pose_version += 1
+
     def _eye4(self) -> np.ndarray:
         return np.append(self.player.eye(), float(self.player.position[3]))
 

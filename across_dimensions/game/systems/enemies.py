@@ -394,9 +394,22 @@ def _blasts(game) -> None:
     for e in foes(game):
         foe = e.data
         if foe.alive and np.linalg.norm(foe.centre[:3] - centre) <= spec.radius:
-            foe.pull = (float(foe.centre[3]), float(blasts[-1].w), game.tick, end)
-            foe.shots_left = 0
-            _set_state(game, foe, "dragged")
+            _drag(game, foe, float(blasts[-1].w), end)
+
+
+def _drag(game, foe: en.Foe, w: float, end: int) -> None:
+    """Pull the enemy from its w to ``w``, arriving at tick ``end``, then stunned."""
+    foe.pull = (float(foe.centre[3]), float(w), game.tick, end)
+    foe.shots_left = 0
+    _set_state(game, foe, "dragged")
+
+
+def hold(game, w: float, ticks: int) -> None:
+    """Drag every live enemy to ``w`` and keep it there, in the slice and animated, for ``ticks``
+    ticks, as a blast without end would (benchmarks, tests)."""
+    for e in foes(game):
+        if e.data.alive:
+            _drag(game, e.data, w, game.tick + ticks)
 
 
 #: The frustum camera's hold: switching to it drags every enemy in front of the player within
@@ -418,9 +431,7 @@ def _frustum_holds(game) -> None:
         foe = e.data
         rel = foe.centre[:3] - eye
         if foe.alive and np.linalg.norm(rel) <= FRUSTUM_HOLD_RANGE and rel[[0, 2]] @ ahead > 0.0:
-            foe.pull = (float(foe.centre[3]), pw, game.tick, end)
-            foe.shots_left = 0
-            _set_state(game, foe, "dragged")
+            _drag(game, foe, pw, end)
 
 
 def _forced_loot(game, e, w_before: float) -> None:
