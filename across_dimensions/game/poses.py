@@ -20,8 +20,8 @@ _ORDER = [(PLANES.index(p), *(("xyzw".index(p[0]), "xyzw".index(p[1])))) for p i
 
 
 def angle_rows(angles: list[dict]) -> np.ndarray:
-    """``(n, 6) float64`` radians in :data:`~core.transform.PLANES` order from ``n`` mappings of
-    plane to radians (a plane left out is zero, which composes the same: no turn)."""
+    """``(n, 6) float64`` in :data:`~core.transform.PLANES` order from ``n`` mappings of plane to
+    angle (radians or degrees; a plane left out is zero, which composes the same: no turn)."""
     out = np.zeros((len(angles), len(PLANES)))
     for i, a in enumerate(angles):
         for p, v in a.items():

@@ -29,6 +29,7 @@ from .actions import Actions
 from .camera import CameraRig
 from .energy import EnergyBar
 from .entities import EntityStore, EntityTable, Rigid, Scripted, reach
+from .entity_models import EntityModels
 from .entity_sections import EntitySections
 from .events import Event
 from .frame import Camera3, Frame, Hud
@@ -94,6 +95,7 @@ class Game:
         self.sections = SectionCache()
         self.meshes = MeshParts(self.scene)  # [[mesh]] and [[world.mesh]] collide by their surfaces
         self.entity_sections = EntitySections()  # what the frame draws of the entities, batched
+        self.entity_models = EntityModels()  # the drawn entities' models, made in one pass
         self.physics, body_of = build_physics(self.scene, DT)
         self.entities = EntityStore()
         self._table_key: tuple | None = None
