@@ -100,6 +100,7 @@ class Game:
         self.entities = EntityStore()
         self._table_key: tuple | None = None
         self._table: EntityTable | None = None
+        self._moving: list[int] = []  # rows of the table whose centre can change from tick to tick
         self._colliders_key: tuple | None = None
         self._colliders: dict[float, np.ndarray] = {}
         self._sections: dict[float, list] = {}
@@ -215,9 +216,14 @@ class Game:
         """The live entities with their centres and reaches as arrays; built once per tick."""
         key = (self.tick, self.entities.version)
         if self._table_key != key:
-            ents = list(self.entities)
-            centers = np.array([e.center(self) for e in ents], dtype=np.float64).reshape(-1, 4)
-            self._table = EntityTable(ents, centers, np.array([e.radius for e in ents], dtype=np.float64))
+            if self._table is None or self._table_key[1] != key[1]:  # entities came or went
+                ents = list(self.entities)
+                centers = np.array([e.center(self) for e in ents], dtype=np.float64).reshape(-1, 4)
+                self._table = EntityTable(ents, centers, np.array([e.radius for e in ents], dtype=np.float64))
+                self._moving = [i for i, e in enumerate(ents) if not isinstance(e.motion, Scripted)]
+            else:  # a scripted entity turns about its origin: only the others' centres move
+                for i in self._moving:
+                    self._table.centers[i] = self._table.entities[i].center(self)
             self._table_key = key
         return self._table
 
