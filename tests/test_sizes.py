@@ -33,7 +33,6 @@ DEBT: set[str] = {
     "world/gameplay.py",
     "world/level.py",
     "app/cli.py:_parser",
-    "app/commands.py:_bench_game",
     "app/settings.py:load_settings",
     "core/frustum_batch.py:_project_batch",
     "core/section_batch.py:_slice_batch",
