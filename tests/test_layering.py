@@ -3,6 +3,8 @@
 * ``core/`` imports only numpy, numba, the standard library and
   ``across_dimensions.core`` itself (no exception: even GLB export is numpy).
 * only ``render/`` imports moderngl; only ``app/`` imports pyglet.
+* ``probe/`` (the design probe) drives the headless game: it never imports ``app/`` or
+  ``render/``.
 * ``game/``, ``physics/``, ``world/`` and ``core/`` never read the wall clock
   (benchmarks excepted) and never use global random state: randomness comes
   from seeded ``np.random.default_rng`` generators.
@@ -255,6 +257,19 @@ def test_only_render_imports_moderngl():
 
 def test_only_app_imports_pyglet():
     problems = [p for rel, src in SOURCES.items() for p in exclusive_import_problems(rel, src, "pyglet", "app/")]
+    assert not problems, _report(problems)
+
+
+def test_probe_never_imports_the_window_or_the_renderer():
+    banned = ("across_dimensions.app", "across_dimensions.render", "pyglet", "moderngl")
+    problems = [
+        i.where()
+        for rel, src in SOURCES.items()
+        if rel.startswith("probe/")
+        for i in imports(rel, src)
+        if any(i.module == b or i.module.startswith(b + ".") for b in banned)
+    ]
+    assert any(rel.startswith("probe/") for rel in SOURCES)
     assert not problems, _report(problems)
 
 
