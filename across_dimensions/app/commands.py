@@ -60,6 +60,8 @@ def check_level(args) -> int:
             )
         if level.radar is not None:
             extra += f", radar {level.radar.range:g} m"
+        if level.needs:
+            extra += f", needs {' '.join(level.needs)}"
         _out(
             f"{f}: ok - '{level.name}', {len(level.boxes)} boxes, {len(level.worlds)} worlds, "
             f"{len(level.objects)} 4D objects{extra}, w in {list(level.w_range)}"

@@ -93,7 +93,7 @@ def look(game, yaw: float, pitch: float = 0.0) -> tuple[float, float]:
 
 def aim_at(game, point3) -> tuple[float, float]:
     """Yaw and pitch that put the crosshair on ``point3 (3,)``."""
-    eye = game.player.eye()
+    eye = read.eye(game)
     d = np.asarray(point3, float) - eye
     return math.atan2(d[0], d[2]), math.atan2(d[1], math.hypot(d[0], d[2]))
 
@@ -104,7 +104,8 @@ def facing(game, yaw: float, pitch: float | None = None, tol: float = 0.02) -> b
 
 
 # ------------------------------------------------------------------ the ground ahead
-def _box_at(pos, dx: float, dz: float, dy: float, height: float | None = None):
+def box_at(pos, dx: float, dz: float, dy: float, height: float | None = None):
+    """The player's box at feet ``pos`` moved by ``dx, dy, dz`` (and cut to ``height``): ``lo, hi``."""
     lo, hi = read.player_box(pos)
     lo = lo + np.array([dx, dy, dz])
     hi = hi + np.array([dx, dy, dz])
@@ -121,15 +122,15 @@ def wants_jump(game, heading: float, lookahead: float = 0.35) -> bool:
     pos, w = read.feet(game), float(read.feet(game)[3])
     dx, dz = math.sin(heading), math.cos(heading)
     # A ledge: blocked just above a step's height, clear at the top of a jump.
-    lo, hi = _box_at(pos, dx * lookahead, dz * lookahead, STEP_HEIGHT + 0.02)
+    lo, hi = box_at(pos, dx * lookahead, dz * lookahead, STEP_HEIGHT + 0.02)
     if read.blocked_box(game, lo, hi, w):
-        lo, hi = _box_at(pos, dx * lookahead, dz * lookahead, JUMP_CLEAR)
+        lo, hi = box_at(pos, dx * lookahead, dz * lookahead, JUMP_CLEAR)
         return not read.blocked_box(game, lo, hi, w)
     # A drop: no floor under the box where the next ticks will carry it.
     v = read.velocity(game)
     speed = max(math.hypot(v[0], v[2]), 0.5 * WALK_SPEED)
     step = speed * game.dt * 1.05  # the last tick with ground under the box: a running jump carries furthest
-    lo, hi = _box_at(pos, dx * step, dz * step, -0.6, height=0.58)
+    lo, hi = box_at(pos, dx * step, dz * step, -0.6, height=0.58)
     return not read.blocked_box(game, lo, hi, w)
 
 

@@ -13,11 +13,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..game import section_collision
+from ..game.enemies import WEAK_W
 from ..game.player import EYE_HEIGHT, HALF_WIDTH, HEIGHT, player_box
 from ..game.player_bodies import player_collide
+from ..game.systems.manipulation import AXES as TURN_AXES
 from ..game.systems.outcome import in_goal
 
-__all__ = ["EYE_HEIGHT", "HALF_WIDTH", "HEIGHT", "in_goal", "player_box"]
+#: ``TURN_AXES[i][0]``: the Actions field (forward, right, w) that turns a held object's
+#: i-th plane; ``WEAK_W``: how near in w a bullet must come to an enemy's weak spot.
+__all__ = ["EYE_HEIGHT", "HALF_WIDTH", "HEIGHT", "TURN_AXES", "WEAK_W", "in_goal", "player_box"]
 
 
 @dataclass(frozen=True)
@@ -39,6 +43,11 @@ def feet(game) -> np.ndarray:
 def view(game) -> tuple[float, float]:
     """The player's yaw and pitch, radians."""
     return float(game.player.yaw), float(game.player.pitch)
+
+
+def eye(game) -> np.ndarray:
+    """The player's eye ``(3,)``."""
+    return game.player.eye()
 
 
 def on_ground(game) -> bool:
@@ -73,19 +82,14 @@ def w_cost(game) -> float:
     return game.level.energy.w_cost if game.energy is not None else 0.0
 
 
-def event_kinds(game) -> list[str]:
-    """The kinds of this tick's events, in order."""
-    return [e.kind for e in game.events]
+def events(game) -> list:
+    """This tick's events, in order (frozen records with a ``kind``)."""
+    return list(game.events)
 
 
 def count(game, kind: str) -> int:
     """Events of ``kind`` since the start."""
     return int(game.event_counts.get(kind, 0))
-
-
-def health(game) -> float | None:
-    h = getattr(game, "health", None)
-    return None if h is None else float(getattr(h, "value", 0.0))
 
 
 # ------------------------------------------------------------------ the world around the player
@@ -122,6 +126,17 @@ def touched_bodies(game) -> list[int]:
 
 
 # ------------------------------------------------------------------ 4D things
+def names(game) -> dict[int, str]:
+    """Every live entity's name, by id."""
+    return {e.id: e.name for e in game.entities}
+
+
+def center_of(game, entity_id: int) -> np.ndarray | None:
+    """A live entity's centre ``(4,)``, or None once it is gone."""
+    e = game.entities.get(entity_id)
+    return None if e is None else np.asarray(e.center(game), float)
+
+
 def _things(game, kind: str) -> list[Thing]:
     return [
         Thing(e.id, e.name, np.asarray(e.center(game), float), float(e.radius)) for e in game.entities.of_kind(kind)
@@ -145,16 +160,6 @@ def bodies(game) -> list[Thing]:
 
 def body_named(game, name: str) -> Thing | None:
     return next((b for b in bodies(game) if b.name == name), None)
-
-
-def objects(game) -> list[Thing]:
-    """Fixed 4D objects still in the level (doors vanish when opened)."""
-    return _things(game, "object")
-
-
-def object_present(game, name: str) -> bool:
-    e = game.entities.named(name)
-    return e is not None
 
 
 def targets(game, hit: bool | None = False) -> list[Thing]:
@@ -233,10 +238,6 @@ def foes(game, alive: bool = True) -> list[Foe]:
     return out
 
 
-def enemy_specs(game) -> list:
-    return list(game.level.enemies)
-
-
 # ------------------------------------------------------------------ manipulation
 @dataclass(frozen=True)
 class Handle:
@@ -277,32 +278,15 @@ def held(game) -> int | None:
     return None if tool is None else tool.held
 
 
-def aimed(game) -> int | None:
-    """The manipulable under the crosshair within reach, or None."""
-    from ..game.systems.manipulation import aimed_at
-
-    return aimed_at(game)
-
-
 # ------------------------------------------------------------------ the 4D camera
 def camera_mode(game) -> str:
     """``synced``, ``frustum`` or ``returning``."""
     return game.camera.mode
 
 
-def slice_aligned(game) -> bool:
-    """Is the slice the level's plain one (no turn, no offset)?"""
-    return bool(game.camera.aligned)
-
-
-def slice_angles(game) -> tuple[float, float, float]:
-    """How far the slice is turned in xw, yw, zw, degrees."""
-    return game.camera.angles_deg()
-
-
-def slice_anchor(game) -> np.ndarray:
-    """World point of the slice-space origin ``(4,)``."""
-    return game.camera.anchor.copy()
+def orbit_deg(game) -> float:
+    """How far the detached camera has orbited since the switch, degrees."""
+    return float(np.degrees(game.camera.orbit))
 
 
 def image_of(game, point4: np.ndarray) -> np.ndarray | None:

@@ -82,7 +82,7 @@ class _Recorder:
         self.orbit = 0.0
 
     def before(self) -> None:
-        self.names = {e.id: e.name for e in self.game.entities}
+        self.names = read.names(self.game)
 
     def _step(self, kind, name, **info) -> None:
         g = self.game
@@ -91,18 +91,18 @@ class _Recorder:
 
     def after(self, actions) -> None:
         g = self.game
-        for ev in g.events:
+        for ev in read.events(g):
             self._event(ev)
         for eid in read.touched_bodies(g):
-            e = g.entities.get(eid)
-            if e is not None:
-                self.touch[eid] = np.asarray(e.center(g), float)
+            at = read.center_of(g, eid)
+            if at is not None:
+                self.touch[eid] = at
                 self.first_touch.setdefault(eid, g.tick)
         for name, n in actions.presses:
             if name.startswith("step_") or name == "snap_slice":
                 self._step("turn", name, presses=n)
-        if g.camera.mode == "frustum":
-            self.orbit = float(np.degrees(g.camera.orbit))
+        if read.camera_mode(g) == "frustum":
+            self.orbit = read.orbit_deg(g)
 
     def _event(self, ev) -> None:
         g, k = self.game, ev.kind
@@ -110,7 +110,7 @@ class _Recorder:
             self._step("crystal", self.names.get(ev.entity, ""))
         elif k == "shot_fired":
             y, p = read.view(g)
-            self.shots[ev.entity] = (read.feet(g), y, p, g.camera.mode, self.orbit)
+            self.shots[ev.entity] = (read.feet(g), y, p, read.camera_mode(g), self.orbit)
         elif k == "target_hit":
             feet, y, p, mode, orbit = self.shots.get(ev.bullet, (read.feet(g), 0.0, 0.0, "synced", 0.0))
             spec = next(t for t in g.level.targets if t.name == self.names.get(ev.entity))

@@ -13,10 +13,23 @@ import math
 import numpy as np
 
 from ..game.actions import Actions
-from ..game.enemies import WEAK_W
-from ..game.systems.manipulation import AXES
 from . import read
-from .pilot import Ctx, aim_at, distance_xz, drive, goto, idle, look, move_w, turn_to, wait, wrap, yaw_to
+from .pilot import (
+    JUMP_CLEAR,
+    Ctx,
+    aim_at,
+    box_at,
+    distance_xz,
+    drive,
+    goto,
+    idle,
+    look,
+    move_w,
+    turn_to,
+    wait,
+    wrap,
+    yaw_to,
+)
 
 #: Where the bot stands to shoot: never closer than this to what it shoots at (m).
 MIN_SHOT = 1.0
@@ -166,7 +179,7 @@ def hit_target(ctx: Ctx, name: str, step=None):
 def _route_spot(ctx: Ctx, spec, t, step):
     """Where the route fired from, when a bullet from there (at the w the strategy may
     take) still reaches the switch; else None."""
-    if step is None or getattr(step, "at", None) is None:
+    if step is None or step.at is None:
         return None
     w0 = float(step.at[3]) if ctx.allow.w else float(read.feet(ctx.game)[3])
     d = float(np.hypot(*(t.center[[0, 2]] - step.at[[0, 2]])))
@@ -204,7 +217,7 @@ def frustum_shot(ctx: Ctx, name: str, step=None):
         if _hit(game, name) or read.camera_mode(game) != "frustum":
             break
         img = read.image_of(game, _target(game, name).center)
-        if img is None or np.linalg.norm(img - game.player.eye()) < 1.0:
+        if img is None or np.linalg.norm(img - read.eye(game)) < 1.0:
             yaw, pitch = read.view(game)[0], 0.0
         else:
             yaw, pitch = aim_at(game, img)
@@ -255,7 +268,7 @@ def turn_handle(ctx: Ctx, name: str, plane: str, angle: float):
             break
     yaw, pitch = aim_at(game, h.center[:3])
     yield from turn_to(ctx, yaw, pitch)
-    axis, sign = AXES[list(h.angles).index(plane)][0], 1.0
+    axis, sign = read.TURN_AXES[list(h.angles).index(plane)][0], 1.0
     for _ in range(60 * 20):
         h = next(x for x in read.handles(game) if x.name == name)
         gap = angle - h.angles[plane]
@@ -317,7 +330,7 @@ def fight(ctx: Ctx, name: str, ticks: int = 3600):
         me = read.feet(game)
         weak = foe.weak_spot is not None
         aim_w = foe.center[3] + (foe.weak_spot[3] if weak else 0.0)
-        tol = (WEAK_W if weak else 0.5) + spec.size
+        tol = (read.WEAK_W if weak else 0.5) + spec.size
         w_stand = float(np.clip(aim_w - 0.7 * spec.amplitude, lo, hi)) if ctx.allow.w else float(me[3])
         want = swing_distance(spec, aim_w - w_stand, tol) or spec.speed * spec.period / 4
         spot = foe.center[[0, 2]] + _toward_player(game, foe.center, want)
@@ -413,14 +426,12 @@ def unstick(ctx: Ctx, attempt: int):
 
 def clear_towards(game, heading: float, d: float = 0.8) -> bool:
     """Is the way ``d`` metres ahead along ``heading`` open to a walker (or a jumper)?"""
-    from .pilot import JUMP_CLEAR, _box_at
-
     pos = read.feet(game)
     w = float(pos[3])
-    lo, hi = _box_at(pos, d * math.sin(heading), d * math.cos(heading), 0.36)
+    lo, hi = box_at(pos, d * math.sin(heading), d * math.cos(heading), 0.36)
     if not read.blocked_box(game, lo, hi, w):
         return True
-    lo, hi = _box_at(pos, d * math.sin(heading), d * math.cos(heading), JUMP_CLEAR)
+    lo, hi = box_at(pos, d * math.sin(heading), d * math.cos(heading), JUMP_CLEAR)
     return not read.blocked_box(game, lo, hi, w)
 
 
