@@ -323,6 +323,7 @@ def _without_tools() -> list[Strategy]:
     manip = lambda lv, r: bool(lv.manipulables)  # noqa: E731
     return [
         Strategy("no_enemies", frozenset({"enemies"}), lambda lv, r: bool(lv.enemies), play, full.but(enemies=False)),
+        Strategy("no_bodies", frozenset({"rigid_bodies"}), lambda lv, r: lv.bodies > 0, play, full.but(bodies=False)),
         Strategy("no_manipulation", frozenset({"manipulation"}), manip, play, full.but(manipulation="none")),
         Strategy("partial_turns", frozenset({"manipulation"}), manip, play, full.but(manipulation="partial")),
         Strategy(
