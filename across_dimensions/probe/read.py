@@ -1,8 +1,9 @@
 """Everything the probe reads from a running game, in one place.
 
-The game's systems keep their state where they see fit (``game.arsenal``, ``game.hive``,
-``game.manipulation``, ``game.camera``, entity data); when that moves, only this module
-changes. Functions take the :class:`~across_dimensions.game.sim.Game` and return plain
+Each of the game's systems keeps its state under its name in ``game.states`` (``weapons``,
+``enemies``, ``manipulation``, ``crystals``, ...; None where a level has no use for it), or on
+its entities' data; the camera rig and the energy bar have their own properties. When that
+moves, only this module changes. Functions take the :class:`~across_dimensions.game.sim.Game` and return plain
 numbers, arrays and small records, never the systems' own objects (except entity ids).
 """
 
@@ -32,6 +33,11 @@ class Thing:
     name: str
     center: np.ndarray
     radius: float
+
+
+def _state(game, system: str):
+    """A system's state (None where the level gives it nothing to keep)."""
+    return getattr(game.states, system, None)
 
 
 # ------------------------------------------------------------------ player and level
@@ -150,7 +156,8 @@ def crystals(game) -> list[Thing]:
 
 def regrowing(game) -> int:
     """Crystals taken that will grow back."""
-    return len(game.regrowing)
+    state = _state(game, "crystals")
+    return 0 if state is None else len(state.regrowing)
 
 
 def bodies(game) -> list[Thing]:
@@ -183,24 +190,24 @@ def weapons(game) -> list:
 
 
 def slot(game) -> int:
-    ars = getattr(game, "arsenal", None)
+    ars = _state(game, "weapons")
     return 0 if ars is None else ars.slot
 
 
 def weapon_ready(game) -> bool:
     """Has the weapon in hand finished its cooldown?"""
-    ars = getattr(game, "arsenal", None)
+    ars = _state(game, "weapons")
     return ars is not None and bool(ars.specs) and game.tick >= ars.ready[ars.slot]
 
 
 def live_bullets(game) -> int:
-    ars = getattr(game, "arsenal", None)
+    ars = _state(game, "weapons")
     return 0 if ars is None else len(ars.bullets)
 
 
 def rounds(game, k: int) -> int:
     """Rounds left in weapon ``k``; -1 for a weapon paid in energy."""
-    ars = getattr(game, "arsenal", None)
+    ars = _state(game, "weapons")
     if ars is None:
         return weapons(game)[k].ammo if weapons(game)[k].kind == "gun" else -1
     return int(ars.rounds[k])
@@ -223,7 +230,7 @@ class Foe:
 
 def foes(game, alive: bool = True) -> list[Foe]:
     """The level's enemies (only the living ones by default)."""
-    hive = getattr(game, "hive", None)
+    hive = _state(game, "enemies")
     if hive is None:
         return []
     out = []
@@ -274,7 +281,7 @@ def handles(game) -> list[Handle]:
 
 def held(game) -> int | None:
     """The manipulable held now (entity id), or None."""
-    tool = getattr(game, "manipulation", None)
+    tool = _state(game, "manipulation")
     return None if tool is None else tool.held
 
 
