@@ -3,7 +3,7 @@ worker processes, and the per-level rows the command prints.
 
 A run steps the simulation (no rendering) with the strategy's bot until the level is won,
 the bot gives up, its time is out, or nothing has changed for :data:`STALL_TICKS` (no step
-nearer the goal, no event that matters). A won run of a strategy that avoided a mechanic the
+nearer the goal, no new place visited, no event that matters). A won run of a strategy that avoided a mechanic the
 level needs is a bypass; a run that ends unwon in a state some proof of :mod:`.proofs`
 condemns is a soft-lock.
 """
@@ -57,11 +57,14 @@ def strategies_for(level, route) -> list:
     return [s for s in library() if s.applies(level, route)]
 
 
-def _progress(game) -> tuple:
+def _progress(game, seen: set) -> tuple:
+    """What counts as getting somewhere: the nearest the goal has been, the places visited
+    (metre cells, half units of w) and the events of :data:`PROGRESS`."""
     centre, _, _ = read.goal(game)
     p = read.feet(game)
+    seen.add((round(p[0]), round(p[1]), round(p[2]), round(2 * p[3])))
     d = round(float(np.hypot(centre[0] - p[0], centre[2] - p[2])), 1)
-    return d, tuple(read.count(game, k) for k in PROGRESS)
+    return d, (len(seen), *(read.count(game, k) for k in PROGRESS))
 
 
 def run_one(path: str, name: str, seed: int = 0) -> dict:
@@ -73,14 +76,15 @@ def run_one(path: str, name: str, seed: int = 0) -> dict:
     limit = max(strategy.ticks, int(2.5 * route.ticks))
     ctx = Ctx(game, strategy.allow, route, give_up=limit)
     bot = strategy.bot(ctx)
-    best, since = _progress(game), 0
+    seen: set = set()
+    best, since = _progress(game, seen), 0
     while game.tick < limit and not read.won(game):
         try:
             actions = next(bot)
         except StopIteration:
             break
         game.step(actions)
-        now = _progress(game)
+        now = _progress(game, seen)
         if now[0] < best[0] or now[1] != best[1]:
             best, since = (min(now[0], best[0]), now[1]), game.tick
         elif game.tick - since > STALL_TICKS:
