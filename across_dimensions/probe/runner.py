@@ -73,7 +73,7 @@ def run_one(path: str, name: str, seed: int = 0) -> dict:
     level, scene, route = _prepared(path)
     strategy = next(s for s in library() if s.name == name)
     game = Game(level, seed=seed, scene=scene)
-    limit = max(strategy.ticks, int(2.5 * route.ticks))
+    limit = max(strategy.ticks, int(1.5 * route.ticks))  # half as long again as the designer took
     ctx = Ctx(game, strategy.allow, route, give_up=limit)
     bot = strategy.bot(ctx)
     seen: set = set()

@@ -386,7 +386,7 @@ def walk_to_goal(ctx: Ctx, tricks: bool = True, ticks: int = 3600):
     xz, w = centre[[0, 2]], goal_w(ctx)
     end = min(game.tick + ticks, ctx.give_up or 10**9)
     attempt = 0
-    while game.tick < end and not read.won(game) and attempt < 12:
+    while game.tick < end and not read.won(game) and attempt < 9:
         if (yield from goto(ctx, xz, w, tol=0.2, ticks=end - game.tick)):
             yield from wait(ctx, 5)  # inside the goal box: done next tick
             if read.won(game) or w is not None:

@@ -58,7 +58,7 @@ class Strategy:
     bot: Callable
     allow: Allow = Allow()
     disruption: bool = False
-    ticks: int = 60 * 60
+    ticks: int = 45 * 60
 
 
 # ------------------------------------------------------------------ the full bot
