@@ -37,8 +37,7 @@ class Allow:
     slice) or ``"none"``; ``weapons``: the kinds it may use; ``aim``: aim at what it knows
     (False: fire straight ahead only); ``manipulation``: ``"full"``, ``"partial"`` (a step
     short of the intended angle) or ``"none"``; ``frustum``: ``"orbit"``, ``"fixed"`` (no
-    orbit) or ``"none"``; ``slice_turn``: ``"full"``, ``"back"`` (turned back half way) or
-    ``"none"``.
+    orbit) or ``"none"``; ``slice_turn``: ``"full"`` or ``"none"``.
     """
 
     w: bool = True
