@@ -34,11 +34,14 @@ from .mesh import TetMesh4, TriMesh3, cross4
 from .section_kernels import Slicer, _emit, _find_cut, normal_transform  # noqa: F401
 from .transform import inverse
 
+_IDENTITY = np.eye(5)
+_IDENTITY.flags.writeable = False
+
 
 def _model_view(mesh_model, camera_pose) -> np.ndarray:
     """Object-to-camera 5x5 transform."""
-    view = np.eye(5) if camera_pose is None else inverse(camera_pose)
-    model = np.eye(5) if mesh_model is None else np.asarray(mesh_model, dtype=np.float64)
+    view = _IDENTITY if camera_pose is None else inverse(camera_pose)
+    model = _IDENTITY if mesh_model is None else np.asarray(mesh_model, dtype=np.float64)
     return view @ model
 
 
@@ -68,22 +71,26 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
     mv = _model_view(model, camera_pose)
     layout = mesh_clusters(mesh)
     a = mv[:4, :4]
-    # Bound on how far a unit object-space step moves camera-space w.
-    w_gain = float(np.linalg.norm(a[3]))
+    # Bound on how far a unit object-space step moves camera-space w (np.linalg.norm's
+    # own sum, without its checks).
+    w_gain = float(np.sqrt(a[3].dot(a[3])))
     flip = 1.0 if np.linalg.det(a) > 0 else -1.0
     ws = _workspace(mesh, layout)
     with ws.lock:
-        ncut, ntri = _find_cut(ws.slicer(mesh), mv, w_gain, cull)
+        slicer = ws.slicer(mesh)
+        ncut, ntri = _find_cut(slicer, mv, w_gain, cull)
         if ntri == 0:
             return TriMesh3.empty()
         out = ws.output_block(30 * ntri)  # the three outputs in one block
         by_edge = EDGE_TABLE_FRACTION * ncut > len(layout.tets)
         if by_edge and ws.edges is None:
             ws.set_edges(layout_edges(layout))
+            slicer = ws.slicer(mesh)
         if ws.tn.shape[1] < ncut:
             ws.grow_tets(ncut)
+            slicer = ws.slicer(mesh)
         every_vertex = EVERY_VERTEX_FRACTION * ncut > len(layout.vertices)
-        _emit(ws.slicer(mesh), mv, flip, ncut, ntri, by_edge, every_vertex, out)
+        _emit(slicer, mv, flip, ncut, ntri, by_edge, every_vertex, out)
     ov, on, oc = out[: 9 * ntri], out[9 * ntri : 18 * ntri], out[18 * ntri : 30 * ntri]
     return TriMesh3(ov.reshape(-1, 3), _faces(ntri), on.reshape(-1, 3), oc.reshape(-1, 4))
 
@@ -143,17 +150,19 @@ class _Workspace:
         self.blocks.append(b)
         return b
 
-    def slicer(self, mesh: TetMesh4) -> Slicer:
-        """The kernels' bundle: ``mesh``'s layout (in its current colours) and the scratch arrays."""
+    def slicer(self, mesh: TetMesh4) -> tuple:
+        """The kernels' bundle, a :class:`~.section_kernels.Slicer` as a plain tuple:
+        ``mesh``'s layout (in its current colours) and the scratch arrays."""
         colors = layout_colors(mesh, self.layout)
-        if self._slicer is None or self._slicer.colors is not colors:
+        if self._slicer is None or self._colors is not colors:
             lay = self.layout
-            self._slicer = Slicer(
+            self._colors = colors
+            self._slicer = tuple(Slicer(
                 lay.vertices, lay.tets, colors, layout_normals(mesh, lay).reshape(-1),
                 lay.lo, lay.hi, lay.centers, lay.radii, *(_NO_EDGES if self.edges is None else self.edges),
                 self.keep, self.above, self.cut, self.cmask, self.g, self.cam, self.vmark, self.vlist,
                 self.point, self.elist, self.rec, self.tj, self.n64, self.tn,
-            )  # fmt: skip
+            ))  # fmt: skip
         return self._slicer
 
     def set_edges(self, edges) -> None:

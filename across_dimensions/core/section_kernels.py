@@ -4,14 +4,17 @@ A section is two kernel calls: :func:`_find_cut` finds the cut tets and counts
 their triangles, the caller sizes the output, and :func:`_emit` writes the
 triangles. Both take one bundle, :class:`Slicer` (a named tuple of arrays: what
 they read of the mesh and the scratch arrays they reuse), and nothing else but
-scalars and the output: numba's dispatcher types a named tuple in Python, at
-about a microsecond each, where a small mesh's whole section costs twenty. The
-case tables (:mod:`.cases`) are read as compile-time constants.
+scalars and the output. They take it as a plain tuple (``tuple(slicer)``) and
+name its fields again inside: numba's dispatcher types a plain tuple of arrays
+in C but a named tuple in Python, which costs about 2 us a call where a small
+mesh's whole section costs 20. The case tables (:mod:`.cases`) are read as
+compile-time constants.
 
-Each kernel unpacks the bundles it needs into locals before its loops: reading
-a bundle's field inside a loop costs a reference-count update per iteration.
-The helpers it calls run once per section, never per tet: numba counts
-references (atomically) on every call of a function that takes arrays.
+Each kernel unpacks the bundle into locals before its loops: reading a bundle's
+field inside a loop costs a reference-count update per iteration. The helpers
+it calls run once per section, never per tet (numba counts references,
+atomically, on every call of a function that takes arrays), and are inlined:
+a call passing the whole bundle costs about a tenth of a microsecond.
 """
 
 from __future__ import annotations
@@ -147,19 +150,21 @@ def normal_transform(mv, flip, g):
 
 
 @njit(cache=True)
-def _find_cut(s, mv, w_gain, cull):
+def _find_cut(slicer, mv, w_gain, cull):
     """The tets the hyperplane cuts, into ``s.cut`` (their cases into ``s.cmask``); returns
     their number and their triangles'.
 
+    ``slicer`` is a :class:`Slicer` as a plain tuple (see the module docstring), ``s`` below.
     ``w_gain`` bounds how far a unit object-space step moves camera-space w;
     without ``cull`` every cluster is scanned.
     """
+    s = Slicer(*slicer)
     nkeep, visit = _clusters_met(s, mv, w_gain, cull)
     _classify(s, mv, nkeep, visit)
     return _compact(s, nkeep)
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _clusters_met(s, mv, w_gain, cull):
     """The clusters whose bounding sphere the hyperplane meets, into ``s.keep`` (all without
     ``cull``); returns their number and how many tets they hold."""
@@ -176,7 +181,7 @@ def _clusters_met(s, mv, w_gain, cull):
     return nkeep, visit
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _classify(s, mv, nkeep, visit):
     """One byte per vertex into ``s.above``: is it above the hyperplane?
 
@@ -205,7 +210,7 @@ def _classify(s, mv, nkeep, visit):
             above[i] = (m0 * vf[4 * i] + m1 * vf[4 * i + 1] + m2 * vf[4 * i + 2] + m3 * vf[4 * i + 3] + m4) > 0.0
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _compact(s, nkeep):
     """The cut tets of the kept clusters into ``s.cut`` and ``s.cmask``; returns
     their number and their triangles'.
@@ -249,7 +254,7 @@ def _compact(s, nkeep):
 
 
 @njit(cache=True)
-def _emit(s, mv, flip, ncut, ntri, by_edge, every_vertex, out):
+def _emit(slicer, mv, flip, ncut, ntri, by_edge, every_vertex, out):
     """The ``ntri`` triangles of the ``ncut`` cut tets (:func:`_find_cut`) into ``out``.
 
     Each vertex the cut tets use is moved into camera space once
@@ -269,9 +274,12 @@ def _emit(s, mv, flip, ncut, ntri, by_edge, every_vertex, out):
 
     Parameters
     ----------
+    slicer : tuple
+        A :class:`Slicer` as a plain tuple (see the module docstring), ``s`` below.
     out : (30 ntri,) float32
         Out: the vertices (9 floats per triangle), then the normals (9), then the colours (12).
     """
+    s = Slicer(*slicer)
     _camera_space(s, mv, ncut, every_vertex)
     normal_transform(mv, flip, s.g)
     if by_edge:
@@ -282,7 +290,7 @@ def _emit(s, mv, flip, ncut, ntri, by_edge, every_vertex, out):
     _rows(s, ncut, 1 if flip < 0.0 else 0, out[: 9 * ntri], out[9 * ntri : 18 * ntri], out[18 * ntri : 30 * ntri])
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _camera_space(s, mv, ncut, every_vertex):
     """The vertices of the ``ncut`` cut tets in camera space, into ``s.cam``.
 
@@ -323,7 +331,7 @@ def _camera_space(s, mv, ncut, every_vertex):
         cam[4 * i + 3] = a30 * x + a31 * y + a32 * z + a33 * w + a34
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _unit_normals(ncut, n64, tn):
     """Per cut tet ``i``: its section's normal ``n64[:, i]`` made unit, float32, into ``tn[:, i]``.
 
@@ -342,7 +350,7 @@ def _unit_normals(ncut, n64, tn):
         tz[idx] = np.float32(z * inv)
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _points_by_tet(s, ncut):
     """Per cut tet ``i``: its case into ``tj[5 i + 4]``, its polygon's points into
     records ``4 i ... 4 i + 3`` of ``rec`` (numbered in ``tj[5 i:]``) and its normal into
@@ -384,7 +392,7 @@ def _points_by_tet(s, ncut):
             tj[5 * idx + e] = j
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _points_by_edge(s, ncut):
     """:func:`_points_by_tet` computing each cut edge's point once.
 
@@ -432,7 +440,7 @@ def _points_by_edge(s, ncut):
             rec[U(8) * j + U(3 + r)] = np.float32(cf[ca + U(r)] + s * (cf[cb + U(r)] - cf[ca + U(r)]))
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _rows(s, ncut, neg, ov, on, oc):
     """Three rows per triangle into ``ov`` (xyz), ``on`` (normal) and ``oc`` (rgba): the
     polygon of each tet fanned from its first point, wound outward.
