@@ -360,7 +360,7 @@ def _project_batch(pool, placed, lens, out, ws):
     return counts[0], counts[1], counts[2], counts[3]
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _project_vertices(pool, placed, k, lens, out, ws):
     """Instance ``k``'s vertices into camera space (``ws.cam``) and, projected and placed,
     into rows of ``out`` (a vertex behind the near hyperplane at the placement's origin,
@@ -400,7 +400,7 @@ def _project_vertices(pool, placed, k, lens, out, ws):
     return all_inside
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _project_faces(pool, placed, k, lens, cull, base, out, ws):
     """Instance ``k``'s faces into ``out.faces`` (rows from ``base`` on), clipped by the near
     hyperplane (new points into ``out.vertices``); with ``cull``, only the silhouette's.
@@ -466,7 +466,7 @@ def _project_faces(pool, placed, k, lens, cull, base, out, ws):
     counts[0], counts[1], counts[3] = o, of, clipped
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _project_edges(pool, placed, k, cull, base, out_e, ws):
     """Instance ``k``'s edges in front of the near hyperplane into ``out_e``; with ``cull``
     only those of a kept face (:func:`_project_faces`)."""

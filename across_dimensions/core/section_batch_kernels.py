@@ -174,7 +174,7 @@ def _slice_batch(pool, inst, first, start_row, rows, ws, tag):
     return o
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _cut_tets(pool, inst, k, stamp_of, ws):
     """The tets of instance ``k`` its slice cuts, into ``ws.cut`` (their cases into
     ``ws.cmask``); returns their number.
@@ -220,7 +220,7 @@ def _cut_tets(pool, inst, k, stamp_of, ws):
     return ncut
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _tet_rows(pool, inst, k, ncut, out, o, ws):
     """The triangles of instance ``k``'s ``ncut`` cut tets (:func:`_cut_tets`) into ``out``
     from row ``o``; returns the next row (rows past ``len(out)`` are counted, not written).
@@ -287,7 +287,7 @@ def _tet_rows(pool, inst, k, ncut, out, o, ws):
     return o
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _cells_to_camera(pool, inst, k, ws):
     """Every vertex of instance ``k`` into camera space (``ws.cam``): a cell mesh has few
     vertices for its tets (a 120-cell: 600 for 3,240), and most of them are on cut cells."""
@@ -307,7 +307,7 @@ def _cells_to_camera(pool, inst, k, ws):
             )
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _cut_cells(pool, inst, k, ws):
     """The corners of the polygons instance ``k``'s slice cuts from its cells; returns
     the number of polygons.
@@ -355,7 +355,7 @@ def _cut_cells(pool, inst, k, ws):
     return npoly
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _cell_rows(pool, inst, k, npoly, out, o, ws):
     """The polygons of :func:`_cut_cells` into ``out`` from row ``o``, each as a fan;
     returns the next row (rows past ``len(out)`` are counted, not written).

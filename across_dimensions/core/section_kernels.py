@@ -154,20 +154,13 @@ def _find_cut(slicer, mv, w_gain, cull):
     """The tets the hyperplane cuts, into ``s.cut`` (their cases into ``s.cmask``); returns
     their number and their triangles'.
 
-    ``slicer`` is a :class:`Slicer` as a plain tuple (see the module docstring), ``s`` below.
-    ``w_gain`` bounds how far a unit object-space step moves camera-space w;
-    without ``cull`` every cluster is scanned.
+    ``slicer`` is a :class:`Slicer` as a plain tuple (see the module docstring), ``s``
+    below. First the clusters whose bounding sphere the hyperplane meets (all without
+    ``cull``; ``w_gain`` bounds how far a unit object-space step moves camera-space
+    w), then one byte per vertex (:func:`_classify`), then the cut tets of those
+    clusters (:func:`_compact`).
     """
     s = Slicer(*slicer)
-    nkeep, visit = _clusters_met(s, mv, w_gain, cull)
-    _classify(s, mv, nkeep, visit)
-    return _compact(s, nkeep)
-
-
-@njit(inline="always")
-def _clusters_met(s, mv, w_gain, cull):
-    """The clusters whose bounding sphere the hyperplane meets, into ``s.keep`` (all without
-    ``cull``); returns their number and how many tets they hold."""
     lo, hi, centers, radii, keep = s.lo, s.hi, s.centers, s.radii, s.keep
     m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
     nkeep = 0
@@ -178,7 +171,8 @@ def _clusters_met(s, mv, w_gain, cull):
         keep[nkeep] = c
         nkeep += hit
         visit += (hi[c] - lo[c]) * hit
-    return nkeep, visit
+    _classify(s, mv, nkeep, visit)
+    return _compact(s, nkeep)
 
 
 @njit(inline="always")
