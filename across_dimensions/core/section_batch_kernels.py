@@ -4,9 +4,9 @@
 (:class:`Rows`), reading the pooled meshes (:class:`Pool`), the instances
 (:class:`Instances`) and reusing :class:`BatchScratch`. An instance is sliced
 in two passes, each a loop without calls: which tets (or cells) are cut, then
-their triangles. The per-instance helpers take bundles (a reference count per
-field and call, a few hundred per frame); nothing is called per tet or per cell
-but scalar helpers.
+their triangles. The per-instance helpers take the bundles whole and are
+inlined; nothing is called per tet or per cell but scalar helpers (numba counts
+references on every call of a function that takes arrays).
 """
 
 from __future__ import annotations
