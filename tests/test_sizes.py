@@ -18,9 +18,6 @@ MAX_PARAMETERS = 8
 
 #: Modules and functions still over a guide: ``"path"`` for a module, ``"path:function"`` for a function.
 DEBT: set[str] = {
-    "app/settings.py",
-    "app/window.py",
-    "game/replay.py",
     "physics/collide.py",
     "physics/pipeline.py",
     "physics/solver.py",
@@ -34,7 +31,6 @@ DEBT: set[str] = {
     "app/cli.py:_parser",
     "app/commands.py:_bench_game",
     "app/settings.py:load_settings",
-    "app/window.py:__init__",
     "game/player.py:step_player",
     "physics/collide.py:reduce_points",
     "physics/collide.py:_clip_into",
