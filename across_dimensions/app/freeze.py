@@ -28,6 +28,7 @@ import importlib.util
 import mmap
 import os
 import platform
+import re
 import shutil
 import struct
 import subprocess
@@ -65,6 +66,10 @@ def _packaging_module(name: str):
 
 
 _HINT = "install the standalone extra: pip install -e '.[standalone]'"
+
+
+_GLIBC = """It needs 64-bit Linux with glibc {glibc} or newer{examples}, and OpenGL 3.3 for its window.
+"""
 
 
 class FreezeError(Exception):
@@ -145,6 +150,19 @@ def _check_ready() -> None:
         raise FreezeError(f"PyInstaller is not installed; {_HINT}") from None
     if not SPEC.is_file():
         raise FreezeError(f"no {SPEC}: the standalone build runs from a source checkout of the game")
+
+
+def required_glibc(folder: Path) -> tuple[int, int] | None:
+    """The newest glibc symbol version any library in ``folder`` asks for (``(2, 31)``), or None
+    when none does: the oldest C library the folder runs with."""
+    newest = None
+    for path in folder.rglob("*"):
+        if path.is_file() and not path.is_symlink() and elf_facts(path) is not None:
+            with open(path, "rb") as f, mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ) as m:
+                for found in re.finditer(rb"GLIBC_(\d+)\.(\d+)", m):
+                    version = (int(found[1]), int(found[2]))
+                    newest = version if newest is None or version > newest else newest
+    return newest
 
 
 def _tool(name: str) -> str | None:
@@ -295,7 +313,12 @@ def build(dist: Path, work: Path, archive: bool = True, kernels: bool = True, lo
     if sys.platform.startswith("linux"):
         tidy_binaries(folder, log)
     version = _version()
-    (folder / "README.txt").write_text(_README.format(version=version), encoding="utf-8")
+    readme = _README.format(version=version)
+    glibc = required_glibc(folder) if sys.platform.startswith("linux") else None
+    if glibc is not None:
+        examples = " (Debian 11, Ubuntu 20.04, RHEL 9 and later)" if glibc <= (2, 31) else ""
+        readme += _GLIBC.format(glibc=f"{glibc[0]}.{glibc[1]}", examples=examples)
+    (folder / "README.txt").write_text(readme, encoding="utf-8")
     exe = folder / (NAME + (".exe" if os.name == "nt" else ""))
     # The self-check needs no display and compiles nothing: --help imports the
     # command line, which fails the same way a missing module would in play.
