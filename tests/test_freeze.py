@@ -105,6 +105,7 @@ def _player_env(home: Path, **more: str) -> dict[str, str]:
 def _run(built, *args, timeout=900, home=None, cwd=None, prefix=(), **env):
     folder, _, player = built
     home = home or player
+    home.mkdir(parents=True, exist_ok=True)
     return subprocess.run(
         [*prefix, str(folder / "across-dimensions"), *args],
         env=_player_env(home, **env),
@@ -153,7 +154,9 @@ def test_libraries_resolve_inside_the_folder_or_the_base_system(built):
     outside = []
     libs = [folder / "across-dimensions", *folder.rglob("*.so*")]
     for lib in libs:
-        done = subprocess.run(["ldd", str(lib)], capture_output=True, text=True, env={"PATH": "/usr/bin:/bin"})
+        # The loader's path as the bootloader sets it: the bundle first.
+        env = {"PATH": "/usr/bin:/bin", "LD_LIBRARY_PATH": str(folder / "_internal")}
+        done = subprocess.run(["ldd", str(lib)], capture_output=True, text=True, env=env)
         for line in done.stdout.splitlines():
             if "=>" not in line:
                 continue
