@@ -243,19 +243,24 @@ def test_the_editor_key_in_the_frozen_game(built, display, tmp_path):
             ).stdout:
                 break
             time.sleep(0.2)
-        time.sleep(3.0)
+        for _ in range(60):  # F12 until the level shows: then play has begun
+            subprocess.run(["xdotool", "key", "F12"], env=xdo, check=True)
+            time.sleep(1.0)
+            if _pngs(tmp_path):
+                break
+        time.sleep(3.0)  # the first shot may show the kernels loading, before the level
         for key in ("F2", "F12"):  # to the editor, then a screenshot of it
             subprocess.run(["xdotool", "key", key], env=xdo, check=True)
-            time.sleep(1.5)
+            time.sleep(2.0)
     finally:
         game.terminate()
         out, err = game.communicate(timeout=30)
     assert "pip install" not in out + err
     shots = _pngs(tmp_path)
-    assert len(shots) == 1, out + err
+    assert len(shots) >= 2, out + err
     from across_dimensions.render.png import read_png
 
-    bar = read_png(shots[0])[2:17, :, :3].astype(int)
+    bar = read_png(shots[-1])[2:17, :, :3].astype(int)
     assert np.mean(np.abs(bar - 36) <= 3) > 0.8, "F2 did not open the editor"
 
 
@@ -301,7 +306,7 @@ def test_another_cpu_target_compiles_into_the_players_cache(built, tmp_path):
     # shipped kernels were not compiled for. They compile into the player's cache, not the folder.
     folder, _, _ = built
     before = sorted(p.name for p in (folder / "_internal" / "numba_cache").rglob("*"))
-    home, out = tmp_path / "home", tmp_path / "slice.npz"
+    home, out = tmp_path / "home", tmp_path / "slice.obj"
     done = _run(built, "slice", "tesseract", "--rotate", "xw=30", "-o", str(out), home=home, NUMBA_CPU_NAME="generic")
     assert done.returncode == 0, done.stderr
     assert out.is_file()
