@@ -1,9 +1,11 @@
 """Build the standalone game: a folder a player unpacks and runs, no Python needed.
 
-``python -m across_dimensions.app.freeze [--dist DIR] [--work DIR] [--no-archive]``
+``python -m across_dimensions.app.freeze [--dist DIR] [--work DIR] [--no-archive] [--no-kernels]``
 
 Runs PyInstaller (the ``standalone`` extra: ``pip install -e '.[standalone]'``)
-on ``packaging/across-dimensions.spec`` from a source checkout, then adds what
+on ``packaging/across-dimensions.spec`` from a source checkout, strips the
+libraries of symbols and build paths (:func:`tidy_binaries`), compiles every
+kernel into the folder for the baseline CPU (:func:`compile_kernels`), adds what
 a player expects next to the executable and packs the folder::
 
     DIST/across-dimensions/
@@ -11,11 +13,14 @@ a player expects next to the executable and packs the folder::
         across-dimensions.desktop      desktop entry (Linux)
         across-dimensions.png          its icon, rendered by packaging/make_icon.py
         install-desktop-entry.sh       adds the entry to the user's application menu
-        README.txt                     how to start it
+        README.txt                     how to start it, the oldest glibc it needs
         _internal/                     Python, the libraries, levels/ and assets/
+        _internal/numba_cache/         the compiled kernels, read-only
     DIST/across-dimensions-VERSION-PLATFORM.tar.gz   (.zip on Windows)
 
-The folder is built for the platform this runs on. Exit status 0 on success,
+The folder is built for the platform this runs on, and needs the C library of the
+machine that builds it or a newer one: releases are built inside Debian 11 by
+``packaging/build-debian11.sh``, which runs this there. Exit status 0 on success,
 2 when PyInstaller is missing or this is not a source checkout, 1 when the
 build or the built executable's self-check fails.
 """
