@@ -15,7 +15,8 @@ compile for the player's own CPU into the player's cache folder, as they would u
 Why x86-64-v2 (SSE4.2, POPCNT, CMPXCHG16B): every x86-64 processor sold in the last
 decade runs it, including the Atom-class Celeron and Pentium Silver chips without AVX
 that x86-64-v3 would leave out, and RHEL 9 requires it of its own machines. The kernels
-are scalar loops over small arrays, so the wider vectors of v3 buy them little.
+are mostly scalar loops over small arrays, where AVX2's wider vectors have little to work
+on (not measured against v3).
 
 This module imports no numba (launch.py uses it before numba reads its environment);
 :mod:`frozen_kernels` holds the locator numba loads.
