@@ -273,7 +273,9 @@ def compile_kernels(folder: Path, log=print) -> Path | None:
             done = subprocess.run([str(exe), *args], env=env, capture_output=True, text=True, timeout=3600)
             if done.returncode != 0 and args[0] == "demo":  # no offscreen OpenGL here: the demo without frames
                 done = subprocess.run([str(exe), "demo"], env=env, capture_output=True, text=True, timeout=3600)
-            if done.returncode != 0 and args[0] != "bench":  # the benchmark too needs OpenGL
+            if done.returncode == 3 and args[0] == "replay":  # compiled all the same; the tests check hashes
+                log(f"warning: {done.stderr.strip().splitlines()[-1]}")
+            elif done.returncode != 0 and args[0] != "bench":  # the benchmark too needs OpenGL
                 raise RuntimeError(f"{NAME} {' '.join(args[:2])} failed while compiling: {done.stderr.strip()[-2000:]}")
     missing = unshipped_kernels(shipped)
     if missing:
