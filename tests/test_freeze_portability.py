@@ -52,6 +52,17 @@ def _survives(scope: ast.AST) -> bool:
     return False
 
 
+def _reads_home(node: ast.AST) -> bool:
+    """``os.environ["HOME"]``, ``os.environ.get("HOME")`` or ``os.getenv("HOME")`` (Windows has no HOME)."""
+    if isinstance(node, ast.Subscript) and ast.unparse(node.value) == "os.environ":
+        key = node.slice
+    elif isinstance(node, ast.Call) and ast.unparse(node.func) in ("os.environ.get", "os.getenv") and node.args:
+        key = node.args[0]
+    else:
+        return False
+    return isinstance(key, ast.Constant) and key.value == "HOME"
+
+
 def _problems(path: Path) -> list[str]:
     tree = ast.parse(path.read_text(encoding="utf-8"))
     docs, found = _docstrings(tree), []
@@ -62,6 +73,8 @@ def _problems(path: Path) -> list[str]:
             inner = parents
             if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.If | ast.Try):
                 inner = [*parents, node]
+            if _reads_home(node):
+                found.append(f"{where}:{node.lineno}: $HOME read: a per-user folder comes from platformdirs")
             if isinstance(node, ast.Attribute) and ast.unparse(node) in ("os.fork", "os.forkpty"):
                 found.append(f"{where}:{node.lineno}: {ast.unparse(node)}")
             if isinstance(node, ast.Import | ast.ImportFrom) and not any(isinstance(p, ast.Try) for p in parents):
@@ -72,7 +85,7 @@ def _problems(path: Path) -> list[str]:
                     found.append(f"{where}:{node.lineno}: imports {unix[0]} (Unix only) at module level")
             if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docs:
                 text = node.value
-                if text.startswith(USER_FOLDERS) or text == "HOME":
+                if text.startswith(USER_FOLDERS):
                     found.append(f"{where}:{node.lineno}: {text!r}: a per-user folder comes from platformdirs")
                 elif text.startswith(SYSTEM_FOLDERS) and not any(map(_survives, parents)):
                     found.append(f"{where}:{node.lineno}: {text!r} with no fallback when it does not exist")
@@ -82,17 +95,13 @@ def _problems(path: Path) -> list[str]:
     return found
 
 
-#: Known and accepted: the build's own child environment (it runs on the build machine only).
-ALLOWED = ("across_dimensions/app/freeze.py", "across_dimensions/app/settings.py")
-
-
 def test_the_scan_finds_what_it_looks_for(tmp_path):
     bad = tmp_path / "bad.py"
     bad.write_text(
         "import os\nimport fcntl\n"
         "def cores():\n    return open('/proc/cpuinfo').read()\n"
         "def child():\n    return os.fork()\n"
-        "CACHE = '~/.cache/game'\n",
+        "CACHE = '~/.cache/game'\nHOME = os.environ['HOME']\n",
         encoding="utf-8",
     )
     good = tmp_path / "good.py"
@@ -104,7 +113,7 @@ def test_the_scan_finds_what_it_looks_for(tmp_path):
     global ROOT
     saved, ROOT = ROOT, tmp_path
     try:
-        assert len(_problems(bad)) == 4, _problems(bad)
+        assert len(_problems(bad)) == 5, _problems(bad)
         assert _problems(good) == []
     finally:
         ROOT = saved
@@ -112,7 +121,4 @@ def test_the_scan_finds_what_it_looks_for(tmp_path):
 
 @pytest.mark.parametrize("path", SOURCES, ids=[str(p.relative_to(ROOT)) for p in SOURCES])
 def test_no_linux_only_assumption(path):
-    problems = _problems(path)
-    if str(path.relative_to(ROOT)) in ALLOWED:
-        problems = [p for p in problems if "per-user folder" not in p]
-    assert problems == []
+    assert _problems(path) == []
