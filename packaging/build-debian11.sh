@@ -50,7 +50,13 @@ if [ ! -f "$root/.across-dimensions-root" ] || [ "$(cat "$root/.across-dimension
     echo "== debootstrap Debian 11 into $root (from $mirror)"
     rm -rf "$root"
     mkdir -p "$root"
-    debootstrap --variant=minbase --include="$packages" bullseye "$root" "$mirror"
+    # Exit 75 (EX_TEMPFAIL) when Debian's mirror cannot be reached, so CI can tell a missing
+    # network from a broken build.
+    if ! debootstrap --variant=minbase --include="$packages" bullseye "$root" "$mirror"; then
+        echo "build-debian11.sh: debootstrap from $mirror failed (is Debian's mirror reachable?)" >&2
+        rm -rf "$root"
+        exit 75
+    fi
     echo "$packages" > "$root/.across-dimensions-root"
 fi
 
