@@ -128,6 +128,7 @@ def replay(args) -> int:
             file=sys.stderr,
         )
     game = _load_game(args.level, rep.seed)
+    _refuse_other_level(args, rep, game.level)
     warm_up()
     if update:
         return _update_hashes(args, rep, game, as_json)
@@ -149,6 +150,18 @@ def replay(args) -> int:
     return 0
 
 
+def _refuse_other_level(args, rep, level) -> None:
+    """A replay of another level is named before a tick is played (exit 2)."""
+    from ..game.replay_level import other_level
+
+    other = other_level(rep, level)
+    if other is not None:
+        raise UserError(
+            f"{args.replay}: recorded on the level '{other}', not on {args.level}; "
+            f"play it with: {PROG} replay {other} {args.replay}"
+        )
+
+
 def _update_hashes(args, rep, game, as_json: bool) -> int:
     """``replay --update-hashes``: record the replay's state hashes afresh.
 
@@ -158,15 +171,17 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
     outcome, same tick) the file is rewritten atomically with the new hashes
     and its actions unchanged (exit 0). A different ending leaves the file
     untouched (exit 1); a changed level file is refused as ``replay`` refuses
-    it (exit 3), and the level hash is never rewritten.
+    it (exit 3). The bakes of the level's assets are recorded again with the
+    hashes (and a replay of an older format gets them for the first time).
     """
     import json
     from dataclasses import replace
 
     from ..game.replay import changed_hashes, level_divergence, rehash, summary
+    from ..game.replay_level import same_file
 
     result, fresh = rehash(rep, game)
-    refused = level_divergence(rep, game)
+    refused = None if same_file(rep, game.level) else level_divergence(rep, game)
     problem = None
     if refused is None and (result.outcome, result.ticks) != (rep.outcome, rep.final_ticks):
         problem = (
@@ -175,7 +190,11 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
         )
     updated = False
     changed, total = changed_hashes(rep, fresh)
-    if refused is None and problem is None and changed:
+    rebaked = sorted(
+        k for k in set(fresh.bakes) | set(rep.bakes or {}) if fresh.bakes.get(k) != (rep.bakes or {}).get(k)
+    )
+    header = rep.bakes != fresh.bakes or rep.level_hash != fresh.level_hash
+    if refused is None and problem is None and (changed or header):
         _check_actions_kept(args.replay, fresh)
         fresh.save(args.replay)  # temporary file in the same folder, then os.replace
         updated = True
@@ -188,7 +207,10 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
         print(problem, file=sys.stderr)
         return 1
     say = (lambda msg: print(msg, file=sys.stderr, flush=True)) if as_json else _out  # stdout is the JSON's alone
-    say(f"{args.replay}: " + (f"hashes updated ({changed} of {total} changed)" if updated else "hashes unchanged"))
+    said = f"hashes updated ({changed} of {total} changed)" if updated and changed else "hashes unchanged"
+    if updated and header:
+        said += f"; level hash and bakes recorded ({', '.join(rebaked) or 'the level bakes no mesh'})"
+    say(f"{args.replay}: {said}")
     return 0
 
 
