@@ -45,7 +45,8 @@ from ..world.resources import level_files, resolve_level
 from . import pyglet_options  # noqa: F401  (before pyglet.window or pyglet.gl load)
 from .menu import Menu, menu_verb
 from .onboarding import Onboarding, fill_keys
-from .saves import checkpoint_of, load_progress, resume_at_checkpoint, save_progress
+from .saves import checkpoint_of, load_progress, replay_folder, resume_at_checkpoint, save_progress
+from .screenshots import save_screenshot
 from .settings import (
     KEY_NAMES,
     Settings,
@@ -362,7 +363,7 @@ class GameWindow(pyglet.window.Window):
             if self.record_path:
                 path = Path(self.record_path)
             else:
-                folder = _replay_folder()
+                folder = replay_folder()
                 folder.mkdir(parents=True, exist_ok=True)  # the game's own folder: ours to create
                 path = _unused(folder / f"{self.level_path.stem}_{time.strftime('%Y%m%d-%H%M%S')}.json")
             self.recorder = Recorder(self.game, self.level_path.stem, path)
@@ -562,9 +563,12 @@ class GameWindow(pyglet.window.Window):
             return
         from .editor.mode import EditorMode
 
-        if self.editor is None:
-            self.editor = EditorMode(self, self.level_path)
-        self.editor.enter(from_play)
+        try:  # the file may have broken on disk since the level was loaded: the game goes on
+            if self.editor is None:
+                self.editor = EditorMode(self, self.level_path)
+            self.editor.enter(from_play)
+        except (InputError, OSError) as e:
+            self._recording_failed(f"Cannot open the editor: {str(e).splitlines()[0]}")
 
     def on_activate(self):
         self.was_active = True
@@ -784,23 +788,30 @@ class GameWindow(pyglet.window.Window):
             self.debug_overlay = self.debug_overlay or DebugOverlay(self.ctx)
             self.debug_overlay.draw_game(self.game, frame.camera, viewport)
 
-    def screenshot(self) -> Path:
-        """Save what the window shows as a PNG in ./screenshots/.
+    def screenshot(self) -> Path | None:
+        """Save what the window shows as a PNG in the player's pictures folder (see
+        :mod:`.screenshots`); a failure is a notice, never an exit.
 
         The frame is drawn again into an offscreen framebuffer of the window's
         size (reading the window's own back buffer is not portable in a core
         profile), through the same render scale as the window.
         """
         fw, fh = self.get_framebuffer_size()
-        folder = Path("screenshots")
-        folder.mkdir(exist_ok=True)
-        path = folder / f"shot_{len(list(folder.glob('shot_*.png'))):04d}.png"
-        with Offscreen(self.ctx, fw, fh) as target:
-            self.draw_view(target.fbo, target.viewport)
-            target.save_png(path)
-        self.ctx.screen.use()
+
+        def write(path):
+            with Offscreen(self.ctx, fw, fh) as target:
+                self.draw_view(target.fbo, target.viewport)
+                target.save_png(path)
+
+        try:
+            path, message = save_screenshot(write)
+        finally:
+            self.ctx.screen.use()
+        if path is None:
+            self._recording_failed(message)
+            return None
         print(f"screenshot saved: {path}", flush=True)
-        self.say(f"Screenshot saved: {path}", 2.0)
+        self.say(message, 2.0)
         return path
 
 
@@ -816,12 +827,6 @@ class _Missing(dict):
 
     def __missing__(self, key):
         return "{" + key + "}"
-
-
-def _replay_folder() -> Path:
-    import platformdirs
-
-    return Path(platformdirs.user_data_dir("across-dimensions")) / "replays"
 
 
 def _unused(path: Path) -> Path:
