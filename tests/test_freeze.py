@@ -161,7 +161,7 @@ def test_game_opens_in_a_window(built):
     _, _, home = built
     done = _run(built, "play", "--screenshot-after", "0.001", "--quit-after", "1")
     assert done.returncode == 0, done.stderr
-    shots = list((home / "screenshots").glob("*.png"))
+    shots = list((home / "Pictures" / "Across Dimensions").glob("across-dimensions_*.png"))  # platformdirs
     assert len(shots) == 1 and shots[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 

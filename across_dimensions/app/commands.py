@@ -69,7 +69,8 @@ def check_level(args) -> int:
             print(
                 f"{f}: warning: will likely not keep 60 Hz on a typical 2-core machine: about {cost:.0f} ms "
                 f"per frame while moving along w ({FRAME_MS:.1f} ms allowed) for {level.tets:,} tetrahedra in "
-                f"{len(level.worlds) + len(level.objects)} 4D objects and worlds and {level.bodies} rigid bodies",
+                f"{len(level.worlds) + len(level.objects)} 4D objects and worlds, {level.bodies} rigid bodies, "
+                f"{len(level.enemies)} enemies and {len(level.crystals)} crystals",
                 file=sys.stderr,
             )
     return 2 if bad else 0

@@ -2,7 +2,7 @@
 
 They go to the player's pictures folder (``platformdirs.user_pictures_dir()``,
 ``~/Pictures`` on Linux), in its ``Across Dimensions`` folder, named by the local
-date and time: ``across-dimensions_2026-12-02_08-41-07.png``, then ``-2``, ``-3``
+date and time: ``across-dimensions_2026-12-02_08-41-07.png``, then ``_2``, ``_3``
 for more in the same second. ``$ACROSS_DIMENSIONS_SCREENSHOT_DIR`` replaces the
 folder (tests, portable installs). A name is claimed by creating the file
 exclusively before the image is written over it, so a shot never replaces
@@ -48,7 +48,7 @@ def claim_name(folder: Path, now: datetime) -> Path:
     """
     stamp = now.strftime("%Y-%m-%d_%H-%M-%S")
     for n in range(1, MAX_PER_SECOND + 1):
-        path = folder / f"{PREFIX}{stamp}{'' if n == 1 else f'-{n}'}.png"
+        path = folder / f"{PREFIX}{stamp}{'' if n == 1 else f'_{n}'}.png"
         try:
             os.close(os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644))
         except FileExistsError:

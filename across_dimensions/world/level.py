@@ -304,7 +304,8 @@ class Level:
 
     def frame_cost_ms(self) -> float:
         """Estimated milliseconds per frame while moving along w (see :func:`limits.tick_cost_ms`)."""
-        return limits.tick_cost_ms(len(self.worlds) + len(self.objects), self.tets, self.bodies)
+        drawables = len(self.worlds) + len(self.objects)
+        return limits.tick_cost_ms(drawables, self.tets, self.bodies, len(self.enemies), len(self.crystals))
 
 
 class _Reader:
@@ -854,7 +855,7 @@ def load_level(path, source: bytes | None = None) -> Level:
 
     if r.problems:
         raise LevelError(path, r.problems)
-    return Level(
+    level = Level(
         path=path,
         name=meta["name"],
         description=meta["description"],
@@ -885,3 +886,9 @@ def load_level(path, source: bytes | None = None) -> Level:
         health=health,
         camera=camera,
     )
+    from .placement import placement_problems  # where things are, once every entry is read
+
+    problems = placement_problems(level)
+    if problems:
+        raise LevelError(path, problems)
+    return level
