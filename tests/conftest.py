@@ -151,12 +151,12 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
         tr.write_line(f"    {items[0][1][:300]}")
 
 
-@contextlib.contextmanager
 def shots_in(folder: Path) -> list[Path]:
     """The game's screenshots in ``folder``, oldest first (their names are the time they were taken)."""
     return sorted(folder.glob("across-dimensions_*.png"), key=lambda p: p.stat().st_mtime_ns)
 
 
+@contextlib.contextmanager
 def xvfb_display(number: int, env_var: str):
     """A virtual X display ``:number`` for a real window, stopped afterwards.
 
