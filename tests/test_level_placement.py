@@ -74,7 +74,8 @@ def test_two_objects_with_the_name_a_manipulable_refers_to_are_refused(env, tmp_
         tmp_path,
         "06_bridge",
         "[[manipulable]]",
-        '[[object]]\nname = "slab"\nshape = "5-cell"\nposition = [3.0, 1.0, 3.0, 0.0]\nsolid = false\n\n[[manipulable]]',
+        '[[object]]\nname = "slab"\nshape = "5-cell"\nposition = [3.0, 1.0, 3.0, 0.0]\nsolid = false\n\n'
+        "[[manipulable]]",
     )
     refused(env, path, "[[manipulable]] #1: field 'object': 'slab' names [[object]] #1 and [[object]] #2")
 
