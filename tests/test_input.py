@@ -121,7 +121,7 @@ def test_presses_survive_a_replay_round_trip(tmp_path):
     path = tmp_path / "r.json"
     rep.save(path)
     data = json.loads(path.read_text())
-    assert data["version"] == 2
+    assert data["version"] == 3
     assert data["actions"][1][1][6] == {"fire": 2, "weapon_3": 1}
     back = list(Replay.load(path).actions)
     assert [a.presses for a in back] == [a.presses for a in frames]

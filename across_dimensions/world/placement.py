@@ -2,7 +2,8 @@
 
 Each entry can be right on its own and the level still broken:
 
-- the spawn inside a wall or a solid 4D object (a closed gate): the player starts stuck;
+- the spawn inside a wall or a fixed solid 4D object (a closed gate): the player starts
+  stuck (a rigid body there falls or is pushed away, so it is left alone);
 - an enemy whose centre is inside a wall: it cannot be reached or shot;
 - two ``[[object]]`` tables with one name that a ``[[manipulable]]``, a target's or
   an enemy's ``opens`` refers to: which one is meant is a guess.
@@ -57,7 +58,8 @@ def _blocked(level, position, heights, who: str, objects: bool = True) -> list[s
             found.append(f"{_fmt(p)} puts {who} inside the wall {where} (from {_fmt(lo)} to {_fmt(hi)})")
     if objects:
         for i, o in enumerate(level.objects, 1):
-            if o.solid and o.shape is not None and any(_inside_solid(o, q) for q in points):
+            fixed = o.solid and o.body == "none" and o.shape is not None
+            if fixed and any(_inside_solid(o, q) for q in points):
                 found.append(f"{_fmt(p)} puts {who} inside the solid [[object]] #{i} '{o.name}'")
     return found
 
