@@ -191,10 +191,7 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
         )
     updated = False
     changed, total = changed_hashes(rep, fresh)
-    rebaked = sorted(
-        k for k in set(fresh.bakes) | set(rep.bakes or {}) if fresh.bakes.get(k) != (rep.bakes or {}).get(k)
-    )
-    header = rep.bakes != fresh.bakes or rep.level_hash != fresh.level_hash
+    header = (rep.level_hash, rep.bakes) != (fresh.level_hash, fresh.bakes)
     if refused is None and problem is None and (changed or header):
         _check_actions_kept(args.replay, fresh)
         fresh.save(args.replay)  # temporary file in the same folder, then os.replace
@@ -210,7 +207,7 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
     say = (lambda msg: print(msg, file=sys.stderr, flush=True)) if as_json else _out  # stdout is the JSON's alone
     said = f"hashes updated ({changed} of {total} changed)" if updated and changed else "hashes unchanged"
     if updated and header:
-        said += f"; level hash and bakes recorded ({', '.join(rebaked) or 'the level bakes no mesh'})"
+        said += f"; level hash and bakes recorded ({', '.join(sorted(fresh.bakes)) or 'the level bakes no mesh'})"
     say(f"{args.replay}: {said}")
     return 0
 
