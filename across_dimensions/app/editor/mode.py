@@ -19,6 +19,7 @@ from the game back to the editor.
 
 from __future__ import annotations
 
+import sys
 import time
 from pathlib import Path
 
@@ -456,21 +457,29 @@ class EditorMode:
             pyglet.app.exit()
         return HANDLED
 
-    def screenshot(self) -> Path:
-        """Save the editor's view, panels included, as ./screenshots/shot_NNNN.png."""
+    def screenshot(self) -> Path | None:
+        """Save the editor's view, panels included, where the game's screenshots go
+        (:mod:`..screenshots`); a failure is a message in the editor, never an exit."""
+        from ..screenshots import save_screenshot
+
         w = self.window
         fw, fh = w.get_framebuffer_size()
-        folder = Path("screenshots")
-        folder.mkdir(exist_ok=True)
-        path = folder / f"shot_{len(list(folder.glob('shot_*.png'))):04d}.png"
-        with Offscreen(w.ctx, fw, fh) as target:
-            target.use()
-            self.draw_scene(target.viewport)
-            self.draw_gui()  # ImGui draws into the framebuffer bound now: the offscreen one
-            target.save_png(path)
-        w.ctx.screen.use()
-        print(f"screenshot saved: {path}", flush=True)
-        self.message = f"screenshot saved: {path}"
+
+        def write(path):
+            with Offscreen(w.ctx, fw, fh) as target:
+                target.use()
+                self.draw_scene(target.viewport)
+                self.draw_gui()  # ImGui draws into the framebuffer bound now: the offscreen one
+                target.save_png(path)
+
+        try:
+            path, self.message = save_screenshot(write)
+        finally:
+            w.ctx.screen.use()
+        if path is None:
+            print(f"warning: {self.message}", file=sys.stderr, flush=True)
+        else:
+            print(f"screenshot saved: {path}", flush=True)
         return path
 
 
