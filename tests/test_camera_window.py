@@ -13,19 +13,21 @@ _NO_WINDOW = 77
 def _camera_keys():
     from pyglet.window import key
 
+    from across_dimensions.app.session import Start
     from across_dimensions.app.settings import Settings
     from across_dimensions.app.window import GameWindow
     from across_dimensions.game.sim import DT
     from across_dimensions.world.resources import levels_dir
 
     try:
-        w = GameWindow(Settings(), levels_dir() / "07_orthogonal_worlds.toml")
+        w = GameWindow(Settings(), Start(levels_dir() / "07_orthogonal_worlds.toml"))
     except Exception as e:  # no EGL here: no headless window
         print(f"no headless pyglet window: {e}")
         sys.exit(_NO_WINDOW)
     stepped = []
-    step = w.game.step
-    w.game.step = lambda a: (stepped.append(a), step(a))
+    play = w.current_view
+    step = play.game.step
+    play.game.step = lambda a: (stepped.append(a), step(a))
     w.keys.on_key_press(key.L, 0)  # turn_xw_pos, held (the window's key state sees it down)
     w.on_key_press(key._9, 0)  # step_zw_pos, a press
     w.update(DT * 1.0001)
@@ -34,9 +36,9 @@ def _camera_keys():
     w.keys.on_key_release(key.L, 0)
     w.update(DT * 1.0001)
     assert not stepped[-1].turn_xw_pos
-    assert not w.pip_on and w.current_frame().pip is None  # off by default: nothing computed
+    assert not w.session.options.pip and play.current_frame().pip is None  # off by default: nothing computed
     w.on_key_press(key.P, 0)
-    assert w.pip_on and w.current_frame().pip is not None
+    assert w.session.options.pip and play.current_frame().pip is not None
 
 
 def _run_fresh(name: str) -> None:

@@ -13,8 +13,9 @@ import pytest
 
 from across_dimensions.app.saves import RENAMED, Progress, load_progress
 from across_dimensions.game.actions import Actions
+from across_dimensions.game.playback import play
 from across_dimensions.game.player import JUMP_SPEED, STEP_HEIGHT
-from across_dimensions.game.replay import Replay, play
+from across_dimensions.game.replay import Replay
 from across_dimensions.game.sim import Game
 from across_dimensions.world.level import load_level
 from across_dimensions.world.resources import levels_dir
@@ -123,7 +124,7 @@ def test_the_odd_crate_looks_like_the_others_until_the_field_shows_it():
     looks = []
     for a in replay.actions:
         game.step(a)
-        if any(p[0] == "fire" for p in a.presses) and game.arsenal.current.kind == "field":
+        if any(p[0] == "fire" for p in a.presses) and game.states.weapons.current.kind == "field":
             looks.append(("field", game.entities.named("odd crate").style))
         if game.tick == 10:
             style, color, pins = _shelf_looks(game)

@@ -120,14 +120,14 @@ def test_the_editor_key_in_play_opens_the_editor(env, tmp_path, xvfb):
         text=True,
     )
     try:
-        for _ in range(600):
+        for _ in range(600):  # the level's name in the caption: the kernels are loaded and it plays
             found = subprocess.run(
-                ["xdotool", "search", "--name", "Across Dimensions"], env=e, capture_output=True, text=True
+                ["xdotool", "search", "--name", "Crystal Cache"], env=e, capture_output=True, text=True
             )
             if found.stdout.strip():
                 break
             time.sleep(0.2)
-        time.sleep(2.0)
+        time.sleep(1.0)
         shots = tmp_path / "screenshots"
 
         def key(name, then=0.8):

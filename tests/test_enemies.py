@@ -209,9 +209,9 @@ def test_an_attack_is_announced_and_can_be_dodged_along_w(tmp_path):
         game.step(Actions())
         seen += game.events
         looks.append(enemy(game).style)
-        if game.hive.shots:
+        if game.states.enemies.shots:
             break
-    assert game.hive.shots, "no shot within 8 s"
+    assert game.states.enemies.shots, "no shot within 8 s"
     # The wind-up: the body flickered between glowing and solid in the second before the shot.
     warning = looks[-TICK_RATE:]
     assert "glow" in warning and "solid" in warning
@@ -221,13 +221,13 @@ def test_an_attack_is_announced_and_can_be_dodged_along_w(tmp_path):
     dodger = Game(level(tmp_path, SCOUT))
     dodger.player.position[:] = [0.0, 0.0, 4.0, 0.0]
     dodger.step(Actions())
-    while not dodger.hive.shots:
+    while not dodger.states.enemies.shots:
         dodger.step(Actions())
     hits = [ev for ev in run(dodger, 90, Actions(w=1.0)) if ev.kind == "player_hit"]
     assert hits == []
     hits = [ev for ev in run(game, 90) if ev.kind == "player_hit"]
     assert len(hits) == 1 and hits[0].damage == 15.0
-    assert game.health.value == 85.0
+    assert game.states.health.value == 85.0
     # The cue points at the enemy (ahead of the player: straight up on the HUD).
     frame = game.frame()
     assert frame.hud.damage_dir == pytest.approx(0.0, abs=0.2)
@@ -394,7 +394,7 @@ def test_a_player_who_stands_still_dies_and_comes_back_at_the_start():
     assert kinds.count("player_hit") >= 7
     assert kinds.count("player_died") >= 1
     # Died at the spawn point and came back there (no checkpoint touched).
-    assert game.health.deaths == kinds.count("player_died")
+    assert game.states.health.deaths == kinds.count("player_died")
     assert game.player.position[2] == pytest.approx(-20.0, abs=0.01)
 
 
@@ -410,13 +410,13 @@ def test_death_restarts_at_the_last_checkpoint_and_keeps_progress():
     game.energy.gain(7000)
     energy = game.energy.milli
     game.player.position[:] = [2.0, 0.0, 8.0, 0.3]
-    game.health.value = 10.0
+    game.states.health.value = 10.0
     assert hp.damage(game, 15.0, [2.0, 12.0], -1)
     assert game.event_counts["player_died"] == 1
     assert list(game.player.position) == [0.0, 0.0, -1.0, 0.0]
-    assert game.health.value == 100.0
+    assert game.states.health.value == 100.0
     assert game.energy.milli == energy  # nothing won is lost
-    assert game.hive.defeated == 1 and game.entities.get(drone.id) is None
+    assert game.states.enemies.defeated == 1 and game.entities.get(drone.id) is None
     assert not hp.damage(game, 15.0, [0.0, 5.0], -1)  # safe for a moment after coming back
     frame = game.frame()
     assert "checkpoint 'midway'" in frame.hud.message
@@ -468,11 +468,11 @@ def test_enemies_rng_draws_are_in_the_state_hash_and_runs_repeat():
     assert b2.state_hash() != a.state_hash()
 
 
-def test_levels_without_enemies_add_nothing_to_the_state_hash():
+def test_levels_without_enemies_have_no_hive_and_no_health():
     game = Game(load_level(levels_dir() / "04_armory.toml"))
     run(game, 5)
-    assert en.state_bytes(game) == b""
-    assert game.frame().hud.health is None
+    assert game.states.enemies is None and game.states.health is None
+    assert not game.entities.of_kind("enemy") and game.frame().hud.health is None
 
 
 # ------------------------------------------------------------------ level entries and HUD

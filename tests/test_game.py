@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from across_dimensions.game.actions import Actions
-from across_dimensions.game.replay import Recorder, Replay, play
+from across_dimensions.game.playback import play
+from across_dimensions.game.replay import Recorder, Replay
 from across_dimensions.game.sim import TICK_RATE, Game
 from across_dimensions.game.systems.ghosts import GhostView
 from across_dimensions.world.level import load_level
@@ -141,6 +142,39 @@ def test_interpolated_camera_lies_between_ticks(level1):
     z1 = game.frame(alpha=1.0).camera.position[2]
     zh = game.frame(alpha=0.5).camera.position[2]
     assert z0 < zh < z1 and zh == pytest.approx((z0 + z1) / 2)
+
+
+def test_the_frame_carries_the_interpolated_4d_eye():
+    """Between ticks the eye's w lies between the two ticks' w, like its x, y and z; the HUD's w
+    gauge, the radar and the slice drawn all read it from the frame."""
+    game = Game(load_level(levels_dir() / "03_tumbling_hall.toml"))  # bodies on the radar, w free
+    for _ in range(20):
+        game.step(Actions(w=1.0))
+    w0 = float(game.player.position[3])
+    game.step(Actions(w=1.0))
+    w1 = float(game.player.position[3])
+    assert w1 > w0
+    half, whole = game.frame(alpha=0.5), game.frame(alpha=1.0)
+    assert whole.camera.w == w1 and whole.hud.w == w1  # exactly the player's w at the tick
+    assert half.camera.w == pytest.approx((w0 + w1) / 2) and half.hud.w == half.camera.w
+    assert np.array_equal(half.camera.eye4, np.append(half.camera.position, half.camera.w))
+    lift = (w1 - w0) / 2 * game.level.radar.w_scale * game.radar_view.height_scale  # pins stand taller
+    assert half.radar.pins and [p.height for p in half.radar.pins] == pytest.approx(
+        [p.height + lift for p in whole.radar.pins]
+    )
+
+
+def test_no_draw_path_reads_the_players_w():
+    """What a frame shows is cut at the frame's eye (``frame.camera.w``), never at the player's w
+    of the last tick: the draw hooks and the projection stage never read ``position[3]``."""
+    import inspect
+
+    from across_dimensions.game import projection
+    from across_dimensions.game.systems import SYSTEMS, ghosts
+
+    hooks = [s.draw for s in SYSTEMS if s.draw is not None] + [projection.project, ghosts.layers_of]
+    readers = [f"{f.__module__}.{f.__name__}" for f in hooks if "position[3]" in inspect.getsource(f)]
+    assert not readers, readers
 
 
 # ------------------------------------------------------------------ pixels

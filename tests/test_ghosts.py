@@ -147,14 +147,14 @@ def test_ghosts_take_part_in_no_collision_or_ray_cast(ghost_level):
 def test_ghosts_fade_with_distance_and_the_side_moved_towards_grows(ghost_level):
     game = Game(ghost_level)
     game.ghost_view = GhostView(layers=2)
-    layers = ghosts.layers_of(game)
+    layers = ghosts.layers_of(game, float(game.player.position[3]))
     by = {(lay.side, lay.k): lay for lay in layers}
     assert by[(1, 1)].opacity > by[(1, 2)].opacity > 0
     assert by[(1, 1)].w == pytest.approx(0.6) and by[(-1, 2)].w == pytest.approx(-1.2)
     still = by[(1, 1)].opacity
     for _ in range(10):  # full w speed after 9 ticks; w is then about 0.1
         game.step(Actions(w=1.0))
-    moving = {(lay.side, lay.k): lay for lay in ghosts.layers_of(game)}
+    moving = {(lay.side, lay.k): lay for lay in ghosts.layers_of(game, float(game.player.position[3]))}
     assert moving[(1, 1)].opacity > 1.5 * still, "ana grows while moving ana"
     assert moving[(-1, 1)].opacity < still
     # The ghost of the wall about to appear is drawn stronger than the same ghost at rest.
@@ -166,9 +166,9 @@ def test_ghosts_fade_with_distance_and_the_side_moved_towards_grows(ghost_level)
 def test_ghost_layers_stay_inside_the_w_range_and_switch_off(ghost_level):
     game = Game(ghost_level)
     game.player.position[3] = 1.2  # 1.2 + 0.6 is past the range's end (1.5)
-    assert [lay.side for lay in ghosts.layers_of(game)] == [-1]
+    assert [lay.side for lay in ghosts.layers_of(game, float(game.player.position[3]))] == [-1]
     game.ghost_view = GhostView(enabled=False)
-    assert ghosts.layers_of(game) == []
+    assert ghosts.layers_of(game, float(game.player.position[3])) == []
     assert not ghost_drawables(game.frame())
     assert not any(k.startswith("ghost") for k in game.sections._entries), "their sections are freed"
 

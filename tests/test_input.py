@@ -23,17 +23,19 @@ def _window():
     """A headless window on level 1 with jump also on the 4th mouse button and
     manipulate also on the wheel; ``stepped`` collects the actions of every tick."""
     try:
+        from across_dimensions.app.session import Start
         from across_dimensions.app.settings import Settings
         from across_dimensions.app.window import GameWindow
 
         settings = Settings(bindings={"jump": ("SPACE", "MOUSE_4"), "manipulate": ("F", "MOUSE_WHEEL_UP")})
-        w = GameWindow(settings, levels_dir() / "01_first_steps.toml")
+        w = GameWindow(settings, Start(levels_dir() / "01_first_steps.toml"))
     except Exception as e:  # no EGL here: no headless window
         print(f"no headless pyglet window: {e}")
         sys.exit(_NO_WINDOW)
     stepped = []
-    step = w.game.step
-    w.game.step = lambda a: (stepped.append(a), step(a))
+    game = w.current_view.game
+    step = game.step
+    game.step = lambda a: (stepped.append(a), step(a))
     return w, stepped
 
 
@@ -82,12 +84,75 @@ def _wheel_and_extra_buttons():
 
 
 def _presses_while_paused():
+    from pyglet.window import key
+
     w, stepped = _window()
-    w.set_paused(True)
+    w.on_key_press(key.ESCAPE, 0)  # the pause menu takes the wheel...
+    assert type(w.current_view).__name__ == "PauseView"
     w.on_mouse_scroll(0, 0, 0, -1.0)
-    w.set_paused(False)
+    w.on_key_press(key.ESCAPE, 0)  # ...and Esc resumes
+    assert type(w.current_view).__name__ == "PlayView"
     _tick(w)
     assert stepped[-1].presses == ()
+
+
+def _tap(window, key_code):
+    """A key pressed and released before the next tick, through the window's event path (its
+    key-state handler sees both), as the event loop delivers them between two frames."""
+    window.dispatch_event("on_key_press", key_code, 0)
+    window.dispatch_event("on_key_release", key_code, 0)
+    window.dispatch_events()
+
+
+def _taps_at_five_fps():
+    from pyglet.window import key
+
+    from across_dimensions.app.input import COUNTED_ONLY, key_code
+
+    w, stepped = _window()
+    play, frame = w.current_view, 0.2  # 5 FPS: a frame is 12 ticks (5 run, the catch-up limit)
+    for _ in range(3):
+        w.update(frame)
+    player = play.game.player
+    assert player.on_ground
+    _tap(w, key.SPACE)
+    n = len(stepped)
+    w.update(frame)
+    assert [a.jump for a in stepped[n:]] == [True, False, False, False, False], stepped[n:]
+    assert not player.on_ground and player.velocity[1] > 0  # it jumped
+    # The first w tap of a session opens the flat-being card; Enter closes it; the next tap moves w.
+    _tap(w, key.E)
+    w.update(frame)
+    assert w.session.onboarding.blocking
+    _tap(w, key.RETURN)
+    w0, n = player.position[3], len(stepped)
+    _tap(w, key.E)
+    w.update(frame)
+    assert [a.w for a in stepped[n:]] == [1.0, 0.0, 0.0, 0.0, 0.0], stepped[n:]
+    # One tick of push from rest (W_ACCEL * DT of speed, for DT), then the next tick stops it.
+    from across_dimensions.game.player import W_ACCEL
+    from across_dimensions.game.sim import DT
+
+    assert abs(player.position[3] - (w0 + W_ACCEL * DT * DT)) < 1e-9, (player.position[3], w0)
+    # Every held action the game reads (walking, w, jump, grabbing, slice turns, orbit) sees a tap.
+    seen = {
+        "move_forward": lambda a: a.forward == 1,
+        "move_back": lambda a: a.forward == -1,
+        "strafe_right": lambda a: a.right == 1,
+        "strafe_left": lambda a: a.right == -1,
+        "w_ana": lambda a: a.w == 1,
+        "w_kata": lambda a: a.w == -1,
+    }
+    held = [a for a in w.session.settings.bindings if a not in COUNTED_ONLY and (a in seen or hasattr(stepped[0], a))]
+    assert {"jump", "manipulate", "turn_xw_pos", "orbit_left", "move_forward", "w_kata"} <= set(held)
+    for action in held:
+        kind, code = key_code(w.session.settings.keys_for(action)[0])
+        assert kind == "key", action
+        _tap(w, code)
+        _tick(w)
+        _tick(w)
+        check = seen.get(action, lambda a, name=action: getattr(a, name))
+        assert check(stepped[-2]) and not check(stepped[-1]), (action, stepped[-2:])
 
 
 def _run_fresh(name: str) -> None:
@@ -103,11 +168,18 @@ def _run_fresh(name: str) -> None:
 
 @pytest.mark.parametrize(
     "scenario",
-    ["_tap_shorter_than_a_tick", "_two_taps_in_one_tick", "_wheel_and_extra_buttons", "_presses_while_paused"],
+    [
+        "_tap_shorter_than_a_tick",
+        "_two_taps_in_one_tick",
+        "_wheel_and_extra_buttons",
+        "_presses_while_paused",
+        "_taps_at_five_fps",
+    ],
 )
 def test_window_counts_every_press(scenario):
     """A tap shorter than a tick fires exactly once; two taps are two; the wheel
-    and extra mouse buttons bind like keys; presses while paused are dropped."""
+    and extra mouse buttons bind like keys; presses while paused are dropped; at 5 FPS a tap of
+    a held action is held for one tick (Space jumps, E moves w)."""
     _run_fresh(scenario)
 
 

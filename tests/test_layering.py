@@ -6,6 +6,11 @@
 * ``game/``, ``physics/``, ``world/`` and ``core/`` never read the wall clock
   (benchmarks excepted) and never use global random state: randomness comes
   from seeded ``np.random.default_rng`` generators.
+* the packages stand in the order ``core <- physics <- world <- game <- render
+  <- app``: a package imports only those below it (world never imports game,
+  physics never imports world, ...), at module level or inside a function.
+* an import inside a function never hides a circle: it may not import a module
+  that imports the importer's module, directly or through others.
 
 Every ``.py`` under ``across_dimensions/`` is parsed with :mod:`ast`, so
 comments and docstrings that mention a module never count, and relative,
@@ -222,6 +227,89 @@ def random_problems(rel: str, source: str) -> list[str]:
     return out
 
 
+#: The packages, lowest first: each may import only itself and those before it.
+PACKAGE_ORDER = ("core", "physics", "world", "game", "render", "app")
+#: Modules at the top of the package: ``across_dimensions`` and ``_blas`` under every
+#: package (any may import them), ``__main__`` over all of them.
+BELOW_ALL = {"across_dimensions", "across_dimensions._blas"}
+#: Lazy imports that hide a circle and are being removed (``"path -> module"``). The list
+#: only shrinks: an entry that no longer hides a circle fails until it is removed.
+KNOWN_CIRCLES: set[str] = set()
+
+
+def _rank(module: str) -> int:
+    """Where a module of the package stands in :data:`PACKAGE_ORDER` (-1 below all, len above)."""
+    if module in BELOW_ALL:
+        return -1
+    parts = module.split(".")
+    if len(parts) > 1 and parts[1] in PACKAGE_ORDER:
+        return PACKAGE_ORDER.index(parts[1])
+    return len(PACKAGE_ORDER)
+
+
+def order_problems(rel: str, source: str) -> list[str]:
+    """Imports of a package above the importer's own in :data:`PACKAGE_ORDER`."""
+    mine = _rank(module_of(rel))
+    out = []
+    for imp in imports(rel, source):
+        if imp.module.split(".")[0] != "across_dimensions":
+            continue
+        theirs = _rank(imp.module)
+        if theirs > mine:
+            out.append(
+                f"{imp.where()}  ({module_of(rel)} may not import {imp.module}: "
+                f"the packages stand in the order {' <- '.join(PACKAGE_ORDER)})"
+            )
+    return out
+
+
+def _known(name: str, known: set[str]) -> str | None:
+    """The module an import of ``name`` runs: ``name`` itself, or the package of a name taken
+    from it (``across_dimensions.physics`` for ``from ..physics import BodyDef``)."""
+    parts = name.split(".")
+    return next((m for i in range(len(parts), 0, -1) if (m := ".".join(parts[:i])) in known), None)
+
+
+def import_graph(sources: dict[str, str]) -> dict[str, set[str]]:
+    """Module -> the package's modules it imports, at module level or inside functions."""
+    known = {module_of(rel) for rel in sources}
+    graph: dict[str, set[str]] = {}
+    for rel, src in sources.items():
+        found = {_known(imp.module, known) for imp in imports(rel, src)}
+        for node in ast.walk(ast.parse(src)):  # "from package import module" imports the module
+            if isinstance(node, ast.ImportFrom):
+                base = _resolve_from(node, rel)
+                found |= {f"{base}.{a.name}" for a in node.names} & known
+        graph[module_of(rel)] = found - {None, module_of(rel)}
+    return graph
+
+
+def hidden_circles(sources: dict[str, str]) -> list[str]:
+    """``"path -> module"`` for every import inside a function whose module imports the
+    importer's module back, directly or through others."""
+    graph = import_graph(sources)
+
+    def reaches(start: str, goal: str) -> bool:
+        seen, todo = set(), [start]
+        while todo:
+            m = todo.pop()
+            if m == goal:
+                return True
+            if m not in seen:
+                seen.add(m)
+                todo.extend(graph[m])
+        return False
+
+    out = set()
+    for rel, src in sources.items():
+        me = module_of(rel)
+        for imp in imports(rel, src):
+            target = _known(imp.module, set(graph))
+            if imp.in_function and target is not None and target != me and reaches(target, me):
+                out.add(f"{rel} -> {target}")
+    return sorted(out)
+
+
 # ------------------------------------------------------------------- the tree
 def _sources() -> dict[str, str]:
     return {p.relative_to(PKG).as_posix(): p.read_text(encoding="utf-8") for p in sorted(PKG.rglob("*.py"))}
@@ -371,3 +459,48 @@ def test_importing_the_core_loads_no_optional_packages(tmp_path):
     loaded = _modules_after_import("across_dimensions.core", *core, tmp_path=tmp_path)
     unwanted = {"pyglet", "moderngl", "trimesh"}
     assert not loaded & unwanted, sorted(loaded & unwanted)
+
+
+# ------------------------------------------------------------ package order
+def test_packages_import_only_the_packages_below_them():
+    problems = [p for rel, src in SOURCES.items() for p in order_problems(rel, src)]
+    assert not problems, _report(problems)
+
+
+def test_no_import_inside_a_function_hides_a_circle():
+    found = set(hidden_circles(SOURCES))
+    new = sorted(found - KNOWN_CIRCLES)
+    assert not new, (
+        "imports inside functions that hide a circle (import at the top, or move what both need):" + _report(new)
+    )
+    gone = sorted(KNOWN_CIRCLES - found)
+    assert not gone, "no longer circles: remove them from KNOWN_CIRCLES" + _report(gone)
+
+
+@pytest.mark.parametrize(
+    "rel, source, bad",
+    [
+        ("world/level.py", "from ..game import sim\n", True),
+        ("physics/world.py", "def f():\n    from ..world import scene\n", True),
+        ("core/mesh.py", "from ..render import hud\n", True),
+        ("game/sim.py", "from ..world.level import Level\nfrom ..core.mesh import TetMesh4\n", False),
+        ("app/window.py", "from ..render import hud\nfrom .. import _blas\n", False),
+        ("render/hud.py", "import across_dimensions.app.window\n", True),
+    ],
+)
+def test_checker_package_order(rel, source, bad):
+    problems = order_problems(rel, source)
+    assert bool(problems) == bad, problems
+
+
+def test_checker_hidden_circles():
+    tree = {
+        "game/a.py": "from . import b\n",
+        "game/b.py": "def f():\n    from . import a\n",  # a imports b: this hides a -> b -> a
+        "game/c.py": "def f():\n    from . import b\n",  # b never imports c: no circle
+        "game/d.py": "def f():\n    from .e import x\n",  # e imports f, f imports d
+        "game/e.py": "from . import f\n",
+        "game/f.py": "from .d import y\n",
+        "game/__init__.py": "",
+    }
+    assert hidden_circles(tree) == ["game/b.py -> across_dimensions.game.a", "game/d.py -> across_dimensions.game.e"]

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from across_dimensions.game.actions import Actions
-from across_dimensions.game.replay import Replay, play
+from across_dimensions.game.playback import play
+from across_dimensions.game.replay import Replay
 from across_dimensions.game.sim import TICK_RATE, Game
 from across_dimensions.world.level import load_level
 from across_dimensions.world.resources import levels_dir

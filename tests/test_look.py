@@ -272,7 +272,8 @@ def test_skipping_inner_faces_of_4d_things_changes_no_pixel_a_player_sees(gl_ctx
     culling their inner faces must leave every view along the level's replay (where a
     player really stands, looking where they really look) unchanged; if a section were open
     or wound the other way, whole faces would vanish."""
-    from across_dimensions.game.replay import Replay, play
+    from across_dimensions.game.playback import play
+    from across_dimensions.game.replay import Replay
     from across_dimensions.game.sim import Game
     from across_dimensions.game.systems.ghosts import GhostView
     from across_dimensions.world.level import load_level
@@ -322,7 +323,7 @@ def test_depth_prepass_changes_no_pixel(gl_ctx):
     try:
         for yaw in (0.0, 2.0, 4.0):
             game.player.yaw = yaw
-            game._prev_view = (yaw, 0.0)
+            game.reset_interpolation()
             frame = game.frame()
             target.use()
             with_pass.draw(frame, hud=False)

@@ -15,7 +15,8 @@ import pytest
 from across_dimensions.core.section import cross_section
 from across_dimensions.core.transform import translation
 from across_dimensions.game.actions import Actions
-from across_dimensions.game.replay import Replay, play
+from across_dimensions.game.playback import play
+from across_dimensions.game.replay import Replay
 from across_dimensions.game.sim import Game
 from across_dimensions.game.systems import manipulation
 from across_dimensions.world.level import LevelError, load_level
@@ -41,7 +42,7 @@ def _slab(game):
 
 def test_grab_turn_snap_and_let_go():
     game = _at_the_edge()
-    assert game.manipulation.aimed == _slab(game).id
+    assert game.states.manipulation.aimed == _slab(game).id
     game.step(Actions(manipulate=True))
     assert game.event_counts["manipulation_started"] == 1
     z = game.player.position[2]
@@ -140,7 +141,7 @@ def test_a_turn_that_would_swallow_the_player_is_refused(tmp_path):
     game.player.position = np.array([0.0, -0.2, 5.0, 0.0])
     game.player.velocity[:] = 0.0
     before = _slab(game).data.offsets["zw"]
-    game.manipulation.held = _slab(game).id
+    game.states.manipulation.held = _slab(game).id
     for _ in range(200):
         game.player.position[1] = -0.2
         game.step(Actions(manipulate=True, right=1.0))
@@ -276,7 +277,7 @@ def test_a_body_on_a_turned_object_follows_it_or_falls_and_never_sinks_in(tmp_pa
     cube, table = game.entities.named("cube"), game.entities.named("table")
     for _ in range(60):
         game.step(Actions())
-    game.manipulation.held = table.id
+    game.states.manipulation.held = table.id
     for i in range(240):
         game.step(Actions(manipulate=True, forward=1.0 if i < 90 else 0.0))
         m = table.model(game)
@@ -295,13 +296,11 @@ def test_a_body_on_a_turned_object_follows_it_or_falls_and_never_sinks_in(tmp_pa
 
 
 _PROMPT = """
-import types
 import pyglet
-pyglet.options["headless"] = True  # no X display needed: the window class is only imported
+pyglet.options["headless"] = True  # no X display needed: the input module is only imported
+from across_dimensions.app.input import with_keys
 from across_dimensions.app.settings import default_settings
-from across_dimensions.app.window import GameWindow
-fake = types.SimpleNamespace(settings=default_settings("azerty"))
-print(GameWindow.with_keys(fake, {message!r}))
+print(with_keys({message!r}, default_settings("azerty")))
 """
 
 

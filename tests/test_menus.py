@@ -6,6 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from across_dimensions.app.menu import VISIBLE_ROWS, Menu, menu_verb
@@ -133,6 +134,53 @@ def test_unlocking_and_continue():
     p.finish("b", 1.0)
     p.finish("c", 1.0)
     assert p.continue_level(stems) == (None, None)
+
+
+def test_only_an_unlocked_campaign_level_becomes_continue():
+    stems = ["a", "b", "c"]
+    p = Progress()
+    p.finish("a", 10.0)
+    p.current, p.checkpoint = "b", 1
+    assert not p.play("c", None, stems) and (p.current, p.checkpoint) == ("b", 1)  # c is locked
+    assert not p.play("custom", None, stems) and p.continue_level(stems) == ("b", 1)  # not in the campaign
+    assert p.play("a", None, stems) and p.continue_level(stems) == ("a", None)  # finished levels stay open
+
+
+@pytest.fixture(scope="module")
+def xvfb():
+    """A virtual X display for a real window; skipped when Xvfb is not installed."""
+    from conftest import xvfb_display
+
+    with xvfb_display(65, "ACROSS_DIMENSIONS_MENUS_TEST_DISPLAY") as display:
+        yield display
+
+
+def test_play_from_the_command_line_never_moves_continue_to_a_locked_level(tmp_path, env, xvfb):
+    data = tmp_path / "data"
+    data.mkdir()
+    p = Progress()
+    p.finish("00_arrival", 30.0)  # so 01 is open, and 05 is still locked
+    save_progress(p, data / "progress.json")
+    e = dict(env, DISPLAY=xvfb, ACROSS_DIMENSIONS_DATA_DIR=str(data), ACROSS_DIMENSIONS_CONFIG_DIR=str(tmp_path))
+    e.pop("WAYLAND_DISPLAY", None)
+    stems = [entry.stem for entry in load_campaign()]
+    for level, current in (
+        ("05_blast_and_field", None),
+        ("02_crystal_cache", None),
+        ("01_first_steps", "01_first_steps"),
+    ):
+        r = subprocess.run(
+            [sys.executable, "-m", "across_dimensions", "play", level, "--quit-after", "1"],
+            capture_output=True,
+            text=True,
+            timeout=300,
+            cwd=tmp_path,
+            env=e,
+        )
+        assert r.returncode == 0, r.stderr
+        back, warnings = load_progress(data / "progress.json")
+        assert warnings == [] and back.current == current, (level, back)
+        assert back.continue_level(stems) == ("01_first_steps", None), level  # the first level not finished
 
 
 # ---- menus ----------------------------------------------------------------------------
@@ -311,74 +359,81 @@ try:
     from across_dimensions.app.settings import Settings
     from across_dimensions.app.window import GameWindow
     from pyglet.window import key
-    w = GameWindow(Settings(), None)
+    w = GameWindow(Settings())
 except Exception as e:
     print(f"no headless pyglet window: {e}")
     sys.exit(77)
 from across_dimensions.game.sim import DT
-w.warm.join()
+s = w.session
+view = lambda: type(w.current_view).__name__
+s.warm.join()
 w.update(DT)
-assert w.menu.screen == "title", w.menu.screen
+assert s.menu.screen == "title" and view() == "TitleView", (s.menu.screen, view())
 w.on_key_press(key.DOWN, 0); w.on_key_press(key.RETURN, 0)      # Level select
-assert w.menu.screen == "levels"
+assert s.menu.screen == "levels" and view() == "LevelSelectView"
 w.on_key_press(key.RETURN, 0)                                     # the first level
 w.update(DT)
-assert w.menu.screen is None and w.game.level.name == "Arrival"
+assert view() == "PlayView" and w.current_view.game.level.name == "Arrival"
+play = w.current_view
 for _ in range(30):
     w.update(DT * 1.0001)
 w.on_key_press(key.ESCAPE, 0)                                     # the pause menu
-assert w.menu.screen == "pause" and w.paused
-t = w.game.tick
+assert s.menu.screen == "pause" and view() == "PauseView"
+t = play.game.tick
 w.update(DT * 1.0001)
-assert w.game.tick == t                                           # paused: no ticks
+assert play.game.tick == t                                        # paused: no ticks
 w.on_key_press(key.DOWN, 0); w.on_key_press(key.DOWN, 0); w.on_key_press(key.RETURN, 0)   # Settings
+assert view() == "SettingsView" and w.views[-2:-1] and type(w.views[-2]).__name__ == "PauseView"
 for _ in range(4):
     w.on_key_press(key.DOWN, 0)
 w.on_key_press(key.RIGHT, 0)                                      # field of view 75 -> 80, saved at once
-assert w.settings.fov_deg == 80.0
+assert s.settings.fov_deg == 80.0
 w.on_key_press(key.ESCAPE, 0); w.on_key_press(key.ESCAPE, 0)      # back, resume
-assert w.menu.screen is None and not w.paused
+assert view() == "PlayView" and w.current_view is play
 w.update(DT * 1.0001)
-assert w.game.tick == t + 1
+assert play.game.tick == t + 1
 w.on_key_press(key.ESCAPE, 0)
 for _ in range(3):
     w.on_key_press(key.DOWN, 0)
 w.on_key_press(key.RETURN, 0)                                     # quit to title
-assert w.menu.screen == "title"
-print("current", w.progress.current)
+assert s.menu.screen == "title" and view() == "TitleView" and len(w.views) == 1
+print("current", s.progress.current)
 # The mouse: hover and click rows where they are drawn (window coordinates, origin bottom-left).
 from across_dimensions.render.menu import menu_layout
 from pyglet.window import mouse
 def click(index):
     fw, fh = w.get_framebuffer_size()
-    box = next(b for b in menu_layout(w.menu.view(), fw, fh) if b.index == index)
+    box = next(b for b in menu_layout(s.menu.view(), fw, fh) if b.index == index)
     x, y = box.rect[0] + 5, box.rect[1] + box.rect[3] // 2
     sx, sy = w.width / fw, w.height / fh
     w.on_mouse_motion(x * sx, w.height - y * sy, 0, 0)
-    assert w.menu.selected[w.menu.screen] == index
+    assert s.menu.selected[s.menu.screen] == index
     w.on_mouse_press(x * sx, w.height - y * sy, mouse.LEFT, 0)
 click(1)
-assert w.menu.screen == "levels"
+assert s.menu.screen == "levels"
 click(0)
 w.update(DT)
-assert w.menu.screen is None and w.game is not None
+assert view() == "PlayView"
 # Finishing a level through the window: level 2's shipped replay, fed as the player's input.
 from across_dimensions.game.replay import Replay
 from across_dimensions.world.resources import levels_dir
 from across_dimensions.game.actions import Actions
 frames = iter(Replay.load(levels_dir() / "replays" / "02_crystal_cache.json").actions)
-w.start_level(levels_dir() / "02_crystal_cache.toml")
-w.read_actions = lambda: next(frames, Actions())
+s.start_level(levels_dir() / "02_crystal_cache.toml")
+play = w.current_view
+play.read_actions = lambda: next(frames, Actions())
 for _ in range(100000):
-    if w.game.outcome == "complete":
+    if play.game.outcome == "complete":
         break
     w.update(DT)
-assert w.game.outcome == "complete"
-p = w.progress
+assert play.game.outcome == "complete"
+w.update(DT)
+assert view() == "LevelCompleteView"
+p = s.progress
 print("finished", sorted(p.finished), "crystals", p.crystals, "current", p.current)
 for _ in range(int(4 / DT)):                                      # the next level follows the campaign
     w.update(DT * 1.0001)
-print("next", w.level_path.stem)
+print("next", w.current_view.level_path.stem)
 """
 
 
@@ -401,29 +456,21 @@ def test_window_flow_title_level_pause_settings(tmp_path):
     assert levels_dir().is_dir()
 
 
-def test_checkpoint_adapter_resumes_where_the_game_can():
+def test_a_saved_checkpoint_resumes_where_the_level_still_has_it():
     from across_dimensions.app.saves import checkpoint_of, resume_at_checkpoint
+    from across_dimensions.game.sim import Game
 
-    class NoCheckpoints:
-        pass
-
-    class WithCheckpoints:
-        checkpoint = None
-
-        def restart_at_checkpoint(self, index):
-            if index >= 2:
-                raise IndexError(index)
-            self.checkpoint = index
-
-    assert checkpoint_of(NoCheckpoints()) is None
-    assert not resume_at_checkpoint(NoCheckpoints(), 1)  # a level without checkpoints: its start
-    game = WithCheckpoints()
-    assert checkpoint_of(game) is None
-    assert resume_at_checkpoint(game, 1) and checkpoint_of(game) == 1
-    assert not resume_at_checkpoint(game, 5)  # the level changed since the save: its start
-    assert not resume_at_checkpoint(game, None)
-    game.checkpoint = True  # not an index
-    assert checkpoint_of(game) is None
+    plain = Game(load_level(levels_dir() / "01_first_steps.toml"))
+    assert checkpoint_of(plain) is None
+    assert not resume_at_checkpoint(plain, 0)  # a level without checkpoints: its start
+    hive = Game(load_level(levels_dir() / "09_hive.toml"))
+    count = len(hive.level.checkpoints)
+    assert count >= 1 and checkpoint_of(hive) is None
+    assert resume_at_checkpoint(hive, count - 1) and checkpoint_of(hive) == count - 1
+    cp = hive.level.checkpoints[count - 1].position
+    assert np.array_equal(hive.player.position, cp)  # standing there
+    assert not resume_at_checkpoint(hive, count)  # the level changed since the save: its start
+    assert not resume_at_checkpoint(hive, None)
 
 
 def test_warm_up_child_reports_every_step():

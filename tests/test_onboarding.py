@@ -10,7 +10,8 @@ from pathlib import Path
 import pytest
 
 from across_dimensions.app.onboarding import Onboarding, fill_keys, key_label
-from across_dimensions.app.settings import default_settings, load_settings, report_warnings
+from across_dimensions.app.settings import default_settings, load_settings
+from across_dimensions.app.settings_log import report_warnings
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.frame import Hud
 from across_dimensions.game.hints import HOLD_SECONDS, HintBook, placeholders, reading_seconds
@@ -216,7 +217,8 @@ def test_the_command_line_prints_one_warning_line_for_a_corrupt_settings_file(tm
     bad = tmp_path / "settings.toml"
     bad.write_text('fov_deg = "wide"\nwidth = -5\nheight = "x"\n')
     code = (
-        "import sys; from across_dimensions.app.settings import load_settings, report_warnings;"
+        "import sys; from across_dimensions.app.settings import load_settings;"
+        "from across_dimensions.app.settings_log import report_warnings;"
         f"s, w = load_settings({str(bad)!r}); line = report_warnings(w, {str(bad)!r});"
         "print('warning: ' + line, file=sys.stderr)"
     )
@@ -228,7 +230,7 @@ def test_the_command_line_prints_one_warning_line_for_a_corrupt_settings_file(tm
 
 
 def test_the_screen_line_fits_between_the_energy_bar_and_the_radar(tmp_path):
-    from across_dimensions.app.settings import warning_screen_line
+    from across_dimensions.app.settings_log import warning_screen_line
     from across_dimensions.render.font import text_width
     from across_dimensions.render.hud import HudMetrics
 

@@ -18,7 +18,8 @@ from pathlib import Path
 import pytest
 
 from across_dimensions.game.actions import BUTTONS, MAX_LOOK, Actions
-from across_dimensions.game.replay import FORMAT, MAX_BYTES, MAX_TICKS, ActionRuns, Replay, ReplayError, play
+from across_dimensions.game.playback import play
+from across_dimensions.game.replay import FORMAT, MAX_BYTES, MAX_TICKS, ActionRuns, Replay, ReplayError
 from across_dimensions.game.sim import Game
 from across_dimensions.world.level import load_level
 from across_dimensions.world.resources import levels_dir

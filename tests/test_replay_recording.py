@@ -20,7 +20,8 @@ import numpy as np
 import pytest
 
 from across_dimensions.game.actions import Actions
-from across_dimensions.game.replay import FORMAT, JOURNAL_FORMAT, Recorder, Replay, ReplayError, play
+from across_dimensions.game.playback import play
+from across_dimensions.game.replay import FORMAT, JOURNAL_FORMAT, Recorder, Replay, ReplayError
 from across_dimensions.game.sim import Game
 from across_dimensions.world.level import load_level
 from across_dimensions.world.resources import levels_dir

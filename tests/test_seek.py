@@ -28,7 +28,7 @@ def run(game, first, ticks=240):
     game.step(first)
     seen = list(game.events)
     for _ in range(ticks):
-        if not game.seek.active:
+        if not game.states.seek.active:
             break
         game.step(Actions())
         seen += game.events
@@ -104,7 +104,7 @@ def test_held_w_key_takes_over(crystal_level):
     game.step(SEEK)
     game.step(Actions())
     game.step(Actions(w=1.0))
-    assert not game.seek.active
+    assert not game.states.seek.active
 
 
 def test_seek_jump_lands_in_one_tick_for_the_same_price(crystal_level):
@@ -186,12 +186,13 @@ def test_level_can_disable_seek(tmp_path):
     path.write_text(WALLED + "\n[seek]\nenabled = false\n")
     game = Game(load_level(path))
     game.step(SEEK)
-    assert not game.seek.active and game.player.position[3] == 0.0
+    assert not game.states.seek.active and game.player.position[3] == 0.0
     assert "off in this level" in game.frame().hud.message
 
 
 def test_seek_replays_identically(crystal_level):
-    from across_dimensions.game.replay import ActionRuns, Replay, play
+    from across_dimensions.game.playback import play
+    from across_dimensions.game.replay import ActionRuns, Replay
 
     frames = [Actions()] * 5 + [SEEK] + [Actions()] * 60 + [JUMP] + [Actions(forward=1.0)] * 30
     game = Game(crystal_level)

@@ -18,13 +18,10 @@ MAX_PARAMETERS = 8
 
 #: Modules and functions still over a guide: ``"path"`` for a module, ``"path:function"`` for a function.
 DEBT: set[str] = {
-    "app/settings.py",
-    "app/window.py",
     "core/mesh.py",
     "core/section.py",
     "core/section_batch.py",
     "core/shapes.py",
-    "game/replay.py",
     "physics/collide.py",
     "physics/pipeline.py",
     "physics/solver.py",
@@ -38,7 +35,6 @@ DEBT: set[str] = {
     "app/cli.py:_parser",
     "app/commands.py:_bench_game",
     "app/settings.py:load_settings",
-    "app/window.py:__init__",
     "core/frustum_batch.py:_project_batch",
     "core/section_batch.py:_slice_batch",
     "core/section_batch.py:_slice_cells",

@@ -70,7 +70,7 @@ FIRE = Actions(presses=(("fire", 1),))
 
 
 def bullet_of(game):
-    (eid,) = game.arsenal.bullets
+    (eid,) = game.states.weapons.bullets
     return game.entities.get(eid)
 
 
@@ -176,7 +176,7 @@ def test_bullet_cap_and_lifetime_hold_with_bounded_memory(tmp_path):
     caps = set()
     for _ in range(60 * 60):
         game.step(FIRE)
-        live = [game.entities.get(i) for i in game.arsenal.bullets]
+        live = [game.entities.get(i) for i in game.states.weapons.bullets]
         assert len(live) <= 5
         assert all((game.tick - b.data.born) * game.dt <= 1.0 + 1e-9 for b in live)
         caps.add(game.physics.bodies.alive.shape[0])
@@ -189,7 +189,7 @@ def test_ten_minutes_of_firing_keep_arrays_bounded(tmp_path):
     game = Game(level(tmp_path, max_live=8, lifetime=2.0, cooldown=0.1))
     for _ in range(10 * 60 * 60):
         game.step(FIRE)
-        assert len(game.arsenal.bullets) <= 8
+        assert len(game.states.weapons.bullets) <= 8
     assert game.physics.bodies.alive.shape[0] == 16
     assert game.physics.warm.key.shape[0] <= 1024
 
@@ -217,7 +217,7 @@ def test_not_enough_energy_is_a_visible_cue_not_silence():
     game.step(FIRE)
     refused = [e for e in game.events if isinstance(e, WeaponRefused)]
     assert [(e.weapon, e.reason) for e in refused] == [("gun", "energy")]
-    assert game.arsenal.bullets == []
+    assert game.states.weapons.bullets == []
     assert game.frame().hud.weapon.refused == "NOT ENOUGH ENERGY"
 
 
@@ -226,7 +226,7 @@ def test_weapons_switch_by_next_previous_and_number_keys():
     slots = []
     for p in ("next_weapon", "next_weapon", "next_weapon", "previous_weapon", "weapon_3", "weapon_1"):
         game.step(Actions(presses=((p, 1),)))
-        slots.append(game.arsenal.slot)
+        slots.append(game.states.weapons.slot)
     assert slots == [1, 2, 0, 2, 2, 0]
     assert game.frame().hud.weapon.name == "120-cell gun"
 
@@ -484,5 +484,5 @@ energy = 1.0
         game.step(Actions(forward=1.0))
     assert game.event_counts["crystal_collected"] == 1
     game.step(Actions())
-    assert game.arsenal.rounds == [3]  # 0 + 3, at most 4
+    assert game.states.weapons.rounds == [3]  # 0 + 3, at most 4
     assert game.frame().hud.weapon.ammo == 3

@@ -107,11 +107,12 @@ def _load_game(level_arg: str, seed: int):
 
 def replay(args) -> int:
     """Play a replay headless; print the outcome and final hash, or with
-    ``--json`` exactly one JSON object on stdout (see ``game.replay.summary``).
+    ``--json`` exactly one JSON object on stdout (see ``game.playback.summary``).
     Exit status 3 when the run diverges from the recorded hashes."""
     import json
 
-    from ..game.replay import Replay, play, summary
+    from ..game.playback import play, summary
+    from ..game.replay import Replay
     from .warmup import warm_up
 
     as_json = getattr(args, "json", False)
@@ -179,7 +180,7 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
     import json
     from dataclasses import replace
 
-    from ..game.replay import changed_hashes, level_divergence, rehash, summary
+    from ..game.playback import changed_hashes, level_divergence, rehash, summary
     from ..game.replay_level import same_file
 
     result, fresh = rehash(rep, game)

@@ -34,8 +34,9 @@ from dataclasses import dataclass
 
 from ..render.scale import SOFTWARE_SCALE
 from ..world.campaign import CampaignEntry
+from .keymap import ACTION_DESCRIPTIONS, ACTIONS, PRESETS
 from .saves import Progress
-from .settings import ACTION_DESCRIPTIONS, ACTIONS, PRESETS, Settings
+from .settings import Settings
 
 #: What the window tells the menu. ``clear`` unbinds a key in the controls list.
 VERBS = ("up", "down", "left", "right", "select", "back", "clear")

@@ -9,7 +9,7 @@
   A window recording to a file given on the command line skips the card, so a scripted
   recording starts as the level does.
 * Settings warnings are one line at the bottom for :data:`WARNING_SECONDS`; their details are in
-  the log file (:func:`~.settings.report_warnings`).
+  the log file (:func:`~.settings_log.report_warnings`).
 """
 
 from __future__ import annotations

@@ -130,6 +130,15 @@ class Progress:
             result.append(i == 0 or stem in self.finished or stems[i - 1] in self.finished)
         return result
 
+    def play(self, level: str, checkpoint: int | None, stems: list[str]) -> bool:
+        """``level`` starts (at ``checkpoint``): it becomes where *Continue* resumes when it is an
+        unlocked level of the campaign ``stems``. A locked level, or one outside the campaign
+        (played from the command line), leaves *Continue* where it was. Returns whether it moved."""
+        if level not in stems or not self.unlocked(stems)[stems.index(level)]:
+            return False
+        self.current, self.checkpoint = level, checkpoint
+        return True
+
     def continue_level(self, stems: list[str]) -> tuple[str | None, int | None]:
         """Where *Continue* goes: the level left mid-way and its checkpoint, else the first
         unfinished level, else None (the campaign is done)."""
@@ -198,19 +207,17 @@ class Progress:
 
 def checkpoint_of(game) -> int | None:
     """The index of the last checkpoint the player reached, or None (the level's start, or a
-    level without checkpoints). An adapter: checkpoints belong to the
-    enemies' systems, which expose ``game.checkpoint``."""
-    index = getattr(game, "checkpoint", None)
-    return index if isinstance(index, int) and not isinstance(index, bool) and index >= 0 else None
+    level without checkpoints)."""
+    return game.checkpoint
 
 
 def resume_at_checkpoint(game, index: int | None) -> bool:
-    """Put the player at checkpoint ``index`` if the game knows how; False leaves them at the start."""
-    restart = getattr(game, "restart_at_checkpoint", None)
-    if index is None or restart is None:
+    """Put the player at checkpoint ``index``; False leaves them at the start (no index, or a
+    level that has no such checkpoint since it changed after the save)."""
+    if index is None:
         return False
     try:
-        restart(index)
+        game.restart_at_checkpoint(index)
     except (IndexError, ValueError):  # the level changed since the save: its start, then
         return False
     return True

@@ -14,6 +14,7 @@ Two kinds of buttons:
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, fields, replace
 
@@ -243,3 +244,55 @@ def short_repr(value, limit: int = 40) -> str:
 IDLE = Actions()
 
 assert [f.name for f in fields(Actions)][5:-1] == list(BUTTONS)
+
+
+class ActionRuns:
+    """Per-tick actions kept as runs of equal frames.
+
+    Iterating yields one :class:`Actions` per tick, lazily; ``len`` is the
+    number of ticks. Memory is O(number of runs), whatever the length.
+
+    Parameters
+    ----------
+    frames : iterable of Actions, optional
+        Ticks to start with.
+    """
+
+    __slots__ = ("_runs", "_ticks")
+
+    def __init__(self, frames=()):
+        self._runs: list[list] = []  # [count, Actions], adjacent rows differ
+        self._ticks = 0
+        for a in frames:
+            self.append(a)
+
+    def append(self, actions: Actions, count: int = 1) -> None:
+        """Add ``count`` ticks of ``actions`` (merged into the last run when equal)."""
+        if count < 1:
+            raise ValueError(f"count must be positive, got {count}")
+        if self._runs and self._runs[-1][1].same_row(actions):
+            self._runs[-1][0] += count
+        else:
+            self._runs.append([count, actions])
+        self._ticks += count
+
+    @property
+    def runs(self) -> list[tuple[int, Actions]]:
+        """The runs as ``(count, actions)`` pairs."""
+        return [(c, a) for c, a in self._runs]
+
+    def __len__(self) -> int:
+        return self._ticks
+
+    def __iter__(self):
+        return itertools.chain.from_iterable(itertools.repeat(a, c) for c, a in self._runs)
+
+    def __eq__(self, other) -> bool:
+        if not isinstance(other, ActionRuns):
+            return NotImplemented
+        return len(self._runs) == len(other._runs) and all(
+            c == d and a.same_row(b) for (c, a), (d, b) in zip(self._runs, other._runs)
+        )
+
+    def __repr__(self) -> str:
+        return f"ActionRuns({self._ticks} ticks in {len(self._runs)} runs)"

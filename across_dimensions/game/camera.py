@@ -51,6 +51,7 @@ import numpy as np
 
 from ..core.frustum import focal_length
 from ..core.transform import orthonormalize, rotation4
+from .system import derived, fixed
 
 MODES = ("synced", "frustum", "returning")
 TURN_PLANES = ("xw", "yw", "zw")
@@ -156,11 +157,11 @@ class CameraRig:
     return_ticks: int = 0
     detached_ticks: int = 0
     paid_milli: int = 0
-    fov_deg: float = 60.0
-    version: int = 0
-    _aligned: bool = True
+    fov_deg: float = fixed(default=60.0)
+    version: int = derived(default=0)
+    _aligned: bool = derived(default=True)
     #: The projection stage's frustum meshes (``game.projection.FrustumCache``); not state.
-    cache: object = field(default=None, repr=False, compare=False)
+    cache: object = derived(default=None, repr=False, compare=False)
 
     # ------------------------------------------------------------ slice space
     @property
@@ -343,18 +344,4 @@ class CameraRig:
         return pos, scale
 
 
-def state_bytes(rig: CameraRig | None) -> bytes:
-    """What the state hash adds for the rig: nothing while it rests on the plain slice."""
-    if rig is None or (rig.aligned and rig.mode == "synced" and rig.glide is None and rig.version == 0):
-        return b""
-    head = np.array(
-        [MODES.index(rig.mode), rig.return_ticks, rig.detached_ticks, rig.paid_milli, rig.glide is not None],
-        dtype=np.int64,
-    )
-    body = [rig.rotation.ravel(), rig.anchor, rig.focus, [rig.orbit, rig.return_from]]
-    if rig.glide is not None:
-        body.append(rig.glide.ravel())
-    return head.tobytes() + np.concatenate(body).astype(np.float64).tobytes()
-
-
-__all__ = ["CameraRig", "MODES", "TURN_PLANES", "nearest_axes", "plane_rotation", "state_bytes"]
+__all__ = ["CameraRig", "MODES", "TURN_PLANES", "nearest_axes", "plane_rotation"]

@@ -56,6 +56,7 @@ from ..core.mesh import concatenate
 from ..core.shapes import hypersphere, make_shape
 from ..core.transform import pose, scaling, translation
 from ..world.gameplay import EnemySpec, KeySpec
+from .system import fixed
 
 # ------------------------------------------------------------------ tuning
 HIDE_W = 1.3  # units of w off the player's slice where a hidden enemy keeps: beyond any body's half-depth
@@ -221,12 +222,12 @@ class Foe:
     round it. Times are ticks.
     """
 
-    spec: EnemySpec
-    body: Body
-    keys: list
-    index: int
+    spec: EnemySpec = fixed()
+    body: Body = fixed()
+    keys: list = fixed()
+    index: int = fixed()
     centre: np.ndarray
-    side: int  # +1: it hides ana of the player, -1 kata
+    side: int = fixed()  # +1: it hides ana of the player, -1 kata
     health: int
     state: str = "hidden"
     since: int = 0
@@ -237,11 +238,11 @@ class Foe:
     drift: np.ndarray = field(default_factory=lambda: np.zeros(4))
     next_drift: int = 0
     hurt_tick: int = -(10**9)
-    pull: tuple | None = None  # (from_w, to_w, start, end) while the blast drags it
+    pull: tuple[float, float, int, int] | None = None  # (from_w, to_w, start, end) while the blast drags it
     loot: int | None = None  # entity id of the crystal inside it, until released
     weak: int | None = None  # entity id of its weak spot's marker
-    phase: float = 0.0  # seconds its animation runs ahead of the clock (enemies do not move in step)
-    eid: int = -1  # its entity id
+    phase: float = fixed(default=0.0)  # seconds its animation runs ahead of the clock (enemies do not move in step)
+    eid: int = fixed(default=-1)  # its entity id
 
     @property
     def alive(self) -> bool:
@@ -257,27 +258,6 @@ class Foe:
         if off is None:  # between it and the player when it hides: a pull drags the crystal through the slice
             off = np.array([0.0, 0.0, 0.0, -0.45 * self.side])
         return self.centre + off
-
-    def state_array(self) -> np.ndarray:
-        pull = self.pull if self.pull is not None else (0.0, 0.0, -1, -1)
-        return np.array(
-            [
-                *self.centre,
-                STATES.index(self.state),
-                self.health,
-                self.since,
-                self.next_shot,
-                self.shots_left,
-                self.leave_at,
-                self.back_at,
-                *self.drift,
-                self.next_drift,
-                self.hurt_tick,
-                *pull,
-                -1 if self.loot is None else self.loot,
-            ],
-            np.float64,
-        )
 
 
 @dataclass
@@ -297,34 +277,12 @@ class Shot:
 
 @dataclass
 class Hive:
-    """The level's enemies and their shots (``game.hive``)."""
+    """The level's enemies and their shots (``game.states.enemies``)."""
 
-    foes: list = field(default_factory=list)  # enemy entity ids, in the level's order
-    shots: list = field(default_factory=list)  # live shot entity ids
-    bodies: dict = field(default_factory=dict)  # built bodies by kind and look
-    shot_mesh: object = None
-    shot_reach: float = 1.0
+    foes: list[int] = field(default_factory=list)  # enemy entity ids, in the level's order
+    shots: list[int] = field(default_factory=list)  # live shot entity ids
+    bodies: dict = fixed(default_factory=dict)  # built bodies by kind and look
+    shot_mesh: object = fixed(default=None)
+    shot_reach: float = fixed(default=1.0)
     armour_tick: int = -(10**9)  # last bullet that struck armour (the HUD says where to aim)
     defeated: int = 0
-
-
-def state_bytes(game) -> bytes:
-    """The enemies', their shots' and the player's health state for the state hash; nothing
-    at all in a level without enemies or health, so other levels' hashes are unchanged."""
-    hive = getattr(game, "hive", None)
-    health = getattr(game, "health", None)
-    if hive is None and health is None:
-        return b""
-    parts = []
-    if health is not None:
-        parts.append(health.state_array())
-    if hive is not None:
-        for eid in hive.foes:
-            e = game.entities.get(eid)
-            if e is not None:
-                parts.append(e.data.state_array())
-        for sid in hive.shots:
-            s = game.entities.get(sid).data
-            parts.append(np.array([sid, s.born, s.damage, s.source, *s.origin, *s.velocity], np.float64))
-        parts.append(np.array([hive.defeated], np.float64))
-    return np.concatenate(parts).astype(np.float64).tobytes() if parts else b""

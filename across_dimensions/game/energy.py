@@ -16,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .events import EnergyEmpty, EnergySpent
+from .system import fixed
 
 MILLI = 1000
 FLASH_TICKS = 30  # how long the bar flashes after a pickup (half a second at 60 Hz)
@@ -28,7 +29,7 @@ def to_milli(amount: float) -> int:
 
 @dataclass
 class EnergyBar:
-    """The player's energy.
+    """The player's energy (the energy system's state, ``game.energy``).
 
     Parameters
     ----------
@@ -40,7 +41,7 @@ class EnergyBar:
     """
 
     milli: int
-    maximum_milli: int
+    maximum_milli: int = fixed()
     flash: int = 0
     _announced_empty: bool = False
     low_milli: int = -1  # lowest and highest value so far (the replay summary reports them)

@@ -30,10 +30,15 @@ import numpy as np
 from ..core.mesh import TetMesh4
 from ..core.transform import scaling
 from ..world.scene import Object4
+from .system import derived, fixed
 
 
 class Motion:
-    """How an entity's object-to-world transform follows time."""
+    """How an entity's object-to-world transform follows time.
+
+    Motions are dataclasses: their fields are state, hashed with the entity, unless marked
+    :func:`~.system.fixed` or :func:`~.system.derived` (see :mod:`.system`).
+    """
 
     def model(self, game, alpha: float | None) -> np.ndarray:
         """``(5, 5) float64`` at the current tick, or ``alpha`` of the way from the previous one."""
@@ -43,16 +48,12 @@ class Motion:
         """Where the entity's origin is now, ``(4,) float64``; cheaper than :meth:`model`."""
         return self.model(game, None)[:4, 4]
 
-    def state(self) -> np.ndarray:
-        """What evolves, for the state hash (empty when the motion is a function of time)."""
-        return np.zeros(0)
-
 
 @dataclass
 class Scripted(Motion):
     """A pose given as a function of simulated time: a level object's pose turned by its spin."""
 
-    obj: Object4
+    obj: Object4 = fixed()
 
     def model(self, game, alpha=None):
         t = game.time if alpha is None else game.time - (1.0 - alpha) * game.dt
@@ -67,7 +68,7 @@ class Rigid(Motion):
     """A pose owned by the physics world: a rigid body, drawn scaled by ``scale (4,)``."""
 
     body: int
-    scale: np.ndarray
+    scale: np.ndarray = fixed()
 
     def model(self, game, alpha=None):
         return game.physics.body_pose(self.body, alpha) @ scaling(self.scale)
@@ -84,7 +85,7 @@ class Placed(Motion):
     """
 
     pose: np.ndarray
-    previous: np.ndarray | None = None
+    previous: np.ndarray | None = derived(default=None)  # drawing only
 
     def move(self, pose: np.ndarray) -> None:
         self.previous = self.pose
@@ -100,13 +101,11 @@ class Placed(Motion):
     def center(self, game):
         return self.pose[:4, 4]
 
-    def state(self):
-        return self.pose.ravel()
-
 
 @dataclass(eq=False)
 class Entity:
-    """One thing in the level.
+    """One thing in the level. Its id, kind, motion, style and data are state (hashed); the
+    rest is what it was spawned with and never changes.
 
     Parameters
     ----------
@@ -127,7 +126,8 @@ class Entity:
     style : str
         Render style of its cross-section (``"solid"``, ``"glow"``, ...).
     data : Any
-        Kind-specific state, owned by the kind's system.
+        Kind-specific state, owned by the kind's system: a dataclass (or a number), hashed
+        with the entity field by field unless a field is marked fixed or derived (:mod:`.system`).
     radius : float
         How far the mesh reaches from the centre, scale included (see
         :func:`reach`); used to skip slicing what cannot reach the slice.
@@ -135,14 +135,14 @@ class Entity:
 
     id: int
     kind: str
-    name: str
-    mesh: TetMesh4 | None
+    name: str = fixed()
+    mesh: TetMesh4 | None = fixed()
     motion: Motion
-    solid: bool = False
-    radar: str | None = None
+    solid: bool = fixed(default=False)
+    radar: str | None = fixed(default=None)
     style: str = "solid"
     data: Any = None
-    radius: float = 0.0
+    radius: float = fixed(default=0.0)
 
     def model(self, game, alpha: float | None = None) -> np.ndarray:
         """Object-to-world ``(5, 5) float64`` now, or ``alpha`` of the way from the previous tick."""

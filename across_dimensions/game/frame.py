@@ -19,7 +19,7 @@ from ..core.mesh import TriMesh3
 
 @dataclass
 class Camera3:
-    """A 3D perspective camera.
+    """A 3D perspective camera, and the w of the slice it stands in.
 
     Parameters
     ----------
@@ -31,6 +31,9 @@ class Camera3:
     fov_y_deg : float
         Vertical field of view.
     near, far : float
+    w : float
+        The eye's w: the slice the camera looks at, drawn ``alpha`` of the way between
+        ticks as ``position`` is. Every 4D thing a frame shows is cut at this w.
     """
 
     position: np.ndarray
@@ -39,6 +42,12 @@ class Camera3:
     fov_y_deg: float = 75.0
     near: float = 0.05
     far: float = 500.0
+    w: float = 0.0
+
+    @property
+    def eye4(self) -> np.ndarray:
+        """The 4D eye ``(4,) float64``: ``position`` and ``w``."""
+        return np.append(np.asarray(self.position, dtype=np.float64), self.w)
 
     def forward(self) -> np.ndarray:
         """Unit view direction ``(3,) float64``."""

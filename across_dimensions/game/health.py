@@ -1,15 +1,15 @@
 """The player's health: damage, death and checkpoints.
 
 A level with enemies (or a ``[health]`` table) gives the player health
-(``game.health``, a :class:`Health`); a level without either has none and
-nothing here runs, so older levels and their replays are untouched.
+(``game.states.health``, a :class:`Health` the health system makes with the
+game); a level without either has none and nothing here runs.
 
-Enemy shots take health through :func:`damage`. At zero the player dies:
-:func:`die` brings them back at the last checkpoint they touched (or the
-spawn point) with full health, a few seconds of safety and a message that
-says so. Nothing else is undone: collected crystals, energy, defeated enemies
-and opened doors stay as they are, so a death costs the walk back, never
-progress.
+Enemy shots take health through :func:`damage`. At zero the player dies
+(and the enemies' system makes its enemies back off): :func:`die` brings them
+back at the last checkpoint they touched (or the spawn point) with full health,
+a few seconds of safety and a message that says so. Nothing else is undone:
+collected crystals, energy, defeated enemies and opened doors stay as they are,
+so a death costs the walk back, never progress.
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ import numpy as np
 
 from .events import CheckpointReached, PlayerDied, PlayerHit
 from .player import Player
+from .system import fixed
 
 FLASH_TICKS = 24  # the red flash and the bar's flash after a hit (0.4 s)
 CUE_TICKS = 90  # the damage direction cue stays 1.5 s, fading
@@ -32,7 +33,7 @@ CHECKPOINT_W = 0.3
 
 @dataclass
 class Health:
-    """The player's health (``game.health``).
+    """The player's health (``game.states.health``).
 
     Attributes
     ----------
@@ -52,9 +53,9 @@ class Health:
         A HUD line and the tick it goes.
     """
 
-    maximum: float
+    maximum: float = fixed()
     value: float
-    safe_ticks: int
+    safe_ticks: int = fixed()
     safe_until: int = 0
     hit_tick: int = -(10**9)
     hit_dir: np.ndarray | None = None
@@ -63,27 +64,14 @@ class Health:
     message: str = ""
     message_until: int = 0
 
-    def state_array(self) -> np.ndarray:
-        """What evolves, ``float64``, for the state hash."""
-        d = self.hit_dir if self.hit_dir is not None else np.zeros(2)
-        return np.array([self.value, self.safe_until, self.hit_tick, *d, self.deaths, self.checkpoint], np.float64)
-
-
-def setup(game) -> Health | None:
-    """The game's health, made on first use; None when the level gives the player none."""
-    if hasattr(game, "health"):
-        return game.health
-    spec = game.level.health
-    game.health = None if spec is None else Health(spec.maximum, spec.maximum, round(spec.invulnerable / game.dt))
-    return game.health
-
 
 def damage(game, amount: float, source_xz, source: int) -> bool:
-    """Take ``amount`` from the player, hit from ``source_xz (2,)`` by entity ``source``.
+    """Take ``amount`` from the player, hit from ``source_xz (2,)`` by entity ``source``
+    (nothing during the safety after a death, or in a level without health).
 
-    Returns True when the hit counted (not during the safety after a death).
+    Returns True when the hit killed the player (they are back at their checkpoint).
     """
-    h = setup(game)
+    h = game.states.health
     if h is None or amount <= 0 or game.tick < h.safe_until:
         return False
     d = np.asarray(source_xz, np.float64) - game.player.position[[0, 2]]
@@ -94,14 +82,13 @@ def damage(game, amount: float, source_xz, source: int) -> bool:
     game.emit(PlayerHit(float(amount), (float(h.hit_dir[0]), float(h.hit_dir[1])), source))
     if h.value <= 0.0:
         die(game)
-    return True
+        return True
+    return False
 
 
 def die(game) -> None:
     """Back to the last checkpoint with full health; everything won so far is kept."""
-    from .systems import enemies as enemy_system  # enemies step back so the player is not shot on arrival
-
-    h = game.health
+    h = game.states.health
     where = _place_at_checkpoint(game, h.checkpoint)
     h.deaths += 1
     h.value = h.maximum
@@ -110,7 +97,6 @@ def die(game) -> None:
     h.message = f"You died. Back at {place}: your crystals and defeated enemies are kept."
     h.message_until = game.tick + MESSAGE_TICKS
     game.emit(PlayerDied(where))
-    enemy_system.player_died(game)
 
 
 def _place_at_checkpoint(game, index: int) -> str:
@@ -122,8 +108,7 @@ def _place_at_checkpoint(game, index: int) -> str:
         position, where = game.level.spawn.astype(np.float64).copy(), ""
         yaw = float(np.radians(game.level.spawn_yaw_deg))
     game.player = Player(position, yaw=yaw)
-    game._prev_eye = game.player.eye()  # no camera sweep from where the player was
-    game._prev_view = (game.player.yaw, game.player.pitch)
+    game.reset_interpolation()  # no camera sweep from where the player was
     return where
 
 
@@ -138,7 +123,7 @@ def restart_at(game, index: int) -> None:
     ValueError
         When the level gives the player no health (so no checkpoints either).
     """
-    h = setup(game)
+    h = game.states.health
     if h is None:
         raise ValueError("this level has no checkpoints")
     if not 0 <= index < len(game.level.checkpoints):
@@ -149,7 +134,7 @@ def restart_at(game, index: int) -> None:
 
 def touched_checkpoint(game) -> int | None:
     """Index of a checkpoint (later than the current one) the player's feet are in, or None."""
-    h = game.health
+    h = game.states.health
     p = game.player.position
     for i, cp in enumerate(game.level.checkpoints):
         if i <= h.checkpoint:
@@ -166,7 +151,7 @@ def reach_checkpoints(game) -> None:
     i = touched_checkpoint(game)
     if i is None:
         return
-    h = game.health
+    h = game.states.health
     h.checkpoint = i
     name = game.level.checkpoints[i].name
     if game.tick >= h.message_until or not h.message.startswith("You died"):

@@ -11,12 +11,15 @@ x [w +- w_half]`` with ``position = (x, y, z, w)`` its feet.
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+
 import numpy as np
 
 from ..core.mesh import cross4
 from ..physics.debug_draw import DebugDrawOptions
 from ..world.scene import static_tet_meshes
 from .player import HALF_WIDTH, HEIGHT
+from .system import derived
 
 #: Half thickness of the player's collider along w, metres: the player lives in
 #: one 3D slice, so only bodies reaching into this thin slab touch it.
@@ -85,8 +88,8 @@ def bodies_block(physics, position, w: float, radius: float, height: float) -> b
     return bool(np.linalg.norm(there) > np.linalg.norm(here) + 1e-4)
 
 
-def debug_draw_game(game, drawer, options=None) -> None:
-    """Report the physics of ``game`` in the player's slice, and the player's collider, to ``drawer``.
+def debug_draw_game(game, drawer, options=None, w: float | None = None) -> None:
+    """Report the physics of ``game`` in the slice at ``w``, and the player's collider, to ``drawer``.
 
     Parameters
     ----------
@@ -95,11 +98,13 @@ def debug_draw_game(game, drawer, options=None) -> None:
     drawer : DebugDrawer
         See :mod:`across_dimensions.physics.debug_draw`.
     options : DebugDrawOptions, optional
+    w : float, optional
+        The slice drawn: a frame's eye (``frame.camera.w``); the player's w by default.
     """
     opt = options or DebugDrawOptions()
     p = game.player
     box = player_box(p.position, HALF_WIDTH, HEIGHT)
-    w = float(p.position[3])
+    w = float(p.position[3]) if w is None else float(w)
     if game.physics is not None:
         game.physics.debug_draw(drawer, w, opt, boxes=[box])
     elif opt.boxes:
@@ -144,6 +149,39 @@ def _shape_of(mesh) -> tuple:
 MAX_FACETS = 1024
 
 
+@dataclass
+class Placement:
+    """Where a solid object's boundary tets were last handed to the physics world.
+
+    ``pose`` is the object-to-world ``(5, 5)`` it was placed by, as bytes; ``world`` its
+    tets placed so ``(T, 4, 4) float64`` (None for a degenerate pose); ``motion (4, 5)``
+    the velocity field of its last move (zero when it did not move).
+    """
+
+    pose: bytes
+    world: np.ndarray | None = derived()
+    motion: np.ndarray = field(default_factory=lambda: np.zeros((4, 5)))
+
+
+@dataclass
+class SolidColliders:
+    """The solid objects as the rigid bodies meet them (``game.states.solid_bodies``).
+
+    Attributes
+    ----------
+    shapes : dict
+        Entity id to what its mesh is (see :func:`_shape_of`), worked out once.
+    local : dict
+        Entity id to its boundary tets in its own frame ``(T, 4, 4) float64``.
+    placed : dict of int to Placement
+        Where each was last placed: a tick's motion is the change since then.
+    """
+
+    shapes: dict = derived(default_factory=dict)
+    local: dict = derived(default_factory=dict)
+    placed: dict[int, Placement] = field(default_factory=dict)
+
+
 def solid_colliders(game) -> tuple[list, list]:
     """The level's solid 4D objects as the rigid bodies meet them.
 
@@ -160,14 +198,14 @@ def solid_colliders(game) -> tuple[list, list]:
     * nothing otherwise (an arch, a lifted asset): those meet the bodies as the
       tets of their boundary (:func:`tet_colliders`).
 
-    What each mesh is, is worked out once per entity (``game._solid_shapes``).
+    What each mesh is, is worked out once per entity (:class:`SolidColliders`).
 
     Returns
     -------
     boxes, convex : list, list
         For :meth:`PhysicsWorld.set_static_solids` and :meth:`PhysicsWorld.set_static_convex`.
     """
-    cache = game.__dict__.setdefault("_solid_shapes", {})
+    cache = game.states.solid_bodies.shapes
     boxes, convex = [], []
     for e in game.entities:
         if not e.solid or e.kind != "object":
@@ -227,9 +265,8 @@ def tet_colliders(game) -> list[np.ndarray]:
 def _tet_meshes(game) -> tuple[list, list]:
     """:func:`tet_colliders` and each mesh's velocity field ``(4, 5)``: the change of its
     pose since it was last placed, over a tick (zero when it has not moved)."""
-    shapes = game.__dict__.setdefault("_solid_shapes", {})
-    local = game.__dict__.setdefault("_solid_tets", {})
-    placed = game.__dict__.setdefault("_solid_tets_placed", {})
+    solids = game.states.solid_bodies
+    shapes, local, placed = solids.shapes, solids.local, solids.placed
     tets, motions = [], []
     for e in game.entities:
         # Solid objects that are not boxes or convex; manipulable ones that are not boxes
@@ -245,31 +282,37 @@ def _tet_meshes(game) -> tuple[list, list]:
         m = e.model(game)
         key = m.tobytes()
         hit = placed.get(e.id)
-        if hit is None or hit[0] != key:
-            a = m[:4, :4]
-            det = np.linalg.det(a)
-            world, motion = None, np.zeros((4, 5))
-            if abs(det) >= 1e-12:
-                world = local[e.id] @ a.T + m[:4, 4]
-                if det < 0:
-                    world = world[:, [0, 2, 1, 3]]  # a mirror turns tets inside out: swap two corners back
-                world = np.ascontiguousarray(world)
-                if hit is not None and hit[1] is not None:
-                    # x_new = M_new M_old^-1 x_old: over one tick, that is the surface's velocity field.
-                    old = np.frombuffer(hit[0], dtype=np.float64).reshape(5, 5)
-                    motion = ((m @ np.linalg.inv(old) - np.eye(5)) / game.dt)[:4]
-                    lo, hi = world.min(axis=(0, 1)), world.max(axis=(0, 1))
-                    corners = np.array([[(hi if (j >> i) & 1 else lo)[i] for i in range(4)] for j in range(16)])
-                    speed = np.linalg.norm(corners @ motion[:, :4].T + motion[:, 4], axis=1).max()
-                    if not np.isfinite(speed) or speed > MAX_CARRY_SPEED:
-                        motion = np.zeros((4, 5))
-            placed[e.id] = hit = (key, world, motion)
-        elif hit[2].any():
-            placed[e.id] = hit = (key, hit[1], np.zeros((4, 5)))  # placed again where it was: still
-        if hit[1] is not None:
-            tets.append(hit[1])
-            motions.append(hit[2])
+        if hit is None or hit.pose != key:
+            placed[e.id] = hit = _placed(game, local[e.id], m, hit)
+        elif hit.motion.any():
+            hit.motion = np.zeros((4, 5))  # placed again where it was: still
+        if hit.world is not None:
+            tets.append(hit.world)
+            motions.append(hit.motion)
     return tets, motions
+
+
+def _placed(game, local: np.ndarray, m: np.ndarray, before: Placement | None) -> Placement:
+    """Tets ``local (T, 4, 4)`` placed by the pose ``m (5, 5)``, moving from where ``before`` put them."""
+    a = m[:4, :4]
+    det = np.linalg.det(a)
+    hit = Placement(m.tobytes(), None)
+    if abs(det) < 1e-12:
+        return hit
+    world = local @ a.T + m[:4, 4]
+    if det < 0:
+        world = world[:, [0, 2, 1, 3]]  # a mirror turns tets inside out: swap two corners back
+    hit.world = np.ascontiguousarray(world)
+    if before is not None and before.world is not None:
+        # x_new = M_new M_old^-1 x_old: over one tick, that is the surface's velocity field.
+        old = np.frombuffer(before.pose, dtype=np.float64).reshape(5, 5)
+        motion = ((m @ np.linalg.inv(old) - np.eye(5)) / game.dt)[:4]
+        lo, hi = hit.world.min(axis=(0, 1)), hit.world.max(axis=(0, 1))
+        corners = np.array([[(hi if (j >> i) & 1 else lo)[i] for i in range(4)] for j in range(16)])
+        speed = np.linalg.norm(corners @ motion[:, :4].T + motion[:, 4], axis=1).max()
+        if np.isfinite(speed) and speed <= MAX_CARRY_SPEED:
+            hit.motion = motion
+    return hit
 
 
 def sync_solids(game) -> None:

@@ -160,21 +160,21 @@ def frustum_views(
     return out
 
 
-def project(game, rig: CameraRig, things: list[Item], other: bool = False) -> list[Drawable]:
-    """The frame's meshes of ``things`` as the rig shows them now; with ``other``, the
-    projection the rig is *not* in (the picture-in-picture): frustum from the synced 4D
-    camera while synced, the cross-section while detached."""
-    p = game.player
-    s = float(p.position[3])
+def project(game, rig: CameraRig, things: list[Item], eye: np.ndarray, other: bool = False) -> list[Drawable]:
+    """The frame's meshes of ``things`` as the rig shows them from ``eye (4,)`` (the frame's
+    4D eye, :attr:`.frame.Camera3.eye4`); with ``other``, the projection the rig is *not* in
+    (the picture-in-picture): frustum from the synced 4D camera while synced, the
+    cross-section while detached."""
+    xyz, s = eye[:3], float(eye[3])
     if rig.detached == other:  # synced now, or the inset of a detached view
         return cross_sections(game, rig, things, s, prefix="pip:" if other else "")
     if rig.cache is None:
         rig.cache = FrustumCache()
     if other:  # synced: what the switch would show, from the 4D camera in sync with the eye
-        pose, place = rig.frustum_pose(p.eye(), s)
+        pose, place = rig.frustum_pose(xyz, s)
         return frustum_views(rig.cache, rig, things, pose, place, prefix="pip-frustum:")
     total = max(1, round(game.level.camera.return_time / game.dt))
-    pose, place = rig.frustum_pose(p.eye(), s, total)
+    pose, place = rig.frustum_pose(xyz, s, total)
     fade = rig.return_fade(total)
     if fade >= 1.0:
         return frustum_views(rig.cache, rig, things, pose, place)

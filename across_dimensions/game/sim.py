@@ -10,7 +10,8 @@ on it).
 
 What lives in the level (4D objects, rigid bodies, crystals, ...) is an entity
 in ``game.entities`` (:mod:`.entities`); what happened in the last tick is in
-``game.events`` (:mod:`.events`).
+``game.events`` (:mod:`.events`); each system's own state is in ``game.states``
+(:mod:`.system`).
 """
 
 from __future__ import annotations
@@ -26,8 +27,6 @@ from ..world.scene import Scene, SectionCache, build_physics, build_scene
 from . import health
 from .actions import Actions
 from .camera import CameraRig
-from .camera import state_bytes as camera_state_bytes
-from .enemies import state_bytes as enemy_state_bytes
 from .energy import EnergyBar
 from .entities import EntityStore, EntityTable, Rigid, Scripted, reach
 from .entity_sections import EntitySections
@@ -37,7 +36,9 @@ from .player import HALF_WIDTH, HEIGHT, Player
 from .player_bodies import bodies_block
 from .projection import items, project
 from .section_collision import MeshParts, triangles_of
-from .systems import SYSTEMS, crystals, manipulation
+from .system import States, encode
+from .systems import SYSTEMS
+from .systems.ghosts import GhostView
 
 TICK_RATE = 60
 DT = 1.0 / TICK_RATE
@@ -75,8 +76,12 @@ class Game:
         What happened in the last tick, in order.
     event_counts : collections.Counter
         Events of each kind since the start.
-    energy : EnergyBar or None
-        None when the level has no energy rules (moving along w is free).
+    states : States
+        Each system's state under its name (``states.weapons``, ``states.seek``, ...; see
+        :mod:`.system`), set up once when the game is made.
+    radar_view, ghost_view, show_ghosts
+        The player's view options (radar, ghosts along w, manipulation's previews): drawing
+        only, never part of the simulation's state; the window sets them from the settings.
     """
 
     dt = DT
@@ -92,12 +97,11 @@ class Game:
         self.physics, body_of = build_physics(self.scene, DT)
         self.entities = EntityStore()
         self._table_key: tuple | None = None
+        self._table: EntityTable | None = None
         self._colliders_key: tuple | None = None
         self._colliders: dict[float, np.ndarray] = {}
         self._sections: dict[float, list] = {}
         self._triangles: dict[str, tuple] = {}  # section key -> (TriMesh3, its (t, 3, 3) triangles)
-        # The 4D camera: the plain axis-aligned slice until a level lets the player turn it.
-        self.camera = CameraRig(fov_deg=level.camera.fov)
         self.pose_version = 0  # bumped by systems that move solid objects within a tick (manipulation)
         self.entity_of_body: dict[int, int] = {}
         for i, obj in enumerate(self.scene.objects):
@@ -121,23 +125,49 @@ class Game:
                     radar="object",
                     radius=reach(obj.mesh, obj.scale),
                 )
-        self.regrowing: list = []  # (tick, CrystalSpec) of crystals growing back, soonest first
-        for c in level.crystals:
-            crystals.spawn(self, c)
-        self.energy = EnergyBar.of(level.energy.start, level.energy.maximum) if level.energy.enabled else None
         self.radar_settings = level.radar
         self.radar_view = RadarView()
+        self.ghost_view = GhostView()
+        self.show_ghosts = True
         self.events: list[Event] = []
         self.event_counts: Counter = Counter()
         self.tick = 0
         self.outcome: str | None = None  # "complete" once the goal is reached
         self.completed_tick: int | None = None
         self.player = self._spawned()
-        manipulation.setup(self)
-        self.player_w_blocked = False
         self.respawns = 0
-        self._prev_eye = self.player.eye()
-        self._prev_view = (self.player.yaw, self.player.pitch)
+        self.states = States(s.name for s in SYSTEMS)
+        for system in SYSTEMS:  # in order: entities the systems spawn get their ids in this order
+            if system.setup is not None:
+                setattr(self.states, system.name, system.setup(self))
+        self.reset_interpolation()
+
+    @property
+    def energy(self) -> EnergyBar | None:
+        """The energy bar (the energy system's state); None when the level has no energy rules
+        (moving along w is free)."""
+        return self.states.energy
+
+    @energy.setter
+    def energy(self, bar: EnergyBar | None) -> None:
+        self.states.energy = bar
+
+    @property
+    def camera(self) -> CameraRig:
+        """The 4D camera (the camera system's state): the plain axis-aligned slice until a level
+        lets the player turn it."""
+        return self.states.camera
+
+    def reset_interpolation(self) -> None:
+        """Draw the next frames from where the player stands now, without blending from the
+        last tick (after the player was placed rather than moved: a respawn, the editor's
+        camera, a benchmark's viewpoint)."""
+        p = self.player
+        self._prev_eye = self._eye4()
+        self._prev_view = (p.yaw, p.pitch)
+
+    def _eye4(self) -> np.ndarray:
+        return np.append(self.player.eye(), float(self.player.position[3]))
 
     # ---------------------------------------------------------------- stepping
     @property
@@ -262,12 +292,10 @@ class Game:
 
     def step(self, actions: Actions) -> None:
         """Advance one tick: every system's ``step``, in order."""
-        p = self.player
-        self._prev_eye = p.eye()
-        self._prev_view = (p.yaw, p.pitch)
+        self.reset_interpolation()
         self.events = []
         for system in SYSTEMS:
-            if hasattr(system, "step"):
+            if system.step is not None:
                 changed = system.step(self, actions)
                 if changed is not None:  # a system took some of the input (see systems/__init__.py)
                     actions = changed
@@ -282,6 +310,7 @@ class Game:
             health.restart_at(self, self.checkpoint)
         else:
             self.player = self._spawned()
+            self.reset_interpolation()
         self.respawns += 1
 
     def state_array(self) -> np.ndarray:
@@ -292,7 +321,7 @@ class Game:
     @property
     def checkpoint(self) -> int | None:
         """Index of the last checkpoint the player reached, or None (the level's start)."""
-        h = getattr(self, "health", None)
+        h = self.states.health
         return h.checkpoint if h is not None and h.checkpoint >= 0 else None
 
     def restart_at_checkpoint(self, index: int) -> None:
@@ -302,21 +331,20 @@ class Game:
     def state_hash(self) -> str:
         """A short hash of the whole simulation state; equal states give equal hashes.
 
-        Covers the player, the energy, every entity (id, kind and whatever its
-        motion keeps), the random generator's state and the physics world, so
-        a replay that drifts is caught at the tick it drifts.
+        Covers the tick, the player, the counters, every entity (id, kind, look, motion and
+        data), the random generator's state, and every system's state through its
+        ``state_bytes`` (the physics world's among them), so a replay that drifts is caught
+        at the tick it drifts.
         """
-        h = hashlib.sha256(self.state_array().astype(np.float64).tobytes())
+        counts = sorted(self.event_counts.items())
+        core = (self.tick, self.player, self.respawns, self.outcome, self.completed_tick, counts)
+        h = hashlib.sha256(encode(core + (self.entities.next_id,)))
         for e in self.entities:
-            h.update(f"{e.id}:{e.kind};".encode())
-            h.update(np.asarray(e.motion.state(), dtype=np.float64).tobytes())
-        h.update(repr([(t, c.name) for t, c in self.regrowing]).encode())
+            h.update(encode(e))
         h.update(repr(self.rng.bit_generator.state).encode())
-        if self.physics is not None:
-            h.update(self.physics.state_bytes())
-        h.update(manipulation.state_bytes(self))  # nothing when the level has no manipulable object
-        h.update(enemy_state_bytes(self))  # nothing when the level has no enemies and no health
-        h.update(camera_state_bytes(self.camera))  # nothing while the slice rests axis-aligned
+        for system in SYSTEMS:
+            if system.state_bytes is not None:
+                h.update(encode(system.name) + system.state_bytes(self))
         return h.hexdigest()[:16]
 
     # ------------------------------------------------------------------ frame
@@ -326,19 +354,19 @@ class Game:
         With ``pip``, ``frame.pip`` also holds the 4D content in the projection the camera is
         not in (the picture-in-picture); without it nothing of that is computed."""
         p = self.player
-        eye = self._prev_eye + alpha * (p.eye() - self._prev_eye)
+        now = self._eye4()
+        eye = now - (1.0 - alpha) * (now - self._prev_eye)  # exactly the eye now at alpha 1
         dyaw = (p.yaw - self._prev_view[0] + np.pi) % (2 * np.pi) - np.pi
         yaw = self._prev_view[0] + alpha * dyaw
         pitch = self._prev_view[1] + alpha * (p.pitch - self._prev_view[1])
         lo, hi = self.level.w_range
-        frame = Frame(
-            Camera3(eye, yaw, pitch, fov_y_deg=fov_y_deg), hud=Hud(w=float(p.position[3]), w_min=lo, w_max=hi)
-        )
+        w = float(eye[3])
+        frame = Frame(Camera3(eye[:3], yaw, pitch, fov_y_deg=fov_y_deg, w=w), hud=Hud(w=w, w_min=lo, w_max=hi))
         for system in SYSTEMS:
-            if hasattr(system, "draw"):
+            if system.draw is not None:
                 system.draw(self, frame, alpha)
         if pip:
-            frame.pip = project(self, self.camera, items(self, alpha), other=True)
+            frame.pip = project(self, self.camera, items(self, alpha), eye, other=True)
         return frame
 
 

@@ -1,8 +1,8 @@
 """The player's weapons: the 120-cell gun, the w-pull blast and the wire field (paper, section 5).
 
 The level lists the weapons (``[[weapon]]``, :class:`~..world.gameplay.WeaponSpec`);
-the game keeps one :class:`Arsenal` for them (``game.arsenal``, made on the first
-tick by :func:`setup`). The systems that use it:
+the weapons system keeps one :class:`Arsenal` for them (``game.states.weapons``,
+made with the game by ``systems/weapons.py``). The systems that use it:
 
 - ``systems/weapons.py`` (before physics): switching, firing, the blast's pull
   and the field's timer, and steering bullets that have not touched anything;
@@ -25,8 +25,9 @@ import numpy as np
 from ..core.shapes import make_shape
 from ..physics import BodyDef
 from ..world.gameplay import TargetSpec, WeaponSpec
-from ..world.scene import Object4, build_physics
+from ..world.scene import Object4
 from .entities import Motion, Rigid, Scripted, reach
+from .system import derived, fixed
 
 #: Kinds of entity the blast pulls and the field shows (bullets are the gun's own).
 AFFECTED_KINDS = ("object", "body", "target", "crystal")
@@ -48,7 +49,7 @@ class Bullet:
     ``contacted`` turns True at its first contact: from then on physics alone moves it.
     """
 
-    spec: WeaponSpec
+    spec: WeaponSpec = fixed()
     origin: np.ndarray
     velocity: np.ndarray
     w0: float
@@ -67,7 +68,7 @@ class Bullet:
 class Target:
     """A target's state (``Entity.data``)."""
 
-    spec: TargetSpec
+    spec: TargetSpec = fixed()
     hit: bool = False
 
 
@@ -78,9 +79,9 @@ class Shifted(Motion):
     ``previous`` is the offset a tick ago, for drawing between ticks.
     """
 
-    base: Motion
+    base: Motion = fixed()
     offset: float = 0.0
-    previous: float = 0.0
+    previous: float = derived(default=0.0)  # drawing only
 
     def model(self, game, alpha=None):
         m = np.array(self.base.model(game, alpha), dtype=np.float64)
@@ -91,9 +92,6 @@ class Shifted(Motion):
         c = np.array(self.base.center(game), dtype=np.float64)
         c[3] += self.offset
         return c
-
-    def state(self):
-        return np.concatenate([self.base.state(), [self.offset]])
 
 
 @dataclass
@@ -115,7 +113,7 @@ class Pull:
 
 @dataclass
 class Arsenal:
-    """The player's weapons and what they have set going.
+    """The player's weapons and what they have set going (``game.states.weapons``).
 
     Attributes
     ----------
@@ -131,50 +129,30 @@ class Arsenal:
         Entities the field shows as wireframes: their own style and the tick it ends.
     """
 
-    specs: list
+    specs: list[WeaponSpec] = fixed()
     slot: int = 0
-    ready: list = field(default_factory=list)
-    bullets: list = field(default_factory=list)
-    pulls: list = field(default_factory=list)
-    wired: dict = field(default_factory=dict)
-    pulls_done: list = field(default_factory=list)
-    rounds: list = field(default_factory=list)  # rounds left per weapon; -1 for those paid in energy
+    ready: list[int] = field(default_factory=list)
+    bullets: list[int] = field(default_factory=list)
+    pulls: list[Pull] = field(default_factory=list)
+    wired: dict[int, tuple[str, int]] = field(default_factory=dict)
+    pulls_done: list[int] = field(default_factory=list)
+    rounds: list[int] = field(default_factory=list)  # rounds left per weapon; -1 for those paid in energy
     crystals_seen: int = 0  # crystal pickups already turned into rounds
     fired_tick: int = -(10**9)
     refused_tick: int = -(10**9)
     refused_text: str = ""
     hit_tick: int = -(10**9)
-    bullet_mesh: object = None
-    bullet_reach: float = 1.0
+    bullet_mesh: object = fixed(default=None)
+    bullet_reach: float = fixed(default=1.0)
 
     @property
     def current(self) -> WeaponSpec:
         return self.specs[self.slot]
 
 
-def setup(game) -> Arsenal | None:
-    """The game's arsenal, made (with the level's targets) on first use; None without weapons or targets."""
-    if hasattr(game, "arsenal"):
-        return game.arsenal
-    level = game.level
-    specs = list(getattr(level, "weapons", ()))
-    targets = list(getattr(level, "targets", ()))
-    rounds = [s.ammo if s.kind == "gun" else -1 for s in specs]
-    game.arsenal = Arsenal(specs, ready=[0] * len(specs), rounds=rounds) if specs or targets else None
-    if game.arsenal is None:
-        return None
-    if game.physics is None and any(s.kind == "gun" for s in specs):
-        game.physics, _ = build_physics(game.scene, game.dt)
-    mesh = make_shape("120-cell").with_color(BULLET_COLOR)
-    game.arsenal.bullet_mesh, game.arsenal.bullet_reach = mesh, reach(mesh)
-    for t in targets:
-        spawn_target(game, t)
-    return game.arsenal
-
-
 def refill(game) -> None:
     """Guns that fire rounds get ``refill`` rounds per crystal collected since the last call."""
-    ars = game.arsenal
+    ars = game.states.weapons
     taken = game.event_counts["crystal_collected"]
     new, ars.crystals_seen = taken - ars.crystals_seen, taken
     if new <= 0:
@@ -211,7 +189,7 @@ def aim(game) -> tuple[np.ndarray, np.ndarray]:
 
 def fire_bullet(game, spec: WeaponSpec):
     """Spawn a bullet at the muzzle; the oldest goes when ``max_live`` are already flying."""
-    ars = game.arsenal
+    ars = game.states.weapons
     while len(ars.bullets) >= spec.max_live:
         game.remove(ars.bullets.pop(0))
     eye, d = aim(game)
@@ -249,7 +227,7 @@ def steer_bullets(game) -> None:
     n = phys.substeps
     h = game.dt / n
     drop = phys.gravity * h * (n + 1) / 2.0
-    for eid in game.arsenal.bullets:
+    for eid in game.states.weapons.bullets:
         e = game.entities.get(eid)
         b = e.data
         if b.contacted:
@@ -273,7 +251,7 @@ def in_reach(game, radius: float) -> list:
 
 def blast(game, spec: WeaponSpec) -> list[int]:
     """Start pulling everything within the blast's radius to the player's w; returns the ids."""
-    ars = game.arsenal
+    ars = game.states.weapons
     w = float(game.player.position[3])
     end = game.tick + max(1, round(spec.duration / game.dt))
     moved = []
@@ -292,7 +270,7 @@ def blast(game, spec: WeaponSpec) -> list[int]:
 
 def advance_pulls(game) -> None:
     """Move pulled entities one tick along their smoothstep (before physics runs)."""
-    ars = game.arsenal
+    ars = game.states.weapons
     keep = []
     phys = game.physics
     for p in ars.pulls:
@@ -319,7 +297,7 @@ def advance_pulls(game) -> None:
 
 def settle_pulled_bodies(game) -> None:
     """After the last tick of a pull, a body keeps its motion in x, y, z but stops along w."""
-    ars = game.arsenal
+    ars = game.states.weapons
     for eid in ars.pulls_done:
         e = game.entities.get(eid)
         if e is not None and isinstance(e.motion, Shifted):
@@ -333,7 +311,7 @@ def settle_pulled_bodies(game) -> None:
 
 def cast_field(game, spec: WeaponSpec) -> list[int]:
     """Draw everything within the field's radius as a wireframe for its duration; returns the ids."""
-    ars = game.arsenal
+    ars = game.states.weapons
     until = game.tick + max(1, round(spec.duration / game.dt))
     shown = []
     for e in in_reach(game, spec.radius):
@@ -346,7 +324,7 @@ def cast_field(game, spec: WeaponSpec) -> list[int]:
 
 def expire_field(game) -> None:
     """Give back their own look to the entities whose field time is over."""
-    ars = game.arsenal
+    ars = game.states.weapons
     for eid, (style, until) in list(ars.wired.items()):
         if game.tick >= until:
             e = game.entities.get(eid)

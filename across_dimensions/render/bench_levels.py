@@ -65,7 +65,7 @@ def _draw_at(game: Game, view: tuple, pose: tuple, feet: tuple, scale: float) ->
     p = game.player
     p.position[:] = (x, feet[0], z, feet[1])
     p.yaw, p.pitch = yaw, 0.0
-    game._prev_eye, game._prev_view = p.eye(), (yaw, 0.0)
+    game.reset_interpolation()
     t0 = time.perf_counter()
     frame = game.frame()
     if scaled[scale].begin(size):

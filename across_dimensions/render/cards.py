@@ -20,6 +20,7 @@ import math
 
 from ..game.frame import Card
 from .font import GLYPH_H, text_width
+from .text_layout import wrap
 
 #: Seconds for the ball to go from above the plane to below it and back.
 PERIOD = 6.0
@@ -101,11 +102,9 @@ def draw_card(q, card: Card, width: int, height: int) -> None:
         q.text(cap, ax + (aw - text_width(cap, s)) // 2, y, s, CAPTION)
     y += (GLYPH_H + 6) * s
     # The body text and, last, the prompt.
-    from .hud import _wrap  # the HUD's pixel wrapping
-
     body = lines[3:-1] if len(lines) > 4 else lines[3:]
     for para in body:
-        for ln in _wrap(para, pw - 2 * pad, s):
+        for ln in wrap(para, pw - 2 * pad, s):
             q.text(ln, px + pad, y, s, TEXT)
             y += (GLYPH_H + 4) * s
         y += 2 * s

@@ -136,7 +136,8 @@ class DebugOverlay:
         return self.lines_drawn
 
     def draw_game(self, game, camera: Camera3, viewport: tuple[int, int, int, int], options=None) -> int:
-        """The hook the window calls: the physics of ``game`` in the player's slice, and the player's box.
+        """The hook the window calls: the physics of ``game`` in the frame's slice (``camera.w``), and
+        the player's box.
 
         Parameters
         ----------
@@ -148,7 +149,7 @@ class DebugOverlay:
         options : DebugDrawOptions, optional
         """
         self.drawer.clear()
-        debug_draw_game(game, self.drawer, options)
+        debug_draw_game(game, self.drawer, options, w=camera.w)
         return self.draw(self.drawer, camera, viewport)
 
     def _release_buffers(self) -> None:

@@ -56,8 +56,10 @@ import moderngl
 import numpy as np
 
 from ..game.frame import EnergyGauge, HealthGauge, Hud, Radar, SliceGauges, WeaponPanel
+from .cards import draw_card
 from .font import CELL_W, GLYPH_H, GLYPH_W, default_font, font_px, solid_uv
 from .font import text_width as text_width
+from .text_layout import ellipsized, wrap
 
 CROSSHAIR_COLOR = (0.95, 0.95, 0.95, 1.0)
 OUTLINE_COLOR = (0.0, 0.0, 0.0, 0.55)
@@ -244,43 +246,6 @@ def quads_text(quads: np.ndarray) -> str:
     return "".join(ch for q in quads if (ch := font.char_at(q[4], q[5])) is not None)
 
 
-@functools.lru_cache(maxsize=256)
-def _wrap_cached(message: str, max_width: int, scale: int) -> tuple[str, ...]:
-    return tuple(_wrap_lines(message, max_width, scale))
-
-
-def _wrap(message: str, max_width: int, scale: int) -> list[str]:
-    """``message`` broken into lines at most ``max_width`` pixels wide at ``scale`` (cached)."""
-    return list(_wrap_cached(message, int(max_width), int(scale)))
-
-
-def _wrap_lines(message: str, max_width: int, scale: int) -> list[str]:
-    """``message`` broken into lines at most ``max_width`` pixels wide at ``scale`` (words kept whole
-    unless one alone is too wide)."""
-    lines: list[str] = []
-    fits = lambda t: text_width(t, scale) <= max_width  # noqa: E731
-    for para in message.split("\n"):
-        words, line = para.split(" "), ""
-        for word in words:
-            while not fits(word) and len(word) > 1:  # a word longer than a line: hard break
-                if line:
-                    lines.append(line)
-                    line = ""
-                cut = len(word) - 1
-                while cut > 1 and not fits(word[:cut]):
-                    cut -= 1
-                lines.append(word[:cut])
-                word = word[cut:]
-            cand = f"{line} {word}" if line else word
-            if fits(cand):
-                line = cand
-            else:
-                lines.append(line)
-                line = word
-        lines.append(line)
-    return lines
-
-
 def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> np.ndarray:
     """Lay out the HUD for a ``width x height`` viewport.
 
@@ -366,10 +331,10 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
     # --- message (centred, a third of the way down; below PAUSED when paused)
     if hud.message:
         scale = big
-        lines = _wrap(hud.message, W - 2 * m.margin, scale)
+        lines = wrap(hud.message, W - 2 * m.margin, scale)
         if scale > s and len(lines) > 1:  # large text only for one-liners; longer ones use the small size
             scale = s
-            lines = _wrap(hud.message, W - 2 * m.margin, scale)
+            lines = wrap(hud.message, W - 2 * m.margin, scale)
         line_h = (GLYPH_H + 3) * scale
         block_h = len(lines) * line_h
         ytop = H // 2 + GLYPH_H * big + 2 * big if hud.paused else H // 3 - block_h // 2
@@ -385,8 +350,6 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
             _screen_label(q, label, m)
     # --- teaching card (over everything)
     if hud.card is not None:
-        from .cards import draw_card
-
         draw_card(q, hud.card, W, H)
     return q.array()
 
@@ -467,7 +430,7 @@ def _hint_lines(text: str, m: HudMetrics) -> tuple[list[str], int, int]:
     hx, _, hw, _ = health_bar_rect(m)
     clear = m.width - 2 * (hx + hw + m.margin) - 2 * (3 * scale) - 2 * scale
     box_w = max(40, min(int(m.width * 0.6), clear))
-    return _wrap(text, box_w, scale), scale, box_w
+    return wrap(text, box_w, scale), scale, box_w
 
 
 def _hint_panel(q: _QuadList, hud: Hud, m: HudMetrics) -> None:
@@ -485,15 +448,6 @@ def _hint_panel(q: _QuadList, hud: Hud, m: HudMetrics) -> None:
         q.text(label, x + w - pad - text_width(label, s), y + pad + len(lines) * line_h, s, HINT_LABEL_COLOR)
 
 
-def _ellipsized(text: str, max_width: int, scale: int) -> str:
-    """``text`` cut to fit ``max_width`` pixels, with an ellipsis when cut."""
-    if text_width(text, scale) <= max_width:
-        return text
-    while text and text_width(text + "\u2026", scale) > max_width:
-        text = text[:-1]
-    return text.rstrip() + "\u2026"
-
-
 def warning_rect(text: str, width: int, height: int) -> tuple[int, int, int, int]:
     """The warning line's band as ``(x, y, w, h)`` pixels: bottom centre, clear of the energy bar
     and the radar."""
@@ -502,7 +456,7 @@ def warning_rect(text: str, width: int, height: int) -> tuple[int, int, int, int
     ex, _, ew, _ = m.energy_bar()
     left = ex + ew + m.margin
     right = m.radar_rect()[0] - m.margin
-    line = _ellipsized(text, max(10, right - left - 4 * s), s)
+    line = ellipsized(text, max(10, right - left - 4 * s), s)
     w = min(right - left, text_width(line, s) + 4 * s)
     h = (GLYPH_H + 4) * s
     return left + (right - left - w) // 2, m.height - m.margin // 2 - h, w, h
@@ -513,7 +467,7 @@ def _warning_line(q: _QuadList, text: str, m: HudMetrics) -> None:
     x, y, w, h = warning_rect(text, m.width, m.height)
     ex, _, ew, _ = m.energy_bar()
     right = m.radar_rect()[0] - m.margin
-    line = _ellipsized(text, max(10, right - (ex + ew + m.margin) - 4 * s), s)
+    line = ellipsized(text, max(10, right - (ex + ew + m.margin) - 4 * s), s)
     q.rect(x, y, w, h, BAND_COLOR)
     q.text(line, x + 2 * s, y + 2 * s, s, WARNING_COLOR)
 

@@ -20,6 +20,7 @@ import numpy as np
 
 from .font import CELL_H, CELL_W
 from .hud import QUAD_FLOATS, HudRenderer, _QuadList, text_width
+from .text_layout import ellipsized
 
 BACKDROP_TOP = (0.015, 0.02, 0.05, 1.0)
 BACKDROP_BOTTOM = (0.04, 0.07, 0.13, 1.0)
@@ -118,15 +119,6 @@ def hit(view, width: int, height: int, x: float, y: float) -> tuple[int, float |
     return None
 
 
-def _fit(s: str, max_w: int, scale: int) -> str:
-    """``s`` cut with "..." to fit ``max_w`` pixels."""
-    if text_width(s, scale) <= max_w:
-        return s
-    while s and text_width(s + "...", scale) > max_w:
-        s = s[:-1]
-    return s + "..."
-
-
 def menu_quads(view, width: int, height: int) -> np.ndarray:
     """Lay out ``view`` as HUD quads, ``(n, QUAD_FLOATS) float32``."""
     q = _QuadList()
@@ -165,7 +157,13 @@ def menu_quads(view, width: int, height: int) -> np.ndarray:
         done, total, label = view.progress
         y = py + pad
         line = f"Preparing the 4D world {done}/{total}: {label}" if done < total else "Ready"
-        q.text(_fit(line, pw - 2 * pad, s_row), px + pad, y, s_row, PROMPT_COLOR if done < total else VALUE_COLOR)
+        q.text(
+            ellipsized(line, pw - 2 * pad, s_row, "..."),
+            px + pad,
+            y,
+            s_row,
+            PROMPT_COLOR if done < total else VALUE_COLOR,
+        )
         bar = (px + pad, y + CELL_H * s_row + 4, pw - 2 * pad, max(3, CELL_H * s_row // 3))
         q.rect(*bar, TRACK_COLOR)
         q.rect(bar[0], bar[1], int(bar[2] * done / max(1, total)), bar[3], FILL_COLOR)
@@ -182,7 +180,7 @@ def menu_quads(view, width: int, height: int) -> np.ndarray:
         y = ry + CELL_H * s_row // 4
         value_w = text_width(item.value, s_row)
         label_max = (box.bar[0] if box.bar else rx + rw - pad - value_w - pad) - (rx + pad)
-        q.text(_fit(item.label, label_max, s_row), rx + pad, y, s_row, color)
+        q.text(ellipsized(item.label, label_max, s_row, "..."), rx + pad, y, s_row, color)
         if item.value:
             vcol = VALUE_COLOR if item.enabled and not item.warn else color
             q.text(item.value, rx + rw - pad - value_w, y, s_row, vcol)
@@ -193,7 +191,7 @@ def menu_quads(view, width: int, height: int) -> np.ndarray:
         if item.note and view.screen in ("levels", "controls"):
             ncol = WARN_COLOR if item.warn else NOTE_COLOR
             ncol = ncol if item.enabled else DISABLED_COLOR
-            q.text(_fit(item.note, rw - 2 * pad, s_small), rx + pad, y + CELL_H * s_row + 2, s_small, ncol)
+            q.text(ellipsized(item.note, rw - 2 * pad, s_small, "..."), rx + pad, y + CELL_H * s_row + 2, s_small, ncol)
     # More rows above or below: arrows at the panel's right edge.
     if view.first > 0:
         q.text("^", px + pw - pad, py + 2, s_row, ACCENT_COLOR)
@@ -220,7 +218,7 @@ def menu_quads(view, width: int, height: int) -> np.ndarray:
         mw = text_width(view.message, s_row)
         # Under the panel: above it, the title screen's subtitle would share the line.
         q.text(view.message, (width - mw) // 2, py + ph + CELL_H * s_row, s_row, PROMPT_COLOR)
-    footer = _fit(view.footer, width - 2 * pad, s_small)
+    footer = ellipsized(view.footer, width - 2 * pad, s_small, "...")
     q.text(footer, (width - text_width(footer, s_small)) // 2, height - 2 * CELL_H * s_small, s_small, FOOTER_COLOR)
     return q.array()
 

@@ -96,7 +96,7 @@ def _game_problems(game, bodies_in_w: bool = False) -> list[list[str]]:
         out.append(
             ["non-finite state", f"player w = {w} outside the level's w_range [{lo}, {hi}] after {game.tick} ticks"]
         )
-    physics = getattr(game, "physics", None)
+    physics = game.physics
     if physics is not None:
         for b in physics.body_ids:
             pose = physics.body_pose(b)

@@ -3,7 +3,7 @@
 - :mod:`across_dimensions.world.level_edit`: the model (edits, undo/redo, checks, saving); no GUI.
 - :mod:`.view`: what the view shows (preview game, picking, outlines, w previews, frustum view); no GUI.
 - :mod:`.panels`: the ImGui panels (outline, inspector, w scrubber, menus).
-- :mod:`.mode`: the editor mode of a :class:`~across_dimensions.app.window.GameWindow` (events, drawing,
+- :mod:`.mode`: the editor's view on the window's stack (:class:`~.mode.EditorView`: events, drawing,
   play from here).
 
 The GUI libraries are an optional extra; :func:`missing` says which are absent

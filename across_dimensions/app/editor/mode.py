@@ -1,9 +1,10 @@
-"""The editor mode of the game window: ImGui panels over the level seen through the game's renderer.
+"""The editor's view: ImGui panels over the level seen through the game's renderer.
 
-:class:`EditorMode` attaches to a :class:`~across_dimensions.app.window.GameWindow`
-by pushing its event handlers on top of the window's: while the editor is
-open every event stops here (the game is frozen, not stepped), and leaving
-the editor pops them, so the game resumes exactly where it was.
+:class:`EditorView` is a view (:mod:`across_dimensions.app.views`) pushed over the play view it
+was opened from: while the editor is open every event comes here (the game is frozen, not
+stepped), and leaving it pops the view, so the game resumes exactly where it was. The editor
+talks to the play view only through its methods (its eye, its level file, and
+:meth:`~across_dimensions.app.views.play.PlayView.play_game` to play an edited level).
 
 Controls (Unity- and Godot-like): hold the right mouse button and drag to
 look, W A S D to fly, Space and C up and down, the wheel to move forward;
@@ -19,7 +20,6 @@ from the game back to the editor.
 
 from __future__ import annotations
 
-import sys
 import time
 from pathlib import Path
 
@@ -30,13 +30,12 @@ from imgui_bundle.python_backends import pyglet_backend
 
 from ...core.errors import InputError
 from ...game.sim import Game
-from ...render.context import Offscreen
 from ...world.level_edit import LevelEditor
 from ...world.scene import SectionCache
+from ..views.base import View
 from . import view
 from .panels import PANEL_LEFT, PANEL_W, Panels
 
-HANDLED = pyglet.event.EVENT_HANDLED
 FLY_SPEED = 6.0  # metres per second
 W_SPEED = 0.6  # slice w per second with the w keys
 LOOK_RATE = 0.005  # radians per pixel of right-drag
@@ -47,14 +46,18 @@ W_MARGIN = 0.5  # the scrubber reaches a little beyond the level's w_range
 MENU_BAR = 20  # pixels: ImGui's main menu bar with its default font
 
 
-class EditorMode:
-    """The level editor in ``window`` for the level file at ``path``."""
+class EditorView(View):
+    """The level editor for the level file at ``path``, made once per window (it owns the ImGui context)."""
 
-    def __init__(self, window, path):
-        self.window = window
+    shows_level = True
+
+    def __init__(self, session, path):
+        super().__init__(session)
+        window = self.window
+        self.play = None  # the play view the editor was opened from
         imgui.create_context()
         imgui.get_io().set_ini_filename("")  # no imgui.ini left in the player's folder
-        # Events reach ImGui through this mode's handlers (only while the editor is open), not the backend's own.
+        # Events reach ImGui through this view's handlers (only while the editor is open), not the backend's own.
         self.impl = pyglet_backend.create_renderer(window, attach_callbacks=False)
         self.impl._window = window  # noqa: SLF001 - what attaching would have set; resizing and cursors need it
         self.panels = Panels(self)
@@ -65,12 +68,10 @@ class EditorMode:
         self.preview_step = 0.25
         self.preview_rects: list = []
         self.message = ""
-        self.active = False
         self.held: set = set()
         self.looking = False
         self.dragging = None
         self.close_warned = False
-        self._last = None
         self._built_at = 0.0
         self.open(path)
 
@@ -102,43 +103,36 @@ class EditorMode:
 
     def drop_gpu_meshes(self) -> None:
         """Make the renderer upload every mesh anew (a new game reuses the old one's keys and revisions)."""
-        self.window.renderer.forget_meshes()
+        self.session.renderer.forget_meshes()
 
     def w_limits(self) -> tuple[float, float]:
         lo, hi = self.preview.level.w_range
         return lo - W_MARGIN, hi + W_MARGIN
 
     def key_name(self, action: str) -> str:
-        return "/".join(self.window.settings.keys_for(action))
+        return "/".join(self.session.settings.keys_for(action))
 
     # ------------------------------------------------------------ switching
-    def enter(self, from_play: bool = True) -> None:
-        """Open the editor over the game; from play, the camera starts at the player's eye and w."""
-        w = self.window
-        w.stop_recording()  # a replay starts at the spawn and has no edits in it
-        if Path(w.level_path).resolve() != self.model.path.resolve() and not self.model.dirty:
-            self.open(w.level_path)
+    def enter(self, play, from_play: bool = True) -> None:
+        """Open the editor over ``play``; from play, the camera starts at the player's eye and w."""
+        self.session.recording.stop()  # a replay starts at the spawn and has no edits in it
+        self.play = play
+        if Path(play.level_path).resolve() != self.model.path.resolve() and not self.model.dirty:
+            self.open(play.level_path)
         if from_play:
-            p = w.game.player
-            self.cam = view.EditorCamera(p.eye().copy(), float(p.yaw), float(p.pitch), float(p.position[3]))
-        self.active = True
-        self._last = None
+            self.cam = view.EditorCamera(*play.eye())
+        self.window.push_view(self)
+
+    def on_show(self) -> None:
         self.drop_gpu_meshes()  # the game's meshes and the preview game's share keys
-        w.set_exclusive_mouse(False)
-        w.push_handlers(self)
-        w.set_caption(f"Across Dimensions - editing {self.model.path.name}")
+        self.window.set_exclusive_mouse(False)
+        self.window.set_caption(f"Across Dimensions - editing {self.model.path.name}")
 
     def leave(self) -> None:
-        w = self.window
+        """Back to the play view (its own :meth:`on_show` takes the mouse and the caption back)."""
         self.drop_gpu_meshes()
-        w.remove_handlers(self)
-        self.active = False
         self.held.clear()
-        w.look = [0.0, 0.0]
-        w.presses.clear()
-        w.last_draw = None
-        w.set_exclusive_mouse(True)
-        w.set_caption(f"Across Dimensions - {w.game.level.name}")
+        self.window.pop_view()
 
     def _new_game(self, cam=None):
         level, problems = self.model.check()
@@ -146,7 +140,7 @@ class EditorMode:
             self.message = f"cannot play: {len(problems)} problem(s) in the level"
             return None
         self._game_text = self.model.text()
-        return view.game_at(level, cam, seed=self.window.seed)
+        return view.game_at(level, cam, seed=self.session.seed)
 
     def play_from_here(self) -> None:
         """Drop the player into the edited level at the editor camera's place, heading and w."""
@@ -165,13 +159,8 @@ class EditorMode:
             self.leave()
 
     def _start(self, game, notice: str) -> None:
-        w = self.window
-        w.game = game
-        w.level_time = 1e9  # the level's hints were read when it started; not again
-        w.finished_for = 0.0
-        w.accumulator = 0.0
+        self.play.play_game(game, notice)
         self.leave()
-        w.say(notice, 4.0)
 
     # ------------------------------------------------------------ commands
     def save(self) -> None:
@@ -275,8 +264,8 @@ class EditorMode:
         ctrl = modifiers & (key.MOD_CTRL | key.MOD_COMMAND)
         io = imgui.get_io()
         if io.want_text_input and not ctrl:
-            return HANDLED
-        action = self.window.pressed_action("key", symbol)
+            return
+        action = self.session.bindings.action_of("key", symbol)
         self.held.add(symbol)
         if ctrl and symbol == key.Z:
             self.redo() if modifiers & key.MOD_SHIFT else self.undo()
@@ -290,35 +279,29 @@ class EditorMode:
             self.back_to_game()
         elif action == "editor_play_here":
             self.play_from_here()
-        elif action == "screenshot":
-            self.window._pending_shot = True  # noqa: SLF001 - taken after the next frame is drawn
-        elif action == "toggle_fullscreen":
-            self.window.set_fullscreen(not self.window.fullscreen)
+        elif self.window_key(action):
+            pass
         elif symbol == key.DELETE:
             self.delete()
         elif symbol == key.F and not io.want_capture_keyboard:
             self.focus()
         elif symbol == key.P and not io.want_capture_keyboard:
             self.frustum = not self.frustum
-        return HANDLED
 
     def on_key_release(self, symbol, modifiers):
         self.impl.on_key_release(symbol, modifiers)
         self.held.discard(symbol)
-        return HANDLED
 
     def on_text(self, text):
         self.impl.on_text(text)
-        return HANDLED
 
     def on_mouse_motion(self, x, y, dx, dy):
         self.impl.on_mouse_motion(x, y, dx, dy)
-        return HANDLED
 
     def on_mouse_press(self, x, y, button, modifiers):
         self.impl.on_mouse_press(x, y, button, modifiers)
         if imgui.get_io().want_capture_mouse or imguizmo.im_guizmo.is_over():
-            return HANDLED  # a panel or the move gizmo has it
+            return  # a panel or the move gizmo has it
         if button == pyglet.window.mouse.RIGHT:
             self.looking = True
         elif button == pyglet.window.mouse.LEFT:
@@ -327,7 +310,6 @@ class EditorMode:
             if hit is not None and hit == self.model.selection:
                 self._start_drag(hit, nx, ny, aspect)
             self.model.selection = hit
-        return HANDLED
 
     def on_mouse_release(self, x, y, button, modifiers):
         self.impl.on_mouse_release(x, y, button, modifiers)
@@ -336,7 +318,6 @@ class EditorMode:
         if button == pyglet.window.mouse.LEFT and self.dragging is not None:
             self.dragging = None
             self.model.seal()
-        return HANDLED
 
     def on_mouse_drag(self, x, y, dx, dy, buttons, modifiers):
         self.impl.on_mouse_drag(x, y, dx, dy, buttons, modifiers)
@@ -344,23 +325,21 @@ class EditorMode:
             self.cam.look(dx * LOOK_RATE, dy * LOOK_RATE)
         elif self.dragging is not None:
             self._drag(*self._ndc(x, y))
-        return HANDLED
 
     def on_mouse_scroll(self, x, y, scroll_x, scroll_y):
         self.impl.on_mouse_scroll(x, y, scroll_x, scroll_y)
         if not imgui.get_io().want_capture_mouse:
             self.cam.fly(float(scroll_y), 0.0, 0.0, 1.0)
-        return HANDLED
 
     def on_resize(self, width, height):
         self.impl.on_resize(width, height)  # and the window's own handler runs too
 
-    def on_close(self):
+    def on_close(self) -> bool:
         if self.model.dirty and not self.close_warned:
             self.close_warned = True
             self.message = "unsaved changes: Ctrl+S saves them; close again to discard them"
-            return HANDLED
-        return None
+            return True
+        return False
 
     # ------------------------------------------------------------ dragging (the move gizmo)
     def _start_drag(self, ref, nx, ny, aspect) -> None:
@@ -396,17 +375,15 @@ class EditorMode:
         f, r, u = axis(k.W, k.S), axis(k.D, k.A), axis(k.SPACE, k.C)
         if f or r or u:
             self.cam.fly(f, r, u, FLY_SPEED * dt)
-        binds = self.window.bindings
-        dw = float(any(("key", s) in binds.get("w_ana", ()) for s in self.held)) - float(
-            any(("key", s) in binds.get("w_kata", ()) for s in self.held)
-        )
+        keys = self.session.bindings.keys_of
+        dw = float(any(s in keys("w_ana") for s in self.held)) - float(any(s in keys("w_kata") for s in self.held))
         if dw:
             lo, hi = self.w_limits()
             self.cam.w = float(np.clip(self.cam.w + dw * W_SPEED * dt, lo, hi))
 
     def draw_scene(self, viewport) -> None:
         """The level from the editor camera, and the strip of previews of the selection along w."""
-        r = self.window.renderer
+        r = self.session.renderer
         frame = view.editor_frame(self.preview, self.cam, self.model.selection, self.frustum, self.time)
         r.draw(frame, viewport, view="main")
         self.preview_rects = []
@@ -433,54 +410,21 @@ class EditorMode:
         imgui.render()
         self.impl.render(imgui.get_draw_data())
 
-    def on_draw(self):
-        now = time.perf_counter()
-        dt = 0.0 if self._last is None else min(now - self._last, 0.1)
-        self._last = now
+    def on_update(self, dt: float) -> None:
+        dt = min(dt, 0.1)
         self._fly(dt)
         if self.animate:
             self.time = (self.time + dt) % 60.0
-        self._refresh_preview(now)
-        w = self.window
-        fw, fh = w.get_framebuffer_size()
-        w.ctx.screen.use()
-        self.draw_scene((0, 0, fw, fh))
+        self._refresh_preview(time.perf_counter())
+
+    def on_draw(self, target, viewport) -> None:
+        """The scene and the panels; ImGui draws into the framebuffer bound, ``target``."""
+        target.use()
+        self.draw_scene(viewport)
         self.draw_gui()
-        if getattr(w, "_pending_shot", False) or (
-            w.screenshot_after is not None and w.wall_time + dt >= w.screenshot_after
-        ):
-            w._pending_shot = False  # noqa: SLF001
-            w.screenshot_after = None
-            self.screenshot()
-        w.wall_time += dt
-        if w.quit_after is not None and w.wall_time >= w.quit_after:
-            pyglet.app.exit()
-        return HANDLED
 
-    def screenshot(self) -> Path | None:
-        """Save the editor's view, panels included, where the game's screenshots go
-        (:mod:`..screenshots`); a failure is a message in the editor, never an exit."""
-        from ..screenshots import save_screenshot
-
-        w = self.window
-        fw, fh = w.get_framebuffer_size()
-
-        def write(path):
-            with Offscreen(w.ctx, fw, fh) as target:
-                target.use()
-                self.draw_scene(target.viewport)
-                self.draw_gui()  # ImGui draws into the framebuffer bound now: the offscreen one
-                target.save_png(path)
-
-        try:
-            path, self.message = save_screenshot(write)
-        finally:
-            w.ctx.screen.use()
-        if path is None:
-            print(f"warning: {self.message}", file=sys.stderr, flush=True)
-        else:
-            print(f"screenshot saved: {path}", flush=True)
-        return path
+    def on_screenshot(self, path) -> None:
+        self.message = f"screenshot saved: {path}"
 
 
 def _plane_hit(o, d, point, normal):

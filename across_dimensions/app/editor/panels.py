@@ -39,7 +39,7 @@ def _short(problem: str, ref_where: str) -> str:
 
 
 class Panels:
-    """Draws the panels for an :class:`~.mode.EditorMode` and applies what the user does to its model."""
+    """Draws the panels for an :class:`~.mode.EditorView` and applies what the user does to its model."""
 
     def __init__(self, mode):
         self.mode = mode
@@ -373,7 +373,7 @@ class Panels:
         imgui.same_line()
         _, self.show_previews = imgui.checkbox("previews", self.show_previews)
         imgui.end()
-        # Labels of the preview strip the mode draws under the scrubber window.
+        # Labels of the preview strip the view draws under the scrubber window.
         for (x, y, _, h), pw in mode.preview_rects:
             imgui.get_foreground_draw_list().add_text(
                 imgui.ImVec2(x + 4, height - (y + h) + 2), imgui.color_convert_float4_to_u32(YELLOW), f"w = {pw:+.2f}"

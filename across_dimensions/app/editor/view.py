@@ -75,8 +75,7 @@ def place(game, cam: EditorCamera) -> None:
     p = game.player
     p.position = np.array([cam.position[0], cam.position[1] - EYE_HEIGHT, cam.position[2], cam.w])
     p.yaw, p.pitch = float(cam.yaw), float(cam.pitch)
-    game._prev_eye = p.eye()  # noqa: SLF001 - no tick in between: draw exactly at the camera
-    game._prev_view = (p.yaw, p.pitch)  # noqa: SLF001
+    game.reset_interpolation()  # no tick in between: draw exactly at the camera
 
 
 def game_at(level, cam: EditorCamera | None = None, seed: int = 0):
@@ -91,8 +90,7 @@ def game_at(level, cam: EditorCamera | None = None, seed: int = 0):
         c = cam.position
         p.position = np.array([c[0], c[1] - EYE_HEIGHT, c[2], float(np.clip(cam.w, lo, hi))])
         p.yaw, p.pitch = float(cam.yaw), float(np.clip(cam.pitch, -MAX_PITCH, MAX_PITCH))
-        game._prev_eye = p.eye()  # noqa: SLF001 - no interpolation from the spawn
-        game._prev_view = (p.yaw, p.pitch)  # noqa: SLF001
+        game.reset_interpolation()  # no interpolation from the spawn
     return game
 
 
@@ -304,7 +302,7 @@ def preview_frames(game, ref, w: float, offsets, cache: SectionCache, time: floa
     for k, dw in enumerate(offsets):
         key = f"preview:{'/'.join(map(str, ref))}:{k}"  # one cache entry per entry: another mesh, another key
         tri, rev = cache.section(key, mesh, model, w + dw)
-        frame = Frame(Camera3(eye, yaw, pitch, fov_y_deg=50.0), hud=Hud(w=w + dw))
+        frame = Frame(Camera3(eye, yaw, pitch, fov_y_deg=50.0, w=w + dw), hud=Hud(w=w + dw))
         frame.drawables.append(Drawable(key, rev, tri, style=e.style if e is not None else "solid"))
         out.append((w + dw, frame))
     return out

@@ -1,23 +1,19 @@
 """The game's systems, in the order they run.
 
-A system is a module with either or both of
+Each module here declares one :class:`~..system.System` named ``SYSTEM``: its name and
+its hooks ``setup``, ``step``, ``draw`` and ``state_bytes`` (see :mod:`..system` for
+what each does and when it runs). ``Game`` sets every system up once, in this order,
+when it is made; runs every ``step`` in this order each tick, and every ``draw`` each
+frame; and hashes every ``state_bytes``. A ``step`` may return a replacement
+:class:`~across_dimensions.game.actions.Actions` that the systems after it see this
+tick (manipulation takes the walking keys while an object is held); returning None
+leaves the actions as they are. A later system sees what earlier ones did this tick
+(the player has moved before crystals are checked for pickup).
 
-``step(game, actions)``
-    Advance its part of the simulation by one tick. It may return a replacement
-    :class:`~across_dimensions.game.actions.Actions` that the systems after it see
-    this tick (manipulation takes the walking keys while an object is held);
-    returning None leaves the actions as they are. Systems run in the order of
-    :data:`SYSTEMS` every tick; a later system sees what earlier ones did this
-    tick (the player has moved before crystals are checked for pickup).
-``draw(game, frame, alpha)``
-    Add what it shows to ``frame`` (a :class:`~across_dimensions.game.frame.Frame`
-    with the camera already set): drawables, HUD items, radar pins. ``alpha`` is
-    how far the picture lies between the previous tick and this one.
-
-Adding a system: write one module here with ``step`` and/or ``draw``, and add
-it to :data:`SYSTEMS` at the place in the order where it belongs. Systems keep
-their state on the game (``game.energy``) or on entities (``entity.data``), never
-in module globals, so two games never share anything.
+A system's state is a dataclass its ``setup`` returns, kept by the game as
+``game.states.<name>``; per-entity state is the entity's ``data``. Never module
+globals (two games share nothing), never attributes hung on the game. How to add a
+mechanic: ``CONVENTIONS.md``, *Systems*.
 """
 
 from . import (
@@ -48,26 +44,27 @@ from . import (
 #: steer bullets before physics runs, bullets read its contacts after; enemies (the blast, bullet
 #: hits, their moves and shots) and the player's health after the bullets; pickups; the outcome.
 #: Frame order: manipulation (its ghost previews, HUD line), scenery, entities, radar, HUD,
-#: then the ghosts along w, after everything solid.
+#: then the ghosts along w, after everything solid. Setup runs in the same order, so the
+#: entities systems spawn get their ids in it: targets, then enemies, then the level's crystals.
 SYSTEMS = (
-    energy,
-    camera,
-    seek,
-    manipulation,
-    player,
-    push,
-    weapons,
-    solid_bodies,
-    rigid_bodies,
-    bullets,
-    enemies,
-    health,
-    crystals,
-    outcome,
-    scenery,
-    sections,
-    radar,
-    ghosts,
+    energy.SYSTEM,
+    camera.SYSTEM,
+    seek.SYSTEM,
+    manipulation.SYSTEM,
+    player.SYSTEM,
+    push.SYSTEM,
+    weapons.SYSTEM,
+    solid_bodies.SYSTEM,
+    rigid_bodies.SYSTEM,
+    bullets.SYSTEM,
+    enemies.SYSTEM,
+    health.SYSTEM,
+    crystals.SYSTEM,
+    outcome.SYSTEM,
+    scenery.SYSTEM,
+    sections.SYSTEM,
+    radar.SYSTEM,
+    ghosts.SYSTEM,
 )
 
 __all__ = ["SYSTEMS"]

@@ -14,6 +14,7 @@ import numpy as np
 
 from .. import weapons as wp
 from ..events import BulletHit, TargetHit
+from ..system import System
 from . import camera
 
 
@@ -79,7 +80,7 @@ def _targets(game, ars) -> None:
 
 
 def step(game, actions) -> None:
-    ars = getattr(game, "arsenal", None)
+    ars = game.states.weapons
     if ars is None:
         return
     wp.settle_pulled_bodies(game)
@@ -93,3 +94,6 @@ def step(game, actions) -> None:
         if old or game.physics.is_sleeping(e.motion.body):
             ars.bullets.remove(eid)
             game.remove(eid)
+
+
+SYSTEM = System("bullets", step=step)

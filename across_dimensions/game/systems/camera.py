@@ -25,10 +25,11 @@ import numpy as np
 
 from ...core.mesh import TriMesh3
 from ...world.geometry import box_trimesh
-from ..camera import GLIDE_FACTOR, TURN_PLANES
+from ..camera import GLIDE_FACTOR, TURN_PLANES, CameraRig
 from ..entities import Placed
 from ..events import CameraSwitched, SliceAligned
 from ..frame import Drawable, SliceGauges
+from ..system import System, encode
 
 FOCUS_COLOR = (1.0, 0.85, 0.2, 1.0)
 EYE_COLOR = (0.4, 0.9, 1.0, 1.0)
@@ -38,6 +39,15 @@ INDICATOR_SIZE = 0.2
 #: The camera's indicator is not drawn closer than this to the player's eye (metres):
 #: at the switch it is exactly there, and a box round the eye would fill the screen.
 EYE_CLEARANCE = 0.6
+
+
+def setup(game) -> CameraRig:
+    """The rig (``game.camera``): the plain axis-aligned slice until a level lets the player turn it."""
+    return CameraRig(fov_deg=game.level.camera.fov)
+
+
+def state_bytes(game) -> bytes:
+    return encode(game.camera)
 
 
 def _pivot(game) -> np.ndarray:
@@ -198,8 +208,8 @@ def draw(game, frame, alpha) -> None:
     frame.hud.slice = SliceGauges(rig.angles_deg(), rig.mode, float(np.degrees(rig.orbit)))
     if not rig.detached:
         return
-    p = game.player
-    pose, _ = rig.frustum_pose(p.eye(), float(p.position[3]), _return_ticks(game))
+    eye = frame.camera
+    pose, _ = rig.frustum_pose(eye.position, eye.w, _return_ticks(game))
     # The focus point shows where it is on screen (it never moves there); the camera's
     # indicator stands at its slice-space position, its w offset read on the radar.
     frame.drawables.append(_marker("camera:focus", rig.focus_u, FOCUS_COLOR, "glow"))
@@ -207,3 +217,6 @@ def draw(game, frame, alpha) -> None:
     if np.linalg.norm(eye - frame.camera.position) > EYE_CLEARANCE:  # not round the player's own eye
         # Edges only: the camera swings in front of what it looks at, and must not hide it.
         frame.drawables.append(_marker("camera:eye", eye, EYE_COLOR, "wire"))
+
+
+SYSTEM = System("camera", setup, step, draw, state_bytes)

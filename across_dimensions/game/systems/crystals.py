@@ -4,12 +4,13 @@ A crystal can only be touched where it can be seen: the player must be at a w
 where the crystal's cross-section exists, and the player's box must reach that
 section. A crystal is taken once, adds its energy to the bar (up to the
 maximum) and disappears. A crystal with a ``respawn`` time grows back as a new
-entity that many seconds later, so a level can make running dry recoverable.
+entity that many seconds later, so a level can make running dry recoverable
+(:class:`Regrowth`, ``game.states.crystals``).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -19,6 +20,7 @@ from ...world.scene import Object4
 from ..entities import Scripted, reach
 from ..events import CrystalCollected
 from ..player import player_box
+from ..system import System, encode
 
 REACH = 0.15  # metres beyond the player's box that still count as touching (a hand's reach)
 
@@ -33,6 +35,31 @@ class Crystal:
     def milli(self) -> int:
         """Energy it holds, thousandths."""
         return self.spec.milli
+
+
+@dataclass
+class Regrowth:
+    """Crystals growing back (``game.states.crystals``).
+
+    Attributes
+    ----------
+    regrowing : list of (int, CrystalSpec)
+        The tick each grows back at and what grows, soonest first.
+    """
+
+    regrowing: list[tuple[int, CrystalSpec]] = field(default_factory=list)
+
+
+def setup(game) -> Regrowth:
+    """The level's crystals, spawned."""
+    for c in game.level.crystals:
+        spawn(game, c)
+    return Regrowth()
+
+
+def state_bytes(game) -> bytes:
+    """What grows back when; the crystals themselves are entities (hashed with them)."""
+    return encode(game.states.crystals)
 
 
 def spawn(game, spec: CrystalSpec):
@@ -70,8 +97,9 @@ def touching(game, entity) -> bool:
 
 
 def step(game, actions) -> None:
-    while game.regrowing and game.regrowing[0][0] <= game.tick:
-        spawn(game, game.regrowing.pop(0)[1])
+    regrowing = game.states.crystals.regrowing
+    while regrowing and regrowing[0][0] <= game.tick:
+        spawn(game, regrowing.pop(0)[1])
     table = game.entity_table()
     p = game.player.position
     # One vectorised test for every entity, then the full test for the crystals within reach.
@@ -83,5 +111,8 @@ def step(game, actions) -> None:
             game.remove(e.id)
             if e.data.spec.respawn > 0:
                 due = game.tick + max(1, round(e.data.spec.respawn / game.dt))
-                game.regrowing.append((due, e.data.spec))
-                game.regrowing.sort(key=lambda item: item[0])  # stable: equal ticks keep pickup order
+                regrowing.append((due, e.data.spec))
+                regrowing.sort(key=lambda item: item[0])  # stable: equal ticks keep pickup order
+
+
+SYSTEM = System("crystals", setup, step, state_bytes=state_bytes)

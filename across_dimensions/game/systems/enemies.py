@@ -16,6 +16,7 @@ from .. import health as hp
 from ..entities import Placed
 from ..events import EnemyDefeated, EnemyHit, LootReleased
 from ..player import HALF_WIDTH, HEIGHT
+from ..system import System, encode
 from . import crystals
 
 ARMOUR_MESSAGE_TICKS = 90
@@ -23,15 +24,12 @@ ARMOUR_MESSAGE_TICKS = 90
 
 # ------------------------------------------------------------------ setup
 def setup(game) -> en.Hive | None:
-    """The level's enemies, spawned on the first tick; None when it has none."""
-    if hasattr(game, "hive"):
-        return game.hive
+    """The level's enemies, spawned; None when it has none."""
     specs = game.level.enemies
     if not specs:
-        game.hive = None
         return None
-    hive = game.hive = en.Hive()
-    hive.shot_mesh, hive.shot_reach = en.small_mesh("16-cell", en.SHOT_COLOR)
+    shot_mesh, shot_reach = en.small_mesh("16-cell", en.SHOT_COLOR)
+    hive = en.Hive(shot_mesh=shot_mesh, shot_reach=shot_reach)
     spawn_w = float(game.level.spawn[3])
     for i, spec in enumerate(specs):
         body = en.build_body(spec, hive.bodies)
@@ -70,6 +68,11 @@ def setup(game) -> en.Hive | None:
     return hive
 
 
+def state_bytes(game) -> bytes:
+    """The hive; the enemies and their shots are entities (their data is hashed with them)."""
+    return encode(game.states.enemies)
+
+
 def _small_pose(at, s: float) -> np.ndarray:
     m = np.diag([s, s, s, s, 1.0])
     m[:4, 4] = at
@@ -78,7 +81,7 @@ def _small_pose(at, s: float) -> np.ndarray:
 
 def foes(game) -> list:
     """The live enemy entities (dying ones included), in the level's order."""
-    hive = getattr(game, "hive", None)
+    hive = game.states.enemies
     if hive is None:
         return []
     return [e for e in (game.entities.get(i) for i in hive.foes) if e is not None]
@@ -230,7 +233,7 @@ def _post_target(foe: en.Foe, player_pos) -> np.ndarray:
 
 # ------------------------------------------------------------------ shots
 def _fire(game, foe: en.Foe) -> None:
-    hive = game.hive
+    hive = game.states.enemies
     eid = foe.eid
     chest = game.player.position[:3] + np.array([0.0, en.CHEST, 0.0])
     d = chest - foe.centre[:3]
@@ -266,11 +269,13 @@ def _fly_shots(game, hive: en.Hive) -> None:
         if np.all((at[:3] >= lo) & (at[:3] <= hi)) and abs(at[3] - p[3]) <= en.SHOT_W:
             source = game.entities.get(shot.source)
             origin = source.data.centre if source is not None else shot.origin
-            hp.damage(game, shot.damage, origin[[0, 2]], shot.source)
+            if hp.damage(game, shot.damage, origin[[0, 2]], shot.source):
+                player_died(game)  # every shot is gone, this one too
+                return
             gone = True
         elif _point_in_world(game, at) or _through_solid(game, shot.at(age - 1, game.dt), at):
             gone = True
-        if gone and sid in hive.shots:  # a fatal hit has already cleared every shot (player_died)
+        if gone:
             hive.shots.remove(sid)
             game.remove(sid)
 
@@ -299,7 +304,7 @@ def _point_in_world(game, at) -> bool:
 
 # ------------------------------------------------------------------ hits
 def _bullet_hits(game, hive: en.Hive) -> None:
-    ars = getattr(game, "arsenal", None)
+    ars = game.states.weapons
     if ars is None or not ars.bullets:
         return
     live = [e for e in foes(game) if e.data.alive]
@@ -345,8 +350,8 @@ def _defeat(game, e) -> None:
     foe = e.data
     _set_state(game, foe, "dying")
     foe.pull = None
-    game.hive.defeated += 1
-    game.hive.armour_tick = -(10**9)  # its armour is no longer the news
+    game.states.enemies.defeated += 1
+    game.states.enemies.armour_tick = -(10**9)  # its armour is no longer the news
     opened = ""
     door = game.entities.named(foe.spec.opens) if foe.spec.opens else None
     if door is not None and door.kind in ("object", "body"):
@@ -382,7 +387,7 @@ def _blasts(game) -> None:
     blasts = [ev for ev in game.events if ev.kind == "blast"]
     if not blasts:
         return
-    ars = game.arsenal
+    ars = game.states.weapons
     spec = ars.current if ars.current.kind == "blast" else next(s for s in ars.specs if s.kind == "blast")
     centre = game.player.center()
     end = game.tick + max(1, round(spec.duration / game.dt))
@@ -433,7 +438,7 @@ def _forced_loot(game, e, w_before: float) -> None:
 # ------------------------------------------------------------------ step and draw
 def player_died(game) -> None:
     """The player died: shots vanish and every enemy in or near the slice backs off."""
-    hive = getattr(game, "hive", None)
+    hive = game.states.enemies
     if hive is None:
         return
     for sid in hive.shots:
@@ -471,10 +476,9 @@ def _look(game, e) -> None:
 
 
 def step(game, actions) -> None:
-    hive = setup(game)
+    hive = game.states.enemies
     if hive is None:
         return
-    hp.setup(game)
     _blasts(game)
     _frustum_holds(game)
     _bullet_hits(game, hive)
@@ -495,8 +499,11 @@ def step(game, actions) -> None:
 
 
 def draw(game, frame, alpha) -> None:
-    hive = getattr(game, "hive", None)
+    hive = game.states.enemies
     if hive is None:
         return
     if game.tick - hive.armour_tick < ARMOUR_MESSAGE_TICKS and not frame.hud.message:
         frame.hud.message = "Armoured! Hit its weak spot: it hides at another w"
+
+
+SYSTEM = System("enemies", setup, step, draw, state_bytes)

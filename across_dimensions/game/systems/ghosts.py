@@ -14,8 +14,8 @@ walker's colliders (``tick:`` keys), the radar and every ray cast never see
 them; nothing here changes the simulation or its state hash.
 
 The player's choices (on or off, distance, strength, layers) are a
-:class:`GhostView` the window puts on the game as ``game.ghost_view``; a game
-without one (replays, tests, benchmarks) uses the defaults.
+:class:`GhostView`, the game's view option ``game.ghost_view`` (the defaults until
+the window sets the player's own).
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ import numpy as np
 from .. import section_collision
 from ..frame import Drawable
 from ..player import W_SPEED, overlapping, player_box
+from ..system import System
 from . import camera
 
 #: Ana (+w) ghosts: warm, striped. Tint is linear RGB and how far the colour is pulled to it.
@@ -101,19 +102,15 @@ class Layer:
         return ANA_PATTERN if self.side > 0 else KATA_PATTERN
 
 
-def view_of(game) -> GhostView:
-    """The game's :class:`GhostView` (the defaults when the window set none)."""
-    return getattr(game, "ghost_view", None) or GhostView()
-
-
 def fade(k: int, layers: int) -> float:
     """Opacity factor of the ``k``-th layer of ``layers``: fainter the farther along w."""
     return 1.0 - k / (layers + 1.0) + 0.5 / (layers + 1.0)
 
 
-def layers_of(game) -> list[Layer]:
-    """The ghost layers to draw this frame, nearest first, ana before kata; empty when off."""
-    view, spec = view_of(game), game.level.ghosts
+def layers_of(game, w: float) -> list[Layer]:
+    """The ghost layers to draw this frame about the slice at ``w`` (the frame's eye), nearest
+    first, ana before kata; empty when off."""
+    view, spec = game.ghost_view, game.level.ghosts
     if not (view.enabled and spec.enabled) or view.strength <= 0.0:
         return []
     weight = camera.ghost_weight(game)  # ghosts lie along the world's w: the plain slice's own
@@ -121,11 +118,9 @@ def layers_of(game) -> list[Layer]:
         return []
     d = spec.distance * view.distance
     n = int(min(max(view.layers, 1), MAX_LAYERS))
-    p = game.player
-    w = float(p.position[3])
     lo, hi = game.level.w_range
     # Moving along w (held key or seek): lean in [-1, 1], + towards ana.
-    lean = float(np.clip(p.velocity[3] / W_SPEED, -1.0, 1.0))
+    lean = float(np.clip(game.player.velocity[3] / W_SPEED, -1.0, 1.0))
     out = []
     for k in range(1, n + 1):
         for side in (1, -1):
@@ -190,7 +185,8 @@ def draw(game, frame, alpha) -> None:
     feet = game.player.position
     lo, hi = player_box(feet)
     blocked: list[int] = []
-    for layer in layers_of(game):
+    w = frame.camera.w
+    for layer in layers_of(game, w):
         tag = layer.tag
         shown = table.reaching(layer.w) if table is not None else []
         # Only solid things within reach of the player's box can block it (the bounds
@@ -201,7 +197,6 @@ def draw(game, frame, alpha) -> None:
         ]
         worlds = enumerate(game.scene.worlds)
         things += [(f"{tag}:world:{i}", f"{tag}:world:{i}", wd.mesh, np.eye(5), True) for i, wd in worlds]
-        w = float(feet[3])
         for key, draw_key, mesh, model, solid in things:
             if same_as_slice(mesh, model, w, layer.w):
                 continue  # the ghost would be the section itself, drawn over it
@@ -220,3 +215,6 @@ def draw(game, frame, alpha) -> None:
             frame.drawables.append(Drawable(draw_key, rev, tri, style="ghost", **look))
     frame.hud.w_blocked = tuple(blocked)
     game.sections.keep(PREFIX, used)  # layers or entities that went away
+
+
+SYSTEM = System("ghosts", draw=draw)

@@ -10,16 +10,26 @@ import numpy as np
 
 from .. import health as hp
 from ..frame import HealthGauge
+from ..system import System, encode
+
+
+def setup(game) -> hp.Health | None:
+    """Full health, or None when the level gives the player none (no enemies, no ``[health]``)."""
+    spec = game.level.health
+    return None if spec is None else hp.Health(spec.maximum, spec.maximum, round(spec.invulnerable / game.dt))
+
+
+def state_bytes(game) -> bytes:
+    return encode(game.states.health)
 
 
 def step(game, actions) -> None:
-    if hp.setup(game) is None:
-        return
-    hp.reach_checkpoints(game)
+    if game.states.health is not None:
+        hp.reach_checkpoints(game)
 
 
 def draw(game, frame, alpha) -> None:
-    h = getattr(game, "health", None)
+    h = game.states.health
     if h is None:
         return
     since = game.tick - h.hit_tick
@@ -32,3 +42,6 @@ def draw(game, frame, alpha) -> None:
         frame.hud.damage_dir = float((world - frame.camera.yaw + np.pi) % (2 * np.pi) - np.pi)
     if game.tick < h.message_until and (not frame.hud.message or h.message.startswith("You died")):
         frame.hud.message = h.message
+
+
+SYSTEM = System("health", setup, step, draw, state_bytes)

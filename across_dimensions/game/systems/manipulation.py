@@ -47,7 +47,7 @@ would have after the next step (or :data:`PREVIEW_DEG` without a step), as a
 miniature at most :data:`GHOST_SIZE` across, cut by
 the same hyperplane as the object itself, so they change live as the player
 moves along w. They are drawables only: they never collide and are no entity.
-``game.show_ghosts`` (the window sets it from the settings) switches them off.
+``game.show_ghosts`` (a view option the window sets from the settings) switches them off.
 
 Events: ``manipulation_started`` (grabbed), ``manipulated`` (a turn in a plane
 settled: plane and angle), ``manipulation_ended`` (let go).
@@ -62,10 +62,11 @@ import numpy as np
 from ...core.transform import PLANES, pose
 from ...world.gameplay import ManipulableSpec
 from .. import section_collision
-from ..entities import Placed
+from ..entities import Placed, Scripted
 from ..events import Manipulated, ManipulationEnded, ManipulationStarted
 from ..frame import Drawable, ScreenLabel
 from ..player import player_box
+from ..system import System, encode, fixed
 
 PREVIEW_DEG = 15.0  # what a ghost previews in a plane without a snapping step
 GHOST_GAP = 0.6  # metres between the object's section and the row of ghosts above it
@@ -92,19 +93,20 @@ class Manipulable:
     energy paid for them.
     """
 
-    spec: ManipulableSpec
-    position: np.ndarray
-    rotation_deg: dict
-    scale: np.ndarray
-    offsets: dict = field(default_factory=dict)
-    direction: dict = field(default_factory=dict)
-    moving: dict = field(default_factory=dict)
+    spec: ManipulableSpec = fixed()
+    position: np.ndarray = fixed()
+    rotation_deg: dict = fixed()
+    scale: np.ndarray = fixed()
+    offsets: dict[str, int] = field(default_factory=dict)
+    direction: dict[str, int] = field(default_factory=dict)
+    moving: dict[str, bool] = field(default_factory=dict)
     turned: int = 0
     paid: int = 0
     was_moving: bool = False
-    body: int | None = None  # its kinematic collider in the physics world, when the level has one
-    box_center: np.ndarray = field(default_factory=lambda: np.zeros(4))  # mesh bounds' centre, object frame
-    box_size: np.ndarray = field(default_factory=lambda: np.ones(4))  # mesh bounds' size, scaled
+    #: Its kinematic collider in the physics world, when the level has one.
+    body: int | None = fixed(default=None)
+    box_center: np.ndarray = fixed(default_factory=lambda: np.zeros(4))  # mesh bounds' centre, object frame
+    box_size: np.ndarray = fixed(default_factory=lambda: np.ones(4))  # mesh bounds' size, scaled
 
     slid: int = 0  # micrometres slid along w so far, and the thousandths of energy paid for them
     slide_paid: int = 0
@@ -140,19 +142,17 @@ class Manipulable:
 
 @dataclass
 class Tool:
-    """The manipulation tool (``game.manipulation``): what is aimed at and what is held (entity ids)."""
+    """The manipulation tool (``game.states.manipulation``): what is aimed at and what is held (entity ids)."""
 
     aimed: int | None = None
     held: int | None = None
 
 
-def setup(game) -> None:
-    """Make the level's manipulable objects placed by this system (called once by ``Game``)."""
-    game.manipulation = Tool()
-    game.show_ghosts = True
+def setup(game) -> Tool:
+    """The tool; makes the level's manipulable objects placed by this system."""
     for spec in game.level.manipulables:
         e = game.entities.named(spec.object)
-        obj = getattr(e.motion, "obj", None) if e is not None else None
+        obj = e.motion.obj if e is not None and isinstance(e.motion, Scripted) else None
         if obj is None:
             continue
         data = Manipulable(
@@ -169,6 +169,7 @@ def setup(game) -> None:
         e.motion = Placed(data.model())
         if game.physics is not None:
             _add_collider(game, e)
+    return Tool()
 
 
 def _add_collider(game, e) -> None:
@@ -218,17 +219,8 @@ def _drive_collider(game, d: Manipulable, before: np.ndarray, after: np.ndarray)
 
 
 def state_bytes(game) -> bytes:
-    """What the state hash adds for manipulation: empty when the level has no manipulable object."""
-    ents = game.entities.of_kind("manipulable")
-    if not ents:
-        return b""
-    t = game.manipulation
-    rows = [t.held or 0]
-    for e in ents:
-        d = e.data
-        rows += [e.id, d.turned, d.paid] + ([d.slid, d.slide_paid] if d.spec.slide is not None else [])
-        rows += [d.offsets[p] for p in d.planes] + [d.direction[p] for p in d.planes]
-    return np.array(rows, dtype=np.int64).tobytes()
+    """The tool; the objects' angles and what they cost are their entities' data."""
+    return encode(game.states.manipulation)
 
 
 def aimed_at(game) -> int | None:
@@ -338,7 +330,7 @@ def _snap_target(d: Manipulable, plane: str) -> int | None:
 
 def step(game, actions):
     """Grab, turn, snap and let go; returns the actions the later systems see (walking keys taken while held)."""
-    tool = game.manipulation
+    tool = game.states.manipulation
     if not game.entities.of_kind("manipulable"):
         return None
     held = game.entities.get(tool.held) if tool.held is not None else None
@@ -443,8 +435,8 @@ def ghost_offsets(d: Manipulable) -> list[tuple[str, int, dict]]:
 
 
 def draw(game, frame, alpha) -> None:
-    tool = getattr(game, "manipulation", None)
-    if tool is None or not game.entities.of_kind("manipulable"):
+    tool = game.states.manipulation
+    if not game.entities.of_kind("manipulable"):
         return
     held = game.entities.get(tool.held) if tool.held is not None else None
     if held is None:
@@ -455,10 +447,10 @@ def draw(game, frame, alpha) -> None:
         return
     d = held.data
     _key_label(game, frame, held, d)
-    if not getattr(game, "show_ghosts", True):
+    if not game.show_ghosts:
         game.sections.keep("ghost:", set())
         return
-    w = float(game.player.position[3])
+    w = frame.camera.w
     top = game.sections.bounds(f"tick:{held.id}")
     centre = held.center(game)[:3]
     base_y = (top[1, 1] if not np.isnan(top).any() else centre[1]) + GHOST_GAP
@@ -491,3 +483,6 @@ def ghost_model(mid, target, scale: float) -> np.ndarray:
     m[:3, :3] *= scale
     m[:3, 3] = np.asarray(target, dtype=np.float64) - scale * np.asarray(mid, dtype=np.float64)
     return m
+
+
+SYSTEM = System("manipulation", setup, step, draw, state_bytes)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..events import LevelComplete
+from ..system import System
 
 
 def in_goal(game) -> bool:
@@ -26,3 +27,6 @@ def step(game, actions) -> None:
 def draw(game, frame, alpha) -> None:
     if game.outcome == "complete":
         frame.hud.message = "Level complete"
+
+
+SYSTEM = System("outcome", step=step, draw=draw)

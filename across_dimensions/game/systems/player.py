@@ -7,13 +7,38 @@ when it runs dry and never owes energy; what was travelled is then paid.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..events import Respawned, WBlocked
 from ..player import step_player
+from ..system import System, encode
 from . import seek
 
 FALL_LIMIT = -30.0  # below this y the player has fallen out of the level
+
+
+@dataclass
+class Walk:
+    """What the walk carries from tick to tick (``game.states.player``); the player's own
+    position and velocity are ``game.player``.
+
+    Attributes
+    ----------
+    w_blocked : bool
+        The player pushed along w into something last tick (a new push is a new event).
+    """
+
+    w_blocked: bool = False
+
+
+def setup(game) -> Walk:
+    return Walk()
+
+
+def state_bytes(game) -> bytes:
+    return encode(game.states.player)
 
 
 def _w_budget(game) -> float:
@@ -44,11 +69,15 @@ def step(game, actions) -> None:
         owed = int(np.ceil(travelled * game.level.energy.w_cost_milli - 1e-9))
         game.energy.spend_up_to(game, owed, "w_move")
 
+    walk = game.states.player
     pushing = actions.w != 0.0 and cut is not None
-    if pushing and not game.player_w_blocked:
+    if pushing and not walk.w_blocked:
         game.emit(WBlocked(cut, 1 if actions.w > 0 else -1))
-    game.player_w_blocked = pushing
+    walk.w_blocked = pushing
 
     if p.position[1] < FALL_LIMIT:
         game.respawn()
         game.emit(Respawned())
+
+
+SYSTEM = System("player", setup, step, state_bytes=state_bytes)

@@ -7,6 +7,7 @@ import numpy as np
 from ..player import HALF_WIDTH, HEIGHT, move_axis
 from ..player_bodies import player_collide
 from ..section_collision import Soup
+from ..system import System
 
 PUSH = 0.5  # share of the player's velocity into a body given to it per tick of contact
 
@@ -36,3 +37,6 @@ def step(game, actions) -> None:
     if normal[1] > 0.7:  # standing on a body
         p.on_ground = True
         p.velocity[1] = max(p.velocity[1], 0.0)
+
+
+SYSTEM = System("push", step=step)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..frame import Radar, RadarPin
+from ..system import System
 from .seek import sought_id
 
 
@@ -33,7 +34,8 @@ def draw(game, frame, alpha) -> None:
     # Into the player's frame: x to the right, z ahead, in disc radii.
     x = (rel[:, 0] * np.cos(yaw) - rel[:, 1] * np.sin(yaw)) / reach
     z = (rel[:, 0] * np.sin(yaw) + rel[:, 1] * np.cos(yaw)) / reach
-    height = (c[:, 3] - float(game.player.position[3])) * w_scale
+    w = frame.camera.w
+    height = (c[:, 3] - w) * w_scale
     inside = x * x + z * z <= 1.0
     pins = []
     sought = sought_id(game)
@@ -42,8 +44,11 @@ def draw(game, frame, alpha) -> None:
         if game.camera.detached:
             # Nothing is sliced while the frustum camera is out: say whether it reaches the
             # player's slice (its bounding sphere does), as the slice would show on return.
-            visible = bool(abs(c[k, 3] - float(game.player.position[3])) <= e.radius)
+            visible = bool(abs(c[k, 3] - w) <= e.radius)
         else:
             visible = game.entity_sections.has_section(e.id)  # the sections system sliced it this frame
         pins.append(RadarPin(e.radar, float(x[k]), float(z[k]), float(height[k]), visible, e.id == sought))
     frame.radar = Radar(reach, w_scale, pins)
+
+
+SYSTEM = System("radar", draw=draw)

@@ -5,17 +5,15 @@ worlds extended along w are 4D content: the projection stage draws them, see
 from __future__ import annotations
 
 from ..frame import Drawable
+from ..system import System
 
 
 def draw(game, frame, alpha) -> None:
     scene = game.scene
     frame.sky = "dome"  # the renderer's sky dome (a flat sky_color where it has none)
-    frame.time = game.time + alpha * _dt()
+    frame.time = game.time + alpha * game.dt
     frame.drawables.append(Drawable("static", 0, scene.static_mesh))
     frame.drawables.append(Drawable("floor", 0, scene.floor_mesh, style="floor"))
 
 
-def _dt() -> float:
-    from ..sim import DT  # imported late: the simulation imports this module
-
-    return DT
+SYSTEM = System("scenery", draw=draw)

@@ -10,18 +10,20 @@ are sliced together, one batch per style (see ``game/entity_sections.py``).
 from __future__ import annotations
 
 from ..projection import items, project, reaching
+from ..system import System
 
 
 def draw(game, frame, alpha) -> None:
     rig = game.camera
     things = items(game, alpha)
+    eye = frame.camera.eye4
     if rig.detached:  # frustum projection (and the return's fade): the projection stage, per thing
-        frame.drawables.extend(project(game, rig, things))
+        frame.drawables.extend(project(game, rig, things, eye))
         return
     # The slice: the extended worlds one drawable each; the entities that reach the slice cut
     # together, one kernel call and one draw call per style (game/entity_sections.py).
-    frame.drawables.extend(project(game, rig, [it for it in things if it.entity < 0]))
-    s = float(game.player.position[3])
+    frame.drawables.extend(project(game, rig, [it for it in things if it.entity < 0], eye))
+    s = frame.camera.w
     shown = reaching(rig, [it for it in things if it.entity >= 0], s)
     entities = [game.entities.get(it.entity) for it in shown]
     game.entity_sections.draw(frame, entities, [it.model for it in shown], rig.slice_pose(s), game.sections)
@@ -30,4 +32,8 @@ def draw(game, frame, alpha) -> None:
 def draw_per_object(game, frame, alpha) -> None:
     """The entities as one drawable each, through the projection stage (the path :func:`draw`
     replaces with batches; tests compare the two)."""
-    frame.drawables.extend(project(game, game.camera, [it for it in items(game, alpha) if it.entity >= 0]))
+    things = [it for it in items(game, alpha) if it.entity >= 0]
+    frame.drawables.extend(project(game, game.camera, things, frame.camera.eye4))
+
+
+SYSTEM = System("sections", draw=draw)

@@ -17,7 +17,7 @@ jump is refused it falls back to gliding, which stops at the nearest reachable w
 
 A level can turn seek off with ``[seek] enabled = false``.
 
-State lives on the game as ``game.seek`` (a :class:`Seek`), made on first use.
+The system's state is a :class:`Seek` (``game.states.seek``).
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..events import SeekArrived, SeekBlocked, SeekStarted
+from ..system import System, encode
 
 #: Entity kinds a seek may head for (radar pin kinds of things a player looks for).
 KINDS = ("crystal", "target", "enemy", "body")
@@ -49,7 +50,7 @@ _WHY = {
 
 @dataclass
 class Seek:
-    """What seek is doing (``game.seek``).
+    """What seek is doing (``game.states.seek``).
 
     Attributes
     ----------
@@ -67,7 +68,7 @@ class Seek:
         Shown on the HUD until ``message_tick``.
     """
 
-    order: list = field(default_factory=list)
+    order: list[int | str] = field(default_factory=list)
     index: int = -1
     active: bool = False
     jump: bool = False
@@ -80,11 +81,12 @@ class Seek:
         return self.order[self.index] if 0 <= self.index < len(self.order) else None
 
 
-def state(game) -> Seek:
-    s = getattr(game, "seek", None)
-    if s is None:
-        s = game.seek = Seek()
-    return s
+def setup(game) -> Seek:
+    return Seek()
+
+
+def state_bytes(game) -> bytes:
+    return encode(game.states.seek)
 
 
 def _target_w(game, thing) -> float | None:
@@ -166,11 +168,8 @@ def _press(game, s: Seek, jump: bool) -> None:
 
 def step(game, actions) -> None:
     """Before the player moves: presses start, cycle or end a seek."""
-    s = getattr(game, "seek", None)
+    s = game.states.seek
     presses = actions.pressed("seek") + actions.pressed("seek_jump")
-    if s is None and not presses:
-        return
-    s = state(game)
     if actions.w != 0.0 and s.active:
         s.active = False  # the player's own w key takes over
     for _ in range(presses):
@@ -179,8 +178,8 @@ def step(game, actions) -> None:
 
 def w_goal(game) -> tuple[float, bool] | None:
     """``(w, jump)`` for ``step_player`` while a seek is under way, else None."""
-    s = getattr(game, "seek", None)
-    if s is None or not s.active:
+    s = game.states.seek
+    if not s.active:
         return None
     target = _target_w(game, s.sought)
     if target is None:  # taken or removed on the way
@@ -192,8 +191,8 @@ def w_goal(game) -> tuple[float, bool] | None:
 
 def moved(game, cut: str | None) -> None:
     """After the player moved: arrival, or a stop short (``cut`` says why)."""
-    s = getattr(game, "seek", None)
-    if s is None or not s.active:
+    s = game.states.seek
+    if not s.active:
         return
     w = float(game.player.position[3])
     target = _target_w(game, s.sought)
@@ -211,8 +210,8 @@ def moved(game, cut: str | None) -> None:
 
 def sought_id(game):
     """The entity id (or :data:`GOAL`) the radar highlights: the one sought now or just now."""
-    s = getattr(game, "seek", None)
-    if s is None or s.sought is None:
+    s = game.states.seek
+    if s.sought is None:
         return None
     if s.active or game.tick - s.last_tick <= round(CYCLE_SECONDS / game.dt):
         return s.sought
@@ -220,6 +219,9 @@ def sought_id(game):
 
 
 def draw(game, frame, alpha) -> None:
-    s = getattr(game, "seek", None)
-    if s is not None and s.message and game.tick < s.message_tick and not frame.hud.message:
+    s = game.states.seek
+    if s.message and game.tick < s.message_tick and not frame.hud.message:
         frame.hud.message = s.message
+
+
+SYSTEM = System("seek", setup, step, draw, state_bytes)

@@ -10,9 +10,33 @@ without enough energy or rounds nothing fires and the HUD says so. See
 
 from __future__ import annotations
 
+from ...core.shapes import make_shape
+from ...world.scene import build_physics
 from .. import weapons as wp
+from ..entities import reach
 from ..events import Blast, FieldCast, ShotFired, WeaponRefused, WeaponSelected
 from ..frame import WeaponPanel
+from ..system import System, encode
+
+
+def setup(game) -> wp.Arsenal | None:
+    """The arsenal, with the level's targets spawned; None in a level without weapons or targets."""
+    specs, targets = list(game.level.weapons), list(game.level.targets)
+    if not specs and not targets:
+        return None
+    if game.physics is None and any(s.kind == "gun" for s in specs):
+        game.physics, _ = build_physics(game.scene, game.dt)  # bullets are bodies
+    mesh = make_shape("120-cell").with_color(wp.BULLET_COLOR)
+    rounds = [s.ammo if s.kind == "gun" else -1 for s in specs]
+    ars = wp.Arsenal(specs, ready=[0] * len(specs), rounds=rounds, bullet_mesh=mesh, bullet_reach=reach(mesh))
+    for t in targets:
+        wp.spawn_target(game, t)
+    return ars
+
+
+def state_bytes(game) -> bytes:
+    """The arsenal; bullets and targets are entities (their data is hashed with them)."""
+    return encode(game.states.weapons)
 
 
 def _select(game, ars, actions) -> None:
@@ -56,7 +80,7 @@ def _use(game, ars) -> None:
 
 
 def step(game, actions) -> None:
-    ars = wp.setup(game)
+    ars = game.states.weapons
     if ars is None:
         return
     wp.expire_field(game)
@@ -71,7 +95,7 @@ def step(game, actions) -> None:
 
 
 def draw(game, frame, alpha) -> None:
-    ars = getattr(game, "arsenal", None)
+    ars = game.states.weapons
     if ars is None or not ars.specs:
         return
     spec = ars.current
@@ -89,3 +113,6 @@ def draw(game, frame, alpha) -> None:
         ammo=ars.rounds[ars.slot],
     )
     frame.hud.hit_marker = max(0.0, 1.0 - (game.tick - ars.hit_tick) / wp.HIT_MARKER_TICKS)
+
+
+SYSTEM = System("weapons", setup, step, draw, state_bytes)

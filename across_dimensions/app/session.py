@@ -1,0 +1,259 @@
+"""What the views of one window share, and the moves between them.
+
+A :class:`Session` lives as long as the window. It holds the player's settings and progress,
+the campaign, the menus' model, the renderer, the sound, notices, the hints, the recording and
+the kernel warm-up; and it moves the window between views: :meth:`Session.start_level`,
+:meth:`Session.to_title`, :meth:`Session.next_level`, :meth:`Session.open_editor`. Views reach
+each other only through it and through their own methods.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..core.errors import InputError
+from ..core.fileio import FileProblem
+from ..game.systems.ghosts import GhostView
+from ..render.menu import MenuRenderer
+from ..render.renderer import Renderer
+from ..render.scale import ScaledTarget, resolve_render_scale
+from ..world.campaign import CampaignEntry, CampaignError, load_campaign, next_in_campaign
+from ..world.resources import level_files
+from .editor import missing_message
+from .input import Bindings
+from .menu import Menu
+from .onboarding import Onboarding
+from .recording import Recording
+from .saves import load_progress, save_progress
+from .settings import Settings, save_settings
+from .sound import SoundDirector, SoundOut
+from .views.menus import TitleView
+from .views.play import PlayView
+from .views.startup import StartupView
+from .warmup import BackgroundWarmUp
+
+
+@dataclass
+class Start:
+    """How the window starts: the command line's choices.
+
+    Attributes
+    ----------
+    level_path : Path or None
+        A level to play at once; None opens the title screen.
+    seed : int
+    record : str or None
+        ``--record FILE``: record the first level played to FILE.
+    warnings : list of str
+        Settings warnings, shown as one line at the bottom.
+    screenshot_after, quit_after : float or None
+        Seconds, from the level's first frame when a level was named, else from the window's.
+    warm_first : bool
+        Compile the kernels behind a loading screen before ``level_path`` starts.
+    settings_file : path or None
+        Where menu changes are saved (``--settings``); the default settings file otherwise.
+    warm : BackgroundWarmUp or None
+        A warm-up already running (started before the window, so the two overlap); one is
+        started when needed and not given.
+    edit : bool
+        Open ``level_path`` in the level editor.
+    """
+
+    level_path: Path | None = None
+    seed: int = 0
+    record: str | None = None
+    warnings: list[str] = field(default_factory=list)
+    screenshot_after: float | None = None
+    quit_after: float | None = None
+    warm_first: bool = False
+    settings_file: str | os.PathLike | None = None
+    warm: BackgroundWarmUp | None = None
+    edit: bool = False
+
+
+@dataclass
+class PlayOptions:
+    """The play view's toggles, kept from level to level: the FPS counter, the
+    picture-in-picture inset (render/pip.py), the ghosts and the physics debug overlay."""
+
+    show_fps: bool
+    pip: bool
+    ghosts: GhostView
+    debug_draw: bool = False
+
+
+class Session:
+    """The shared state of one window's views.
+
+    Parameters
+    ----------
+    window : GameWindow
+    settings : Settings
+    start : Start
+    """
+
+    def __init__(self, window, settings: Settings, start: Start):
+        self.window = window
+        self.settings, self.settings_file, self.seed = settings, start.settings_file, start.seed
+        self.bindings = Bindings(settings)
+        self.renderer = Renderer(window.ctx)
+        # The scene at a fraction of the window (settings.render_scale), upscaled; HUD at full size.
+        self.scaled = ScaledTarget(window.ctx, resolve_render_scale(settings.render_scale, window.ctx))
+        self.menu_renderer = MenuRenderer(self.renderer.hud)
+        self.sound = SoundOut(settings.volume, settings.mute)
+        self.sound_director = SoundDirector()
+        ghosts = GhostView(settings.ghosts, settings.ghost_distance, settings.ghost_strength, settings.ghost_layers)
+        self.options = PlayOptions(settings.show_fps, settings.pip, ghosts)
+        self.debug_overlay = None  # the physics overlay's GL objects (render/debug_draw.py), made on first use
+        self.notice = ("", 0.0)  # (text, seconds left)
+        self.progress, progress_warnings = load_progress()
+        self.save_problem_said = False
+        for w in progress_warnings:
+            print(f"warning: {w}", file=sys.stderr, flush=True)
+        # Settings and save warnings: one line at the bottom (details in the log and on the
+        # terminal), never over a hint.
+        self.onboarding = Onboarding(" ".join([*start.warnings, *progress_warnings]), card=not start.record)
+        self.campaign = _campaign()
+        self.menu = Menu(settings, self.progress, self.campaign, on_change=self.setting_changed)
+        self.recording = Recording(start.record, self.say, self.warn)
+        self.warm = start.warm
+        if (start.level_path is None or start.warm_first) and self.warm is None:
+            self.warm = BackgroundWarmUp()
+            self.warm.start()
+        self.editor = None  # the level editor's view (app/editor), made on first use
+        if settings.colour_blind:
+            self.apply_palette()
+
+    # ---------------------------------------------------------------- moves
+    def first_view(self, start: Start) -> None:
+        """Show the title screen, or the level named on the command line (in the editor with ``edit``)."""
+        if start.level_path is None:
+            self.window.show_view(TitleView(self))
+            return
+        self.start_level(start.level_path)
+        if start.edit:
+            self.open_editor(self.window.current_view, from_play=False)
+
+    def start_level(self, path: Path, checkpoint: int | None = None) -> None:
+        """Play ``path`` from ``checkpoint``, once the kernels are ready (a loading view until then)."""
+        self.menu.close()
+        if self.warm is not None and not self.warm.ready:
+            self.window.show_view(StartupView(self, Path(path), checkpoint))
+            return
+        if self.warm is not None and self.warm.seconds is not None:
+            timing(f"kernels ready after {self.warm.seconds:.1f} s of warm-up")
+        self.window.show_view(PlayView(self, Path(path), checkpoint))
+
+    def to_title(self, message: str = "") -> None:
+        """Leave the level (its place is saved for Continue) for the title screen."""
+        self.recording.stop()
+        self.save_progress()
+        self.menu.message = message
+        self.window.show_view(TitleView(self))
+
+    def next_level(self, after: Path) -> None:
+        """The level after ``after`` in the campaign (in the shipped files, for a level outside it);
+        after the last one, the title screen."""
+        stem = after.stem
+        if stem in [e.stem for e in self.campaign]:
+            entry = next_in_campaign(self.campaign, stem)
+            following = entry.path if entry else None
+        else:
+            files = level_files()
+            names = [f.resolve() for f in files]
+            i = names.index(after.resolve()) if after.resolve() in names else len(files)
+            following = files[i + 1] if i + 1 < len(files) else None
+        if following is not None:
+            self.start_level(following)
+            return
+        self.progress.current, self.progress.checkpoint = None, None
+        self.to_title("Campaign complete - thanks for playing!")
+
+    def open_editor(self, play, from_play: bool = True) -> None:
+        """Open the level editor (an optional extra) over ``play``; its own key brings the game back."""
+        problem = missing_message()
+        if problem:
+            self.say(problem, 8.0)
+            return
+        from .editor.mode import EditorView  # the optional extra's GUI libraries: only when asked for
+
+        try:  # the file may have broken on disk since the level was loaded: the game goes on
+            if self.editor is None:
+                self.editor = EditorView(self, play.level_path)
+            self.editor.enter(play, from_play)
+        except (InputError, OSError) as e:
+            self.warn(f"Cannot open the editor: {str(e).splitlines()[0]}")
+
+    # ---------------------------------------------------------------- services
+    def tick(self, dt: float) -> None:
+        """``dt`` wall-clock seconds passed: notices, the hints' animations, the warm-up's failure."""
+        text, left = self.notice
+        self.notice = (text, left - dt)
+        self.onboarding.wall(dt)
+        for name in self.onboarding.take_ui_cues():
+            self.sound.ui(name)
+        if self.warm is not None and self.warm.ready and self.warm.error is not None:
+            self.say(f"Kernel warm-up failed: {self.warm.error}", 8.0)
+            self.warm.error = None
+
+    @property
+    def notice_text(self) -> str:
+        """The notice on screen now, or ``""``."""
+        text, left = self.notice
+        return text if left > 0 else ""
+
+    def say(self, text: str, seconds: float = 4.0) -> None:
+        """Show ``text`` for ``seconds`` (over the level's prompts)."""
+        self.notice = (text, seconds)
+
+    def warn(self, message: str) -> None:
+        """A problem the player should know of: on screen, and on the terminal."""
+        self.say(message, 8.0)
+        print(f"warning: {message}", file=sys.stderr, flush=True)
+
+    def save_progress(self) -> None:
+        try:
+            save_progress(self.progress)
+        except (FileProblem, OSError) as e:
+            if not self.save_problem_said:  # once: a read-only folder must not flood the screen
+                self.save_problem_said = True
+                self.warn(f"Progress not saved: {e}")
+
+    def setting_changed(self, name: str) -> None:
+        """A menu changed a setting: apply it now and save the settings file atomically."""
+        s = self.settings
+        if name == "bindings":
+            self.bindings.update(s)
+        if name == "colour_blind":
+            self.apply_palette()
+        if name == "render_scale":
+            self.scaled.scale = resolve_render_scale(s.render_scale, self.window.ctx)
+        try:
+            save_settings(s, self.settings_file)
+        except (OSError, InputError, ValueError) as e:
+            self.say(f"Settings not saved: {e}", 6.0)
+
+    def apply_palette(self) -> None:
+        """Switch the renderer's palette, through its hook when it has one (``set_palette(name)``)."""
+        set_palette = getattr(self.renderer, "set_palette", None)
+        if set_palette is not None:
+            set_palette("colour_blind" if self.settings.colour_blind else "default")
+
+
+def _campaign() -> list[CampaignEntry]:
+    try:
+        return load_campaign()
+    except CampaignError as e:  # still playable: every shipped level, in file order
+        print(f"warning: {e}", file=sys.stderr, flush=True)
+        return [CampaignEntry(p.stem, p.stem, "", p) for p in level_files()]
+
+
+def timing(what: str) -> None:
+    """With ``ACROSS_DIMENSIONS_TIMING`` set, print when ``what`` happened (Unix time), for the
+    start-up measurements in the README."""
+    if os.environ.get("ACROSS_DIMENSIONS_TIMING"):
+        print(f"timing: {what} at {time.time():.3f}", flush=True)
