@@ -99,5 +99,5 @@ def test_recordings_follow_the_data_folder(monkeypatch, tmp_path):
     assert saves.replay_folder() == tmp_path / "replays"
     monkeypatch.delenv(saves.DATA_DIR_ENV)
     assert saves.replay_folder().parent == saves.data_folder() != tmp_path
-    window = (Path(saves.__file__).parent / "window.py").read_text()
-    assert "replay_folder()" in window and "user_data_dir" not in window  # the window asks saves
+    recording = (Path(saves.__file__).parent / "recording.py").read_text()
+    assert "replay_folder()" in recording and "user_data_dir" not in recording  # F9 asks saves
