@@ -104,12 +104,12 @@ def test_in_the_window_f12_f9_and_f2_never_end_the_game(env, tmp_path, xvfb):
         time.sleep(then)
 
     try:
-        for _ in range(600):
-            found = subprocess.run(["xdotool", "search", "--name", "Across Dimensions"], env=e, capture_output=True)
+        for _ in range(900):  # the level's name in the caption: the kernels are loaded and it plays
+            found = subprocess.run(["xdotool", "search", "--name", "First Steps"], env=e, capture_output=True)
             if found.stdout.strip():
                 break
             time.sleep(0.2)
-        time.sleep(3.0)
+        time.sleep(1.0)
         key("F12")
         key("F9", 2.5)  # record ...
         key("F9")  # ... and stop
