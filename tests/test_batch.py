@@ -206,7 +206,7 @@ def test_frustum_batch_projects_like_the_per_object_projection(meshes):
 
 def test_frustum_silhouette_drops_only_hidden_faces(gl_ctx, meshes):
     """Drawn opaque, the outline faces alone give the picture all faces give, with far fewer triangles."""
-    from across_dimensions.render.bench_scene import FRUSTUM_FOV, _Scene, spin
+    from across_dimensions.bench.scene import FRUSTUM_FOV, _Scene, spin
 
     pictures, counts = {}, {}
     for silhouette in (False, True):
@@ -453,7 +453,7 @@ def test_slicing_by_tets_stays_the_per_object_slicer(meshes):
 
 def test_cells_draw_the_picture_tets_draw_with_far_fewer_triangles(gl_ctx, meshes):
     """Rotating 120-cells and tesseracts filling the view, sliced by cells and by tets."""
-    from across_dimensions.render.bench_scene import grid, spin
+    from across_dimensions.bench.scene import grid, spin
 
     n = 24
     centers, dist = grid(n)

@@ -394,6 +394,13 @@ def test_bench_quick_prints_throughput_and_copy_baseline(cli):
     assert len(rows) >= 2, out
     # The game's own figures, each next to its baseline from the same run.
     assert re.search(r"Game\.step:\s+[\d.]+ ms per tick\s+\(baseline, no entities: [\d.]+ ms", out), out
+    assert re.search(r"1000 crystals .*Game\.step [\d.]+ ms per tick\s+\(baseline, the path without them", out), out
+    assert re.search(r"64 enemies on their own .*Game\.step [\d.]+ ms\s+\(baseline, the hall without them", out), out
+    # A PASS or FAIL line for each CPU target, after the figures.
+    for target in ("Game.frame, 200 entities <= 2 ms", "Game.step, 10 enemies in view <= 1 ms",
+                   "Game.frame, 10 enemies in view <= 2 ms", "Game.step, 64 enemies <= 4 ms",
+                   "Game.step, 1000 crystals <= 2 ms"):  # fmt: skip
+        assert re.search(rf"\[(PASS|FAIL)\] {re.escape(target)}: [\d.]+ ms \(baseline", out), (target, out)
     # The 4D camera's modes, next to cross-section on the same scene.
     modes = r"cross-section [\d.]+ ms\s+frustum, camera still [\d.]+ ms\s+frustum, orbiting [\d.]+ ms"
     assert re.search(modes, out), out

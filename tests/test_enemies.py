@@ -79,7 +79,7 @@ def fire(game, ticks=40):
 @pytest.fixture
 def frozen(monkeypatch):
     """Enemies that stay at their post: the tests of hits are about geometry, not behaviour."""
-    monkeypatch.setattr(enemy_system, "_think", lambda game, foe: None)
+    monkeypatch.setattr(enemy_system, "_think", lambda game, foe, moves: None)
 
 
 # ------------------------------------------------------------------ bodies and animation

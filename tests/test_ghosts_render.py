@@ -80,14 +80,14 @@ def test_unknown_ghost_pattern_is_refused(renderer, target):
 
 @pytest.mark.gl
 def test_bench_ghosts_command_runs(gl_ctx):
-    cmd = [sys.executable, "-m", "across_dimensions.render.bench_ghosts", "--frames", "12"]
+    cmd = [sys.executable, "-m", "across_dimensions.bench.ghosts", "--frames", "12"]
     p = subprocess.run(cmd, check=False, capture_output=True, text=True, timeout=600)
     assert p.returncode == 0, p.stderr
     assert "ghosts off" in p.stdout and "ghosts on" in p.stdout and "ms" in p.stdout
 
 
 def test_bench_ghosts_command_refuses_bad_arguments():
-    cmd = [sys.executable, "-m", "across_dimensions.render.bench_ghosts", "--layers", "3"]
+    cmd = [sys.executable, "-m", "across_dimensions.bench.ghosts", "--layers", "3"]
     p = subprocess.run(cmd, check=False, capture_output=True, text=True, timeout=120)
     assert p.returncode == 2 and "--layers" in p.stderr and "Traceback" not in p.stderr
 

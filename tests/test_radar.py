@@ -13,6 +13,7 @@ import sys
 import numpy as np
 import pytest
 
+from across_dimensions.bench.hud import demo_pins, hud_demo_frame, random_pins
 from across_dimensions.game.frame import (
     RADAR_KINDS,
     Camera3,
@@ -22,7 +23,6 @@ from across_dimensions.game.frame import (
     Radar,
     RadarPin,
 )
-from across_dimensions.render.bench_hud import demo_pins, hud_demo_frame, random_pins
 from across_dimensions.render.context import Offscreen, RenderError
 from across_dimensions.render.demo import box_mesh
 from across_dimensions.render.hud import HudMetrics
@@ -331,7 +331,7 @@ def test_bench_hud_command_runs(gl_ctx, tmp_path):
     cmd = [
         sys.executable,
         "-m",
-        "across_dimensions.render.bench_hud",
+        "across_dimensions.bench.hud",
         "--frames",
         "5",
         "--pins",
@@ -347,7 +347,7 @@ def test_bench_hud_command_runs(gl_ctx, tmp_path):
 
 def test_bench_hud_command_refuses_bad_arguments():
     p = subprocess.run(
-        [sys.executable, "-m", "across_dimensions.render.bench_hud", "--frames", "many"],
+        [sys.executable, "-m", "across_dimensions.bench.hud", "--frames", "many"],
         check=False,
         capture_output=True,
         text=True,

@@ -176,7 +176,7 @@ def test_shipped_levels_have_no_solid_4d_object():
 
 
 def test_collision_benchmark_runs_and_reports_both_ways():
-    from across_dimensions.game.bench import bench_collision
+    from across_dimensions.bench.collision import bench_collision
 
     r = bench_collision(ticks=20)
     for key in ("section_median_ms", "section_p95_ms", "box_median_ms", "box_p95_ms", "triangles"):

@@ -1,9 +1,9 @@
 """``bench scene`` and ``bench levels``: the rendering benchmarks on the command line.
 
 ``bench scene`` reproduces the paper's "Rendering performance" figure (see
-:mod:`across_dimensions.render.bench_scene`); ``bench levels`` renders every
+:mod:`across_dimensions.bench.scene`); ``bench levels`` renders every
 shipped level from a grid of standing points and directions (see
-:mod:`across_dimensions.render.bench_levels`). Both print a table and the
+:mod:`across_dimensions.bench.levels`). Both print a table and the
 issue's targets next to the measured figures, or with ``--json`` only the rows
 as one JSON list on stdout (targets then go to stderr).
 """
@@ -67,7 +67,7 @@ def _say(args):
 
 
 def _scene(args) -> int:
-    from ..render import bench_scene
+    from ..bench import scene as bench_scene
 
     modes = tuple(m.strip() for m in args.modes.split(",") if m.strip())
     bad = [m for m in modes if m not in bench_scene.MODES]
@@ -111,7 +111,7 @@ def _scene(args) -> int:
 
 
 def _levels(args) -> int:
-    from ..render import bench_levels
+    from ..bench import levels as bench_levels
 
     out = _say(args)
     rows = bench_levels.run(

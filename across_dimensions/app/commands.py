@@ -349,111 +349,11 @@ def lift(args) -> int:
 
 
 def bench(args) -> int:
-    from ..core import bench as core_bench
-
     if args.what is not None:  # bench scene / bench levels
         from . import bench_commands
 
         return bench_commands.run(args)
+    from ..bench import report
 
-    _out("Cross-section and frustum projection, one thread (median of runs):")
-    sizes = (100_000, 300_000) if args.quick else (100_000, 1_000_000, 4_000_000)
-    core_bench.run(sizes=sizes, repeat=3 if args.quick else 7, out=_out)
-    if not args.no_physics:
-        try:
-            from ..physics.bench import report
-        except ImportError:
-            _out("physics benchmark: not available")
-        else:
-            _out("")
-            _out("Physics, piles of mixed dynamic bodies in contact (hyperspheres and hypercubes), one core:")
-            report(_out, sizes=(200,) if args.quick else (200, 1000), ticks=100 if args.quick else 200)
-    _bench_game(args)
+    report.run(out=_out, quick=args.quick, physics=not args.no_physics)
     return 0
-
-
-def _bench_game(args) -> None:
-    """The game's own machinery: entities and systems per tick, HUD and radar per frame."""
-    from ..game.bench import bench_camera, bench_collision, bench_entities
-
-    _out("")
-    _out("Game systems, 200 entities (100 crystals, 100 spinning 5-cells) vs the same level empty:")
-    res = bench_entities(200, ticks=240 if args.quick else 600)
-    _out(
-        f"  Game.step:  {res['entities_step_ms']:.3f} ms per tick   (baseline, no entities: "
-        f"{res['baseline_step_ms']:.3f} ms; target: entities add < 0.5 ms)"
-    )
-    _out(
-        f"  Game.frame: {res['entities_frame_ms']:.3f} ms per frame  (baseline: {res['baseline_frame_ms']:.3f} ms; "
-        "sections of what reaches the slice included)"
-    )
-    from ..game.bench import bench_enemies
-
-    foes = bench_enemies(10, ticks=120 if args.quick else 300)
-    _out("")
-    _out(
-        f"Enemies: {foes['enemies']} animated in view ({foes['tets']:,} tetrahedra), each re-sliced every tick "
-        f"({foes['sections_per_frame']:.1f} sections per frame):"
-    )
-    _out(
-        f"  Game.step {foes['enemies_step_ms']:.2f} ms, Game.frame {foes['enemies_frame_ms']:.2f} ms   "
-        f"(baseline, the hall without them: {foes['baseline_step_ms']:.2f} ms, {foes['baseline_frame_ms']:.2f} ms; "
-        "a 60 Hz frame is 16.7 ms)"
-    )
-    col = bench_collision(120 if args.quick else 300)
-    _out("")
-    _out(f"Walker collision per tick, solid 4D objects turning every tick (~{col['triangles']:.0f} section triangles):")
-    _out(
-        f"  true sections {col['section_median_ms']:.3f} ms median, {col['section_p95_ms']:.3f} ms p95   "
-        f"(baseline, their bounding boxes: {col['box_median_ms']:.3f} ms median; a tick is "
-        f"{col['tick_budget_ms']:.1f} ms)"
-    )
-    cam = bench_camera(cycles=2 if args.quick else 4)
-    _out("")
-    _out(f"The 4D camera on {cam['level']}, Game.step + Game.frame per tick, median (no GPU):")
-    _out(
-        f"  cross-section {cam['synced_ms']:.2f} ms   frustum, camera still {cam['frustum_still_ms']:.2f} ms   "
-        f"frustum, orbiting {cam['frustum_orbit_ms']:.2f} ms   returning {cam['returning_ms']:.2f} ms"
-    )
-    _out(
-        f"  switch tick {cam['switch_ms']:.2f} ms, hand-over tick {cam['handover_ms']:.2f} ms (slowest); "
-        f"picture in picture on: cross-section {cam['synced_pip_ms']:.2f} ms, frustum {cam['frustum_pip_ms']:.2f} ms"
-    )
-    try:
-        from ..render.bench_ghosts import bench_ghosts
-        from ..render.bench_hud import bench_hud
-        from ..render.context import RenderError, create_offscreen_context
-
-        ctx = create_offscreen_context()
-    except (ImportError, RenderError) as e:
-        _out(f"HUD, radar and ghosts: skipped (no OpenGL context: {e})")
-        return
-    _out("")
-    _out("HUD and radar at 1280x720, CPU time per frame (target < 1 ms):")
-    try:
-        for pins in (20, 200):
-            hud = bench_hud(ctx, n_pins=pins, frames=100 if args.quick else 300)
-            _out(
-                f"  {pins:3d} radar pins: HUD with energy bar and radar {hud['hud_energy_radar_ms']:.3f} ms   "
-                f"(baseline, HUD alone: {hud['hud_ms']:.3f} ms); numpy layout {hud['layout_ms']:.3f} ms, "
-                f"inside the radar's {hud['radar_draw_calls']} draw calls {hud['radar_driver_ms']:.3f} ms"
-            )
-    finally:
-        ctx.release()
-    g = bench_ghosts(frames=60 if args.quick else 120)
-    _out("")
-    _out(f"Ghosts along w on {g['level']}, moving along w, 1280x720, median per frame (budget: 2x the slice's cost):")
-    _out(
-        f"  ghosts on: sections {g['on']['sections']:.2f} ms, frame {g['on']['frame']:.1f} ms   (baseline, ghosts off: "
-        f"sections {g['off']['sections']:.2f} ms, frame {g['off']['frame']:.1f} ms); ghosts cost "
-        f"{g['ghost_section_ratio']:.2f}x the slice's own projection"
-    )
-    from ..render.bench_look import bench_look
-
-    _out("")
-    _out("Scene look, every shipped level at 1280x720, draw + finish, median per frame (wall, and CPU of all threads):")
-    for row in bench_look(frames=20 if args.quick else 60):
-        _out(
-            f"  {row['level']:24s} sci-fi {row['scifi']:6.1f} ms (CPU {row['scifi_cpu']:5.1f})   "
-            f"(baseline, flat look: {row['flat']:6.1f} ms (CPU {row['flat_cpu']:5.1f}))"
-        )

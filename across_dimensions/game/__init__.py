@@ -17,6 +17,8 @@
 - :mod:`.actions`, :mod:`.replay` -- per-tick player intent, and replays of it
   (:mod:`.replay_format` reads the files, :mod:`.playback` plays them).
 - :mod:`.frame` -- plain data for the renderer: camera, drawables, HUD, radar.
+- :mod:`.poses`, :mod:`.entity_models` -- many poses in one pass (the same bits as one by
+  one): every enemy's each tick, every drawn entity's each frame.
 
 Nothing here imports a window or GL library or reads the wall clock; see
 ``CONVENTIONS.md`` at the repository's top level.

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.section_batch import SectionBatch
+from ..core.transform import translation
 from .frame import Drawable, Frame, TriangleBatch
 
 #: Widest window shape culling allows for (width / height): the frame does not
@@ -59,6 +60,7 @@ class EntitySections:
 
     def __init__(self):
         self.batches: dict[str, SectionBatch] = {}
+        self.ghost_batches: dict[str, SectionBatch] = {}  # per ghost layer (its tag)
         self._sliced: dict[int, bool] = {}  # entity id -> its section is non-empty (or, culled by view: reaches w)
 
     def draw(self, frame: Frame, entities, models, camera: np.ndarray, sections) -> None:
@@ -107,6 +109,26 @@ class EntitySections:
             tri, rev = sections.section(f"draw:{e.id}", e.mesh, m, camera)
             frame.drawables.append(Drawable(f"entity:{e.id}", rev, tri, style="wire"))
             self._sliced[e.id] = not tri.is_empty
+
+    def ghost_layer(self, frame: Frame, layer, entities, models, planes: np.ndarray) -> None:
+        """Slice ``entities`` (placed by ``models (k, 5, 5)``) by the plain slice at ``layer.w``
+        into one ghost batch in the layer's tint, pattern and opacity (a
+        :class:`~.systems.ghosts.Layer`); ``planes`` are the view's (:func:`view_planes`)."""
+        batch = self.ghost_batches.get(layer.tag)
+        if batch is None:
+            batch = self.ghost_batches[layer.tag] = SectionBatch()
+        ids = [e.id for e in entities]
+        batch.update(ids, [e.mesh for e in entities], models, translation((0.0, 0.0, 0.0, layer.w)), planes)
+        look = {"tint": layer.tint, "pattern": layer.pattern, "opacity": layer.opacity, "outside_only": True}
+        members = tuple(f"{layer.tag}:entity:{i}" for i in ids)
+        key = f"{layer.tag}:entities"
+        frame.batches.append(TriangleBatch(key, batch.revision, batch.vertices, "ghost", batch.changed_from, **look,
+                                           members=members))  # fmt: skip
+
+    def keep_ghosts(self, tags) -> None:
+        """Free the batches of ghost layers not drawn this frame."""
+        for tag in [t for t in self.ghost_batches if t not in tags]:
+            del self.ghost_batches[tag]
 
     def has_section(self, entity_id: int) -> bool:
         """Was the entity's section non-empty in the last frame drawn?

@@ -435,6 +435,8 @@ class TriangleBatch:
         the batch as 4D matter with the w cue, as it does a drawable with a ``w_offset``.
     outside_only : bool
         As :attr:`Drawable.outside_only`: closed surfaces wound counter-clockwise from outside.
+    tint, pattern, opacity
+        As :class:`Drawable`'s, for a ``"ghost"`` batch (a layer of ghosts along w).
     """
 
     key: str
@@ -450,3 +452,6 @@ class TriangleBatch:
     members: tuple = ()
     w_cue: bool = False  # each vertex's colour alpha is its thing's w offset (4D things: the renderer's w cue)
     outside_only: bool = False  # closed surfaces, wound counter-clockwise from outside: inner faces skipped
+    tint: tuple | None = None
+    pattern: str = ""
+    opacity: float = 1.0

@@ -27,12 +27,10 @@ import numpy as np
 from ..core.frustum import frustum_project
 from ..core.mesh import TetMesh4
 from .camera import FRUSTUM_NEAR, CameraRig
+from .entity_models import INDICATOR_KINDS
 from .entity_sections import w_offset
 from .frame import Drawable
 
-#: Kinds the projection stage leaves alone: the camera's own indicators are drawn
-#: where they stand in slice space, never projected (see ``systems/camera.py``).
-INDICATOR_KINDS = ("camera_focus", "camera_eye")
 #: How far beyond the slice (metres along the 4D camera's view) frustum projection
 #: still draws: farther things are a few pixels and would cost as much as near ones.
 FRUSTUM_REACH = 12.0
@@ -84,12 +82,14 @@ class FrustumCache:
             del self._entries[k]
 
 
+def world_items(game) -> list[Item]:
+    """The extended worlds as items (they span the level: never culled)."""
+    return [Item(f"world:{i}", w.mesh, _identity, np.zeros(4), np.inf) for i, w in enumerate(game.scene.worlds)]
+
+
 def items(game, alpha: float | None) -> list[Item]:
     """Everything 4D in ``game`` to draw: extended worlds, then entities with a mesh in spawn order."""
-    out = [
-        Item(f"world:{i}", w.mesh, _identity, np.zeros(4), np.inf)  # worlds span the level: never culled
-        for i, w in enumerate(game.scene.worlds)
-    ]
+    out = world_items(game)
     table = game.entity_table()
     for e, c in zip(table.entities, table.centers):
         if e.mesh is None or e.kind in INDICATOR_KINDS:
@@ -184,4 +184,14 @@ def project(game, rig: CameraRig, things: list[Item], eye: np.ndarray, other: bo
     return under + frustum_views(rig.cache, rig, things, pose, place, fade=fade)
 
 
-__all__ = ["FrustumCache", "INDICATOR_KINDS", "Item", "cross_sections", "frustum_views", "items", "project", "reaching"]
+__all__ = [
+    "FrustumCache",
+    "INDICATOR_KINDS",
+    "Item",
+    "cross_sections",
+    "frustum_views",
+    "items",
+    "project",
+    "reaching",
+    "world_items",
+]

@@ -29,6 +29,7 @@ from .actions import Actions
 from .camera import CameraRig
 from .energy import EnergyBar
 from .entities import EntityStore, EntityTable, Rigid, Scripted, reach
+from .entity_models import EntityModels
 from .entity_sections import EntitySections
 from .events import Event
 from .frame import Camera3, Frame, Hud
@@ -94,10 +95,12 @@ class Game:
         self.sections = SectionCache()
         self.meshes = MeshParts(self.scene)  # [[mesh]] and [[world.mesh]] collide by their surfaces
         self.entity_sections = EntitySections()  # what the frame draws of the entities, batched
+        self.entity_models = EntityModels()  # the drawn entities' models, made in one pass
         self.physics, body_of = build_physics(self.scene, DT)
         self.entities = EntityStore()
         self._table_key: tuple | None = None
         self._table: EntityTable | None = None
+        self._moving: list[int] = []  # rows of the table whose centre can change from tick to tick
         self._colliders_key: tuple | None = None
         self._colliders: dict[float, np.ndarray] = {}
         self._sections: dict[float, list] = {}
@@ -166,6 +169,24 @@ class Game:
         self._prev_eye = self._eye4()
         self._prev_view = (p.yaw, p.pitch)
 
+    def place_player(self, position, yaw: float | None = None, pitch: float | None = None) -> None:
+        """Stand the player at ``position (4,)`` (feet), at rest, turned to ``yaw`` and ``pitch``
+        (radians) when given, and draw from there without blending from where it was (a
+        benchmark's viewpoint, a test's setup)."""
+        p = self.player
+        p.position = np.array(position, dtype=np.float64).reshape(4)
+        p.velocity = np.zeros(4)
+        if yaw is not None:
+            p.yaw = float(yaw)
+        if pitch is not None:
+            p.pitch = float(pitch)
+        self.reset_interpolation()
+
+    def solids_moved(self) -> None:
+        """Solid objects moved within this tick (an object turned by the player, a tool): the
+        walker's colliders and sections of the tick are worked out again."""
+        self.pose_version += 1
+
     def _eye4(self) -> np.ndarray:
         return np.append(self.player.eye(), float(self.player.position[3]))
 
@@ -195,9 +216,14 @@ class Game:
         """The live entities with their centres and reaches as arrays; built once per tick."""
         key = (self.tick, self.entities.version)
         if self._table_key != key:
-            ents = list(self.entities)
-            centers = np.array([e.center(self) for e in ents], dtype=np.float64).reshape(-1, 4)
-            self._table = EntityTable(ents, centers, np.array([e.radius for e in ents], dtype=np.float64))
+            if self._table is None or self._table_key[1] != key[1]:  # entities came or went
+                ents = list(self.entities)
+                centers = np.array([e.center(self) for e in ents], dtype=np.float64).reshape(-1, 4)
+                self._table = EntityTable(ents, centers, np.array([e.radius for e in ents], dtype=np.float64))
+                self._moving = [i for i, e in enumerate(ents) if not isinstance(e.motion, Scripted)]
+            else:  # a scripted entity turns about its origin: only the others' centres move
+                for i in self._moving:
+                    self._table.centers[i] = self._table.entities[i].center(self)
             self._table_key = key
         return self._table
 

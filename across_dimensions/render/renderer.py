@@ -494,6 +494,8 @@ class Renderer:
                 raise RenderError(
                     f"batch {tb.key!r}: style {tb.style!r} cannot be batched; expected solid, floor, ghost or glow"
                 )
+            if tb.style == "ghost" and tb.pattern not in GHOST_PATTERNS:
+                raise RenderError(f"batch {tb.key!r}: unknown ghost pattern {tb.pattern!r}; expected stripes or dots")
         self._batch_views[view] = (st.frames, {tb.key for tb in frame.batches})
         for name in [v for v, (n, _) in self._batch_views.items() if st.frames - n > self.VIEW_TTL]:
             del self._batch_views[name]
@@ -577,9 +579,9 @@ class Renderer:
                 self._set(prog, "u_opacity", max(0.0, float(d.opacity)))
                 self._draw_mesh("ghost", gm, model, moderngl.TRIANGLES, gm.n_indices, d)
             for tb in ghost_batches:
-                self._set(prog, "u_tint", _NO_TINT)
-                self._set(prog, "u_pattern", 0)
-                self._set(prog, "u_opacity", 1.0)
+                self._set(prog, "u_tint", tuple(float(x) for x in (tb.tint or _NO_TINT)))
+                self._set(prog, "u_pattern", GHOST_PATTERNS[tb.pattern])
+                self._set(prog, "u_opacity", max(0.0, float(tb.opacity)))
                 self._draw_batch(tb, vp_bytes, scifi)
             fbo.depth_mask = True
             ctx.disable(moderngl.BLEND)

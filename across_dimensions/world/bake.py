@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.fileio import check_folder
-from ..core.lift import extend_solid
+from ..core.lift import HyperDepth, extend_solid
 from ..core.mesh import MeshError, TetMesh4
 from .assets.bake_cache import (
     BAKE_VERSION,
@@ -211,7 +211,8 @@ def lift_asset(
     path = Path(path)
     v, t = bake_solid(path, edge_length_fac, cache_dir, progress)
     try:
-        mesh = extend_solid(v, t, w_center, depth, profile, layers, colors=color, center=center, name=path.stem)
+        extent = HyperDepth(w_center, depth, profile, layers)
+        mesh = extend_solid(v, t, extent, colors=color, center=center, name=path.stem)
         return mesh.validate()
     except (MeshError, ValueError) as e:
         raise AssetError(f"{path}: cannot lift to 4D: {e}") from None

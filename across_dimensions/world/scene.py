@@ -144,7 +144,8 @@ def build_scene(level: Level) -> Scene:
     static_boxes = np.asarray(boxes, dtype=np.float64).reshape(-1, 2, 3)
 
     worlds = [_build_world(w) for w in level.worlds]
-    objects = [_build_object(o) for o in level.objects]
+    meshes: dict = {}  # objects of the same shape and colour share one mesh (drawn as instances of it)
+    objects = [_build_object(o, meshes) for o in level.objects]
     return Scene(level, merge_trimeshes(tris), static_boxes, merge_trimeshes(floors), worlds, objects)
 
 
@@ -177,14 +178,17 @@ def _build_world(spec) -> ExtendedWorld:
     )
 
 
-def _build_object(spec) -> Object4:
-    if spec.shape is not None:
-        mesh = shapes.make_shape(spec.shape, **spec.params)
-    else:
-        from .bake import lift_asset
+def _build_object(spec, meshes: dict) -> Object4:
+    key = (spec.shape, repr(sorted(spec.params.items())), str(spec.asset), spec.depth, repr(spec.color))
+    mesh = meshes.get(key)
+    if mesh is None:
+        if spec.shape is not None:
+            mesh = shapes.make_shape(spec.shape, **spec.params)
+        else:
+            from .bake import lift_asset
 
-        mesh = lift_asset(spec.asset, spec.depth)
-    mesh = mesh.with_color(spec.color)
+            mesh = lift_asset(spec.asset, spec.depth)
+        mesh = meshes[key] = mesh.with_color(spec.color)
     return Object4(
         spec.name,
         mesh,

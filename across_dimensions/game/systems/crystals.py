@@ -20,7 +20,7 @@ from ...world.scene import Object4
 from ..entities import Scripted, reach
 from ..events import CrystalCollected
 from ..player import player_box
-from ..system import System, encode
+from ..system import System, derived, encode
 
 REACH = 0.15  # metres beyond the player's box that still count as touching (a hand's reach)
 
@@ -48,13 +48,15 @@ class Regrowth:
     """
 
     regrowing: list[tuple[int, CrystalSpec]] = field(default_factory=list)
+    meshes: dict = derived(default_factory=dict)  # by shape and colour: crystals alike share one
 
 
 def setup(game) -> Regrowth:
     """The level's crystals, spawned."""
+    state = Regrowth()
     for c in game.level.crystals:
-        spawn(game, c)
-    return Regrowth()
+        _spawn(game, c, state.meshes)
+    return state
 
 
 def state_bytes(game) -> bytes:
@@ -64,7 +66,14 @@ def state_bytes(game) -> bytes:
 
 def spawn(game, spec: CrystalSpec):
     """Put a crystal in the game: a small polychoron turning in the w planes, glowing."""
-    mesh = make_shape(spec.shape).with_color(spec.color)
+    return _spawn(game, spec, game.states.crystals.meshes)
+
+
+def _spawn(game, spec: CrystalSpec, meshes: dict):
+    key = (spec.shape, repr(spec.color))
+    mesh = meshes.get(key)
+    if mesh is None:
+        mesh = meshes[key] = make_shape(spec.shape).with_color(spec.color)
     obj = Object4.prop(spec.name, mesh, spec.position, spec.size, spin_deg=spec.spin_deg)
     return game.entities.spawn(
         "crystal",

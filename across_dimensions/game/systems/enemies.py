@@ -88,33 +88,46 @@ def foes(game) -> list:
 
 
 # ------------------------------------------------------------------ movement
-def _blocked(game, centre) -> bool:
-    """Would the enemy's core (a small box round its centre) be inside the 3D world at its w?"""
-    core = 0.3
-    boxes = game.colliders_at(float(centre[3]))
-    if len(boxes) == 0:
-        return False
-    lo, hi = centre[:3] - core, centre[:3] + core
-    return bool(np.any(np.all((lo < boxes[:, 1]) & (hi > boxes[:, 0]), axis=1)))
+#: Half the side of an enemy's core, metres: the box round its centre kept out of the 3D world.
+CORE = 0.3
 
 
-def _move(game, foe: en.Foe, target, speed: float, w_speed: float) -> None:
-    """Towards ``target (4,)``: x, y, z at ``speed``, w at ``w_speed``; never into the 3D world."""
+def _boxes(game, ws: np.ndarray) -> np.ndarray:
+    """The 3D world's boxes at each of ``ws (m,)``, ``(m, k, 2, 3)`` (NaN where absent): one
+    set for every w when the level has no extended worlds."""
+    if not game.scene.worlds:
+        boxes = game.colliders_at(float(ws[0]))
+        return np.broadcast_to(boxes, (len(ws), *boxes.shape))
+    return np.stack([game.colliders_at(float(w)) for w in ws])
+
+
+def _move_all(game, moves: list) -> None:
+    """Every enemy of ``moves`` (``(foe, target (4,), speed, w_speed)``) towards its target,
+    all at once: x, y, z at ``speed``, w at ``w_speed``; one axis at a time, so it slides
+    along a wall instead of sticking, never into the 3D world."""
+    if not moves:
+        return
     dt = game.dt
-    c = foe.centre
-    d = np.asarray(target, np.float64)[:3] - c[:3]
-    n = float(np.linalg.norm(d))
-    step = d if n <= speed * dt else d * (speed * dt / n)
-    for axis in range(3):  # one axis at a time, so it slides along a wall instead of sticking
-        if step[axis] == 0.0:
-            continue
+    c = np.array([foe.centre for foe, *_ in moves], np.float64)
+    target = np.array([t for _, t, _, _ in moves], np.float64)
+    speed = np.array([sp for *_, sp, _ in moves]) * dt
+    w_speed = np.array([ws for *_, ws in moves]) * dt
+    d = target[:, :3] - c[:, :3]
+    n = np.array([float(np.linalg.norm(v)) for v in d])  # np.linalg.norm row by row: the same bits as one by one
+    far = n > speed
+    step = d.copy()
+    step[far] = d[far] * (speed[far] / n[far])[:, None]
+    boxes = _boxes(game, c[:, 3])
+    for axis in range(3):
         trial = c.copy()
-        trial[axis] += step[axis]
-        if not _blocked(game, trial):
-            c = trial
-    dw = float(target[3]) - c[3]
-    c[3] += float(np.clip(dw, -w_speed * dt, w_speed * dt))
-    foe.centre = c
+        trial[:, axis] += step[:, axis]
+        lo, hi = trial[:, None, :3] - CORE, trial[:, None, :3] + CORE
+        blocked = np.any(np.all((lo < boxes[:, :, 1]) & (hi > boxes[:, :, 0]), axis=2), axis=1)
+        ok = (step[:, axis] != 0.0) & ~blocked
+        c[ok] = trial[ok]
+    c[:, 3] += np.clip(target[:, 3] - c[:, 3], -w_speed, w_speed)
+    for (foe, *_), centre in zip(moves, c):
+        foe.centre = centre
 
 
 def _set_state(game, foe: en.Foe, state: str) -> None:
@@ -139,8 +152,9 @@ def _leave(game, foe: en.Foe) -> None:
     _set_state(game, foe, "fleeing")
 
 
-def _think(game, foe: en.Foe) -> None:
-    """One tick of the state machine: transitions first, then motion."""
+def _think(game, foe: en.Foe, moves: list) -> None:
+    """One tick of the state machine: transitions first, then the motion it asks for, added to
+    ``moves`` (see :func:`_move_all`)."""
     p = game.player.position
     pw = float(p[3])
     spec = foe.spec
@@ -158,7 +172,7 @@ def _think(game, foe: en.Foe) -> None:
                 foe.next_drift = game.tick + _seconds(game, en.DRIFT_EVERY)
             target = foe.drift.copy()
             target[3] = _hide_w(game, foe) + (foe.drift[3] - home[3])
-            _move(game, foe, target, spec.speed * 0.4, en.W_SPEED)
+            moves.append((foe, target, spec.speed * 0.4, en.W_SPEED))
             return
     if foe.state == "approaching":
         if player_from_post > spec.sight * 1.5:
@@ -168,7 +182,7 @@ def _think(game, foe: en.Foe) -> None:
             foe.shots_left = en.BURST
             foe.next_shot = game.tick + _seconds(game, en.WINDUP)
         else:
-            _move(game, foe, _post_target(foe, p), spec.speed, en.W_SPEED)
+            moves.append((foe, _post_target(foe, p), spec.speed, en.W_SPEED))
             return
     if foe.state == "attacking":
         if to_player < en.FLEE_NEAR or (foe.leave_at >= 0 and game.tick >= foe.leave_at):
@@ -189,7 +203,7 @@ def _think(game, foe: en.Foe) -> None:
                 foe.next_shot = max(foe.next_shot, game.tick + _seconds(game, en.WINDUP))
             target = foe.centre.copy()
             target[3] = pw
-            _move(game, foe, target, spec.speed, en.W_SPEED)
+            moves.append((foe, target, spec.speed, en.W_SPEED))
             return
     if foe.state == "fleeing":
         if abs(foe.centre[3] - pw) >= en.HIDE_W:
@@ -198,7 +212,7 @@ def _think(game, foe: en.Foe) -> None:
             foe.next_drift = game.tick
         else:
             target = np.append(home[:3], pw + foe.side * en.HIDE_W * 1.2)
-            _move(game, foe, target, spec.speed, en.FLEE_W_SPEED)
+            moves.append((foe, target, spec.speed, en.FLEE_W_SPEED))
         return
     if foe.state == "dragged":
         w0, w1, start, end = foe.pull
@@ -394,9 +408,22 @@ def _blasts(game) -> None:
     for e in foes(game):
         foe = e.data
         if foe.alive and np.linalg.norm(foe.centre[:3] - centre) <= spec.radius:
-            foe.pull = (float(foe.centre[3]), float(blasts[-1].w), game.tick, end)
-            foe.shots_left = 0
-            _set_state(game, foe, "dragged")
+            _drag(game, foe, float(blasts[-1].w), end)
+
+
+def _drag(game, foe: en.Foe, w: float, end: int) -> None:
+    """Pull the enemy from its w to ``w``, arriving at tick ``end``, then stunned."""
+    foe.pull = (float(foe.centre[3]), float(w), game.tick, end)
+    foe.shots_left = 0
+    _set_state(game, foe, "dragged")
+
+
+def hold(game, w: float, ticks: int) -> None:
+    """Drag every live enemy to ``w`` and keep it there, in the slice and animated, for ``ticks``
+    ticks, as a blast without end would (benchmarks, tests)."""
+    for e in foes(game):
+        if e.data.alive:
+            _drag(game, e.data, w, game.tick + ticks)
 
 
 #: The frustum camera's hold: switching to it drags every enemy in front of the player within
@@ -418,9 +445,7 @@ def _frustum_holds(game) -> None:
         foe = e.data
         rel = foe.centre[:3] - eye
         if foe.alive and np.linalg.norm(rel) <= FRUSTUM_HOLD_RANGE and rel[[0, 2]] @ ahead > 0.0:
-            foe.pull = (float(foe.centre[3]), pw, game.tick, end)
-            foe.shots_left = 0
-            _set_state(game, foe, "dragged")
+            _drag(game, foe, pw, end)
 
 
 def _forced_loot(game, e, w_before: float) -> None:
@@ -450,16 +475,21 @@ def player_died(game) -> None:
             _leave(game, e.data)
 
 
-def _pose(game, e) -> None:
-    foe = e.data
-    grow = 1.0
-    if foe.state == "dying":
-        grow = 1.0 + 1.5 * (game.tick + 1 - foe.since) / _seconds(game, en.DEFEAT_TIME)
-    e.motion.move(en.body_model(foe.body, foe.keys, foe.centre, game.time + game.dt + foe.phase, grow))
-    for eid, at in ((foe.weak, foe.weak_point), (foe.loot, foe.loot_point)):
-        if eid is not None:
-            m = game.entities.get(eid)
-            m.motion.move(_small_pose(at(), m.data))
+def _pose(game, posed: list) -> None:
+    """Every enemy of ``posed`` at the next tick's animation pose, in one pass, and its markers."""
+    if not posed:
+        return
+    t = game.time + game.dt
+    burst = _seconds(game, en.DEFEAT_TIME)
+    grows = [1.0 + 1.5 * (game.tick + 1 - e.data.since) / burst if e.data.state == "dying" else 1.0 for e in posed]
+    models = en.body_models([e.data for e in posed], [t + e.data.phase for e in posed], grows)
+    for e, model in zip(posed, models):
+        e.motion.move(model)
+        foe = e.data
+        for eid, at in ((foe.weak, foe.weak_point), (foe.loot, foe.loot_point)):
+            if eid is not None:
+                m = game.entities.get(eid)
+                m.motion.move(_small_pose(at(), m.data))
 
 
 def _look(game, e) -> None:
@@ -482,6 +512,7 @@ def step(game, actions) -> None:
     _blasts(game)
     _frustum_holds(game)
     _bullet_hits(game, hive)
+    posed, moves = [], []
     for e in foes(game):
         foe = e.data
         if foe.state == "dying":
@@ -491,10 +522,12 @@ def step(game, actions) -> None:
                 continue
         else:
             w_before = float(foe.centre[3])
-            _think(game, foe)
-            _forced_loot(game, e, w_before)
-        _pose(game, e)
+            _think(game, foe, moves)
+            _forced_loot(game, e, w_before)  # only a dragged enemy's: it never moves below
+        posed.append(e)
         _look(game, e)
+    _move_all(game, moves)  # no enemy's move reads another's: all of them at once
+    _pose(game, posed)  # nothing above reads a pose
     _fly_shots(game, hive)
 
 

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import section_collision
+from ..entity_sections import view_planes
 from ..frame import Drawable
 from ..player import W_SPEED, overlapping, player_box
 from ..system import System
@@ -171,35 +172,45 @@ def _holds_player(tri, lo, hi) -> bool:
     return section_collision.box_blocked(lo, hi, tri.vertices[tri.faces].astype(np.float64))
 
 
-def _may_block(game, e, feet) -> bool:
-    """Could the entity's section stand where the player stands? (cheap test on its reach)"""
-    if not (e.solid or e.kind == "body"):
-        return False
-    c = e.center(game)
-    return bool(np.all(np.abs(c[:3] - feet[:3]) <= e.radius + BLOCK_REACH))
+def _solid(table, feet) -> tuple[np.ndarray, np.ndarray]:
+    """``(n,) bool`` twice: is each entity solid (or a body), and could its section stand where
+    the player stands (a cheap test on its reach)?"""
+    solid = np.array([e.solid or e.kind == "body" for e in table.entities], bool)
+    near = np.all(np.abs(table.centers[:, :3] - feet[:3]) <= (table.radii + BLOCK_REACH)[:, None], axis=1)
+    return solid, solid & near
 
 
 def draw(game, frame, alpha) -> None:
     used: set[str] = set()
-    table = game.entity_table() if game.entities else None
+    table = game.entity_models
+    table.update(game)
+    models = table.models(game, alpha)
     feet = game.player.position
     lo, hi = player_box(feet)
+    solids, may_block = _solid(table, feet)
+    planes = view_planes(frame.camera)
     blocked: list[int] = []
     w = frame.camera.w
-    for layer in layers_of(game, w):
+    layers = layers_of(game, w)
+    for layer in layers:
         tag = layer.tag
-        shown = table.reaching(layer.w) if table is not None else []
-        # Only solid things within reach of the player's box can block it (the bounds
-        # test is then skipped for the rest, which is most of them).
-        things = [
-            (f"{tag}:{e.id}", f"{tag}:entity:{e.id}", e.mesh, e.model(game, alpha), _may_block(game, e, feet))
-            for e in shown
-        ]
+        # Solid things are drawn one by one (the ghost of one that would block the player is
+        # stronger); the rest of the entities are cut together, one batch per layer.
+        things, batched = [], []
+        for i in np.flatnonzero(np.abs(table.centers[:, 3] - layer.w) <= table.radii):
+            e = table.entities[i]
+            if same_as_slice(e.mesh, models[i], w, layer.w):
+                continue  # the ghost would be the section itself, drawn over it
+            if solids[i]:
+                things.append((f"{tag}:{e.id}", f"{tag}:entity:{e.id}", e.mesh, models[i], bool(may_block[i])))
+            else:
+                batched.append(i)
+        game.entity_sections.ghost_layer(frame, layer, [table.entities[i] for i in batched], models[batched], planes)
         worlds = enumerate(game.scene.worlds)
         things += [(f"{tag}:world:{i}", f"{tag}:world:{i}", wd.mesh, np.eye(5), True) for i, wd in worlds]
         for key, draw_key, mesh, model, solid in things:
             if same_as_slice(mesh, model, w, layer.w):
-                continue  # the ghost would be the section itself, drawn over it
+                continue
             tri, rev = game.sections.section(key, mesh, model, layer.w)
             used.add(key)
             if tri.is_empty:
@@ -215,6 +226,7 @@ def draw(game, frame, alpha) -> None:
             frame.drawables.append(Drawable(draw_key, rev, tri, style="ghost", **look))
     frame.hud.w_blocked = tuple(blocked)
     game.sections.keep(PREFIX, used)  # layers or entities that went away
+    game.entity_sections.keep_ghosts({layer.tag for layer in layers})
 
 
 SYSTEM = System("ghosts", draw=draw)

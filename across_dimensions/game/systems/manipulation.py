@@ -315,6 +315,15 @@ def _swallows_player(game, e, offsets: dict) -> bool:
     return section_collision.box_blocked(lo, hi, after) and not section_collision.box_blocked(lo, hi, before)
 
 
+def set_offset(game, e, plane: str, milli: int) -> None:
+    """Put the manipulable entity ``e`` at ``milli`` millidegrees from the level's rotation in
+    ``plane`` at once, as a tool does (no energy, no limits, no check of the player)."""
+    d = e.data
+    d.offsets = {**d.offsets, plane: int(milli)}
+    e.motion.move(d.model())
+    game.solids_moved()
+
+
 def _snap_target(d: Manipulable, plane: str) -> int | None:
     """Where an unheld plane settles: the next step multiple in its last direction (None: already there)."""
     if d.spec.step is None or plane == "w":
@@ -374,7 +383,7 @@ def step(game, actions):
             d.was_moving = not np.array_equal(before, after)
         e.style = "glow" if e.id in (tool.aimed, tool.held) else "solid"
     if changed:
-        game.pose_version += 1  # the walker's sections of this tick are stale
+        game.solids_moved()  # the walker's sections of this tick are stale
     if held is not None:
         n = len(held.data.planes)
         taken = {"forward": 0.0, "right": 0.0, "jump": False}

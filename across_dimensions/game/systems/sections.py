@@ -9,24 +9,29 @@ are sliced together, one batch per style (see ``game/entity_sections.py``).
 
 from __future__ import annotations
 
-from ..projection import items, project, reaching
+import numpy as np
+
+from ..projection import items, project, world_items
 from ..system import System
 
 
 def draw(game, frame, alpha) -> None:
     rig = game.camera
-    things = items(game, alpha)
     eye = frame.camera.eye4
     if rig.detached:  # frustum projection (and the return's fade): the projection stage, per thing
-        frame.drawables.extend(project(game, rig, things, eye))
+        frame.drawables.extend(project(game, rig, items(game, alpha), eye))
         return
     # The slice: the extended worlds one drawable each; the entities that reach the slice cut
-    # together, one kernel call and one draw call per style (game/entity_sections.py).
-    frame.drawables.extend(project(game, rig, [it for it in things if it.entity < 0], eye))
+    # together, one kernel call and one draw call per style (game/entity_sections.py), their
+    # models made in one pass (game/entity_models.py).
+    frame.drawables.extend(project(game, rig, world_items(game), eye))
     s = frame.camera.w
-    shown = reaching(rig, [it for it in things if it.entity >= 0], s)
-    entities = [game.entities.get(it.entity) for it in shown]
-    game.entity_sections.draw(frame, entities, [it.model for it in shown], rig.slice_pose(s), game.sections)
+    table = game.entity_models
+    table.update(game)
+    shown = np.flatnonzero(np.abs(rig.to_slice(table.centers)[:, 3] - s) <= table.radii)
+    models = table.models(game, alpha)[shown]
+    entities = [table.entities[i] for i in shown]
+    game.entity_sections.draw(frame, entities, models, rig.slice_pose(s), game.sections)
 
 
 def draw_per_object(game, frame, alpha) -> None:

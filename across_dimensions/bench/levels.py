@@ -26,11 +26,11 @@ from ..core import heap
 from ..game.actions import Actions
 from ..game.sim import Game
 from ..game.systems.ghosts import GhostView
+from ..render.context import Offscreen, create_offscreen_context
+from ..render.renderer import Renderer
+from ..render.scale import ScaledTarget, resolve_render_scale
 from ..world.level import load_level
 from ..world.resources import level_files, resolve_level
-from .context import Offscreen, create_offscreen_context
-from .renderer import Renderer
-from .scale import ScaledTarget, resolve_render_scale
 
 TARGET_FPS = 60.0
 DIRECTIONS = 8
@@ -62,10 +62,7 @@ def _draw_at(game: Game, view: tuple, pose: tuple, feet: tuple, scale: float) ->
     ctx, renderer, scaled, screen, size = view
     x, z, yaw = pose
     game.step(Actions())
-    p = game.player
-    p.position[:] = (x, feet[0], z, feet[1])
-    p.yaw, p.pitch = yaw, 0.0
-    game.reset_interpolation()
+    game.place_player((x, feet[0], z, feet[1]), yaw, 0.0)
     t0 = time.perf_counter()
     frame = game.frame()
     if scaled[scale].begin(size):

@@ -1,6 +1,6 @@
 """The HUD and the radar: a demo frame, and the CPU cost of drawing them.
 
-``python -m across_dimensions.render.bench_hud [--frames N] [--pins P] [--png DIR]`` prints the
+``python -m across_dimensions.bench.hud [--frames N] [--pins P] [--png DIR]`` prints the
 median CPU time per frame of laying out and submitting the HUD with the energy bar and a radar of
 ``P`` pins at 1280x720, next to the same HUD without them (the w indicator and crosshair only).
 """
@@ -13,7 +13,10 @@ import time
 import numpy as np
 
 from ..game.frame import RADAR_KINDS, Drawable, EnergyGauge, Frame, Hud, Radar, RadarPin
-from .demo import box_mesh, demo_frame
+from ..render.demo import box_mesh, demo_frame
+
+#: Target: the HUD's and the radar's geometry (numpy, no OpenGL) per frame, milliseconds.
+GEOMETRY_MS = 1.0
 
 
 def demo_pins() -> list[RadarPin]:
@@ -87,14 +90,13 @@ def bench_hud(ctx, n_pins: int = 200, frames: int = 300, size: tuple[int, int] =
     -------
     dict
         ``hud_ms`` (the HUD without energy and radar), ``hud_energy_radar_ms`` (with both),
-        ``layout_ms`` (the numpy layout of the latter alone, no OpenGL calls), ``radar_driver_ms``
+        ``layout_ms`` (the geometry of the latter alone, numpy, no OpenGL calls), ``hud_layout_ms``
+        (the same for the HUD without them), ``radar_driver_ms``
         (time inside the radar's draw calls: on llvmpipe, vertex shading and triangle setup run
         there, on the CPU): medians in milliseconds; ``radar_draw_calls`` and ``pins``.
     """
-    from .context import Offscreen
-    from .hud import hud_quads
-    from .radar import radar_geometry
-    from .renderer import Renderer
+    from ..render.context import Offscreen
+    from ..render.renderer import Renderer
 
     renderer = Renderer(ctx)
     target = Offscreen(ctx, *size)
@@ -128,16 +130,7 @@ def bench_hud(ctx, n_pins: int = 200, frames: int = 300, size: tuple[int, int] =
             return float(np.median(times) * 1e3)
 
         out = {"hud_ms": run(plain, False), "hud_energy_radar_ms": run(full, True)}
-        # The pure layout part alone (numpy, no OpenGL): on llvmpipe each draw call also runs the
-        # vertex shaders on the calling thread, which a GPU would do.
-        times = []
-        px = 100.0
-        for _ in range(frames):
-            t0 = time.perf_counter()
-            hud_quads(full, *size, radar)
-            radar_geometry(radar, px)
-            times.append(time.perf_counter() - t0)
-        out["layout_ms"] = float(np.median(times) * 1e3)
+        out |= _time_geometry(plain, full, radar, frames, size)
         out["radar_driver_ms"] = float(np.median(driver) * 1e3)
         out["radar_draw_calls"] = renderer.radar.draw_calls
         out["pins"] = n_pins
@@ -147,9 +140,31 @@ def bench_hud(ctx, n_pins: int = 200, frames: int = 300, size: tuple[int, int] =
         renderer.release()
 
 
+def _time_geometry(plain: Hud, full: Hud, radar: Radar, frames: int, size) -> dict:
+    """Median ms of the geometry alone (numpy, no OpenGL), the HUD with energy and radar
+    (``layout_ms``) and without (``hud_layout_ms``, the baseline), alternating so both see
+    the same machine load. On llvmpipe each draw call also runs the vertex shaders on the
+    calling thread, which a GPU would do: that is not geometry, so it is left out here."""
+    from ..render.hud import hud_quads
+    from ..render.radar import radar_geometry
+
+    times: dict = {"hud": [], "full": []}
+    for i in range(frames):
+        r = Radar(radar.range, radar.w_scale, radar.pins[i % 3 :] + radar.pins[: i % 3])
+        t0 = time.perf_counter()
+        hud_quads(plain, *size, None)
+        t1 = time.perf_counter()
+        hud_quads(full, *size, r)
+        radar_geometry(r, 100.0)
+        t2 = time.perf_counter()
+        times["hud"].append(t1 - t0)
+        times["full"].append(t2 - t1)
+    return {"hud_layout_ms": float(np.median(times["hud"]) * 1e3), "layout_ms": float(np.median(times["full"]) * 1e3)}
+
+
 def main(argv=None) -> None:
-    from .context import Offscreen, create_offscreen_context
-    from .renderer import Renderer
+    from ..render.context import Offscreen, create_offscreen_context
+    from ..render.renderer import Renderer
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--frames", type=int, default=300)

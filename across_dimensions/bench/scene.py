@@ -46,9 +46,9 @@ from ..core.section_batch import SectionBatch
 from ..core.shapes import make_shape
 from ..core.transform import translation
 from ..game.frame import Camera3, Drawable, Frame, TriangleBatch
-from .context import Offscreen, create_offscreen_context
-from .renderer import Renderer, _frustum_planes
-from .scale import ScaledTarget, resolve_render_scale
+from ..render.context import Offscreen, create_offscreen_context
+from ..render.renderer import Renderer, _frustum_planes
+from ..render.scale import ScaledTarget, resolve_render_scale
 
 #: The paper's figure's x axis.
 DEFAULT_NS = (1, 2, 5, 10, 20, 50, 100, 200)

@@ -1,9 +1,9 @@
 """What the sci-fi look costs: frame time of every shipped level in both looks, in the same run.
 
-``python -m across_dimensions.render.bench_look [--frames N]`` plays each shipped level from its
+``python -m across_dimensions.bench.look [--frames N]`` plays each shipped level from its
 spawn (walking slowly forward, turning, and drifting along w so 4D cross-sections change) and
 draws every frame twice into a 1280x720 offscreen target, once with the ``flat`` look and once
-with the ``scifi`` look (:mod:`.materials`), alternating so both see the same machine load. It
+with the ``scifi`` look (:mod:`..render.materials`), alternating so both see the same machine load. It
 reports, per look, the median milliseconds of ``Renderer.draw`` plus ``ctx.finish``: wall time,
 and CPU time of the whole process (llvmpipe's rasterizer threads included), which a machine
 shared with other work disturbs far less than wall time. That is the GPU side of a frame (on
@@ -19,10 +19,10 @@ import time
 
 from ..game.actions import Actions
 from ..game.sim import Game
+from ..render.context import Offscreen, create_offscreen_context
+from ..render.renderer import Renderer
 from ..world.level import load_level
 from ..world.resources import level_files
-from .context import Offscreen, create_offscreen_context
-from .renderer import Renderer
 
 LOOKS = ("flat", "scifi")
 
@@ -68,7 +68,7 @@ def bench_look(frames: int = 60, size=(1280, 720), levels=None) -> list[dict]:
 
 
 def main(argv=None) -> int:
-    p = argparse.ArgumentParser(prog="python -m across_dimensions.render.bench_look", description=__doc__)
+    p = argparse.ArgumentParser(prog="python -m across_dimensions.bench.look", description=__doc__)
     p.add_argument("--frames", type=int, default=60)
     args = p.parse_args(argv)
     for row in bench_look(max(5, args.frames)):

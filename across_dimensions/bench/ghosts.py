@@ -1,6 +1,6 @@
 """What the w ghosts cost: frame time with ghosts on and off, in the same run.
 
-``python -m across_dimensions.render.bench_ghosts [LEVEL] [--frames N] [--layers 1|2]`` plays
+``python -m across_dimensions.bench.ghosts [LEVEL] [--frames N] [--layers 1|2]`` plays
 ``LEVEL`` (Tumbling Hall by default) twice side by side, one game with ghosts and one without,
 fed the same actions (walking and sweeping back and forth along w, so every section is recomputed
 every frame: the worst case), and prints the median milliseconds per frame of
@@ -23,10 +23,10 @@ from pathlib import Path
 from ..game.actions import Actions
 from ..game.sim import Game
 from ..game.systems.ghosts import GhostView
+from ..render.context import Offscreen, create_offscreen_context
+from ..render.renderer import Renderer
 from ..world.level import load_level
 from ..world.resources import level_files
-from .context import Offscreen, create_offscreen_context
-from .renderer import Renderer
 
 
 def bench_ghosts(level_path=None, frames: int = 120, layers: int = 1, size=(1280, 720)) -> dict:
@@ -81,7 +81,7 @@ def bench_ghosts(level_path=None, frames: int = 120, layers: int = 1, size=(1280
 
 
 def main(argv=None) -> int:
-    p = argparse.ArgumentParser(prog="python -m across_dimensions.render.bench_ghosts", description=__doc__)
+    p = argparse.ArgumentParser(prog="python -m across_dimensions.bench.ghosts", description=__doc__)
     p.add_argument("level", nargs="?", default=None, help="level file (default: Tumbling Hall)")
     p.add_argument("--frames", type=int, default=120)
     p.add_argument("--layers", type=int, choices=(1, 2), default=1)

@@ -1,0 +1,81 @@
+"""The drawn entities' poses as arrays: every model of a frame in one pass.
+
+Most 4D things in a level turn by a script (spinning objects, crystals): their pose is a
+function of time alone. :class:`EntityModels` keeps their positions, angles, spins and
+scales as arrays (rebuilt only when entities come or go) and poses them all at once with
+:func:`.poses.poses`, the same bits as :meth:`~across_dimensions.world.scene.Object4.model_at`
+gives one by one. Entities placed by a system or by physics (enemies, bullets, bodies) are
+asked one by one: there are few of them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .entities import Scripted
+from .poses import angle_rows, poses
+
+#: Kinds never drawn as 4D matter: the camera's own indicators stand in slice space.
+INDICATOR_KINDS = ("camera_focus", "camera_eye")
+
+
+class EntityModels:
+    """Models of the entities with a mesh, in spawn order, for a frame's ``alpha``.
+
+    Attributes
+    ----------
+    entities : list of Entity
+        The drawn entities (a mesh, not a camera indicator), as of the last :meth:`update`.
+    centers : (n, 4) float64
+    radii : (n,) float64
+    """
+
+    def __init__(self):
+        self._version = None
+        self.entities: list = []
+        self.centers = np.zeros((0, 4))
+        self.radii = np.zeros(0)
+        self._scripted = np.zeros(0, np.int64)  # rows of the scripted entities
+        self._others: list[int] = []
+        self._arrays: tuple = ()
+        self._memo: tuple = (None, None)
+
+    def update(self, game) -> None:
+        """Take the game's entities again if any came or went (centres refreshed every call)."""
+        if self._version != game.entities.version:
+            self._version = game.entities.version
+            self.entities = [e for e in game.entities if e.mesh is not None and e.kind not in INDICATOR_KINDS]
+            scripted = [i for i, e in enumerate(self.entities) if isinstance(e.motion, Scripted)]
+            objs = [self.entities[i].motion.obj for i in scripted]
+            self._scripted = np.array(scripted, np.int64)
+            self._others = [i for i, e in enumerate(self.entities) if not isinstance(e.motion, Scripted)]
+            self._arrays = (
+                np.array([o.position for o in objs], np.float64).reshape(-1, 4),
+                angle_rows([o.rotation_deg for o in objs]),
+                angle_rows([o.spin_deg for o in objs]),
+                np.array([o.scale for o in objs], np.float64).reshape(-1, 4),
+            )
+            self.radii = np.array([e.radius for e in self.entities], np.float64)
+            self.centers = np.zeros((len(self.entities), 4))
+            self.centers[self._scripted] = self._arrays[0]  # spin never moves an object
+        for i in self._others:
+            self.centers[i] = self.entities[i].center(game)
+
+    def models(self, game, alpha: float | None) -> np.ndarray:
+        """``(n, 5, 5) float64``: each entity's model ``alpha`` of the way from the previous tick
+        (None: now), as :meth:`~.entities.Entity.model` gives it."""
+        key = (game.tick, alpha, self._version, game.pose_version)
+        if self._memo[0] == key:
+            return self._memo[1]  # the frame's systems ask in turn: nothing moves between them
+        out = np.empty((len(self.entities), 5, 5))
+        if len(self._scripted):
+            position, rotation, spin, scale = self._arrays
+            t = game.time if alpha is None else game.time - (1.0 - alpha) * game.dt
+            out[self._scripted] = poses(position, np.radians(rotation + spin * t), scale)
+        for i in self._others:
+            out[i] = self.entities[i].model(game, alpha)
+        self._memo = (key, out)
+        return out
+
+
+__all__ = ["EntityModels", "INDICATOR_KINDS"]
