@@ -6,6 +6,7 @@
     demo [--screenshots DIR]           the headless demo (no window needed)
     replay LEVEL REPLAY [--json] [--screenshots DIR --every N] [--update-hashes]
     check-level FILE...                check level files, report every problem
+    probe [LEVEL...] [--json] [--workers N]  naive strategies against levels: bypasses, soft-locks
     level-schema [-o FILE.json]        the level format as a JSON Schema
     slice SHAPE|FILE [--rotate xw=30 ...] [--translate w=0.3 ...] [--mode section|frustum] -o OUT
     shape NAME [--param k=v ...] -o OUT.npz
@@ -82,6 +83,16 @@ def _parser() -> argparse.ArgumentParser:
     ck = sub.add_parser("check-level", help="check level files and list every problem")
     ck.add_argument("files", nargs="+", metavar="FILE")
     ck.set_defaults(func=commands.check_level)
+
+    pb = sub.add_parser("probe", help="run naive strategies against levels: bypasses and soft-locks")
+    pb.add_argument(
+        "levels", nargs="*", metavar="LEVEL", help="level files or shipped level names (default: all shipped)"
+    )
+    pb.add_argument("--json", action="store_true", help="print one JSON list of rows, one per level, and nothing else")
+    pb.add_argument(
+        "--workers", type=positive_int, default=None, metavar="N", help="processes to run strategies in (the CPU count)"
+    )
+    pb.set_defaults(func=commands.probe)
 
     sc = sub.add_parser("level-schema", help="the level format as a JSON Schema, for editors that check as you type")
     sc.add_argument("-o", "--output", metavar="FILE.json", help="write it to FILE.json (default: print it)")

@@ -60,6 +60,8 @@ def check_level(args) -> int:
             )
         if level.radar is not None:
             extra += f", radar {level.radar.range:g} m"
+        if level.needs:
+            extra += f", needs {' '.join(level.needs)}"
         _out(
             f"{f}: ok - '{level.name}', {len(level.boxes)} boxes, {len(level.worlds)} worlds, "
             f"{len(level.objects)} 4D objects{extra}, w in {list(level.w_range)}"
@@ -74,6 +76,53 @@ def check_level(args) -> int:
                 file=sys.stderr,
             )
     return 2 if bad else 0
+
+
+def probe(args) -> int:
+    """``probe``: the design probe (:mod:`across_dimensions.probe`) on the named levels, or on
+    every shipped one. Exit 0 when no level has a bypass or a soft-lock, 1 when one has."""
+    import json
+    import os
+    import time
+
+    from ..probe.runner import probe as run_probe
+    from ..world.level import load_level
+    from ..world.resources import level_files, resolve_level
+
+    paths = []
+    for name in args.levels or [str(p) for p in level_files()]:
+        try:
+            paths.append(resolve_level(name))
+        except FileNotFoundError as e:
+            raise UserError(str(e)) from None
+    for p in paths:
+        load_level(p)  # a bad level is refused before any strategy runs
+    workers = args.workers or os.cpu_count() or 1
+    t0 = time.perf_counter()
+    rows = run_probe(paths, workers=min(workers, 64))
+    took = time.perf_counter() - t0
+    if args.json:
+        _out(json.dumps(rows, allow_nan=False))
+    else:
+        for row in rows:
+            _out(_probe_lines(row))
+        found = sum(len(r["bypasses"]) + len(r["softlocks"]) for r in rows)
+        _out(f"{len(rows)} level(s), {found} finding(s), {took:.1f} s with {workers} worker(s)")
+    return 1 if any(r["bypasses"] or r["softlocks"] for r in rows) else 0
+
+
+def _probe_lines(row: dict) -> str:
+    """A level's probe row as text: a head line, then one line per finding."""
+    needs = ", ".join(row["needs"]) or "nothing declared"
+    lines = [
+        f"{row['level']} (needs {needs}): {len(row['strategies_run'])} strategies, "
+        f"{len(row['bypasses'])} bypass(es), {len(row['softlocks'])} soft-lock(s), {row['seconds']:.1f} s"
+    ]
+    for b in row["bypasses"]:
+        lines.append(f"  bypass: {b['strategy']} won at {b['seconds']:.2f} s without {', '.join(b['avoided'])}")
+    for s in row["softlocks"]:
+        lines.append(f"  soft-lock: after {s['strategy']}: {s['proof']}")
+    return "\n".join(lines)
 
 
 def level_schema(args) -> int:

@@ -32,7 +32,7 @@ from ..core import fileio
 from ..core.errors import InputError
 from ..core.shapes import SHAPE_PARAM_RULES
 from ..core.transform import PLANES
-from . import gameplay, limits, resources
+from . import design, gameplay, limits, resources
 from .fields import REQUIRED, Field
 from .limits import (
     ANGLE,
@@ -149,6 +149,7 @@ MODELS = {
     "world": WORLD,
     "object": OBJECT,
     **gameplay.MODELS,
+    "design": design.DESIGN_TABLE,
 }
 FORMATS = (1, 2)  # format 2 adds the tables of gameplay.MODELS
 #: Top-level keys written ``[[key]]`` (arrays of tables); the others are ``[key]`` tables.
@@ -296,6 +297,7 @@ class Level:
     checkpoints: list[gameplay.CheckpointSpec] = field(default_factory=list)
     health: gameplay.HealthSpec | None = None  # None: the player cannot be hurt
     camera: gameplay.CameraSpec = field(default_factory=gameplay.CameraSpec)
+    needs: tuple[str, ...] = ()  # [design]: the mechanics the level is built to demand (world.design)
 
     @property
     def bodies(self) -> int:
@@ -386,7 +388,7 @@ class _Reader:
         out = {}
         for key in keys if keys is not None else model:
             f = model[key]
-            if f.kind in ("tables", "params", "hints"):
+            if f.kind in ("tables", "params", "hints", "words"):
                 continue
             out[key] = getattr(self, f"_{f.kind}")(data, key, where, f, defaults.get(key, f.default))
         return out
@@ -852,6 +854,7 @@ def load_level(path, source: bytes | None = None) -> Level:
     checkpoints = gameplay.read_checkpoints(r, data, w_range if w_ok else None)
     health = gameplay.read_health(r, data, bool(enemies))
     camera = gameplay.read_camera(r, data)
+    needs = design.read_design(r, data)
 
     if r.problems:
         raise LevelError(path, r.problems)
@@ -885,6 +888,7 @@ def load_level(path, source: bytes | None = None) -> Level:
         checkpoints=checkpoints,
         health=health,
         camera=camera,
+        needs=needs,
     )
     from .placement import placement_problems  # where things are, once every entry is read
 

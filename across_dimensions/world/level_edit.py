@@ -32,7 +32,7 @@ from .level import MODELS, Level, LevelError, load_level
 Ref = tuple  # ("box", 0), ("world", 1, "box", 0), ("spawn",)
 
 #: Tables that appear once (``[spawn]``); every other model is an array of tables.
-SINGLE_TABLES = ("level", "spawn", "goal", "physics", "energy", "radar")
+SINGLE_TABLES = ("level", "spawn", "goal", "physics", "energy", "radar", "design")
 #: Arrays of tables nested inside a ``[[world]]``.
 WORLD_CHILDREN = ("box", "mesh")
 
