@@ -220,21 +220,29 @@ def main(argv=None) -> int:
             args = _parser().parse_args(["play"])
         return args.func(args)
     except UserError as e:
-        print(str(e) if str(e).startswith(PROG) else f"{PROG}: error: {e}", file=sys.stderr)
-        return 2
+        return _fail(argv, str(e) if str(e).startswith(PROG) else f"{PROG}: error: {e}", 2)
     except KeyboardInterrupt:
         return 130
     except Exception as e:
         if _terminated_by is not None:  # stopped by a signal mid-way (e.g. while compiling kernels)
-            print(f"{PROG}: stopped by {signal.Signals(_terminated_by).name}", file=sys.stderr)
-            return 128 + _terminated_by
+            return _fail(argv, f"{PROG}: stopped by {signal.Signals(_terminated_by).name}", 128 + _terminated_by)
         if debug:
             raise
         if isinstance(e, InputError):  # every error written for the user derives from it
-            print(f"{PROG}: error: {e}", file=sys.stderr)
-            return 2
-        print(f"{PROG}: internal error: {type(e).__name__}: {e} (run with --debug for details)", file=sys.stderr)
-        return 1
+            return _fail(argv, f"{PROG}: error: {e}", 2)
+        return _fail(argv, f"{PROG}: internal error: {type(e).__name__}: {e} (run with --debug for details)", 1)
+
+
+def _fail(argv: list[str], line: str, status: int) -> int:
+    """Say ``line`` on stderr and return ``status``; ``replay --json`` also prints it as JSON on
+    stdout (``{"error": line, "status": status}``), so a tool reading stdout is never left empty."""
+    print(line, file=sys.stderr)
+    command = next((a for a in argv if not a.startswith("-")), None)
+    if command == "replay" and "--json" in argv:
+        import json
+
+        print(json.dumps({"error": line, "status": status}), flush=True)
+    return status
 
 
 def _play(args) -> int:

@@ -71,7 +71,8 @@ def check_level(args) -> int:
             print(
                 f"{f}: warning: will likely not keep 60 Hz on a typical 2-core machine: about {cost:.0f} ms "
                 f"per frame while moving along w ({FRAME_MS:.1f} ms allowed) for {level.tets:,} tetrahedra in "
-                f"{len(level.worlds) + len(level.objects)} 4D objects and worlds and {level.bodies} rigid bodies",
+                f"{len(level.worlds) + len(level.objects)} 4D objects and worlds, {level.bodies} rigid bodies, "
+                f"{len(level.enemies)} enemies and {len(level.crystals)} crystals",
                 file=sys.stderr,
             )
     return 2 if bad else 0
@@ -178,6 +179,8 @@ def replay(args) -> int:
             file=sys.stderr,
         )
     game = _load_game(args.level, rep.seed)
+    if not getattr(args, "no_check", False):  # --no-check plays any actions on any level
+        _refuse_other_level(args, rep, game.level)
     warm_up()
     if update:
         return _update_hashes(args, rep, game, as_json)
@@ -199,6 +202,18 @@ def replay(args) -> int:
     return 0
 
 
+def _refuse_other_level(args, rep, level) -> None:
+    """A replay of another level is named before a tick is played (exit 2)."""
+    from ..game.replay_level import other_level
+
+    other = other_level(rep, level)
+    if other is not None:
+        raise UserError(
+            f"{args.replay}: recorded on the level '{other}', not on {args.level}; "
+            f"play it with: {PROG} replay {other} {args.replay}"
+        )
+
+
 def _update_hashes(args, rep, game, as_json: bool) -> int:
     """``replay --update-hashes``: record the replay's state hashes afresh.
 
@@ -208,15 +223,17 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
     outcome, same tick) the file is rewritten atomically with the new hashes
     and its actions unchanged (exit 0). A different ending leaves the file
     untouched (exit 1); a changed level file is refused as ``replay`` refuses
-    it (exit 3), and the level hash is never rewritten.
+    it (exit 3). The bakes of the level's assets are recorded again with the
+    hashes (and a replay of an older format gets them for the first time).
     """
     import json
     from dataclasses import replace
 
     from ..game.playback import changed_hashes, level_divergence, rehash, summary
+    from ..game.replay_level import same_file
 
     result, fresh = rehash(rep, game)
-    refused = level_divergence(rep, game)
+    refused = None if same_file(rep, game.level) else level_divergence(rep, game)
     problem = None
     if refused is None and (result.outcome, result.ticks) != (rep.outcome, rep.final_ticks):
         problem = (
@@ -225,7 +242,8 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
         )
     updated = False
     changed, total = changed_hashes(rep, fresh)
-    if refused is None and problem is None and changed:
+    header = (rep.level_hash, rep.bakes) != (fresh.level_hash, fresh.bakes)
+    if refused is None and problem is None and (changed or header):
         _check_actions_kept(args.replay, fresh)
         fresh.save(args.replay)  # temporary file in the same folder, then os.replace
         updated = True
@@ -238,7 +256,10 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
         print(problem, file=sys.stderr)
         return 1
     say = (lambda msg: print(msg, file=sys.stderr, flush=True)) if as_json else _out  # stdout is the JSON's alone
-    say(f"{args.replay}: " + (f"hashes updated ({changed} of {total} changed)" if updated else "hashes unchanged"))
+    said = f"hashes updated ({changed} of {total} changed)" if updated and changed else "hashes unchanged"
+    if updated and header:
+        said += f"; level hash and bakes recorded ({', '.join(sorted(fresh.bakes)) or 'the level bakes no mesh'})"
+    say(f"{args.replay}: {said}")
     return 0
 
 

@@ -306,7 +306,8 @@ class Level:
 
     def frame_cost_ms(self) -> float:
         """Estimated milliseconds per frame while moving along w (see :func:`limits.tick_cost_ms`)."""
-        return limits.tick_cost_ms(len(self.worlds) + len(self.objects), self.tets, self.bodies)
+        drawables = len(self.worlds) + len(self.objects)
+        return limits.tick_cost_ms(drawables, self.tets, self.bodies, len(self.enemies), len(self.crystals))
 
 
 class _Reader:
@@ -857,7 +858,7 @@ def load_level(path, source: bytes | None = None) -> Level:
 
     if r.problems:
         raise LevelError(path, r.problems)
-    return Level(
+    level = Level(
         path=path,
         name=meta["name"],
         description=meta["description"],
@@ -889,3 +890,9 @@ def load_level(path, source: bytes | None = None) -> Level:
         camera=camera,
         needs=needs,
     )
+    from .placement import placement_problems  # where things are, once every entry is read
+
+    problems = placement_problems(level)
+    if problems:
+        raise LevelError(path, problems)
+    return level
