@@ -1,22 +1,30 @@
 """The frozen game's entry point: the ``across-dimensions`` executable runs this.
 
 It does what the installed console script does (:func:`across_dimensions.app.cli.main`,
-same ``--help``, messages and exit statuses) after two things only a frozen build needs:
+same ``--help``, messages and exit statuses) after what only a frozen build needs:
 
-* the numba kernel cache goes in the player's cache folder under a name that
-  changes with every build. A frozen numba stamps cached kernels with the
-  executable's hash, and the executable (PyInstaller's bootloader) is the same
-  from one release to the next, so a shared folder could load a previous
-  release's kernels.
-* the first start of the game from a desktop, where no terminal shows the
-  "compiling" notice: a small window says so while the kernels compile.
+* the kernels compiled by the build, in the folder, are used when the processor runs
+  them (:mod:`kernel_target`); otherwise numba compiles into the player's cache folder,
+  under a name that changes with every build. A frozen numba stamps cached kernels with
+  the executable's hash, and the executable (PyInstaller's bootloader) is the same from
+  one release to the next, so a shared folder could load a previous release's kernels.
+* no program is run to find a system library: ``ctypes.util.find_library`` runs
+  ``ldconfig``, ``gcc`` and ``objdump`` on Linux, and pyglet calls it for every library
+  it loads (:func:`_find_library` looks in the loader's folders instead), and pyglet's
+  audio drivers are tried in the order a Linux desktop serves them (PulseAudio, which
+  PipeWire also speaks, then OpenAL, then silence).
+* the first start of the game from a desktop, when kernels must compile and no terminal
+  shows the "compiling" notice: a small window says so while they compile.
 * the tetrahedralizer's child process (``sys.executable -c WORKER``, see
   :mod:`across_dimensions.world.assets.tetwild`) is served: a frozen
   executable is no Python interpreter, so it runs that one script and nothing else.
 """
 
+import glob
 import os
 import sys
+
+import kernel_target
 
 
 def _numba_cache_dir(bundle: str) -> str:
@@ -25,8 +33,53 @@ def _numba_cache_dir(bundle: str) -> str:
             build = f.read().strip()[:16]
     except OSError:
         build = "unknown"
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return os.path.join(base, "across-dimensions", f"numba-{build}")
+    import platformdirs
+
+    return os.path.join(platformdirs.user_cache_dir("across-dimensions"), f"numba-{build}")
+
+
+def _choose_kernels(bundle: str) -> None:
+    """Point numba at the shipped kernels when this processor runs them (or the build fills them)."""
+    shipped = os.path.join(bundle, kernel_target.FOLDER)
+    if os.environ.get(kernel_target.FILL_ENV) != "1":
+        # A CPU target the player chose is honoured: it has no kernels in the folder.
+        if "NUMBA_CPU_NAME" in os.environ or not os.path.isdir(shipped) or not kernel_target.runs_baseline():
+            return
+    os.environ["NUMBA_CPU_NAME"] = kernel_target.BASELINE_CPU
+    os.environ["NUMBA_CPU_FEATURES"] = ""  # the features the name implies, not this machine's
+    os.environ[kernel_target.SHIPPED_ENV] = shipped
+    os.environ["NUMBA_CACHE_LOCATOR_CLASSES"] = (
+        "frozen_kernels.ShippedLocator,numba.core.caching.UserProvidedCacheLocator"
+    )
+
+
+def _library_folders() -> list[str]:
+    """The dynamic loader's folders: LD_LIBRARY_PATH (the bundle's, set by the bootloader),
+    /etc/ld.so.conf and its includes, then the default ones."""
+    folders = [d for d in os.environ.get("LD_LIBRARY_PATH", "").split(os.pathsep) if d]
+    pending = ["/etc/ld.so.conf"]
+    while pending:
+        try:
+            with open(pending.pop(0), encoding="utf-8", errors="replace") as f:
+                lines = [line.split("#")[0].strip() for line in f]
+        except OSError:
+            continue
+        for line in lines:
+            if line.startswith("include "):
+                pending += sorted(glob.glob(line.split(None, 1)[1]))
+            elif line.startswith("/"):
+                folders.append(line)
+    return folders + ["/lib64", "/usr/lib64", "/lib", "/usr/lib"]
+
+
+def _find_library(name: str) -> str | None:
+    """``ctypes.util.find_library`` without running a program: the file name of the
+    first ``libNAME.so.N`` in the loader's folders (lowest version when several)."""
+    for folder in _library_folders():
+        found = sorted(glob.glob(os.path.join(glob.escape(folder), f"lib{glob.escape(name)}.so.*")), key=len)
+        if found:
+            return os.path.basename(found[0])
+    return None
 
 
 def _tetwild_worker(argv: list[str]) -> bool:
@@ -55,7 +108,7 @@ def _first_start_notice(argv: list[str]) -> None:
         return
     if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
         return
-    if any(Path(os.environ["NUMBA_CACHE_DIR"]).rglob("*.nbi")):
+    if kernel_target.SHIPPED_ENV in os.environ or any(Path(os.environ["NUMBA_CACHE_DIR"]).rglob("*.nbi")):
         return
     import threading
 
@@ -110,8 +163,16 @@ def _first_start_notice(argv: list[str]) -> None:
         sys.exit(0)  # the player closed the notice: do not start the game behind it
 
 
-if getattr(sys, "frozen", False) and "NUMBA_CACHE_DIR" not in os.environ:
-    os.environ["NUMBA_CACHE_DIR"] = _numba_cache_dir(getattr(sys, "_MEIPASS", os.path.dirname(sys.executable)))
+if getattr(sys, "frozen", False):
+    _bundle = getattr(sys, "_MEIPASS", os.path.dirname(sys.executable))
+    if "NUMBA_CACHE_DIR" not in os.environ:
+        os.environ["NUMBA_CACHE_DIR"] = _numba_cache_dir(_bundle)
+    _choose_kernels(_bundle)
+    if sys.platform.startswith("linux"):
+        import ctypes.util
+
+        ctypes.util.find_library = _find_library
+        os.environ.setdefault("PYGLET_AUDIO", "pulse,openal,silent")
 
 if __name__ == "__main__":
     if _tetwild_worker(sys.argv):

@@ -151,6 +151,11 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
         tr.write_line(f"    {items[0][1][:300]}")
 
 
+def shots_in(folder: Path) -> list[Path]:
+    """The game's screenshots in ``folder``, oldest first (their names are the time they were taken)."""
+    return sorted(folder.glob("across-dimensions_*.png"), key=lambda p: p.stat().st_mtime_ns)
+
+
 @contextlib.contextmanager
 def xvfb_display(number: int, env_var: str):
     """A virtual X display ``:number`` for a real window, stopped afterwards.
@@ -183,8 +188,10 @@ def xvfb_display(number: int, env_var: str):
 
 @pytest.fixture(autouse=True, scope="session")
 def _own_data_folder(tmp_path_factory):
-    """The game's saves (progress.json) go to a folder of the test run, never the player's own;
-    child processes inherit it through the environment."""
+    """The game's saves (progress.json) and screenshots go to folders of the test run, never the
+    player's own; child processes inherit them through the environment."""
     if not os.environ.get("ACROSS_DIMENSIONS_DATA_DIR"):
         os.environ["ACROSS_DIMENSIONS_DATA_DIR"] = str(tmp_path_factory.mktemp("data"))
+    if not os.environ.get("ACROSS_DIMENSIONS_SCREENSHOT_DIR"):
+        os.environ["ACROSS_DIMENSIONS_SCREENSHOT_DIR"] = str(tmp_path_factory.mktemp("screenshots"))
     yield

@@ -410,11 +410,11 @@ def test_binary_stl_header_beyond_the_triangle_limit(tmp_path, monkeypatch):
 
 # ------------------------------------------------------------------- cache
 def test_interrupted_save_leaves_nothing(tmp_path, monkeypatch, fake_tetwild):
-    def half_then_interrupt(f, **arrays):
-        f.write(b"PK\x03\x04 half an archive")
+    def half_then_interrupt(archive, *args, **kw):
+        archive.fp.write(b"PK\x03\x04 half an archive")
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(bake_cache.np, "savez_compressed", half_then_interrupt)
+    monkeypatch.setattr(bake_cache.zipfile.ZipFile, "writestr", half_then_interrupt)
     with pytest.raises(KeyboardInterrupt):
         lift_asset(ASSETS / "crate.obj", 1.0, cache_dir=tmp_path, progress=False)
     assert list(tmp_path.iterdir()) == []

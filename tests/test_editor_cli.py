@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import xvfb_display
+from conftest import shots_in, xvfb_display
 
 from across_dimensions.app.editor import INSTALL_HINT, missing
 from across_dimensions.render.png import read_png
@@ -89,13 +89,14 @@ def _menu_bar(png: Path) -> np.ndarray:
 def test_edit_opens_a_window_with_the_panels(env, tmp_path, xvfb):
     settings = tmp_path / "settings.toml"
     settings.write_text("", encoding="utf-8")
-    e = dict(env, DISPLAY=xvfb)
+    e = dict(env, DISPLAY=xvfb, ACROSS_DIMENSIONS_SCREENSHOT_DIR=str(tmp_path / "screenshots"))
     r = run(
         e, tmp_path, "edit", "02_crystal_cache", "--settings", settings, "--screenshot-after", "2", "--quit-after", "4"
     )
     assert r.returncode == 0, r.stderr
-    shot = tmp_path / "screenshots" / "shot_0000.png"
-    assert shot.is_file(), r.stdout + r.stderr
+    shots = shots_in(tmp_path / "screenshots")
+    assert len(shots) == 1, r.stdout + r.stderr
+    shot = shots[0]
     bar = _menu_bar(shot)
     # The menu bar: mostly ImGui's grey, with its light text (File Edit Add View Play) on the left.
     assert np.mean(np.abs(bar - MENU_BAR_GREY) <= 3) > 0.8
@@ -109,7 +110,7 @@ def test_the_editor_key_in_play_opens_the_editor(env, tmp_path, xvfb):
         pytest.skip("xdotool is not installed")
     settings = tmp_path / "settings.toml"
     settings.write_text("", encoding="utf-8")
-    e = dict(env, DISPLAY=xvfb)
+    e = dict(env, DISPLAY=xvfb, ACROSS_DIMENSIONS_SCREENSHOT_DIR=str(tmp_path / "screenshots"))
     game = subprocess.Popen(
         [sys.executable, "-m", "across_dimensions", "play", "02_crystal_cache", "--settings", str(settings)],
         cwd=tmp_path,
@@ -139,13 +140,13 @@ def test_the_editor_key_in_play_opens_the_editor(env, tmp_path, xvfb):
         key("F2")  # back to the game
         key("F12")
         for _ in range(50):
-            if len(list(shots.glob("shot_*.png"))) == 3:
+            if len(shots_in(shots)) == 3:
                 break
             time.sleep(0.1)
     finally:
         game.terminate()
         out, err = game.communicate(timeout=30)
     assert game.returncode in (0, 128 + 15), err
-    bars = [_menu_bar(shots / f"shot_{i:04d}.png") for i in range(3)]
+    bars = [_menu_bar(p) for p in shots_in(shots)]
     in_editor = [np.mean(np.abs(b - MENU_BAR_GREY) <= 3) > 0.8 for b in bars]
     assert in_editor == [False, True, False], (in_editor, out, err)

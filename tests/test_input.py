@@ -193,7 +193,7 @@ def test_presses_survive_a_replay_round_trip(tmp_path):
     path = tmp_path / "r.json"
     rep.save(path)
     data = json.loads(path.read_text())
-    assert data["version"] == 2
+    assert data["version"] == 3
     assert data["actions"][1][1][6] == {"fire": 2, "weapon_3": 1}
     back = list(Replay.load(path).actions)
     assert [a.presses for a in back] == [a.presses for a in frames]
@@ -224,8 +224,8 @@ def test_version_one_replays_still_load(tmp_path):
 
 
 def test_unknown_versions_and_bad_presses_are_refused_naming_the_file(tmp_path):
-    with pytest.raises(ReplayError, match=r"old\.json: replay format version 3; this game reads versions 1 and 2"):
-        Replay.load(_v1(tmp_path, version=3))
+    with pytest.raises(ReplayError, match=r"old\.json: replay format version 4; this game reads versions 1, 2 and 3"):
+        Replay.load(_v1(tmp_path, version=4))
     for presses, why in (
         ({"sneeze": 1}, "unknown action"),
         ({"fire": 0}, "from 1 to"),

@@ -7,9 +7,10 @@
 * ``game/``, ``physics/``, ``world/`` and ``core/`` never read the wall clock
   (benchmarks excepted) and never use global random state: randomness comes
   from seeded ``np.random.default_rng`` generators.
-* the packages stand in the order ``core <- physics <- world <- game <- render
-  <- bench <- app``: a package imports only those below it (world never imports
-  game, physics never imports world, the benchmarks never import the app, ...),
+* the packages stand in the order ``core <- physics <- world <- game <- probe <-
+  render <- bench <- app``: a package imports only those below it (world never imports
+  game, physics never imports world, the design probe never imports the renderer or the
+  app, the benchmarks never import the app, ...),
   at module level or inside a function.
 * an import inside a function never hides a circle: it may not import a module
   that imports the importer's module, directly or through others.
@@ -230,7 +231,7 @@ def random_problems(rel: str, source: str) -> list[str]:
 
 
 #: The packages, lowest first: each may import only itself and those before it.
-PACKAGE_ORDER = ("core", "physics", "world", "game", "render", "bench", "app")
+PACKAGE_ORDER = ("core", "physics", "world", "game", "probe", "render", "bench", "app")
 #: Modules at the top of the package: ``across_dimensions`` and ``_blas`` under every
 #: package (any may import them), ``__main__`` over all of them.
 BELOW_ALL = {"across_dimensions", "across_dimensions._blas"}

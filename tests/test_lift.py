@@ -13,6 +13,7 @@ import pytest
 from across_dimensions.core import TetMesh4, cross_section
 from across_dimensions.core.fileio import FileProblem
 from across_dimensions.core.lift import (
+    HyperDepth,
     box_solid,
     extend_solid,
     extrude,
@@ -112,7 +113,7 @@ def test_walls_use_min_index_diagonals_consistently():
     # Weld the shared face's corners so the two boxes form one solid.
     q = np.round(v * 1e6).astype(np.int64)
     _, first, inv = np.unique(q, axis=0, return_index=True, return_inverse=True)
-    mesh = extend_solid(v[first], inv.reshape(-1)[t], 0.0, 2.0, "taper", 5).validate()
+    mesh = extend_solid(v[first], inv.reshape(-1)[t], HyperDepth(0.0, 2.0, "taper", 5)).validate()
     assert mesh.hypervolume() > 0
 
 
@@ -138,7 +139,7 @@ def test_profile_scales():
 def test_round_profile_sections_shrink_then_vanish():
     v, t = unit_cube()
     c, depth = 3.0, 2.0
-    mesh = extend_solid(v, t, c, depth, "round", layers=9).validate()
+    mesh = extend_solid(v, t, HyperDepth(c, depth, "round", layers=9)).validate()
     assert slice_at(mesh, c).volume() == pytest.approx(1.0)  # the full solid
     layers = profile_layers(c, depth, "round", 9)
     scales = profile_scales(layers, c, depth / 2, "round")
@@ -157,8 +158,8 @@ def test_thin_ends_validate_with_a_floor_or_tips():
     # validate() judges each tet against its own size, so a thin 2 % end layer
     # of a small part in a large mesh is not mistaken for a degenerate tet.
     v, t = box_solid([0, 1.5, 0], [0.05, 3.0, 0.05])
-    floored = extend_solid(v, t, 0.0, 3.0, "round", floor=0.02).validate()
-    tipped = extend_solid(v, t, 0.0, 3.0, "round").validate()
+    floored = extend_solid(v, t, HyperDepth(0.0, 3.0, "round", floor=0.02)).validate()
+    tipped = extend_solid(v, t, HyperDepth(0.0, 3.0, "round")).validate()
     # With tips the object vanishes exactly at the end; with a floor it pops out.
     end = translation((0, 0, 0, 1.5 - 1e-3))
     assert cross_section(tipped, end).volume() < cross_section(floored, end).volume()

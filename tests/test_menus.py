@@ -100,7 +100,7 @@ def test_progress_round_trip_and_best_times(tmp_path):
     assert warnings == []
     assert back == p and back.finished["01_first_steps"] == 41.5 and back.crystals["02_crystal_cache"] == (2, 3)
     assert json.loads(path.read_text())["version"] == 1
-    assert [f.name for f in tmp_path.iterdir()] == ["progress.json"]  # no temporary file left
+    assert sorted(f.name for f in tmp_path.iterdir()) == [".progress.lock", "progress.json"]  # no temporary file
 
 
 @pytest.mark.parametrize(

@@ -255,12 +255,15 @@ def xvfb():
 
 
 def test_play_with_a_corrupt_settings_file_warns_once_and_shows_the_hint_clear_of_the_warning(tmp_path, xvfb):
+    from conftest import shots_in
+
     from across_dimensions.render.hud import HudMetrics
     from across_dimensions.render.png import read_png
 
     bad = tmp_path / "settings.toml"
     bad.write_text('fov_deg = "wide"\nvolume = 7\nnonsense = 1\n')
     env = dict(os.environ, DISPLAY=xvfb, ACROSS_DIMENSIONS_LOG_DIR=str(tmp_path / "log"))
+    env["ACROSS_DIMENSIONS_SCREENSHOT_DIR"] = str(tmp_path / "screenshots")
     env["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), env.get("PYTHONPATH")) if p)
     env.pop("WAYLAND_DISPLAY", None)
     args = ["play", "01_first_steps", "--settings", bad, "--screenshot-after", "1.5", "--quit-after", "3"]
@@ -276,7 +279,7 @@ def test_play_with_a_corrupt_settings_file_warns_once_and_shows_the_hint_clear_o
     warnings = [ln for ln in r.stderr.splitlines() if ln.startswith("warning:")]
     assert len(warnings) == 1 and "3 problems" in warnings[0] and "Traceback" not in r.stderr
     assert len((tmp_path / "log" / "settings.log").read_text().splitlines()) == 3
-    shots = sorted((tmp_path / "screenshots").glob("shot_*.png"))
+    shots = shots_in(tmp_path / "screenshots")
     assert shots, r.stdout
     img = read_png(shots[0]).astype(int)
     h, w = img.shape[:2]

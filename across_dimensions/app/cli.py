@@ -6,6 +6,7 @@
     demo [--screenshots DIR]           the headless demo (no window needed)
     replay LEVEL REPLAY [--json] [--screenshots DIR --every N] [--update-hashes]
     check-level FILE...                check level files, report every problem
+    probe [LEVEL...] [--json] [--workers N]  naive strategies against levels: bypasses, soft-locks
     level-schema [-o FILE.json]        the level format as a JSON Schema
     slice SHAPE|FILE [--rotate xw=30 ...] [--translate w=0.3 ...] [--mode section|frustum] -o OUT
     shape NAME [--param k=v ...] -o OUT.npz
@@ -82,6 +83,16 @@ def _parser() -> argparse.ArgumentParser:
     ck = sub.add_parser("check-level", help="check level files and list every problem")
     ck.add_argument("files", nargs="+", metavar="FILE")
     ck.set_defaults(func=commands.check_level)
+
+    pb = sub.add_parser("probe", help="run naive strategies against levels: bypasses and soft-locks")
+    pb.add_argument(
+        "levels", nargs="*", metavar="LEVEL", help="level files or shipped level names (default: all shipped)"
+    )
+    pb.add_argument("--json", action="store_true", help="print one JSON list of rows, one per level, and nothing else")
+    pb.add_argument(
+        "--workers", type=positive_int, default=None, metavar="N", help="processes to run strategies in (the CPU count)"
+    )
+    pb.set_defaults(func=commands.probe)
 
     sc = sub.add_parser("level-schema", help="the level format as a JSON Schema, for editors that check as you type")
     sc.add_argument("-o", "--output", metavar="FILE.json", help="write it to FILE.json (default: print it)")
@@ -209,21 +220,29 @@ def main(argv=None) -> int:
             args = _parser().parse_args(["play"])
         return args.func(args)
     except UserError as e:
-        print(str(e) if str(e).startswith(PROG) else f"{PROG}: error: {e}", file=sys.stderr)
-        return 2
+        return _fail(argv, str(e) if str(e).startswith(PROG) else f"{PROG}: error: {e}", 2)
     except KeyboardInterrupt:
         return 130
     except Exception as e:
         if _terminated_by is not None:  # stopped by a signal mid-way (e.g. while compiling kernels)
-            print(f"{PROG}: stopped by {signal.Signals(_terminated_by).name}", file=sys.stderr)
-            return 128 + _terminated_by
+            return _fail(argv, f"{PROG}: stopped by {signal.Signals(_terminated_by).name}", 128 + _terminated_by)
         if debug:
             raise
         if isinstance(e, InputError):  # every error written for the user derives from it
-            print(f"{PROG}: error: {e}", file=sys.stderr)
-            return 2
-        print(f"{PROG}: internal error: {type(e).__name__}: {e} (run with --debug for details)", file=sys.stderr)
-        return 1
+            return _fail(argv, f"{PROG}: error: {e}", 2)
+        return _fail(argv, f"{PROG}: internal error: {type(e).__name__}: {e} (run with --debug for details)", 1)
+
+
+def _fail(argv: list[str], line: str, status: int) -> int:
+    """Say ``line`` on stderr and return ``status``; ``replay --json`` also prints it as JSON on
+    stdout (``{"error": line, "status": status}``), so a tool reading stdout is never left empty."""
+    print(line, file=sys.stderr)
+    command = next((a for a in argv if not a.startswith("-")), None)
+    if command == "replay" and "--json" in argv:
+        import json
+
+        print(json.dumps({"error": line, "status": status}), flush=True)
+    return status
 
 
 def _play(args) -> int:

@@ -66,6 +66,8 @@ def check_level(args) -> int:
             )
         if level.radar is not None:
             extra += f", radar {level.radar.range:g} m"
+        if level.needs:
+            extra += f", needs {' '.join(level.needs)}"
         _out(
             f"{f}: ok - '{level.name}', {len(level.boxes)} boxes, {len(level.worlds)} worlds, "
             f"{len(level.objects)} 4D objects{extra}, w in {list(level.w_range)}"
@@ -75,7 +77,8 @@ def check_level(args) -> int:
             print(
                 f"{f}: warning: will likely not keep 60 Hz on a typical 2-core machine: about {cost:.0f} ms "
                 f"per frame while moving along w ({FRAME_MS:.1f} ms allowed) for {level.tets:,} tetrahedra in "
-                f"{len(level.worlds) + len(level.objects)} 4D objects and worlds and {level.bodies} rigid bodies",
+                f"{len(level.worlds) + len(level.objects)} 4D objects and worlds, {level.bodies} rigid bodies, "
+                f"{len(level.enemies)} enemies and {len(level.crystals)} crystals",
                 file=sys.stderr,
             )
     return 2 if bad else 0
@@ -86,6 +89,53 @@ def _prologue_summary(level) -> str:
     kinds = [(level.solids, "3D solid"), (level.balls, "ball"), (level.crates, "crate"), (level.items, "item")]
     counts = ", ".join(f"{len(x)} {what}{'s' * (len(x) != 1)}" for x, what in kinds + [(level.hints, "hint")] if x)
     return f"'{level.name}', a Flatland prologue level: {counts}, z in {list(level.z_range)}"
+
+
+def probe(args) -> int:
+    """``probe``: the design probe (:mod:`across_dimensions.probe`) on the named levels, or on
+    every shipped one. Exit 0 when no level has a bypass or a soft-lock, 1 when one has."""
+    import json
+    import os
+    import time
+
+    from ..probe.runner import probe as run_probe
+    from ..world.level import load_level
+    from ..world.resources import level_files, resolve_level
+
+    paths = []
+    for name in args.levels or [str(p) for p in level_files()]:
+        try:
+            paths.append(resolve_level(name))
+        except FileNotFoundError as e:
+            raise UserError(str(e)) from None
+    for p in paths:
+        load_level(p)  # a bad level is refused before any strategy runs
+    workers = args.workers or os.cpu_count() or 1
+    t0 = time.perf_counter()
+    rows = run_probe(paths, workers=min(workers, 64))
+    took = time.perf_counter() - t0
+    if args.json:
+        _out(json.dumps(rows, allow_nan=False))
+    else:
+        for row in rows:
+            _out(_probe_lines(row))
+        found = sum(len(r["bypasses"]) + len(r["softlocks"]) for r in rows)
+        _out(f"{len(rows)} level(s), {found} finding(s), {took:.1f} s with {workers} worker(s)")
+    return 1 if any(r["bypasses"] or r["softlocks"] for r in rows) else 0
+
+
+def _probe_lines(row: dict) -> str:
+    """A level's probe row as text: a head line, then one line per finding."""
+    needs = ", ".join(row["needs"]) or "nothing declared"
+    lines = [
+        f"{row['level']} (needs {needs}): {len(row['strategies_run'])} strategies, "
+        f"{len(row['bypasses'])} bypass(es), {len(row['softlocks'])} soft-lock(s), {row['seconds']:.1f} s"
+    ]
+    for b in row["bypasses"]:
+        lines.append(f"  bypass: {b['strategy']} won at {b['seconds']:.2f} s without {', '.join(b['avoided'])}")
+    for s in row["softlocks"]:
+        lines.append(f"  soft-lock: after {s['strategy']}: {s['proof']}")
+    return "\n".join(lines)
 
 
 def level_schema(args) -> int:
@@ -160,6 +210,8 @@ def replay(args) -> int:
             file=sys.stderr,
         )
     game = _load_game(args.level, rep.seed)
+    if not getattr(args, "no_check", False):  # --no-check plays any actions on any level
+        _refuse_other_level(args, rep, game.level)
     if not isinstance(game, FlatGame):  # the prologue compiles no 4D kernels
         warm_up()
     if update:
@@ -182,6 +234,18 @@ def replay(args) -> int:
     return 0
 
 
+def _refuse_other_level(args, rep, level) -> None:
+    """A replay of another level is named before a tick is played (exit 2)."""
+    from ..game.replay_level import other_level
+
+    other = other_level(rep, level)
+    if other is not None:
+        raise UserError(
+            f"{args.replay}: recorded on the level '{other}', not on {args.level}; "
+            f"play it with: {PROG} replay {other} {args.replay}"
+        )
+
+
 def _update_hashes(args, rep, game, as_json: bool) -> int:
     """``replay --update-hashes``: record the replay's state hashes afresh.
 
@@ -191,15 +255,17 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
     outcome, same tick) the file is rewritten atomically with the new hashes
     and its actions unchanged (exit 0). A different ending leaves the file
     untouched (exit 1); a changed level file is refused as ``replay`` refuses
-    it (exit 3), and the level hash is never rewritten.
+    it (exit 3). The bakes of the level's assets are recorded again with the
+    hashes (and a replay of an older format gets them for the first time).
     """
     import json
     from dataclasses import replace
 
     from ..game.playback import changed_hashes, level_divergence, rehash
+    from ..game.replay_level import same_file
 
     result, fresh = rehash(rep, game)
-    refused = level_divergence(rep, game)
+    refused = None if same_file(rep, game.level) else level_divergence(rep, game)
     problem = None
     if refused is None and (result.outcome, result.ticks) != (rep.outcome, rep.final_ticks):
         problem = (
@@ -208,7 +274,8 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
         )
     updated = False
     changed, total = changed_hashes(rep, fresh)
-    if refused is None and problem is None and changed:
+    header = (rep.level_hash, rep.bakes) != (fresh.level_hash, fresh.bakes)
+    if refused is None and problem is None and (changed or header):
         _check_actions_kept(args.replay, fresh)
         fresh.save(args.replay)  # temporary file in the same folder, then os.replace
         updated = True
@@ -221,7 +288,10 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
         print(problem, file=sys.stderr)
         return 1
     say = (lambda msg: print(msg, file=sys.stderr, flush=True)) if as_json else _out  # stdout is the JSON's alone
-    say(f"{args.replay}: " + (f"hashes updated ({changed} of {total} changed)" if updated else "hashes unchanged"))
+    said = f"hashes updated ({changed} of {total} changed)" if updated and changed else "hashes unchanged"
+    if updated and header:
+        said += f"; level hash and bakes recorded ({', '.join(sorted(fresh.bakes)) or 'the level bakes no mesh'})"
+    say(f"{args.replay}: {said}")
     return 0
 
 

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from ..core.fileio import FileProblem
 from ..game.replay import Recorder
+from .saves import replay_folder
 
 
 class Recording:
@@ -45,7 +46,7 @@ class Recording:
             if self.path_given:
                 path = Path(self.path_given)
             else:
-                folder = _replay_folder()
+                folder = replay_folder()
                 folder.mkdir(parents=True, exist_ok=True)  # the game's own folder: ours to create
                 path = _unused(folder / f"{level_path.stem}_{time.strftime('%Y%m%d-%H%M%S')}.json")
             self.recorder = Recorder(game, level_path.stem, path)
@@ -80,12 +81,6 @@ class Recording:
             return
         self.say(f"Replay saved: {recorder.path}", 4.0)
         print(f"replay saved: {recorder.path}", flush=True)
-
-
-def _replay_folder() -> Path:
-    import platformdirs
-
-    return Path(platformdirs.user_data_dir("across-dimensions")) / "replays"
 
 
 def _unused(path: Path) -> Path:

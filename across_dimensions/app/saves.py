@@ -18,13 +18,23 @@ leaves the old file or the new one. A file that cannot be read as a progress
 file of this version is never overwritten: it is moved aside as
 ``progress.corrupt-N.json``, one warning names both files, and the player
 starts fresh.
+
+Two games may share one data folder (two windows, a second one started by
+mistake). Each write holds a lock (``.progress.lock``, ``flock``) while it reads
+the file again and merges it with what it has in memory: every finished level
+and its best time, the most crystals of each level; only *Continue*'s place is
+the writer's own. So no game loses another's progress. A game killed in the
+middle of a write leaves its temporary file (``.progress.json.XXXXXXXX.tmp``);
+the next start removes those, under the same lock, so never one being written.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -35,6 +45,10 @@ FORMAT = "across-dimensions-progress"
 VERSION = 1
 DATA_DIR_ENV = "ACROSS_DIMENSIONS_DATA_DIR"
 PROGRESS_FILE = "progress.json"
+LOCK_FILE = ".progress.lock"
+#: The temporary files of :func:`~across_dimensions.core.fileio.atomic_write` for the progress file
+#: (``tempfile.mkstemp``'s eight characters): a killed save leaves one of these, and only these are ours.
+STALE_TEMP = re.compile(r"\.progress\.json\.[a-z0-9_]{8}\.tmp")
 #: Largest progress file read, in bytes: a full campaign's is well under 2 kB.
 PROGRESS_MAX_BYTES = 1024 * 1024
 #: Longest best time kept, seconds (a day): beyond it a time is a corrupt file, not a run.
@@ -68,6 +82,11 @@ def data_folder() -> Path:
 def progress_path() -> Path:
     """Where the progress file lives (see :func:`data_folder`)."""
     return data_folder() / PROGRESS_FILE
+
+
+def replay_folder() -> Path:
+    """Where F9 recordings go: ``replays/`` in :func:`data_folder`."""
+    return data_folder() / "replays"
 
 
 @dataclass
@@ -135,6 +154,15 @@ class Progress:
             if stem not in self.finished and not skipped:
                 return stem, None
         return None, None
+
+    def merge(self, other: Progress) -> None:
+        """Take in ``other``'s finished levels (the better time) and crystals (the most found);
+        ``current`` and ``checkpoint`` stay this one's."""
+        for level, t in other.finished.items():
+            self.finished[level] = min(t, self.finished.get(level, math.inf))
+        for level, (found, total) in other.crystals.items():
+            mine = self.crystals.get(level)
+            self.crystals[level] = (found, total) if mine is None else (max(mine[0], min(found, mine[1])), mine[1])
 
     def to_json(self) -> str:
         return json.dumps(
@@ -223,6 +251,7 @@ def load_progress(path: Path | None = None) -> tuple[Progress, list[str]]:
         it was kept aside, and that the player starts fresh.
     """
     path = Path(path) if path is not None else progress_path()
+    remove_stale_temp(path.parent)
     if not os.path.lexists(path):
         return Progress(), []
     try:
@@ -239,7 +268,11 @@ def load_progress(path: Path | None = None) -> tuple[Progress, list[str]]:
 
 
 def save_progress(progress: Progress, path: Path | None = None) -> Path:
-    """Write the progress file atomically; the game's own data folder is created when missing.
+    """Merge ``progress`` with the file under the lock and write it atomically (see the module docstring).
+
+    ``progress`` itself takes in what the file held (another game's finished
+    levels), so what the player sees and what is saved agree. The game's own
+    data folder is created when missing.
 
     Raises
     ------
@@ -253,4 +286,57 @@ def save_progress(progress: Progress, path: Path | None = None) -> Path:
             path.parent.mkdir(parents=True, exist_ok=True)  # the game's own folder: ours to create
         except OSError as e:
             raise FileProblem(f"{path.parent}: cannot create the game's data folder ({e.strerror or e})") from None
-    return atomic_write(path, progress.to_json() + "\n")
+    try:
+        with _locked(path.parent):
+            with contextlib.suppress(FileProblem, ValueError, RecursionError):  # unreadable: load_progress's business
+                if os.path.lexists(path):
+                    progress.merge(Progress.from_json(read_text(path, limit=PROGRESS_MAX_BYTES, what="progress")))
+            return atomic_write(path, progress.to_json() + "\n")
+    except OSError as e:  # the lock file cannot be made (a read-only folder)
+        raise FileProblem(f"{path}: cannot write it ({e.strerror or e})") from None
+
+
+def remove_stale_temp(folder: Path | None = None) -> int:
+    """Remove temporary files that killed saves left in ``folder`` (default :func:`data_folder`).
+
+    Only names :data:`STALE_TEMP` matches, and under the lock, so never the
+    file of a save in progress. Never raises.
+
+    Returns
+    -------
+    int
+        How many were removed.
+    """
+    folder = Path(folder) if folder is not None else data_folder()
+    removed = 0
+    with contextlib.suppress(OSError):
+        stale = [p for p in folder.iterdir() if STALE_TEMP.fullmatch(p.name)] if folder.is_dir() else []
+        if stale:
+            with _locked(folder):
+                for p in stale:
+                    with contextlib.suppress(FileNotFoundError):
+                        p.unlink()
+                        removed += 1
+    return removed
+
+
+@contextlib.contextmanager
+def _locked(folder: Path):
+    """Hold the exclusive lock on ``folder``'s progress (``flock``; none where there is no ``fcntl``).
+
+    Raises
+    ------
+    OSError
+        The lock file cannot be opened.
+    """
+    try:
+        import fcntl
+    except ImportError:  # Windows: writes stay atomic, two games at once are not merged
+        yield
+        return
+    fd = os.open(folder / LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)  # closing releases the lock

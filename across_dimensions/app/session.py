@@ -192,9 +192,12 @@ class Session:
             return
         from .editor.mode import EditorView  # the optional extra's GUI libraries: only when asked for
 
-        if self.editor is None:
-            self.editor = EditorView(self, play.level_path)
-        self.editor.enter(play, from_play)
+        try:  # the file may have broken on disk since the level was loaded: the game goes on
+            if self.editor is None:
+                self.editor = EditorView(self, play.level_path)
+            self.editor.enter(play, from_play)
+        except (InputError, OSError) as e:
+            self.warn(f"Cannot open the editor: {str(e).splitlines()[0]}")
 
     # ---------------------------------------------------------------- services
     def tick(self, dt: float) -> None:

@@ -28,6 +28,7 @@ from ..world.flat_level import load_flat_level
 from ..world.level import load_level
 from ..world.resources import is_prologue_file, level_files, resolve_level
 from . import pyglet_options  # noqa: F401  (before pyglet.window or pyglet.gl load)
+from .screenshots import save_screenshot
 from .session import Session, Start, timing
 from .settings import Settings, load_settings, save_settings, settings_path
 from .settings_log import report_warnings, warning_screen_line
@@ -156,21 +157,28 @@ class GameWindow(pyglet.window.Window):
         """Take a screenshot after the next frame is drawn."""
         self.shot_pending = True
 
-    def screenshot(self) -> Path:
-        """Save what the window shows as a PNG in ./screenshots/.
+    def screenshot(self) -> Path | None:
+        """Save what the window shows as a PNG in the player's pictures folder (see
+        :mod:`.screenshots`); a failure is a notice, never an exit.
 
         The view is drawn again into an offscreen framebuffer of the window's
         size (reading the window's own back buffer is not portable in a core
         profile), through the same render scale as the window.
         """
         fw, fh = self.get_framebuffer_size()
-        folder = Path("screenshots")
-        folder.mkdir(exist_ok=True)
-        path = folder / f"shot_{len(list(folder.glob('shot_*.png'))):04d}.png"
-        with Offscreen(self.ctx, fw, fh) as target:
-            self.current_view.on_draw(target.fbo, target.viewport)
-            target.save_png(path)
-        self.ctx.screen.use()
+
+        def write(path):
+            with Offscreen(self.ctx, fw, fh) as target:
+                self.current_view.on_draw(target.fbo, target.viewport)
+                target.save_png(path)
+
+        try:
+            path, message = save_screenshot(write)
+        finally:
+            self.ctx.screen.use()
+        if path is None:
+            self.session.warn(message)
+            return None
         print(f"screenshot saved: {path}", flush=True)
         self.current_view.on_screenshot(path)
         return path

@@ -32,7 +32,6 @@ one GPU buffer per object) can be measured in the same run for comparison
 from __future__ import annotations
 
 import math
-import resource
 import statistics
 import sys
 import time
@@ -172,6 +171,11 @@ class _Scene:
 
 
 def _maxrss_mb() -> float:
+    """Peak resident memory in MB; NaN where the system does not say (Windows has no ``resource``)."""
+    try:
+        import resource
+    except ImportError:
+        return math.nan
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     return rss / 1024.0 / (1024.0 if sys.platform == "darwin" else 1.0)  # KiB on Linux, bytes on macOS
 

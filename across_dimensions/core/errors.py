@@ -10,8 +10,12 @@ It is a ``ValueError`` so code that already catches ``ValueError`` keeps working
 
 from __future__ import annotations
 
-__all__ = ["InputError"]
+__all__ = ["InputError", "MeshError"]
 
 
 class InputError(ValueError):
     """Bad input from a person; the message names the file or option, the entry and what was expected."""
+
+
+class MeshError(InputError):
+    """A mesh that breaks one of the rules of :class:`~.mesh.TetMesh4` (or a mesh file that is not one)."""

@@ -131,16 +131,27 @@ def check_folder(path) -> Path:
     Raises
     ------
     FileProblem
-        When the folder is missing or is not a folder. Folders are never
-        created here: a typo must not scatter directories over the disk.
+        When the folder is missing or is not a folder, or ``path`` is there and
+        is not a regular file (a folder, a FIFO, a device such as ``/dev/null``,
+        a socket, or a link to one): writing replaces the target, and only a
+        regular file or a new name may be replaced. Folders are never created
+        here: a typo must not scatter directories over the disk.
     """
     path = Path(path)
     folder = path.parent
-    if not folder.is_dir():
-        what = "is not a folder" if folder.exists() else "does not exist"
-        raise FileProblem(f"{path}: the folder {folder} {what}")
-    if path.is_dir():
+    try:
+        if not folder.is_dir():
+            what = "is not a folder" if folder.exists() else "does not exist"
+            raise FileProblem(f"{path}: the folder {folder} {what}")
+        mode = os.stat(path).st_mode  # follows a link: a link to /dev/null is a device
+    except FileNotFoundError:
+        return path  # a new file (or a dangling link, replaced by the file)
+    except OSError as e:
+        raise FileProblem(f"{path}: cannot write it ({e.strerror or e})") from None
+    if stat.S_ISDIR(mode):
         raise FileProblem(f"{path}: is a folder (expected a file name to write)")
+    if not stat.S_ISREG(mode):
+        raise FileProblem(f"{path}: is {_kind(mode)}, not a regular file (expected a new file or one to replace)")
     return path
 
 

@@ -20,12 +20,14 @@ left out.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ._jit import njit
 from .frustum import focal_length
 from .mesh import TetMesh4
-from .section_batch import ROW
+from .section_batch_kernels import ROW
 
 
 def solid_edges(mesh: TetMesh4, angle_tol: float = 1e-4) -> np.ndarray:
@@ -110,48 +112,148 @@ def silhouette_data(mesh: TetMesh4, angle_tol: float = 1e-4):
     return mesh._cache[key]
 
 
+class FrustumPool(NamedTuple):
+    """Every distinct mesh once, concatenated; faces, edges and tets numbered within their mesh.
+
+    Attributes
+    ----------
+    vertices : (n, 4) float32
+    colors : (n, 4) float32
+    faces : (f, 3) uint32
+        Feature faces (:meth:`~.mesh.TetMesh4.feature_faces`), local vertex numbers.
+    edges : (e, 2) uint32
+        :func:`solid_edges`, local vertex numbers.
+    owners : (f, 2) int64
+        Per face: the local tets on either side (:func:`silhouette_data`).
+    normals : (m, 4) float64
+    offsets : (m,) float64
+        Per tet: its hyperplane ``normal . x = offset``.
+    edge_ptr, edge_end : (e,) int64
+        Per edge: its range in ``edge_faces``.
+    edge_faces : (k,) int64
+        Local face numbers.
+    """
+
+    vertices: np.ndarray
+    colors: np.ndarray
+    faces: np.ndarray
+    edges: np.ndarray
+    owners: np.ndarray
+    normals: np.ndarray
+    offsets: np.ndarray
+    edge_ptr: np.ndarray
+    edge_end: np.ndarray
+    edge_faces: np.ndarray
+
+
+class Placed(NamedTuple):
+    """The instances to project.
+
+    Attributes
+    ----------
+    ranges : (k, 7) int64
+        Per instance, its mesh's vertex, face and edge ranges in the pool and its first tet.
+    mvs : (k, 5, 5) float64
+        Object to 4D camera.
+    place : (k, 4) float64
+        Uniform scale and xyz offset of the projected shape in the 3D world.
+    eyes : (k, 4) float64
+        The 4D eye in each object's own coordinates.
+    """
+
+    ranges: np.ndarray
+    mvs: np.ndarray
+    place: np.ndarray
+    eyes: np.ndarray
+
+
+class Lens(NamedTuple):
+    """The 4D camera's focal length, near distance, and whether to keep only the silhouette."""
+
+    focal: float
+    near: float
+    silhouette: bool
+
+
+class Projected(NamedTuple):
+    """The shared outputs: ``vertices (r, 10) float32``, ``faces (f, 3) uint32``, ``edges (e, 2) uint32``."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    edges: np.ndarray
+
+
+class FrustumScratch(NamedTuple):
+    """Per instance: camera-space vertices ``cam (n, 4) float64``, which are in front of the
+    near hyperplane ``inside (n,) bool``, which faces are kept ``keep (f,) bool``, a clipped
+    polygon ``poly (4,) int64``; ``counts (4,) int64``: rows, faces, edges written and faces clipped."""
+
+    cam: np.ndarray
+    inside: np.ndarray
+    keep: np.ndarray
+    poly: np.ndarray
+    counts: np.ndarray
+
+
 class _Pool:
     def __init__(self):
         self.index: dict[int, int] = {}
         self.meshes: list[TetMesh4] = []
-        self.vertices = np.zeros((0, 4), np.float32)
-        self.colors = np.zeros((0, 4), np.float32)
-        self.faces = np.zeros((0, 3), np.uint32)  # local vertex numbers
-        self.edges = np.zeros((0, 2), np.uint32)
-        self.owners = np.zeros((0, 2), np.int64)  # per face: local tets on either side
-        self.normals = np.zeros((0, 4))  # per tet
-        self.offsets = np.zeros(0)
-        self.edge_ptr = np.zeros(0, np.int64)  # per edge: range in edge_faces (pooled)
-        self.edge_faces = np.zeros(0, np.int64)  # local face numbers
+        self.arrays = FrustumPool(
+            vertices=np.zeros((0, 4), np.float32),
+            colors=np.zeros((0, 4), np.float32),
+            faces=np.zeros((0, 3), np.uint32),
+            edges=np.zeros((0, 2), np.uint32),
+            owners=np.zeros((0, 2), np.int64),
+            normals=np.zeros((0, 4)),
+            offsets=np.zeros(0),
+            edge_ptr=np.zeros(0, np.int64),
+            edge_end=np.zeros(0, np.int64),
+            edge_faces=np.zeros(0, np.int64),
+        )
         # per mesh: v lo, v hi, f lo, f hi, e lo, e hi, tet lo
         self.ranges = np.zeros((0, 7), np.int64)
+        self.max_vertices, self.max_faces = 0, 0
 
     def add(self, mesh: TetMesh4) -> int:
         k = self.index.get(id(mesh))
         if k is None:
+            a = self.arrays
             f, e = mesh.feature_faces(), solid_edges(mesh)
             owners, normals, offsets, edge_ptr, edge_faces = silhouette_data(mesh)
-            r = [len(self.vertices), len(self.vertices) + len(mesh.vertices)]
-            r += [len(self.faces), len(self.faces) + len(f), len(self.edges), len(self.edges) + len(e)]
-            r += [len(self.normals)]
-            self.vertices = np.concatenate([self.vertices, mesh.vertices])
-            self.colors = np.concatenate([self.colors, mesh.vertex_colors().astype(np.float32)])
-            self.faces = np.concatenate([self.faces, f.astype(np.uint32)])
-            self.edges = np.concatenate([self.edges, e])
-            self.owners = np.concatenate([self.owners, owners])
-            self.normals = np.concatenate([self.normals, normals])
-            self.offsets = np.concatenate([self.offsets, offsets])
+            r = [len(a.vertices), len(a.vertices) + len(mesh.vertices)]
+            r += [len(a.faces), len(a.faces) + len(f), len(a.edges), len(a.edges) + len(e)]
+            r += [len(a.normals)]
             # Edge ranges: one pointer per edge, into the pooled face lists.
-            self.edge_ptr = np.concatenate([self.edge_ptr, edge_ptr[:-1] + len(self.edge_faces)])
-            self.edge_faces = np.concatenate([self.edge_faces, edge_faces])
+            ptr = np.concatenate([a.edge_ptr, edge_ptr[:-1] + len(a.edge_faces)])
+            all_faces = np.concatenate([a.edge_faces, edge_faces])
+            self.arrays = FrustumPool(
+                vertices=np.concatenate([a.vertices, mesh.vertices]),
+                colors=np.concatenate([a.colors, mesh.vertex_colors().astype(np.float32)]),
+                faces=np.concatenate([a.faces, f.astype(np.uint32)]),
+                edges=np.concatenate([a.edges, e]),
+                owners=np.concatenate([a.owners, owners]),
+                normals=np.concatenate([a.normals, normals]),
+                offsets=np.concatenate([a.offsets, offsets]),
+                edge_ptr=ptr,
+                edge_end=np.append(ptr[1:], len(all_faces)),
+                edge_faces=all_faces,
+            )
             self.ranges = np.concatenate([self.ranges, [r]])
+            self.max_vertices = max(self.max_vertices, len(mesh.vertices))
+            self.max_faces = max(self.max_faces, len(f))
             k = self.index[id(mesh)] = len(self.meshes)
             self.meshes.append(mesh)
         return k
 
-    def edge_ends(self) -> np.ndarray:
-        """End of each edge's range in :attr:`edge_faces`."""
-        return np.append(self.edge_ptr[1:], len(self.edge_faces))
+    def scratch(self, ws: FrustumScratch | None) -> FrustumScratch:
+        """``ws`` if it is large enough for every mesh of the pool, else a new one."""
+        n, f = self.max_vertices, self.max_faces
+        if ws is not None and len(ws.cam) >= n and len(ws.keep) >= f:
+            return ws
+        return FrustumScratch(
+            np.empty((n, 4)), np.empty(n, np.bool_), np.empty(f, np.bool_), np.empty(4, np.int64), np.zeros(4, np.int64)
+        )
 
 
 class FrustumBatch:
@@ -176,6 +278,7 @@ class FrustumBatch:
         self._e = np.zeros((0, 2), np.uint32)
         self._counts = (0, 0, 0)
         self._signature = None
+        self._scratch = None  # the kernel's FrustumScratch, grown with the pool
         self.topology_revision = 0
         self.revision = 0
 
@@ -215,6 +318,7 @@ class FrustumBatch:
         """
         pool = self._pool
         ids = np.array([pool.add(m) for m in meshes], np.int64)
+        self._scratch = pool.scratch(self._scratch)
         r = pool.ranges[ids] if len(ids) else np.zeros((0, 7), np.int64)
         nv, nf, ne = r[:, 1] - r[:, 0], r[:, 3] - r[:, 2], r[:, 5] - r[:, 4]
         # Worst case: every face clipped into a quad with two new points.
@@ -229,12 +333,9 @@ class FrustumBatch:
         place = np.ascontiguousarray(np.asarray(place, np.float64).reshape(len(ids), 4))
         # The 4D eye in each object's own coordinates: -L^-1 t for model-view [L t].
         eyes = -np.linalg.solve(mvs[:, :4, :4], mvs[:, :4, 4:5])[..., 0] if len(ids) else np.zeros((0, 4))
-        counts = _project_batch(
-            pool.vertices, pool.colors, pool.faces, pool.edges, r, mvs, place, focal_length(fov_deg), float(near),
-            self._v, self._f, self._e,
-            pool.owners, pool.normals, pool.offsets, pool.edge_ptr, pool.edge_ends(), pool.edge_faces,
-            np.ascontiguousarray(eyes), bool(silhouette),
-        )  # fmt: skip
+        placed = Placed(r, mvs, place, np.ascontiguousarray(eyes))
+        lens = Lens(focal_length(fov_deg), float(near), bool(silhouette))
+        counts = _project_batch(pool.arrays, placed, lens, Projected(self._v, self._f, self._e), self._scratch)
         nv_out, nf_out, ne_out, clipped = counts
         signature = (tuple(ids.tolist()), nv_out, nf_out, ne_out)
         if clipped or silhouette or signature != self._signature:
@@ -245,121 +346,144 @@ class FrustumBatch:
 
 
 @njit(cache=True)
-def _project_batch(
-    verts, colors, faces, edges, ranges, mvs, place, f, near, out, out_f, out_e,
-    owners, normals, offsets, edge_ptr, edge_end, edge_faces, eyes, silhouette,
-):  # fmt: skip
-    o = 0
-    of = 0
-    oe = 0
-    clipped = 0
-    inside = np.empty(0, np.bool_)
-    cam = np.empty((0, 4))
-    keep = np.empty(0, np.bool_)
-    poly = np.empty(4, np.int64)
-    for k in range(ranges.shape[0]):
-        v_lo, v_hi = ranges[k, 0], ranges[k, 1]
-        f_lo, f_hi = ranges[k, 2], ranges[k, 3]
-        t_lo = ranges[k, 6]
-        n = v_hi - v_lo
-        if cam.shape[0] < n:
-            cam = np.empty((n, 4))
-            inside = np.empty(n, np.bool_)
-        if keep.shape[0] < f_hi - f_lo:
-            keep = np.empty(f_hi - f_lo, np.bool_)
-        mv = mvs[k]
-        s_place = place[k, 0]
-        base = o
-        all_inside = True
-        for i in range(n):
-            vi = v_lo + i
-            for r in range(4):
-                cam[i, r] = (
-                    mv[r, 0] * verts[vi, 0] + mv[r, 1] * verts[vi, 1] + mv[r, 2] * verts[vi, 2]
-                    + mv[r, 3] * verts[vi, 3] + mv[r, 4]
-                )  # fmt: skip
-            w = cam[i, 3]
-            inside[i] = w >= near
-            all_inside = all_inside and inside[i]
-            row = out[o]
-            if inside[i]:
-                sc = f / w
+def _project_batch(pool, placed, lens, out, ws):
+    """Project every instance into ``out``; returns the rows, faces and edges written and
+    the faces clipped by the near hyperplane."""
+    counts = ws.counts
+    counts[:] = 0
+    for k in range(placed.ranges.shape[0]):
+        base = counts[0]
+        all_inside = _project_vertices(pool, placed, k, lens, out.vertices, ws)
+        cull = lens.silhouette and all_inside
+        _project_faces(pool, placed, k, lens, cull, base, out, ws)
+        _project_edges(pool, placed, k, cull, base, out.edges, ws)
+    return counts[0], counts[1], counts[2], counts[3]
+
+
+@njit(inline="always")
+def _project_vertices(pool, placed, k, lens, out, ws):
+    """Instance ``k``'s vertices into camera space (``ws.cam``) and, projected and placed,
+    into rows of ``out`` (a vertex behind the near hyperplane at the placement's origin,
+    unused); returns whether every vertex is in front of it."""
+    verts, colors, cam, inside = pool.vertices, pool.colors, ws.cam, ws.inside
+    v_lo, v_hi = placed.ranges[k, 0], placed.ranges[k, 1]
+    mv = placed.mvs[k]
+    place = placed.place[k]
+    focal, near, s_place = lens.focal, lens.near, place[0]
+    o = ws.counts[0]
+    all_inside = True
+    for i in range(v_hi - v_lo):
+        vi = v_lo + i
+        for r in range(4):
+            cam[i, r] = (
+                mv[r, 0] * verts[vi, 0] + mv[r, 1] * verts[vi, 1] + mv[r, 2] * verts[vi, 2]
+                + mv[r, 3] * verts[vi, 3] + mv[r, 4]
+            )  # fmt: skip
+        w = cam[i, 3]
+        inside[i] = w >= near
+        all_inside = all_inside and inside[i]
+        row = out[o]
+        if inside[i]:
+            sc = focal / w
+            for r in range(3):
+                row[r] = np.float32(cam[i, r] * sc) * s_place + place[1 + r]
+        else:
+            for r in range(3):
+                row[r] = place[1 + r]
+        row[3] = 0.0
+        row[4] = 0.0
+        row[5] = 0.0
+        for r in range(4):
+            row[6 + r] = colors[vi, r]
+        o += 1
+    ws.counts[0] = o
+    return all_inside
+
+
+@njit(inline="always")
+def _project_faces(pool, placed, k, lens, cull, base, out, ws):
+    """Instance ``k``'s faces into ``out.faces`` (rows from ``base`` on), clipped by the near
+    hyperplane (new points into ``out.vertices``); with ``cull``, only the silhouette's.
+
+    A face on the silhouette lies between a cell facing the eye and one facing away.
+    Which faces are kept goes into ``ws.keep`` for :func:`_project_edges`.
+    """
+    faces, owners, normals, offsets, colors = pool.faces, pool.owners, pool.normals, pool.offsets, pool.colors
+    cam, inside, keep, poly, counts = ws.cam, ws.inside, ws.keep, ws.poly, ws.counts
+    ov, out_f = out.vertices, out.faces
+    v_lo, f_lo, f_hi, t_lo = placed.ranges[k, 0], placed.ranges[k, 2], placed.ranges[k, 3], placed.ranges[k, 6]
+    place = placed.place[k]
+    e0, e1, e2, e3 = placed.eyes[k, 0], placed.eyes[k, 1], placed.eyes[k, 2], placed.eyes[k, 3]
+    focal, near, s_place = lens.focal, lens.near, place[0]
+    o, of, clipped = counts[0], counts[1], counts[3]
+    for fi in range(f_lo, f_hi):
+        keep[fi - f_lo] = True
+        if cull and owners[fi, 1] >= 0:
+            ta = t_lo + owners[fi, 0]
+            tb = t_lo + owners[fi, 1]
+            fa = offsets[ta] - (normals[ta, 0] * e0 + normals[ta, 1] * e1 + normals[ta, 2] * e2 + normals[ta, 3] * e3)
+            fb = offsets[tb] - (normals[tb, 0] * e0 + normals[tb, 1] * e1 + normals[tb, 2] * e2 + normals[tb, 3] * e3)
+            if (fa > 0.0) == (fb > 0.0):
+                keep[fi - f_lo] = False
+                continue
+        a0, a1, a2 = faces[fi, 0], faces[fi, 1], faces[fi, 2]
+        nin = np.int64(inside[a0]) + np.int64(inside[a1]) + np.int64(inside[a2])
+        if nin == 3:
+            out_f[of, 0] = base + a0
+            out_f[of, 1] = base + a1
+            out_f[of, 2] = base + a2
+            of += 1
+            continue
+        if nin == 0:
+            continue
+        clipped += 1
+        m = 0
+        for j in range(3):
+            a = faces[fi, j]
+            b = faces[fi, (j + 1) % 3]
+            if inside[a]:
+                poly[m] = base + a
+                m += 1
+            if inside[a] != inside[b]:
+                s = (near - cam[a, 3]) / (cam[b, 3] - cam[a, 3])
+                sc = focal / near
+                row = ov[o]
                 for r in range(3):
-                    row[r] = np.float32(cam[i, r] * sc) * s_place + place[k, 1 + r]
-            else:
-                for r in range(3):
-                    row[r] = place[k, 1 + r]
-            row[3] = 0.0
-            row[4] = 0.0
-            row[5] = 0.0
-            for r in range(4):
-                row[6 + r] = colors[vi, r]
-            o += 1
-        cull = silhouette and all_inside
-        e0, e1, e2, e3 = eyes[k, 0], eyes[k, 1], eyes[k, 2], eyes[k, 3]
-        for fi in range(f_lo, f_hi):
-            keep[fi - f_lo] = True
-            if cull and owners[fi, 1] >= 0:
-                # A face on the outline lies between a cell facing the eye and one facing away.
-                ta = t_lo + owners[fi, 0]
-                tb = t_lo + owners[fi, 1]
-                fa = offsets[ta] - (
-                    normals[ta, 0] * e0 + normals[ta, 1] * e1 + normals[ta, 2] * e2 + normals[ta, 3] * e3
-                )
-                fb = offsets[tb] - (
-                    normals[tb, 0] * e0 + normals[tb, 1] * e1 + normals[tb, 2] * e2 + normals[tb, 3] * e3
-                )
-                if (fa > 0.0) == (fb > 0.0):
-                    keep[fi - f_lo] = False
-                    continue
-            a0, a1, a2 = faces[fi, 0], faces[fi, 1], faces[fi, 2]
-            nin = np.int64(inside[a0]) + np.int64(inside[a1]) + np.int64(inside[a2])
-            if nin == 3:
-                out_f[of, 0] = base + a0
-                out_f[of, 1] = base + a1
-                out_f[of, 2] = base + a2
-                of += 1
-                continue
-            if nin == 0:
-                continue
-            clipped += 1
-            m = 0
-            for j in range(3):
-                a = faces[fi, j]
-                b = faces[fi, (j + 1) % 3]
-                if inside[a]:
-                    poly[m] = base + a
-                    m += 1
-                if inside[a] != inside[b]:
-                    s = (near - cam[a, 3]) / (cam[b, 3] - cam[a, 3])
-                    sc = f / near
-                    row = out[o]
-                    for r in range(3):
-                        row[r] = np.float32((cam[a, r] + s * (cam[b, r] - cam[a, r])) * sc) * s_place + place[k, 1 + r]
-                    row[3] = 0.0
-                    row[4] = 0.0
-                    row[5] = 0.0
-                    for r in range(4):
-                        row[6 + r] = colors[v_lo + a, r] + s * (colors[v_lo + b, r] - colors[v_lo + a, r])
-                    poly[m] = o
-                    o += 1
-                    m += 1
-            for tri in range(m - 2):
-                out_f[of, 0] = poly[0]
-                out_f[of, 1] = poly[tri + 1]
-                out_f[of, 2] = poly[tri + 2]
-                of += 1
-        for ei in range(ranges[k, 4], ranges[k, 5]):
-            a, b = edges[ei, 0], edges[ei, 1]
-            if not (inside[a] and inside[b]):
-                continue
-            shown = not cull
-            for j in range(edge_ptr[ei], edge_end[ei]):
-                if keep[edge_faces[j]]:
-                    shown = True
-                    break
-            if shown:
-                out_e[oe, 0] = base + a
-                out_e[oe, 1] = base + b
-                oe += 1
-    return o, of, oe, clipped
+                    row[r] = np.float32((cam[a, r] + s * (cam[b, r] - cam[a, r])) * sc) * s_place + place[1 + r]
+                row[3] = 0.0
+                row[4] = 0.0
+                row[5] = 0.0
+                for r in range(4):
+                    row[6 + r] = colors[v_lo + a, r] + s * (colors[v_lo + b, r] - colors[v_lo + a, r])
+                poly[m] = o
+                o += 1
+                m += 1
+        for tri in range(m - 2):
+            out_f[of, 0] = poly[0]
+            out_f[of, 1] = poly[tri + 1]
+            out_f[of, 2] = poly[tri + 2]
+            of += 1
+    counts[0], counts[1], counts[3] = o, of, clipped
+
+
+@njit(inline="always")
+def _project_edges(pool, placed, k, cull, base, out_e, ws):
+    """Instance ``k``'s edges in front of the near hyperplane into ``out_e``; with ``cull``
+    only those of a kept face (:func:`_project_faces`)."""
+    edges, edge_ptr, edge_end, edge_faces = pool.edges, pool.edge_ptr, pool.edge_end, pool.edge_faces
+    inside, keep = ws.inside, ws.keep
+    oe = ws.counts[2]
+    for ei in range(placed.ranges[k, 4], placed.ranges[k, 5]):
+        a, b = edges[ei, 0], edges[ei, 1]
+        if not (inside[a] and inside[b]):
+            continue
+        shown = not cull
+        for j in range(edge_ptr[ei], edge_end[ei]):
+            if keep[edge_faces[j]]:
+                shown = True
+                break
+        if shown:
+            out_e[oe, 0] = base + a
+            out_e[oe, 1] = base + b
+            oe += 1
+    ws.counts[2] = oe

@@ -41,6 +41,8 @@ the tet is flipped where they disagree.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .mesh import TET_FACES, TetMesh4, cross4
@@ -392,39 +394,45 @@ def profile_layers(w_center: float, depth: float, profile: str, layers: int = 9)
     return np.linspace(w_center - depth / 2, w_center + depth / 2, layers)
 
 
-def extend_solid(
-    vertices3,
-    tets3,
-    w_center: float,
-    depth: float,
-    profile: str = "round",
-    layers: int = 9,
-    colors=None,
-    center=None,
-    floor: float = 0.0,
-    name: str = "",
-) -> TetMesh4:
-    """Give a 3D solid a hyper-depth: :func:`profile_layers` + :func:`profile_scales` + :func:`extrude`.
+@dataclass(frozen=True)
+class HyperDepth:
+    """How far a 3D solid extends along ``w`` and how its section changes on the way.
 
-    Parameters
+    Attributes
     ----------
-    vertices3 : (n, 3) array_like float
-    tets3 : (m, 4) array_like int
     w_center : float
     depth : float
         Full extent along ``w`` (> 0): the solid exists for ``|w - w_center| < depth / 2``.
     profile : {"prism", "round", "taper"}
     layers : int
         Number of copies for ``round``/``taper`` (a prism always uses 2).
-    colors, center, name
-        As in :func:`extrude`.
     floor : float
         As in :func:`profile_scales`.
+    """
+
+    w_center: float = 0.0
+    depth: float = 1.0
+    profile: str = "round"
+    layers: int = 9
+    floor: float = 0.0
+
+
+def extend_solid(vertices3, tets3, extent: HyperDepth, colors=None, center=None, name: str = "") -> TetMesh4:
+    """Give a 3D solid a hyper-depth: :func:`profile_layers` + :func:`profile_scales` + :func:`extrude`.
+
+    Parameters
+    ----------
+    vertices3 : (n, 3) array_like float
+    tets3 : (m, 4) array_like int
+    extent : HyperDepth
+    colors, center, name
+        As in :func:`extrude`.
 
     Returns
     -------
     TetMesh4
     """
-    w = profile_layers(w_center, depth, profile, layers)
-    s = profile_scales(w, w_center, depth / 2, profile, floor)
+    e = extent
+    w = profile_layers(e.w_center, e.depth, e.profile, e.layers)
+    s = profile_scales(w, e.w_center, e.depth / 2, e.profile, e.floor)
     return extrude(vertices3, tets3, w, s, center=center, colors=colors, name=name)

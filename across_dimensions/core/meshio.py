@@ -22,6 +22,7 @@ from __future__ import annotations
 import json
 import struct
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -152,6 +153,7 @@ def _collapse_flat(v: np.ndarray, c: np.ndarray, faces: np.ndarray, max_passes: 
         for x in row:
             around.setdefault(int(x), set()).add(fi)
     tiny = (1e-7 * scale) ** 2  # twice the smallest triangle area we keep
+    surface = _Surface(v, c, faces, normal, around, alive, tiny)
     for _ in range(max_passes):
         changed = False
         for x in candidates.tolist():
@@ -160,12 +162,24 @@ def _collapse_flat(v: np.ndarray, c: np.ndarray, faces: np.ndarray, max_passes: 
                 continue
             targets = _collapse_targets(x, fs, faces, v, normal)
             for q in targets:
-                if _try_collapse(x, q, fs, faces, v, c, normal, around, alive, tiny):
+                if _try_collapse(surface, x, q, fs):
                     changed = True
                     break
         if not changed:
             break
     return faces[alive]
+
+
+class _Surface(NamedTuple):
+    """The triangles :func:`_collapse_flat` works on, changed in place by :func:`_try_collapse`."""
+
+    v: np.ndarray  # (k, 3) float64 positions
+    c: np.ndarray  # (k, 4) float64 colours
+    faces: np.ndarray  # (f, 3) int64
+    normal: np.ndarray  # (f, 3) float64, unit
+    around: dict  # vertex -> the faces that used it
+    alive: np.ndarray  # (f,) bool
+    tiny: float  # twice the smallest triangle area kept
 
 
 def _collapse_targets(x: int, fs: list, faces: np.ndarray, v: np.ndarray, normal: np.ndarray) -> list:
@@ -207,8 +221,9 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     )
 
 
-def _try_collapse(x, q, fs, faces, v, c, normal, around, alive, tiny) -> bool:
+def _try_collapse(s: _Surface, x: int, q: int, fs: list) -> bool:
     """Collapse ``x`` into ``q`` if it keeps the surface and colours; report whether it did."""
+    faces, normal, around, alive = s.faces, s.normal, s.around, s.alive
     ring_x = set(faces[fs].ravel().tolist()) - {x}
     ring_q = set(faces[[f for f in around[q] if alive[f]]].ravel().tolist()) - {q}
     if len(ring_x & ring_q) != 2:  # link condition: otherwise triangles would duplicate or fold
@@ -218,13 +233,13 @@ def _try_collapse(x, q, fs, faces, v, c, normal, around, alive, tiny) -> bool:
     kept = [f for f, h in zip(fs, has_q) if not h]
     removed = [f for f, h in zip(fs, has_q) if h]
     new = np.where(rows[~has_q] == x, q, rows[~has_q])
-    p = v[new]
+    p = s.v[new]
     n = _cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
     nn = (n * n).sum(axis=1)
-    if (nn <= tiny).any() or ((n * normal[kept]).sum(axis=1) <= 0).any():
+    if (nn <= s.tiny).any() or ((n * normal[kept]).sum(axis=1) <= 0).any():
         return False  # a triangle would vanish or flip
     n /= np.sqrt(nn)[:, None]
-    if not _colour_kept(x, new, n, v, c):
+    if not _colour_kept(x, new, n, s.v, s.c):
         return False
     alive[removed] = False
     faces[kept] = new

@@ -332,21 +332,7 @@ def expm_skew(w, h, out, wk):
     for i in range(4):
         for j in range(4):
             a[i, j] *= scale
-    # Coefficients of A^n / n! on I, A, A^2, A^3, and their running sums.
-    t0, t1, t2, t3 = 1.0, 0.0, 0.0, 0.0
-    c0, c1, c2, c3 = 1.0, 0.0, 0.0, 0.0
-    bound = 1.0
-    for n in range(1, 30):
-        inv_n = 1.0 / n
-        t0, t1, t2, t3 = -t3 * q * inv_n, t0 * inv_n, (t1 - t3 * p) * inv_n, t2 * inv_n
-        c0 += t0
-        c1 += t1
-        c2 += t2
-        c3 += t3
-        # |A^n / n!| <= |A|^n / n!: stop once that is below rounding.
-        bound *= norm * inv_n
-        if bound < 1e-18:
-            break
+    c0, c1, c2, c3 = _series_on_powers(p, q, norm)
     for i in range(4):
         for j in range(4):
             s = 0.0
@@ -373,6 +359,31 @@ def expm_skew(w, h, out, wk):
         for i in range(4):
             for j in range(4):
                 out[i, j] = a2[i, j]
+
+
+@njit(cache=True)
+def _series_on_powers(p, q, norm):
+    """``expm(A)`` as ``c0 I + c1 A + c2 A^2 + c3 A^3`` for a 4x4 skew ``A`` with
+    ``A^4 = -p A^2 - q I`` and norm at most ``norm``: returns ``c0, c1, c2, c3``.
+
+    Scalars in, scalars out (see :func:`expm_skew`).
+    """
+    # Coefficients of A^n / n! on I, A, A^2, A^3, and their running sums.
+    t0, t1, t2, t3 = 1.0, 0.0, 0.0, 0.0
+    c0, c1, c2, c3 = 1.0, 0.0, 0.0, 0.0
+    bound = 1.0
+    for n in range(1, 30):
+        inv_n = 1.0 / n
+        t0, t1, t2, t3 = -t3 * q * inv_n, t0 * inv_n, (t1 - t3 * p) * inv_n, t2 * inv_n
+        c0 += t0
+        c1 += t1
+        c2 += t2
+        c3 += t3
+        # |A^n / n!| <= |A|^n / n!: stop once that is below rounding.
+        bound *= norm * inv_n
+        if bound < 1e-18:
+            break
+    return c0, c1, c2, c3
 
 
 def skew(omega) -> np.ndarray:

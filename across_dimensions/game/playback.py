@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from .energy import MILLI
 from .events import event_kinds
 from .replay import Recorder, Replay
+from .replay_level import level_divergence
 from .sim import TICK_RATE, Game
 
 
@@ -56,20 +57,6 @@ def play(replay: Replay, game: Game, on_tick=None, check: bool = True) -> PlayRe
     return PlayResult(game.tick, game.outcome, final, divergence)
 
 
-def level_divergence(replay: Replay, game: Game) -> str | None:
-    """Why ``replay`` cannot be checked against ``game``'s level file, or None.
-
-    The replay names the sha256 of the level file it was recorded on; a
-    different file makes every state hash meaningless.
-    """
-    if game.level.source_hash == replay.level_hash:
-        return None
-    return (
-        "the level file changed since this replay was recorded "
-        f"(level hash {game.level.source_hash[:12]}, replay expects {replay.level_hash[:12]})"
-    )
-
-
 def rehash(replay: Replay, game: Game) -> tuple[PlayResult, Replay]:
     """Play the replay's actions unchecked and record its state hashes afresh.
 
@@ -90,13 +77,13 @@ def rehash(replay: Replay, game: Game) -> tuple[PlayResult, Replay]:
     result : PlayResult
         How the run ended now (``divergence`` is None: nothing is compared).
     fresh : Replay
-        ``replay`` with the new hashes, final hash, ticks and outcome; its
-        header (level, level hash, seed, hash_every) and actions are the
-        replay's own.
+        ``replay`` with the new hashes, final hash, ticks and outcome, and the
+        level hash and bakes of ``game``'s level (written only when its file is
+        the one recorded, see :func:`.replay_level.same_file`); its level name,
+        seed, hash_every and actions are the replay's own.
     """
     recorder = Recorder(game, replay.level)
     fresh = recorder.replay
-    fresh.level_hash = replay.level_hash  # kept as recorded, never rewritten
     fresh.seed = replay.seed
     fresh.hash_every = replay.hash_every
     for a in replay.actions:

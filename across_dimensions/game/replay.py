@@ -9,8 +9,8 @@ makes one while a game is played; :mod:`.playback` plays one back.
 Recording survives a crash. While a recording is in progress, its file holds a
 *journal* (JSON Lines, append-only) that grows once per simulated second::
 
-    {"format": "across-dimensions-replay-journal", "version": 2, "level": ..., "level_hash": ...,
-     "seed": 0, "tick_rate": 60, "hash_every": 60}
+    {"format": "across-dimensions-replay-journal", "version": 3, "level": ..., "level_hash": ...,
+     "bakes": {...}, "seed": 0, "tick_rate": 60, "hash_every": 60}
     [count, [forward, right, yaw, pitch, w, buttons]]       # runs, in order
     {"tick": 60, "hash": "..."}                             # state hashes, in order
 
@@ -43,6 +43,7 @@ from .replay_format import (
     dumps,
     read_document,
 )
+from .replay_level import level_identity
 from .sim import TICK_RATE, Game
 
 #: Ticks between flushes of a recording in progress (one simulated second).
@@ -58,6 +59,8 @@ class Replay:
     ``actions`` may be given as any iterable of :class:`Actions`; it is kept
     as :class:`ActionRuns`. ``recovered`` is true for a replay read back from
     the journal of a recording that was cut short (it has no final hash).
+    ``bakes`` (asset name -> bake digest) is None for a replay of a version
+    before 3, whose ``level_hash`` is the level file's alone.
     """
 
     level: str
@@ -71,6 +74,7 @@ class Replay:
     final_hash: str = ""
     outcome: str | None = None
     recovered: bool = False
+    bakes: dict[str, str] | None = None
 
     def __post_init__(self):
         if not isinstance(self.actions, ActionRuns):
@@ -82,6 +86,7 @@ class Replay:
             "version": VERSION,
             "level": self.level,
             "level_hash": self.level_hash,
+            "bakes": dict(sorted((self.bakes or {}).items())),
             "seed": self.seed,
             "tick_rate": self.tick_rate,
             "hash_every": self.hash_every,
@@ -157,7 +162,8 @@ class Recorder:
     ):
         if game.tick != 0:
             raise ValueError(f"a recording starts at tick 0, the game is at tick {game.tick}")
-        self.replay = Replay(level_name, game.level.source_hash, game.seed)
+        level_hash, bakes = level_identity(game.level)
+        self.replay = Replay(level_name, level_hash, game.seed, bakes=bakes)
         self.game = game
         self.path = None if path is None else Path(path)
         self.flush_every = flush_every

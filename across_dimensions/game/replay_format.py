@@ -4,9 +4,10 @@ File format (JSON, UTF-8, strict: no NaN or Infinity)::
 
     {
       "format": "across-dimensions-replay",
-      "version": 2,
+      "version": 3,
       "level": "01_first_steps",        # shipped level name or path
-      "level_hash": "<sha256 of the level file: 64 lowercase hex digits>",
+      "level_hash": "<the level's hash: 64 lowercase hex digits>",
+      "bakes": {"meshes/tree.obj": "<sha256 of its bake>"},   # version 3; {} when it lifts none
       "seed": 0,                         # 0 <= seed < 2**64
       "tick_rate": 60,
       "hash_every": 60,
@@ -15,10 +16,15 @@ File format (JSON, UTF-8, strict: no NaN or Infinity)::
       "final": {"ticks": 930, "hash": "...", "outcome": "complete"}
     }
 
+``level_hash`` is the level file's sha256 folded with the digest of every mesh
+the level bakes (``bakes``; see :mod:`across_dimensions.world.level_bakes`), so
+a replay names a different bake as the cause of a mismatch. Versions 1 and 2,
+which have no ``bakes``, hash the file alone and still play.
+
 ``actions`` is run-length encoded: held keys repeat the same row. A row ends
 with ``{action: presses}`` on the ticks that one-shot actions were pressed
 (:data:`.actions.PRESSES`, version 2); version-1 replays, which have none, still
-play. Floats are written with Python's shortest round-trip repr, so a replay read
+play, and one that has them is refused. Floats are written with Python's shortest round-trip repr, so a replay read
 back is bit-identical to the one recorded. A recording in progress is a journal
 instead (see :mod:`.replay`).
 
@@ -56,8 +62,8 @@ from .sim import TICK_RATE
 
 FORMAT = "across-dimensions-replay"
 JOURNAL_FORMAT = "across-dimensions-replay-journal"
-VERSION = 2  # written; 2 added one-shot presses to action rows
-READS = (1, 2)  # versions this game plays
+VERSION = 3  # written; 2 added one-shot presses to action rows, 3 the bakes
+READS = (1, 2, 3)  # versions this game plays
 HASH_EVERY = 60
 #: Longest replay, in ticks: two hours at 60 Hz.
 MAX_TICKS = 2 * 3600 * TICK_RATE
@@ -67,7 +73,9 @@ MAX_BYTES = 32 * MiB
 MAX_SEED = 2**64 - 1
 _MAX_DIGITS = 20
 _HEADER = ("format", "version", "level", "level_hash", "seed", "tick_rate", "hash_every")
-_KEYS = frozenset(_HEADER + ("actions", "hashes", "final"))
+#: Header entries each version added to those before it.
+_HEADER_ADDED = {3: ("bakes",)}
+_BODY = ("actions", "hashes", "final")
 _FINAL_KEYS = frozenset(("ticks", "hash", "outcome"))
 _LEVEL_HASH = re.compile(r"[0-9a-f]{64}")
 _STATE_HASH = re.compile(r"[0-9a-f]{8,64}")
@@ -176,6 +184,7 @@ class _Checker:
 
     def __init__(self, path: Path):
         self.path = path
+        self.version = VERSION
 
     def fail(self, where: str, msg: str):
         raise ReplayError(f"{self.path}: {where}: {msg}")
@@ -190,8 +199,8 @@ class _Checker:
             self.fail(where, f"expected {expected}, got {short_repr(v)}")
         return v
 
-    def header(self, data: dict, keys: frozenset, fmt: str) -> dict:
-        """The checked header fields of a replay or journal object ``data``."""
+    def header(self, data: dict, body: tuple, fmt: str) -> dict:
+        """The checked header fields of a replay or journal object ``data`` (``body``: its other entries)."""
         if data.get("format") != fmt:
             self.fail("entry 'format'", f'not a replay (expected "format": "{FORMAT}")')
         version = data.get("version")
@@ -200,11 +209,18 @@ class _Checker:
         if version not in READS:
             raise ReplayError(
                 f"{self.path}: replay format version {short_repr(version)}; "
-                f"this game reads versions {' and '.join(map(str, READS))}"
+                f"this game reads versions {', '.join(map(str, READS[:-1]))} and {READS[-1]}"
             )
+        self.version = version
+        keys = frozenset(_HEADER + body).union(*(k for v, k in _HEADER_ADDED.items() if v <= version))
         for key in data:
             if key not in keys:
-                self.fail(f"entry {short_repr(key)}", f"unknown entry (expected only {', '.join(sorted(keys))})")
+                later = [v for v, k in _HEADER_ADDED.items() if key in k]
+                why = f"version {later[0]} of the format has it, this replay says version {version}" if later else ""
+                self.fail(
+                    f"entry {short_repr(key)}",
+                    f"unknown entry ({why or 'expected only ' + ', '.join(sorted(keys))})",
+                )
         for key in sorted(keys):
             if key not in data:
                 self.fail(f"entry '{key}'", "missing")
@@ -227,7 +243,21 @@ class _Checker:
             "seed": self.whole("entry 'seed'", data["seed"], 0, MAX_SEED),
             "tick_rate": tick_rate,
             "hash_every": self.whole("entry 'hash_every'", data["hash_every"], 1, MAX_TICKS),
+            "bakes": self.bakes(data["bakes"]) if "bakes" in keys else None,
         }
+
+    def bakes(self, value) -> dict[str, str]:
+        if not isinstance(value, dict) or len(value) > 256:
+            self.fail("entry 'bakes'", f"expected an object of asset name: bake hash, got {short_repr(value)}")
+        for name, digest in value.items():
+            if not 0 < len(name) <= 255 or not name.isprintable():
+                self.fail(
+                    "entry 'bakes'", f"expected asset names (1 to 255 printable characters), got {short_repr(name)}"
+                )
+            self.text(
+                f"entry 'bakes' {short_repr(name)}", digest, _LEVEL_HASH, "a sha256 hash (64 lowercase hex digits)"
+            )
+        return dict(value)
 
     def run(self, where: str, index: int, run, runs: ActionRuns) -> None:
         """Check one ``[count, row]`` and add it to ``runs``; the tick limit first.
@@ -237,6 +267,11 @@ class _Checker:
         """
         if type(run) is list and len(run) == 2:
             count = run[0]
+            if self.version == 1 and type(run[1]) is list and len(run[1]) == 7:
+                self.fail(
+                    where.format(index),
+                    "{action: presses} after the row is version 2 of the format; this replay says version 1",
+                )
             if type(count) is int and 1 <= count and len(runs) + count <= MAX_TICKS:
                 try:
                     actions = Actions.from_row(run[1])
@@ -270,7 +305,7 @@ class _Checker:
     def document(self, data) -> dict:
         if not isinstance(data, dict) or data.get("format") != FORMAT:
             raise ReplayError(f'{self.path}: not a replay (expected "format": "{FORMAT}")')
-        head = self.header(data, _KEYS, FORMAT)
+        head = self.header(data, _BODY, FORMAT)
         if not isinstance(data["actions"], list):
             self.fail("entry 'actions'", f"expected a list of [count, row] runs, got {short_repr(data['actions'])}")
         if len(data["actions"]) > MAX_TICKS:
@@ -312,7 +347,7 @@ class _Checker:
         A last line without its newline was being written when the game
         stopped: it is left out. Every complete line must be valid.
         """
-        head = self.header(first, frozenset(_HEADER), JOURNAL_FORMAT)
+        head = self.header(first, (), JOURNAL_FORMAT)
         runs = ActionRuns()
         hash_lines: list[tuple[str, int, object]] = []
         lines = rest.split("\n")

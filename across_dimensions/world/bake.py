@@ -24,15 +24,24 @@ from pathlib import Path
 import numpy as np
 
 from ..core.fileio import check_folder
-from ..core.lift import extend_solid
+from ..core.lift import HyperDepth, extend_solid
 from ..core.mesh import MeshError, TetMesh4
-from .assets.bake_cache import BAKE_VERSION, cache_key, default_cache_dir, entry_path, load_entry, save_entry
+from .assets.bake_cache import (
+    BAKE_VERSION,
+    bake_digest,
+    cache_key,
+    default_cache_dir,
+    entry_path,
+    load_entry,
+    save_entry,
+    shipped_dir,
+)
 from .assets.errors import AssetError
 from .assets.limits import MAX_ASSET_BYTES, MAX_TETS, MAX_TRIANGLES
 from .assets.mesh_files import SUPPORTED, check_format, read_triangles
 from .assets.progress import BakeProgress
 from .assets.repair import repair_surface
-from .assets.tetwild import DEFAULT_EDGE_LENGTH_FAC, tetrahedralize
+from .assets.tetwild import DEFAULT_EDGE_LENGTH_FAC, REPRODUCIBLE, tetrahedralize
 
 __all__ = [
     "AssetError",
@@ -42,6 +51,8 @@ __all__ = [
     "MAX_TETS",
     "MAX_TRIANGLES",
     "SUPPORTED",
+    "bake_digest",
+    "bake_key",
     "bake_solid",
     "cache_key",
     "default_cache_dir",
@@ -79,10 +90,19 @@ def load_surface(path) -> tuple[np.ndarray, np.ndarray]:
     return repair_surface(v, f, path)
 
 
+def bake_key(path, edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC) -> str:
+    """The key of ``path``'s bake: its bytes, the bake's settings and :data:`BAKE_VERSION` (see
+    :func:`~.assets.bake_cache.cache_key`)."""
+    return cache_key(path, edge_length_fac=float(edge_length_fac), **REPRODUCIBLE)
+
+
 def bake_solid(
     path, edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC, cache_dir=None, progress: bool = True
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The tetrahedralized 3D solid of a mesh file, from the cache when possible.
+    """The tetrahedralized 3D solid of a mesh file: shipped, cached, or baked now.
+
+    A bake shipped with the game (``assets/baked/``) under the asset's key comes
+    first, then the user's cache; only an asset with neither is baked (and cached).
 
     Parameters
     ----------
@@ -107,11 +127,12 @@ def bake_solid(
     """
     path = Path(path)
     check_format(path)
-    key = cache_key(path, edge_length_fac=float(edge_length_fac))
+    key = bake_key(path, edge_length_fac)
+    for found in (entry_path(shipped_dir(), path, key), entry_path(cache_dir, path, key)):
+        cached = load_entry(found) if found.exists() else None
+        if cached is not None:
+            return cached
     file = entry_path(cache_dir, path, key)
-    cached = load_entry(file) if file.exists() else None
-    if cached is not None:
-        return cached
     bar = BakeProgress(path.name, progress)
     try:
         if file.exists():
@@ -190,7 +211,8 @@ def lift_asset(
     path = Path(path)
     v, t = bake_solid(path, edge_length_fac, cache_dir, progress)
     try:
-        mesh = extend_solid(v, t, w_center, depth, profile, layers, colors=color, center=center, name=path.stem)
+        extent = HyperDepth(w_center, depth, profile, layers)
+        mesh = extend_solid(v, t, extent, colors=color, center=center, name=path.stem)
         return mesh.validate()
     except (MeshError, ValueError) as e:
         raise AssetError(f"{path}: cannot lift to 4D: {e}") from None

@@ -27,6 +27,9 @@ from .resources import levels_dir
 #: Largest campaign file read, in bytes: the shipped one is about 2 kB.
 CAMPAIGN_MAX_BYTES = 256 * 1024
 CAMPAIGN_FILE = "campaign.toml"
+#: Longest level name in an entry: with ".toml" it stays within the 255 bytes a
+#: file name may have on common file systems (ext4, NTFS, APFS).
+MAX_STEM_CHARS = 200
 
 
 class CampaignError(InputError):
@@ -106,9 +109,15 @@ def load_campaign(path: Path | None = None) -> list[CampaignEntry]:
         for key in entry:
             if key not in ("file", "title", "teaches", "optional"):
                 problems.append(f"{where}: unknown key {key!r}: expected file, title, teaches and optional")
-        if not isinstance(stem, str) or not stem or "/" in stem or "\\" in stem or stem.startswith("."):
+        if not isinstance(stem, str) or not stem or any(c in stem for c in "/\\\0") or stem.startswith("."):
             expected = f"a level name in {path.parent} such as '01_first_steps'"
             problems.append(f"{where}: file = {stem!r}: expected {expected}")
+            continue
+        if len(stem.encode("utf-8", "surrogatepass")) > MAX_STEM_CHARS:
+            problems.append(
+                f"{where}: file = {stem[:24]!r}... ({len(stem)} characters): expected a level name of at most "
+                f"{MAX_STEM_CHARS} bytes in UTF-8"
+            )
             continue
         if not isinstance(title, str) or not title.strip():
             problems.append(f"{where} ({stem}): title = {title!r}: expected the name shown to the player")
@@ -124,7 +133,12 @@ def load_campaign(path: Path | None = None) -> list[CampaignEntry]:
             continue
         seen.add(stem)
         level = path.parent / f"{stem}.toml"
-        if level.is_file():  # not shipped yet: skipped, so the campaign can name future levels
+        try:
+            shipped = level.is_file()
+        except OSError as e:  # whatever else the file system refuses in a name
+            problems.append(f"{where}: file = {stem!r}: cannot look for {level.name} ({e.strerror or e})")
+            continue
+        if shipped:  # not shipped yet: skipped, so the campaign can name future levels
             result.append(CampaignEntry(stem, title.strip(), teaches.strip(), level, optional))
     if problems:
         raise CampaignError("\n".join(problems))

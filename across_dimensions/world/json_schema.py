@@ -75,6 +75,8 @@ def _field(table: str, name: str, f: Field) -> dict:
     if f.kind == "hints":
         limit, _ = MAX_COUNTS["hints"]
         return {"type": "array", "items": {"type": "string"}, "maxItems": limit}
+    if f.kind == "words":
+        return {"type": "array", "items": {"enum": list(f.choices)}, "uniqueItems": True}
     if f.kind == "tables":
         return {"type": "array", "items": {"$ref": f"#/$defs/{NESTED[(table, name)]}"}}
     raise ValueError(f"no JSON Schema for field kind {f.kind!r} ({table}.{name})")

@@ -32,7 +32,7 @@ from ..core import fileio
 from ..core.errors import InputError
 from ..core.shapes import SHAPE_PARAM_RULES
 from ..core.transform import PLANES
-from . import gameplay, limits, resources
+from . import design, gameplay, limits, resources
 from .fields import REQUIRED, Field
 from .limits import (
     ANGLE,
@@ -150,6 +150,7 @@ MODELS = {
     "world": WORLD,
     "object": OBJECT,
     **gameplay.MODELS,
+    "design": design.DESIGN_TABLE,
 }
 FORMATS = (1, 2)  # format 2 adds the tables of gameplay.MODELS
 #: Top-level keys written ``[[key]]`` (arrays of tables); the others are ``[key]`` tables.
@@ -297,6 +298,7 @@ class Level:
     checkpoints: list[gameplay.CheckpointSpec] = field(default_factory=list)
     health: gameplay.HealthSpec | None = None  # None: the player cannot be hurt
     camera: gameplay.CameraSpec = field(default_factory=gameplay.CameraSpec)
+    needs: tuple[str, ...] = ()  # [design]: the mechanics the level is built to demand (world.design)
 
     @property
     def bodies(self) -> int:
@@ -305,7 +307,8 @@ class Level:
 
     def frame_cost_ms(self) -> float:
         """Estimated milliseconds per frame while moving along w (see :func:`limits.tick_cost_ms`)."""
-        return limits.tick_cost_ms(len(self.worlds) + len(self.objects), self.tets, self.bodies)
+        drawables = len(self.worlds) + len(self.objects)
+        return limits.tick_cost_ms(drawables, self.tets, self.bodies, len(self.enemies), len(self.crystals))
 
 
 class _Reader:
@@ -386,7 +389,7 @@ class _Reader:
         out = {}
         for key in keys if keys is not None else model:
             f = model[key]
-            if f.kind in ("tables", "params", "hints"):
+            if f.kind in ("tables", "params", "hints", "words"):
                 continue
             out[key] = getattr(self, f"_{f.kind}")(data, key, where, f, defaults.get(key, f.default))
         return out
@@ -855,10 +858,11 @@ def load_level(path, source: bytes | None = None) -> Level:
     checkpoints = gameplay.read_checkpoints(r, data, w_range if w_ok else None)
     health = gameplay.read_health(r, data, bool(enemies))
     camera = gameplay.read_camera(r, data)
+    needs = design.read_design(r, data)
 
     if r.problems:
         raise LevelError(path, r.problems)
-    return Level(
+    level = Level(
         path=path,
         name=meta["name"],
         description=meta["description"],
@@ -888,4 +892,11 @@ def load_level(path, source: bytes | None = None) -> Level:
         checkpoints=checkpoints,
         health=health,
         camera=camera,
+        needs=needs,
     )
+    from .placement import placement_problems  # where things are, once every entry is read
+
+    problems = placement_problems(level)
+    if problems:
+        raise LevelError(path, problems)
+    return level

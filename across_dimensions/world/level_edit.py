@@ -24,6 +24,7 @@ from pathlib import Path
 import tomlkit
 
 from ..core import fileio
+from ..core.errors import InputError
 from . import gameplay
 from .fields import REQUIRED, Field
 from .level import MODELS, Level, LevelError, load_level
@@ -31,7 +32,7 @@ from .level import MODELS, Level, LevelError, load_level
 Ref = tuple  # ("box", 0), ("world", 1, "box", 0), ("spawn",)
 
 #: Tables that appear once (``[spawn]``); every other model is an array of tables.
-SINGLE_TABLES = ("level", "spawn", "goal", "physics", "energy", "radar")
+SINGLE_TABLES = ("level", "spawn", "goal", "physics", "energy", "radar", "design")
 #: Arrays of tables nested inside a ``[[world]]``.
 WORLD_CHILDREN = ("box", "mesh")
 
@@ -45,6 +46,10 @@ TEMPLATES = {
     "crystal": {"name": "new crystal", "position": [0.0, 1.0, 0.0, 0.0]},
     "mesh": {"asset": "meshes/crate.obj", "position": [0.0, 0.0, 0.0]},
 }
+
+
+class LevelEditError(InputError):
+    """A level file the editor cannot open (not UTF-8 text, not TOML); the message names it."""
 
 
 def _plain(value):
@@ -99,8 +104,13 @@ class LevelEditor:
     def __init__(self, path):
         self.path = Path(path)
         raw = fileio.read_bytes(self.path, limit=_max_bytes(), what="level")
-        self.saved_text = raw.decode("utf-8-sig")
-        self.doc = tomlkit.parse(self.saved_text)
+        try:
+            self.saved_text = raw.decode("utf-8-sig")
+        except UnicodeDecodeError as e:
+            raise LevelEditError(
+                f"{self.path}: not a text file (byte {e.start} is not UTF-8; expected a level)"
+            ) from None
+        self.doc = _parse(self.path, self.saved_text)
         self.undo_stack: list[Command] = []
         self.redo_stack: list[Command] = []
         self.selection: Ref | None = None
@@ -386,6 +396,23 @@ class LevelEditor:
         return target
 
 
+def _parse(path: Path, text: str) -> tomlkit.TOMLDocument:
+    """``text`` as a tomlkit document, or one line naming ``path`` and where the TOML breaks.
+
+    Raises
+    ------
+    LevelEditError
+    """
+    from tomlkit.exceptions import TOMLKitError
+
+    try:
+        return tomlkit.parse(text)
+    except (TOMLKitError, ValueError) as e:  # ParseError has the line and column in its text
+        raise LevelEditError(f"{path}: not valid TOML: {e}") from None
+    except RecursionError:
+        raise LevelEditError(f"{path}: not valid TOML: arrays or tables nested too deeply") from None
+
+
 def _toml_value(value):
     """Plain Python to a tomlkit item; lists of numbers stay on one line, tables stay inline."""
     if isinstance(value, dict):
@@ -404,4 +431,4 @@ def _max_bytes() -> int:
     return MAX_LEVEL_BYTES
 
 
-__all__ = ["Command", "LevelEditor", "Ref", "SINGLE_TABLES", "TEMPLATES", "model_of"]
+__all__ = ["Command", "LevelEditError", "LevelEditor", "Ref", "SINGLE_TABLES", "TEMPLATES", "model_of"]

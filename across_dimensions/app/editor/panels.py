@@ -257,6 +257,8 @@ class Panels:
             self.params(ref, key, value or {})
         elif kind == "hints":
             self.hints(ref, key, list(value or []))
+        elif kind == "words":
+            self.words(ref, key, f, list(value or []))
         if not written:
             imgui.pop_style_color()
         elif f.default is not REQUIRED and kind not in ("angles", "params", "hints"):
@@ -335,6 +337,16 @@ class Panels:
                 return
         if imgui.small_button("add a hint"):
             self.model.set(ref, key, [*value, "New hint: press {w_ana} to move ana."])
+
+    def words(self, ref, key, f, value: list) -> None:
+        """A list of words from the field's choices (``[design] needs``), one checkbox each."""
+        imgui.text(key)
+        for word in f.choices:
+            changed, on = imgui.checkbox(f"{word}##{key}", word in value)
+            if changed:
+                new = [w for w in f.choices if (w in value) != (w == word)]
+                self.model.set(ref, key, new or None)
+                return
 
     def params(self, ref, key, value: dict) -> None:
         from ...core.shapes import SHAPE_PARAM_RULES

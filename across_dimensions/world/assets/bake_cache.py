@@ -1,9 +1,12 @@
-"""The on-disk cache of baked 3D solids.
+"""The on-disk cache of baked 3D solids, and the bakes shipped with the game.
 
 The slow step of a bake is tetrahedralization (seconds), so its result, the
 3D tets, is what an entry stores, keyed by the bytes of the asset (the mesh
 file and every file it references), the tetrahedralization parameters and
-:data:`BAKE_VERSION`. Entries are written whole or not at all
+:data:`BAKE_VERSION`. The game ships the entries of every asset its levels
+lift, under the same names, in ``assets/baked/`` (:func:`shipped_dir`): a player
+never waits for those bakes, and every machine plays the same tets. The user's
+cache holds the rest (a modder's own assets). Entries are written whole or not at all
 (:func:`~across_dimensions.core.fileio.atomic_writer`), so an interrupted bake
 leaves no partial entry and no temporary file; an entry that is unreadable
 anyway (truncated by a full disk, edited, from another version) is rebuilt.
@@ -26,7 +29,8 @@ from .limits import MAX_ASSET_BYTES, MAX_TETS
 #: Bump when anything changes what a bake produces for the same input.
 #: 2: holes are filled by trimesh (its own diagonal for a quad hole); surfaces
 #: that need no repair bake exactly as in version 1.
-BAKE_VERSION = 2
+#: 3: reproducible: one thread and a fixed sequence for fTetWild's draws.
+BAKE_VERSION = 3
 #: An entry holds at most MAX_TETS tets and 4 * MAX_TETS vertices (int32 and float64).
 MAX_ENTRY_BYTES = MAX_TETS * (4 * 4 + 4 * 3 * 8) + (1 << 16)
 
@@ -36,6 +40,29 @@ def default_cache_dir() -> Path:
     import platformdirs
 
     return Path(platformdirs.user_cache_dir("across-dimensions")) / "bake"
+
+
+def shipped_dir() -> Path:
+    """The bakes shipped with the game: ``assets/baked/`` (see :mod:`across_dimensions.world.ship_bakes`)."""
+    from ..resources import assets_dir
+
+    return assets_dir() / "baked"
+
+
+def bake_digest(vertices: np.ndarray, tets: np.ndarray) -> str:
+    """sha256 hex of a bake's content: what a level's hash folds in for it.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float64
+    tets : (m, 4) int64
+        As :func:`load_entry` returns them (the same arrays give the same digest
+        whatever dtype they were stored in).
+    """
+    h = hashlib.sha256()
+    h.update(np.ascontiguousarray(vertices, "<f8").tobytes())
+    h.update(np.ascontiguousarray(tets, "<i8").tobytes())
+    return h.hexdigest()
 
 
 def cache_key(path, **params) -> str:
@@ -105,8 +132,18 @@ def load_entry(file) -> tuple[np.ndarray, np.ndarray] | None:
 
 
 def save_entry(file, vertices: np.ndarray, tets: np.ndarray) -> None:
-    """Write an entry atomically (unique temporary file, fsync, rename); creates the cache folder."""
+    """Write an entry atomically (unique temporary file, fsync, rename); creates the cache folder.
+
+    The file is an ``.npz`` whose bytes depend on the arrays alone (members in a
+    fixed order, a fixed time stamp), so one bake always gives one file.
+    """
     file = Path(file)
     file.parent.mkdir(parents=True, exist_ok=True)  # the cache's own folder, not one a user typed
-    with atomic_writer(file, "wb") as f:
-        np.savez_compressed(f, vertices=vertices, tets=tets.astype(np.int32), bake_version=BAKE_VERSION)
+    arrays = {"vertices": vertices, "tets": tets.astype(np.int32), "bake_version": np.asarray(BAKE_VERSION)}
+    with atomic_writer(file, "wb") as f, zipfile.ZipFile(f, "w", zipfile.ZIP_DEFLATED) as z:
+        for name, a in arrays.items():
+            member = io.BytesIO()
+            np.lib.format.write_array(member, np.asarray(a), allow_pickle=False)
+            z.writestr(
+                zipfile.ZipInfo(f"{name}.npy", date_time=(1980, 1, 1, 0, 0, 0)), member.getvalue(), zipfile.ZIP_DEFLATED
+            )

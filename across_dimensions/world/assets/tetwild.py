@@ -5,6 +5,10 @@ input, so by default it runs in a child Python process: the caller's threads
 (a game's loading screen) keep running, the caller can redraw a progress line
 while it waits, and a crash becomes an :class:`~.errors.AssetError` instead of
 taking the game down.
+
+A bake is reproducible: one thread, and fTetWild's draws from the system's
+entropy replaced by a fixed sequence (:mod:`.fixed_seed`), so the same surface
+and settings give the same bytes on every run.
 """
 
 from __future__ import annotations
@@ -24,12 +28,21 @@ from .errors import AssetError
 DEFAULT_EDGE_LENGTH_FAC = 0.1
 #: Seconds between calls of ``on_wait`` while the child runs.
 WAIT_STEP = 0.1
+#: What makes a bake the same on every run and machine: one thread (the parallel
+#: loops' order would depend on the core count) and the start of fTetWild's fixed
+#: sequence of "random" draws (see :mod:`.fixed_seed`).
+REPRODUCIBLE = {"num_threads": 1, "seed": 20210501}
 
 _WORKER = r"""
 import json, sys
 import numpy as np
 import pytetwild
+from pytetwild import PyfTetWildWrapper
+from across_dimensions.world.assets.fixed_seed import fix_random_device
 src, dst, kw = sys.argv[1], sys.argv[2], json.loads(sys.argv[3])
+seed = kw.pop("seed", None)
+if seed is not None:
+    fix_random_device(PyfTetWildWrapper.__file__, seed)
 with np.load(src) as d:
     v, f = d["vertices"], d["faces"]
 tv, tt = pytetwild.tetrahedralize(v, f.astype(np.int32), quiet=True, **kw)
@@ -64,7 +77,8 @@ def tetrahedralize(
         Called with no arguments every :data:`WAIT_STEP` seconds while the
         child runs (to redraw a progress line). Only with ``isolate``.
     **tetwild_kw
-        More ``pytetwild.tetrahedralize`` options (``epsilon``, ``coarsen``, ...).
+        More ``pytetwild.tetrahedralize`` options (``epsilon``, ``coarsen``, ...);
+        :data:`REPRODUCIBLE` unless given (``seed=None`` keeps fTetWild's own draws).
 
     Returns
     -------
@@ -82,7 +96,7 @@ def tetrahedralize(
     """
     v = np.ascontiguousarray(vertices, np.float64)
     f = np.ascontiguousarray(faces, np.int64)
-    kw = dict(edge_length_fac=float(edge_length_fac), **tetwild_kw)
+    kw = {**REPRODUCIBLE, "edge_length_fac": float(edge_length_fac), **tetwild_kw}
     tv, tt = _tetwild_child(v, f, kw, on_wait) if isolate else _tetwild_here(v, f, kw)
     if len(tt) == 0:
         raise AssetError("pytetwild produced no tets (is the surface closed and not flat?)")
@@ -99,6 +113,12 @@ def tetrahedralize(
 def _tetwild_here(v, f, kw):
     import pytetwild  # local: heavy, only bakes need it
 
+    from .fixed_seed import fix_random_device
+
+    kw = dict(kw)
+    seed = kw.pop("seed", None)
+    if seed is not None:  # patches this process's pytetwild for good: tests and tools only
+        fix_random_device(pytetwild.PyfTetWildWrapper.__file__, seed)
     tv, tt = pytetwild.tetrahedralize(v, f.astype(np.int32), quiet=True, **kw)
     return np.asarray(tv, np.float64), np.asarray(tt, np.int64)
 

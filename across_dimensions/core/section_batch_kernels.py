@@ -1,0 +1,461 @@
+"""The numba kernels of :class:`~.section_batch.SectionBatch`, and the bundles of arrays they take.
+
+:func:`_slice_batch` slices instance after instance into the shared rows
+(:class:`Rows`), reading the pooled meshes (:class:`Pool`), the instances
+(:class:`Instances`) and reusing :class:`BatchScratch`. An instance is sliced
+in two passes, each a loop without calls: which tets (or cells) are cut, then
+their triangles. The per-instance helpers take the bundles whole and are
+inlined; nothing is called per tet or per cell but scalar helpers (numba counts
+references on every call of a function that takes arrays).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from ._jit import njit
+from .cases import CASE_COUNT, CASE_EDGES, CASE_REVERSED
+from .section_kernels import normal_transform
+
+#: Floats per output vertex: position 3, normal 3, colour 4 (the renderer's layout).
+ROW = 10
+
+
+class Pool(NamedTuple):
+    """Every distinct mesh's slicing layout, concatenated (global vertex and tet numbers).
+
+    Attributes
+    ----------
+    vertices : (n, 4) float32
+    tets : (m, 4) uint32
+    tet_normals : (m, 4) float64
+        Per tet: its outward normal in object space.
+    colors : (n, 4) float32
+    mesh_v, mesh_c : (meshes, 2) int64
+        Per mesh: its vertex range, its cluster range.
+    clo, chi : (c,) int64
+        Per cluster: its tet range.
+    ccenter : (c, 4) float64
+    cradius : (c,) float64
+        Per cluster: its bounding sphere.
+    mesh_cells : (meshes, 2) int64
+        Per mesh sliced cell by cell (see :mod:`.cells`): its cell range (empty: by tets).
+    cell_edge_start : (cells + 1,) int64
+        Per cell: its range of ``cell_edges``.
+    cell_edges : (e, 2) uint32
+        Lower vertex index first.
+    cell_tet : (cells, 4) uint32
+        One tet of each cell, for its normal.
+    cell_center : (cells, 4) float64
+    cell_radius : (cells,) float64
+    """
+
+    vertices: np.ndarray
+    tets: np.ndarray
+    tet_normals: np.ndarray
+    colors: np.ndarray
+    mesh_v: np.ndarray
+    mesh_c: np.ndarray
+    clo: np.ndarray
+    chi: np.ndarray
+    ccenter: np.ndarray
+    cradius: np.ndarray
+    mesh_cells: np.ndarray
+    cell_edge_start: np.ndarray
+    cell_edges: np.ndarray
+    cell_tet: np.ndarray
+    cell_center: np.ndarray
+    cell_radius: np.ndarray
+
+
+class Instances(NamedTuple):
+    """The instances to slice, in the batch's order.
+
+    Attributes
+    ----------
+    mesh : (k,) int64
+        Each one's mesh in the :class:`Pool`.
+    mvs : (k, 5, 5) float64
+        Model-view transforms.
+    flips : (k,) float64
+        ``1.0`` where ``det(mv[:4, :4]) > 0``, else ``-1.0``.
+    visible : (k,) uint8
+        0 for an instance culled whole.
+    """
+
+    mesh: np.ndarray
+    mvs: np.ndarray
+    flips: np.ndarray
+    visible: np.ndarray
+
+
+class Rows(NamedTuple):
+    """The shared output.
+
+    Attributes
+    ----------
+    out : (r, 10) float32
+        Three rows per triangle (:data:`ROW`).
+    start : (k + 1,) int64
+        Instance ``i``'s first row; ``start[k]`` is one past the last.
+    count : (k,) int64
+        Instance ``i``'s rows.
+    """
+
+    out: np.ndarray
+    start: np.ndarray
+    count: np.ndarray
+
+
+class BatchScratch(NamedTuple):
+    """Arrays reused instance after instance, sized for the pool's largest mesh.
+
+    Attributes
+    ----------
+    cam : (v, 4) float64
+        Camera-space vertices of the instance being sliced.
+    stamp : (v,) int64
+        Which instance each row of ``cam`` belongs to.
+    cut : (t,) int64
+        The cut tets (or cells) of the instance.
+    cmask : (t,) int64
+        Their cases (or the start of their corners in ``q``).
+    g : (12,) float64
+        The normals' transform (:func:`~.section_kernels.normal_transform`).
+    q : (p, 3) float64
+    qc : (p, 4) float64
+        Polygon corners and their colours.
+    ang : (p,) float64
+    order : (p,) int64
+        A cell polygon's corners' angles and their order.
+    p : (4, 4) float64
+        A tet's corners in camera space.
+    """
+
+    cam: np.ndarray
+    stamp: np.ndarray
+    cut: np.ndarray
+    cmask: np.ndarray
+    g: np.ndarray
+    q: np.ndarray
+    qc: np.ndarray
+    ang: np.ndarray
+    order: np.ndarray
+    p: np.ndarray
+
+
+@njit(cache=True)
+def _slice_batch(pool, inst, first, start_row, rows, ws, tag):
+    """Slice instances ``first..`` into ``rows`` from row ``start_row``; returns the rows needed.
+
+    A mesh with a cell range in ``pool.mesh_cells`` is sliced cell by cell, any
+    other tet by tet. The rows needed may exceed ``len(rows.out)``: then nothing
+    past the end was written and the caller grows the output and calls again.
+    ``ws.stamp`` marks which vertices are in ``ws.cam`` already: ``tag + k`` for
+    instance ``k``, with a ``tag`` the caller never reuses.
+    """
+    start, count, mesh_cells = rows.start, rows.count, pool.mesh_cells
+    o = start_row
+    for k in range(first, inst.mesh.shape[0]):
+        start[k] = o
+        m = inst.mesh[k]
+        if inst.visible[k]:
+            if mesh_cells[m, 1] > mesh_cells[m, 0]:
+                _cells_to_camera(pool, inst, k, ws)
+                ncut = _cut_cells(pool, inst, k, ws)
+                o = _cell_rows(pool, inst, k, ncut, rows.out, o, ws)
+            else:
+                ncut = _cut_tets(pool, inst, k, tag + k, ws)
+                o = _tet_rows(pool, inst, k, ncut, rows.out, o, ws)
+        count[k] = o - start[k]
+        start[k + 1] = o
+    return o
+
+
+@njit(inline="always")
+def _cut_tets(pool, inst, k, stamp_of, ws):
+    """The tets of instance ``k`` its slice cuts, into ``ws.cut`` (their cases into
+    ``ws.cmask``); returns their number.
+
+    Clusters are culled by their bounding sphere, and each vertex of the
+    clusters kept is moved into camera space once (``ws.stamp`` holds
+    ``stamp_of`` where ``ws.cam`` has it), with the per-object slicer's sums.
+    """
+    verts, tets, clo, chi, ccenter, cradius = pool.vertices, pool.tets, pool.clo, pool.chi, pool.ccenter, pool.cradius
+    cam, stamp, cut, cmask = ws.cam, ws.stamp, ws.cut, ws.cmask
+    m = inst.mesh[k]
+    mv = inst.mvs[k]
+    v_lo = pool.mesh_v[m, 0]
+    w_gain = np.sqrt(mv[3, 0] ** 2 + mv[3, 1] ** 2 + mv[3, 2] ** 2 + mv[3, 3] ** 2)
+    ncut = 0
+    for cl in range(pool.mesh_c[m, 0], pool.mesh_c[m, 1]):
+        cc = ccenter[cl]
+        dc = mv[3, 0] * cc[0] + mv[3, 1] * cc[1] + mv[3, 2] * cc[2] + mv[3, 3] * cc[3] + mv[3, 4]
+        if abs(dc) > cradius[cl] * w_gain:
+            continue
+        for t in range(clo[cl], chi[cl]):
+            mask = 0
+            for j in range(4):
+                vi = tets[t, j]
+                li = vi - v_lo
+                if stamp[li] != stamp_of:
+                    stamp[li] = stamp_of
+                    for r in range(4):
+                        cam[li, r] = (
+                            mv[r, 0] * verts[vi, 0]
+                            + mv[r, 1] * verts[vi, 1]
+                            + mv[r, 2] * verts[vi, 2]
+                            + mv[r, 3] * verts[vi, 3]
+                            + mv[r, 4]
+                        )
+                if cam[li, 3] > 0.0:
+                    mask |= 1 << j
+            if mask == 0 or mask == 15:
+                continue
+            cut[ncut] = t
+            cmask[ncut] = mask
+            ncut += 1
+    return ncut
+
+
+@njit(inline="always")
+def _tet_rows(pool, inst, k, ncut, out, o, ws):
+    """The triangles of instance ``k``'s ``ncut`` cut tets (:func:`_cut_tets`) into ``out``
+    from row ``o``; returns the next row (rows past ``len(out)`` are counted, not written).
+
+    The points, normal and winding of the per-object slicer
+    (:func:`~.section_kernels._points_by_tet`, ``_unit_normals``, ``_rows``), bit for bit.
+    """
+    tets, tet_normals, colors = pool.tets, pool.tet_normals, pool.colors
+    cam, cut, cmask, q, qc, p, g = ws.cam, ws.cut, ws.cmask, ws.q, ws.qc, ws.p, ws.g
+    cap = out.shape[0]
+    v_lo = pool.mesh_v[inst.mesh[k], 0]
+    normal_transform(inst.mvs[k], inst.flips[k], g)
+    g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
+    g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
+    reverse = CASE_REVERSED[1 if inst.flips[k] < 0.0 else 0]
+    for i in range(ncut):
+        t = cut[i]
+        mask = cmask[i]
+        nk = CASE_COUNT[mask]
+        if o + 3 * (nk - 2) > cap:
+            o += 3 * (nk - 2)  # count only: the caller grows the output
+            continue
+        for j in range(4):
+            li = tets[t, j] - v_lo
+            for r in range(4):
+                p[j, r] = cam[li, r]
+        n0, n1, n2, n3 = tet_normals[t, 0], tet_normals[t, 1], tet_normals[t, 2], tet_normals[t, 3]
+        nx = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
+        ny = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
+        nz = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
+        ln = np.sqrt(nx * nx + ny * ny + nz * nz)
+        inv = 1.0 / ln if ln > 0.0 else 0.0
+        nx, ny, nz = nx * inv, ny * inv, nz * inv
+        for e in range(nk):
+            a = CASE_EDGES[mask, e, 0]
+            b = CASE_EDGES[mask, e, 1]
+            if tets[t, a] > tets[t, b]:
+                a, b = b, a
+            s = p[a, 3] / (p[a, 3] - p[b, 3])
+            for r in range(3):
+                q[e, r] = p[a, r] + s * (p[b, r] - p[a, r])
+            ca = tets[t, a]
+            cb = tets[t, b]
+            for r in range(4):
+                qc[e, r] = colors[ca, r] + s * (colors[cb, r] - colors[ca, r])
+        rev = reverse[mask] != 0
+        for tri in range(nk - 2):
+            for j in range(3):
+                src = 0 if j == 0 else tri + j
+                if rev and j > 0:
+                    src = tri + 3 - j
+                row = out[o]
+                row[0] = q[src, 0]
+                row[1] = q[src, 1]
+                row[2] = q[src, 2]
+                row[3] = nx
+                row[4] = ny
+                row[5] = nz
+                row[6] = qc[src, 0]
+                row[7] = qc[src, 1]
+                row[8] = qc[src, 2]
+                row[9] = qc[src, 3]
+                o += 1
+    return o
+
+
+@njit(inline="always")
+def _cells_to_camera(pool, inst, k, ws):
+    """Every vertex of instance ``k`` into camera space (``ws.cam``): a cell mesh has few
+    vertices for its tets (a 120-cell: 600 for 3,240), and most of them are on cut cells."""
+    verts, cam = pool.vertices, ws.cam
+    mv = inst.mvs[k]
+    m = inst.mesh[k]
+    v_lo = pool.mesh_v[m, 0]
+    for vi in range(v_lo, pool.mesh_v[m, 1]):
+        li = vi - v_lo
+        for r in range(4):
+            cam[li, r] = (
+                mv[r, 0] * verts[vi, 0]
+                + mv[r, 1] * verts[vi, 1]
+                + mv[r, 2] * verts[vi, 2]
+                + mv[r, 3] * verts[vi, 3]
+                + mv[r, 4]
+            )
+
+
+@njit(inline="always")
+def _cut_cells(pool, inst, k, ws):
+    """The corners of the polygons instance ``k``'s slice cuts from its cells; returns
+    the number of polygons.
+
+    Polygon ``i`` is cell ``ws.cut[i]``, its corners rows ``ws.cmask[i]`` to
+    ``ws.cmask[i + 1]`` of ``ws.q`` (colours in ``ws.qc``): the cut points of the
+    cell's real edges, interpolated from the lower vertex index exactly as the
+    tet slicer does, so neighbouring cells (and the tet slicer) agree on every
+    shared point. Cells cut in fewer than three points are left out.
+    """
+    colors, edge_start, edges = pool.colors, pool.cell_edge_start, pool.cell_edges
+    center, radius = pool.cell_center, pool.cell_radius
+    cam, cut, first, q, qc = ws.cam, ws.cut, ws.cmask, ws.q, ws.qc
+    m = inst.mesh[k]
+    mv = inst.mvs[k]
+    v_lo = pool.mesh_v[m, 0]
+    w_gain = np.sqrt(mv[3, 0] ** 2 + mv[3, 1] ** 2 + mv[3, 2] ** 2 + mv[3, 3] ** 2)
+    npoly = 0
+    first[0] = 0
+    for c in range(pool.mesh_cells[m, 0], pool.mesh_cells[m, 1]):
+        cc = center[c]
+        dc = mv[3, 0] * cc[0] + mv[3, 1] * cc[1] + mv[3, 2] * cc[2] + mv[3, 3] * cc[3] + mv[3, 4]
+        if abs(dc) > radius[c] * w_gain:
+            continue
+        n = first[npoly]
+        for e in range(edge_start[c], edge_start[c + 1]):
+            va = edges[e, 0]
+            vb = edges[e, 1]
+            la = va - v_lo
+            lb = vb - v_lo
+            wa = cam[la, 3]
+            wb = cam[lb, 3]
+            if (wa > 0.0) == (wb > 0.0):
+                continue
+            s = wa / (wa - wb)
+            for r in range(3):
+                q[n, r] = cam[la, r] + s * (cam[lb, r] - cam[la, r])
+            for r in range(4):
+                qc[n, r] = colors[va, r] + s * (colors[vb, r] - colors[va, r])
+            n += 1
+        if n - first[npoly] >= 3:
+            cut[npoly] = c
+            npoly += 1
+            first[npoly] = n
+    return npoly
+
+
+@njit(inline="always")
+def _cell_rows(pool, inst, k, npoly, out, o, ws):
+    """The polygons of :func:`_cut_cells` into ``out`` from row ``o``, each as a fan;
+    returns the next row (rows past ``len(out)`` are counted, not written).
+
+    A polygon's corners are put in order by their angle about their centroid,
+    counter-clockwise seen from outside (along the cell's outward normal).
+    """
+    cell_tet, cut, first, q, qc, ang, order, cam = (
+        pool.cell_tet,
+        ws.cut,
+        ws.cmask,
+        ws.q,
+        ws.qc,
+        ws.ang,
+        ws.order,
+        ws.cam,
+    )
+    cap = out.shape[0]
+    flip = inst.flips[k]
+    v_lo = pool.mesh_v[inst.mesh[k], 0]
+    for i in range(npoly):
+        c = cut[i]
+        f0 = first[i]
+        n = first[i + 1] - f0
+        if o + 3 * (n - 2) > cap:
+            o += 3 * (n - 2)
+            continue
+        a, b, d, e = cell_tet[c, 0] - v_lo, cell_tet[c, 1] - v_lo, cell_tet[c, 2] - v_lo, cell_tet[c, 3] - v_lo
+        nx, ny, nz = _normal_of(
+            cam[b, 0] - cam[a, 0], cam[b, 1] - cam[a, 1], cam[b, 2] - cam[a, 2], cam[b, 3] - cam[a, 3],
+            cam[d, 0] - cam[a, 0], cam[d, 1] - cam[a, 1], cam[d, 2] - cam[a, 2], cam[d, 3] - cam[a, 3],
+            cam[e, 0] - cam[a, 0], cam[e, 1] - cam[a, 1], cam[e, 2] - cam[a, 2], cam[e, 3] - cam[a, 3],
+            flip,
+        )  # fmt: skip
+        # Angles in the polygon's plane about the centroid, in the basis (u, n x u).
+        mx = my = mz = 0.0
+        for j in range(f0, f0 + n):
+            mx += q[j, 0]
+            my += q[j, 1]
+            mz += q[j, 2]
+        mx /= n
+        my /= n
+        mz /= n
+        ux, uy, uz = q[f0, 0] - mx, q[f0, 1] - my, q[f0, 2] - mz
+        vx = ny * uz - nz * uy
+        vy = nz * ux - nx * uz
+        vz = nx * uy - ny * ux
+        for j in range(n):
+            dx, dy, dz = q[f0 + j, 0] - mx, q[f0 + j, 1] - my, q[f0 + j, 2] - mz
+            ang[j] = _pseudo_angle(dx * ux + dy * uy + dz * uz, dx * vx + dy * vy + dz * vz)
+            h = j  # insertion sort: a polygon has a handful of corners
+            while h > 0 and ang[order[h - 1]] > ang[j]:
+                order[h] = order[h - 1]
+                h -= 1
+            order[h] = j
+        for j in range(3 * (n - 2)):
+            src = f0 + (order[0] if j % 3 == 0 else order[j // 3 + j % 3])
+            row = out[o]
+            row[0] = q[src, 0]
+            row[1] = q[src, 1]
+            row[2] = q[src, 2]
+            row[3] = nx
+            row[4] = ny
+            row[5] = nz
+            row[6] = qc[src, 0]
+            row[7] = qc[src, 1]
+            row[8] = qc[src, 2]
+            row[9] = qc[src, 3]
+            o += 1
+    return o
+
+
+# size: scalar helper, coordinates in registers
+@njit(inline="always")
+def _normal_of(ux, uy, uz, uw, vx, vy, vz, vw, tx, ty, tz, tw, flip):
+    """Unit normal of a section of the tet with camera-space edge vectors ``u v t``:
+    the xyz part of ``cross4(u, v, t)`` times ``flip`` (+-1), normalized; zero stays zero.
+    Scalars in, scalars out: an inlined function taking arrays would count references on
+    every call."""
+    nx = -(uy * (vz * tw - vw * tz) - uz * (vy * tw - vw * ty) + uw * (vy * tz - vz * ty))
+    ny = ux * (vz * tw - vw * tz) - uz * (vx * tw - vw * tx) + uw * (vx * tz - vz * tx)
+    nz = -(ux * (vy * tw - vw * ty) - uy * (vx * tw - vw * tx) + uw * (vx * ty - vy * tx))
+    nx *= flip
+    ny *= flip
+    nz *= flip
+    ln = np.sqrt(nx * nx + ny * ny + nz * nz)
+    if ln > 0.0:
+        nx /= ln
+        ny /= ln
+        nz /= ln
+    return nx, ny, nz
+
+
+@njit(inline="always")
+def _pseudo_angle(x, y):
+    """A value in ``[0, 4)`` increasing with the angle of ``(x, y)`` (no trigonometry)."""
+    d = abs(x) + abs(y)
+    if d == 0.0:
+        return 0.0
+    t = y / d
+    if x >= 0.0:
+        return t if y >= 0.0 else 4.0 + t
+    return 2.0 - t
