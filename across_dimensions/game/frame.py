@@ -294,11 +294,16 @@ class Radar:
     w_scale : float
         Disc radii per unit of w offset (pin height = w offset * w_scale).
     pins : list of RadarPin
+    interest : (n, 4) float64
+        What the player may be looking for in the slice now (crystals, switches, bodies,
+        enemies whose cross-section shows): centre ``x, y, z`` in the frame's 3D space and a
+        radius. The renderer fades the radar while one of them lies behind it on screen.
     """
 
     range: float
     w_scale: float
     pins: list[RadarPin] = field(default_factory=list)
+    interest: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
 
 
 @dataclass

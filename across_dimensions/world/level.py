@@ -34,6 +34,7 @@ from ..core.shapes import SHAPE_PARAM_RULES
 from ..core.transform import PLANES
 from . import design, gameplay, limits, resources
 from .fields import REQUIRED, Field
+from .hints import HintSpec, hint_name_problems, read_hints
 from .limits import (
     ANGLE,
     COLOR,
@@ -283,7 +284,7 @@ class Level:
     worlds: list[WorldSpec]
     objects: list[ObjectSpec]
     source_hash: str
-    hints: list[str] = field(default_factory=list)
+    hints: list[HintSpec] = field(default_factory=list)
     crystals: list[gameplay.CrystalSpec] = field(default_factory=list)
     energy: gameplay.EnergySpec = field(default_factory=gameplay.EnergySpec)
     radar: gameplay.RadarSpec | None = None
@@ -597,19 +598,7 @@ def _level_table(r: _Reader, data, path: Path) -> tuple[dict, bool]:
         r.problem("[level]", f"field 'w_range': expected [low, high] with low <= high, got {w_range.tolist()}")
         w_ok = False
     v["w_range"] = w_range
-    hints = meta.get("hints", [])
-    if not (isinstance(hints, list) and all(isinstance(h, str) for h in hints)):
-        r.problem("[level]", "field 'hints': expected a list of strings")
-        hints = []
-    limit, what = MAX_COUNTS["hints"]
-    if len(hints) > limit:
-        r.problem("[level]", f"field 'hints': a level may have at most {limit} {what}, got {len(hints)}")
-        hints = hints[:limit]
-    for i, h in enumerate(hints, 1):
-        why = _hint_problem(h)
-        if why:
-            r.problem("[level]", f"field 'hints': hint #{i}: {why}")
-    v["hints"] = list(hints)
+    v["hints"] = read_hints(r, meta, _hint_problem)
     return v, w_ok
 
 
@@ -860,6 +849,8 @@ def load_level(path, source: bytes | None = None) -> Level:
     camera = gameplay.read_camera(r, data)
     needs = design.read_design(r, data)
 
+    names = {x.name for x in [*objects, *crystals, *targets, *enemies]}
+    r.problems += hint_name_problems(path, meta["hints"], names)
     if r.problems:
         raise LevelError(path, r.problems)
     level = Level(

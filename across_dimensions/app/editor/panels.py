@@ -327,10 +327,11 @@ class Panels:
         """The level's hints, one line each ({action} placeholders become the player's keys)."""
         imgui.text("hints")
         for i, h in enumerate(value):
-            changed, text = imgui.input_text(f"hint {i + 1}", h if isinstance(h, str) else "")
+            table = isinstance(h, dict)  # { text, until }: the words are edited here, until in the file
+            changed, text = imgui.input_text(f"hint {i + 1}", str(h.get("text", "")) if table else str(h))
             self._after_widget()
             if changed:
-                self._edited(ref, key, value[:i] + [text] + value[i + 1 :])
+                self._edited(ref, key, value[:i] + [{**h, "text": text} if table else text] + value[i + 1 :])
             imgui.same_line()
             if imgui.small_button(f"x##{i}"):
                 self.model.set(ref, key, value[:i] + value[i + 1 :] or None)

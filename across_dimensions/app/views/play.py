@@ -145,7 +145,7 @@ class PlayView(View):
         s = self.session
         actions = self.read_actions()
         self.game.step(actions)
-        s.onboarding.ticked(actions, DT)
+        s.onboarding.ticked(actions, DT, self.game)
         s.sound.play(s.sound_director.cues(self.game, DT))
         self.crystals_found += sum(e.kind == "crystal_collected" for e in self.game.events)
         s.recording.record(actions)
