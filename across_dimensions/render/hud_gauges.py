@@ -28,7 +28,8 @@ ENERGY_TRACK_COLOR = (0.55, 0.85, 1.0, 0.16)
 ENERGY_FILL_COLOR = (0.25, 0.9, 1.0, 0.9)
 ENERGY_FLASH_COLOR = (0.85, 1.0, 1.0, 1.0)
 ENERGY_EMPTY_COLOR = (1.0, 0.18, 0.15, 1.0)
-ENERGY_EMPTY_TRACK_COLOR = (1.0, 0.15, 0.1, 0.28)
+#: What was just spent, after the fill: warm and bright, so a drain is seen as it happens.
+ENERGY_SPENT_COLOR = (1.0, 0.72, 0.35, 0.95)
 ENERGY_LABEL_COLOR = (0.75, 0.95, 1.0, 1.0)
 WEAPON_COLOR = (1.0, 0.9, 0.6, 1.0)
 WEAPON_READY_COLOR = (0.5, 1.0, 0.6, 0.9)
@@ -161,6 +162,9 @@ def energy_fill_width(gauge: EnergyGauge, inner_w: int) -> int:
 
 
 def draw_energy_bar(q: QuadList, gauge: EnergyGauge, m: HudMetrics) -> None:
+    """The bar: its fill, then what was just spent as a bright segment after it (it shrinks as the
+    spend sinks in), a glow after a pickup. Empty, the track stays dark and empty: only its outline,
+    label and number turn red, so an empty bar never reads as a full one."""
     s = m.text_scale
     x, y, w, h = m.energy_bar()
     flash = min(max(float(gauge.flash), 0.0), 1.0)
@@ -169,18 +173,31 @@ def draw_energy_bar(q: QuadList, gauge: EnergyGauge, m: HudMetrics) -> None:
         g = max(2, h // 3)
         q.rect(x - g, y - g, w + 2 * g, h + 2 * g, ENERGY_FLASH_COLOR[:3] + (0.55 * flash,))
     outline = (ENERGY_EMPTY_COLOR[:3] + (0.9,)) if gauge.empty else mix(OUTLINE_COLOR, ENERGY_FLASH_COLOR, flash)
-    q.rect(x - 1, y - 1, w + 2, h + 2, outline)
-    q.rect(x, y, w, h, OUTLINE_COLOR)  # a dark backing inside the (possibly bright) outline keeps the fill readable
-    q.rect(x, y, w, h, ENERGY_EMPTY_TRACK_COLOR if gauge.empty else ENERGY_TRACK_COLOR)
+    # The outline as four edges: a whole rectangle under the translucent track would tint it.
+    for ex, ey, ew, eh in ((x - 1, y - 1, w + 2, 1), (x - 1, y + h, w + 2, 1), (x - 1, y, 1, h), (x + w, y, 1, h)):
+        q.rect(ex, ey, ew, eh, outline)
+    q.rect(x, y, w, h, OUTLINE_COLOR)  # a dark backing keeps the fill readable over any scene
+    q.rect(x, y, w, h, ENERGY_TRACK_COLOR)
     pad = max(1, h // 6)
     inner_w = w - 2 * pad
-    fill = ENERGY_EMPTY_COLOR if gauge.empty else mix(ENERGY_FILL_COLOR, ENERGY_FLASH_COLOR, 0.8 * flash)
-    q.rect(x + pad, y + pad, energy_fill_width(gauge, inner_w), h - 2 * pad, fill)
+    fill_w = energy_fill_width(gauge, inner_w)
+    q.rect(x + pad, y + pad, fill_w, h - 2 * pad, mix(ENERGY_FILL_COLOR, ENERGY_FLASH_COLOR, 0.8 * flash))
+    spent_w = energy_spent_width(gauge, inner_w)
+    q.rect(x + pad + fill_w, y + pad, spent_w, h - 2 * pad, ENERGY_SPENT_COLOR)
     label_y = y - GLYPH_H * s - 3 * s - 1
     label, color = ("NO ENERGY", ENERGY_EMPTY_COLOR) if gauge.empty else ("ENERGY", ENERGY_LABEL_COLOR)
     q.text(label, x, label_y, s, color)
     val = energy_text(gauge)
-    q.text(val, x + w - text_width(val, s), label_y, s, mix(TEXT_COLOR, ENERGY_FLASH_COLOR, flash))
+    val_color = ENERGY_EMPTY_COLOR if gauge.empty else mix(TEXT_COLOR, ENERGY_FLASH_COLOR, flash)
+    q.text(val, x + w - text_width(val, s), label_y, s, val_color)
+
+
+def energy_spent_width(gauge: EnergyGauge, inner_w: int) -> int:
+    """Pixels of the just-spent segment after the fill: ``spent / maximum`` of the track, within it."""
+    if gauge.maximum <= 0 or gauge.spent <= 0:
+        return 0
+    top = min(max((gauge.value + gauge.spent) / gauge.maximum, 0.0), 1.0)
+    return max(1, int(round(inner_w * top)) - energy_fill_width(gauge, inner_w))
 
 
 def health_fill_width(gauge: HealthGauge, inner_w: int) -> int:

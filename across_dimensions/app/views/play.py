@@ -12,6 +12,7 @@ through its methods (:meth:`PlayView.eye`, :meth:`PlayView.play_game`, :attr:`Pl
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +23,7 @@ from ...game.sim import DT, Game, RadarView
 from ...render.debug_draw import DebugOverlay
 from ...render.pip import draw_pip
 from ...world.level import load_level
+from ..energy_trail import EnergyTrail
 from ..input import PlayInput, with_keys
 from ..onboarding import fill_keys
 from ..saves import checkpoint_of, resume_at_checkpoint
@@ -68,6 +70,7 @@ class PlayView(View):
         self.accumulator = 0.0
         self.crystals_found = 0
         self.hints = True
+        self.energy_trail, self._drawn_at = EnergyTrail(), time.perf_counter()
         resume_at_checkpoint(self.game, checkpoint)
         # A level is where Continue resumes only when it is open in the campaign.
         stems = [e.stem for e in s.campaign]
@@ -204,6 +207,9 @@ class PlayView(View):
             hud.message = with_keys(hud.message, s.settings)
         for label in hud.labels:  # and so do the labels beside things (the manipulation keys)
             label.text = with_keys(label.text, s.settings)
+        now = time.perf_counter()
+        hud.energy = self.energy_trail.update(hud.energy, now - self._drawn_at)
+        self._drawn_at = now
         hud.fps = self.window.fps if s.options.show_fps else None
         hud.paused = False  # the pause menu dims the view and says so
         if s.notice_text:
