@@ -167,7 +167,7 @@ class MenuView:
     footer: str
     prompt: str | None = None
     message: str = ""
-    progress: tuple[int, int, str] | None = None
+    progress: tuple | None = None  # (steps done, steps, what, fraction 0..1): the warm-up's line
     dim: bool = False
 
 
@@ -225,7 +225,7 @@ class Menu:
         self.first: dict[str, int] = {}
         self.capturing: str | None = None  # the action waiting for its new key
         self.conflict: tuple[str, str, tuple[str, ...]] | None = None  # (action, key, other actions)
-        self.progress_bar: tuple[int, int, str] | None = None
+        self.progress_bar: tuple | None = None
         self.message = ""
         self.skippable = False  # the paused level may be skipped (the prologue): the pause menu says so
         self.optional = frozenset(e.stem for e in campaign if e.optional)
@@ -249,6 +249,7 @@ class Menu:
 
     def push(self, screen: str) -> None:
         self.stack.append(screen)
+        self.message = ""
         items = self.items()
         keep = self.selected.get(screen, 0)
         if screen in ("conflict", "title", "pause") or not (0 <= keep < len(items) and items[keep].enabled):
@@ -258,6 +259,7 @@ class Menu:
 
     def pop(self) -> str | None:
         """Go back one screen; from a root screen, pause resumes and the title stays."""
+        self.message = ""
         if len(self.stack) > 1:
             self.stack.pop()
             return None
@@ -343,9 +345,11 @@ class Menu:
         action, key, others = self.conflict
         old = self.settings.keys_for(action)
         swap = f"{ACTION_DESCRIPTIONS[others[0]]} gets {key_label(old[0])}" if old else "it leaves the others"
+        # What each choice does goes on the row's second line: an action's description is long
+        # ("Dismiss the hint on screen, ...") and on the right it would run over the choice.
         return [
-            Item("swap", "Swap keys", swap if len(others) == 1 and old else "move it here"),
-            Item("both", "Bind it to both", "shown as a conflict"),
+            Item("swap", "Swap keys", "", note=swap if len(others) == 1 and old else "move it here"),
+            Item("both", "Bind it to both", "", note="shown as a conflict"),
             Item("cancel", "Cancel"),
         ]
 
@@ -417,7 +421,11 @@ class Menu:
     def click(self, index: int, fraction: float | None = None) -> str | None:
         """A click on row ``index``; ``fraction`` (0..1) is where along a slider's bar it landed."""
         items = self.items()
-        if self.capturing or not (0 <= index < len(items)) or not items[index].enabled:
+        self.message = ""
+        if self.capturing or not (0 <= index < len(items)):
+            return None
+        if not items[index].enabled:
+            self.message = self._why_locked(items[index])
             return None
         self.selected[self.screen] = index
         item = items[index]
@@ -427,6 +435,16 @@ class Menu:
             self._set(name, s.lo + min(1.0, max(0.0, fraction)) * (s.hi - s.lo))
             return None
         return self._activate(item)
+
+    def _why_locked(self, item: Item) -> str:
+        """What a click on a disabled row says: a locked level names the one to finish first."""
+        if not item.key.startswith("level:"):
+            return ""
+        stems = [e.stem for e in self.campaign]
+        i = stems.index(item.key[6:])
+        before = [e for e in self.campaign[:i] if not e.optional and e.stem not in self.progress.finished]
+        need = before[-1].title if before else self.campaign[i - 1].title
+        return f"Locked: finish {need} first to open {self.campaign[i].title}."
 
     def _activate(self, item: Item) -> str | None:
         key = item.key

@@ -97,6 +97,29 @@ def fill_keys(text: str, settings) -> str:
         return text
 
 
+def with_keys(text: str, settings) -> str:
+    """``text`` with each ``{action}`` replaced by the keys bound to it, short (``"W/UP"``): the
+    game's prompts and the labels beside things, where room is scarce (hints use :func:`fill_keys`'s
+    words). Unknown names and stray braces stay as written."""
+
+    class _Keys(dict):
+        def __missing__(self, key):
+            return "{" + key + "}"
+
+    keys = {
+        a: "/".join(
+            k.replace("MOUSE_", "mouse ").lower() if k.startswith("MOUSE_") else k.lstrip("_")
+            for k in settings.keys_for(a)
+        )
+        or "(unbound)"
+        for a in settings.bindings
+    }
+    try:
+        return text.format_map(_Keys(keys))
+    except (ValueError, IndexError):  # a stray brace in a game prompt: show it as written
+        return text
+
+
 class Onboarding:
     """Hints, the card and the warning line of one window.
 

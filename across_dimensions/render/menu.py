@@ -43,6 +43,8 @@ FILL_COLOR = (0.3, 0.85, 1.0, 0.85)
 PROMPT_BAND = (0.0, 0.0, 0.0, 0.75)
 PROMPT_COLOR = (1.0, 0.9, 0.45, 1.0)
 FOOTER_COLOR = (0.55, 0.62, 0.72, 0.9)
+#: Screens whose rows have a second, smaller line (the row's note).
+NOTE_SCREENS = ("levels", "controls", "conflict")
 #: Lines of the warm-up's progress text at most (what, how far, how long), and the rows of text
 #: height it takes with its bar above the panel's items.
 PROGRESS_LINES = 3
@@ -87,7 +89,7 @@ def _panel(view, width: int, height: int) -> tuple[int, int, int, int]:
 
 def _row_height(view, height: int) -> int:
     _, s_row, s_small = _scales(view, height)
-    two_lines = view.screen in ("levels", "controls")
+    two_lines = view.screen in NOTE_SCREENS
     return CELL_H * s_row + (CELL_H * s_small + 2 if two_lines else 0) + CELL_H * s_row * (7 if two_lines else 5) // 8
 
 
@@ -102,16 +104,22 @@ def menu_layout(view, width: int, height: int) -> list[RowBox]:
     if view.progress is not None:
         y += PROGRESS_ROWS * CELL_H * s_row
     boxes = []
+    gutter = _gutter(view, s_row)
     for index in range(view.first, min(len(view.items), view.first + view.rows)):
         item = view.items[index]
         bar = None
         if item.fraction is not None:
             bar_w = pw // 4
-            bar_x = px + pw - pad - text_width("0000 deg", s_row) - pad - bar_w
+            bar_x = px + pw - gutter - pad - text_width("0000 deg", s_row) - pad - bar_w
             bar = (bar_x, y + CELL_H * s_row // 4, bar_w, CELL_H * s_row // 2)
-        boxes.append(RowBox(index, (px + pad // 2, y - CELL_H * s_row // 4, pw - pad, rh), bar))
+        boxes.append(RowBox(index, (px + pad // 2, y - CELL_H * s_row // 4, pw - pad - gutter, rh), bar))
         y += rh
     return boxes
+
+
+def _gutter(view, s_row: int) -> int:
+    """Pixels kept free at the panel's right for the scroll marks when the rows do not all fit."""
+    return 2 * CELL_W * s_row if view.first > 0 or view.first + view.rows < len(view.items) else 0
 
 
 def hit(view, width: int, height: int, x: float, y: float) -> tuple[int, float | None] | None:
@@ -228,21 +236,27 @@ def _row(q: QuadList, view, box: RowBox, scales, t: int) -> None:
         bx, by, bw, bh = box.bar
         q.rect(bx, by, bw, bh, TRACK_COLOR)
         q.rect(bx, by, int(round(bw * item.fraction)), bh, FILL_COLOR)
-    if item.note and view.screen in ("levels", "controls"):
+        # A knob at the value, so a slider at its low end (render scale "auto" on a software
+        # renderer) reads as set there, not as empty.
+        kw = max(3, bh // 2)
+        q.rect(bx + int(round(bw * item.fraction)) - kw // 2, by - bh // 3, kw, bh + 2 * (bh // 3), ACCENT_COLOR)
+    if item.note and view.screen in NOTE_SCREENS:
         ncol = WARN_COLOR if item.warn else NOTE_COLOR
         ncol = ncol if item.enabled else DISABLED_COLOR
         q.text(ellipsized(item.note, rw - 2 * pad, s_small, "..."), rx + pad, y + CELL_H * s_row + 2, s_small, ncol)
 
 
 def _scroll_marks(q: QuadList, view, panel, s_row: int, height: int) -> None:
-    """More rows above or below: arrows inside the panel's right edge, clear of its corner ticks."""
+    """More rows above or below: arrows in the gutter at the panel's right (:func:`_gutter`),
+    clear of the rows' text and of the panel's corner ticks."""
     px, py, pw, ph = panel
     t = max(1, height // 360)
-    x = px + pw - 2 * CELL_W * s_row
+    x = px + pw - CELL_W * s_row // 2 - _gutter(view, s_row)
+    pad = CELL_W * s_row
     if view.first > 0:
-        q.text("^", x, py + 3 * t + s_row, s_row, ACCENT_COLOR)
+        q.text("^", x, py + pad, s_row, ACCENT_COLOR)
     if view.first + view.rows < len(view.items):
-        q.text("v", x, py + ph - CELL_H * s_row - 3 * t, s_row, ACCENT_COLOR)
+        q.text("v", x, py + ph - pad - CELL_H * s_row - 3 * t, s_row, ACCENT_COLOR)
 
 
 def _prompt(q: QuadList, prompt: str, panel, s_row: int, t: int) -> None:

@@ -151,6 +151,9 @@ class PlayView(View):
         s.onboarding.ticked(actions, DT, self.game)
         s.sound.play(s.sound_director.cues(self.game, DT))
         self.crystals_found += sum(e.kind == "crystal_collected" for e in self.game.events)
+        if any(e.kind == "respawned" for e in self.game.events):  # a fall is never silent
+            where = "the last checkpoint" if checkpoint_of(self.game) is not None else "the start"
+            s.say(f"You fell out of the level: back at {where}.", 3.0)
         s.recording.record(actions)
 
     def read_actions(self):
