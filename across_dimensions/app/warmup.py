@@ -222,6 +222,8 @@ class BackgroundWarmUp(threading.Thread):
         """What the title says of the warm-up: the step, the kernels ready of all, the time so far
         and, once it can be told from this run's own pace, about how long is left."""
         elapsed = (time.perf_counter() if now is None else now) - self.started
+        if self.compiling and not self.kernels[1]:  # the child has not reported yet
+            return f"{self.label}, starting the compiler, {_clock(elapsed)} so far"
         if not self.compiling or not self.kernels[2]:  # nothing compiled yet: only loading
             return f"{self.label}, loading the kernels, {_clock(elapsed)} so far"
         ready, total, _ = self.kernels
@@ -322,8 +324,12 @@ def main() -> int:
 
     stop = threading.Event()
 
+    parent = os.getppid()
+
     def count() -> None:
         while not stop.wait(COUNT_EVERY):
+            if os.getppid() != parent:  # the window is gone (killed): no one waits for the kernels
+                os._exit(1)
             say("kernels {} {} {}".format(*kernel_counts()))
 
     threading.Thread(target=count, daemon=True).start()
