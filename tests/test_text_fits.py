@@ -63,7 +63,10 @@ def runs_over_each_other(rects: np.ndarray) -> int:
     ih = np.clip(np.minimum(y1[:, None], y1[None]) - np.maximum(y0[:, None], y0[None]), 0, None)
     area = rects[:, 2] * rects[:, 3]
     small = np.minimum(area[:, None], area[None])
-    hit = iw * ih > small / 2
+    low = np.minimum(rects[:, 3][:, None], rects[:, 3][None])
+    # Over each other: most of a glyph covered, or two lines crossing (glyphs of one line share
+    # their rows; of two lines, a sliver of rows).
+    hit = (iw * ih > small / 2) | ((iw > 1) & (ih > 1) & (ih < 0.6 * low))
     np.fill_diagonal(hit, False)
     return int(hit.sum() // 2)
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .font import CELL_H, CELL_W, text_width
+from .font import CELL_H, CELL_W, GLYPH_H, text_width
 from .hud import HudRenderer
 from .quads import QUAD_FLOATS, QuadList
 from .text_layout import ellipsized, wrap
@@ -90,7 +90,9 @@ def _panel(view, width: int, height: int) -> tuple[int, int, int, int]:
 def _row_height(view, height: int) -> int:
     _, s_row, s_small = _scales(view, height)
     two_lines = view.screen in NOTE_SCREENS
-    return CELL_H * s_row + (CELL_H * s_small + 2 if two_lines else 0) + CELL_H * s_row * (7 if two_lines else 5) // 8
+    if two_lines:  # the note's line starts a line height down, clear of the label's descenders
+        return line_height(s_row) + CELL_H * s_small + CELL_H * s_row * 5 // 8
+    return CELL_H * s_row + CELL_H * s_row * 5 // 8
 
 
 def menu_layout(view, width: int, height: int) -> list[RowBox]:
@@ -105,7 +107,12 @@ def menu_layout(view, width: int, height: int) -> list[RowBox]:
         y += PROGRESS_ROWS * CELL_H * s_row
     boxes = []
     gutter = _gutter(view, s_row)
+    # Rows stop above the prompt's band (a key being waited for, a conflict): none under it.
+    ph = _panel(view, width, height)[3]
+    limit = py + ph - pad - (_prompt_height(view.prompt, pw, s_row) + pad if view.prompt else 0)
     for index in range(view.first, min(len(view.items), view.first + view.rows)):
+        if boxes and y + rh > limit:
+            break
         item = view.items[index]
         bar = None
         if item.fraction is not None:
@@ -159,12 +166,18 @@ def menu_quads(view, width: int, height: int) -> np.ndarray:
         _prompt(q, view.prompt, panel, s_row, max(1, height // 360))
     px, py, pw, ph = panel
     pad = CELL_W * s_row
+    footer_y = height - 2 * CELL_H * s_small
+    show_footer = True
     if view.message:  # under the panel: above it, the title screen's subtitle would share the line
-        for i, line in enumerate(wrap(view.message, width - 2 * pad, s_row)):
-            mw = text_width(line, s_row)
-            q.text(line, (width - mw) // 2, py + ph + CELL_H * s_row * (1 + i), s_row, PROMPT_COLOR)
-    footer = ellipsized(view.footer, width - 2 * pad, s_small, "...")
-    q.text(footer, (width - text_width(footer, s_small)) // 2, height - 2 * CELL_H * s_small, s_small, FOOTER_COLOR)
+        lines = wrap(view.message, width - 2 * pad, s_row)
+        y, lh = py + ph + CELL_H * s_row, line_height(s_row)
+        if y + len(lines) * lh > footer_y:  # no room above the footer: in its place
+            y, show_footer = min(y, height - len(lines) * lh - CELL_H * s_row), False
+        for i, line in enumerate(lines):
+            q.text(line, (width - text_width(line, s_row)) // 2, y + i * lh, s_row, PROMPT_COLOR)
+    if show_footer:
+        footer = ellipsized(view.footer, width - 2 * pad, s_small, "...")
+        q.text(footer, (width - text_width(footer, s_small)) // 2, footer_y, s_small, FOOTER_COLOR)
     return q.array()
 
 
@@ -207,7 +220,7 @@ def _progress(q: QuadList, view, panel, s_row: int) -> None:
     line = f"Preparing the 4D world {done}/{total}: {label}" if done < total else "Ready"
     for part in wrap(line, pw - 2 * pad, s_row)[:PROGRESS_LINES]:
         q.text(part, px + pad, y, s_row, PROMPT_COLOR if done < total else VALUE_COLOR)
-        y += CELL_H * s_row
+        y += line_height(s_row)
     bar = (px + pad, y + 4, pw - 2 * pad, max(3, CELL_H * s_row // 3))
     q.rect(*bar, TRACK_COLOR)
     frac = view.progress[3] if len(view.progress) > 3 else done / max(1, total)
@@ -243,7 +256,7 @@ def _row(q: QuadList, view, box: RowBox, scales, t: int) -> None:
     if item.note and view.screen in NOTE_SCREENS:
         ncol = WARN_COLOR if item.warn else NOTE_COLOR
         ncol = ncol if item.enabled else DISABLED_COLOR
-        q.text(ellipsized(item.note, rw - 2 * pad, s_small, "..."), rx + pad, y + CELL_H * s_row + 2, s_small, ncol)
+        q.text(ellipsized(item.note, rw - 2 * pad, s_small, "..."), rx + pad, y + line_height(s_row), s_small, ncol)
 
 
 def _scroll_marks(q: QuadList, view, panel, s_row: int, height: int) -> None:
@@ -263,11 +276,22 @@ def _prompt(q: QuadList, prompt: str, panel, s_row: int, t: int) -> None:
     px, py, pw, ph = panel
     pad = CELL_W * s_row
     lines = wrap(prompt, pw - 2 * pad, s_row)
-    band_h = (len(lines) + 1) * CELL_H * s_row
+    band_h = _prompt_height(prompt, pw, s_row)
     by = py + ph - band_h - pad
     q.rect(px + t, by, pw - 2 * t, band_h, PROMPT_BAND)
     for i, text in enumerate(lines):
-        q.text(text, px + pad, by + CELL_H * s_row // 2 + i * CELL_H * s_row, s_row, PROMPT_COLOR)
+        q.text(text, px + pad, by + CELL_H * s_row // 2 + i * line_height(s_row), s_row, PROMPT_COLOR)
+
+
+def _prompt_height(prompt: str, pw: int, s_row: int) -> int:
+    """Pixels of the prompt's band in a panel ``pw`` wide."""
+    return len(wrap(prompt, pw - 2 * CELL_W * s_row, s_row)) * line_height(s_row) + CELL_H * s_row
+
+
+def line_height(scale: int) -> int:
+    """Pixels from one line of wrapped text to the next: the glyphs' descenders clear the next
+    line's capitals (the HUD's hint panel spaces its lines the same)."""
+    return (GLYPH_H + 4) * scale
 
 
 class MenuRenderer:
