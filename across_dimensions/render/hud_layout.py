@@ -179,13 +179,13 @@ def message_layout(hud: Hud, width: int, height: int) -> tuple[list[str], int, t
         lines = wrap(hud.message, m.width - 2 * m.margin - 8 * scale, scale)
     line_h = (GLYPH_H + 3) * scale
     pad = 2 * scale
-    block_h = len(lines) * line_h + pad
+    block_h = len(lines) * line_h
     ytop = m.height // 2 + GLYPH_H * big + 2 * big if hud.paused else m.height // 3 - block_h // 2
     hx, hy, hw, hh = hint_rect(hud, m.width, m.height)
-    if hh and ytop < hy + hh + s:
-        ytop = hy + hh + 2 * s
+    if hh and ytop - pad < hy + hh + s:
+        ytop = hy + hh + s + pad
     band_w = max(text_width(ln, scale) for ln in lines) + 8 * scale
-    return lines, scale, ((m.width - band_w) // 2, ytop, band_w, block_h), line_h
+    return lines, scale, ((m.width - band_w) // 2, ytop - pad, band_w, block_h + pad), line_h
 
 
 def slice_marker_x(angle_deg: float, x0: int, width: int) -> int:
