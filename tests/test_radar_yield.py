@@ -22,7 +22,7 @@ from across_dimensions.render.renderer import Renderer
 from across_dimensions.world.level import load_level
 from across_dimensions.world.resources import level_files
 
-W, H = 640, 360
+W, H = 480, 270
 #: A pixel the HUD changes by more than this (of 255) in some channel is hidden by it.
 HIDDEN = 64
 #: Look offsets (yaw to the left, pitch up, radians) that move a target towards the bottom right.
