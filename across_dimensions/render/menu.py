@@ -117,7 +117,7 @@ def menu_layout(view, width: int, height: int) -> list[RowBox]:
         bar = None
         if item.fraction is not None:
             bar_w = pw // 4
-            bar_x = px + pw - gutter - pad - text_width("0000 deg", s_row) - pad - bar_w
+            bar_x = px + pw - gutter - pad - text_width("auto 100%", s_row) - pad - bar_w  # the widest value
             bar = (bar_x, y + CELL_H * s_row // 4, bar_w, CELL_H * s_row // 2)
         boxes.append(RowBox(index, (px + pad // 2, y - CELL_H * s_row // 4, pw - pad - gutter, rh), bar))
         y += rh
