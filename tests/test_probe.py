@@ -26,7 +26,7 @@ from across_dimensions.probe.skills import swing_distance
 from across_dimensions.world.design import NEEDS
 from across_dimensions.world.json_schema import level_schema
 from across_dimensions.world.level import LevelError, load_level
-from across_dimensions.world.resources import level_files
+from across_dimensions.world.resources import level_files, prologue_files
 
 REPO = Path(__file__).resolve().parents[1]
 TIMEOUT = 600
@@ -77,14 +77,14 @@ def run(env, *args) -> subprocess.CompletedProcess:
 
 @pytest.fixture(scope="module")
 def rows() -> dict:
-    return {r["level"]: r for r in probe(level_files(), workers=2)}
+    return {r["level"]: r for r in probe(prologue_files() + level_files(), workers=2)}
 
 
 @pytest.mark.parametrize(
     "stem",
     [
         pytest.param(p.stem, marks=pytest.mark.xfail(strict=True, reason=KNOWN[p.stem])) if p.stem in KNOWN else p.stem
-        for p in level_files()
+        for p in prologue_files() + level_files()
     ],
 )
 def test_each_level_demands_what_it_teaches_and_never_traps(rows, stem):
