@@ -452,3 +452,17 @@ class SliceAligned(Event):
 
     kind: ClassVar[str] = "slice_aligned"
     angles: tuple
+
+
+@dataclass(frozen=True)
+class ObjectReset(Event):
+    """A key object stayed out of its beacon's range and was put back at its start.
+
+    Attributes
+    ----------
+    name : str
+        The object's name in the level.
+    """
+
+    kind: ClassVar[str] = "object_reset"
+    name: str
