@@ -286,9 +286,7 @@ class LevelEditor:
                 for k, v in value.items():
                     inner[k] = v
             elif key in table:
-                comment = table[key].trivia.comment
-                table[key] = level_style.styled_item(value, self.spaced)
-                table[key].comment(comment.lstrip("# ")) if comment else None
+                table[key] = level_style.styled_item(value, self.spaced)  # tomlkit keeps its comment
             else:
                 level_style.set_new_key(table, key, level_style.styled_item(value, self.spaced))
 
