@@ -134,3 +134,20 @@ def test_duplicate_keeps_a_worlds_part_in_its_world(ed):
     new = group.duplicate(ed, [("world", 0, "box", 0)])
     assert new == [("world", 0, "box", 1)]
     assert ed.get(new[0], "center") == [0.5, 2.0, 0.5]
+
+
+def test_quick_warnings_flag_what_cannot_be_reached_as_you_edit(ed):
+    from across_dimensions.world.level_lint import lint
+
+    assert lint(ed, ed.check()[0]) == {}
+    c = ed.add("object", {"position": [0.0, 1.0, 2.0, 3.5]})  # w range is [-1, 2]
+    ed.add("world", {"name": "far", "w": 5.0, "depth": 1.0})
+    ed.add("checkpoint", {"name": "in the wall", "position": [-5.25, 0.0, 0.0, 0.0], "size": [2.0, 2.0, 2.0]})
+    ed.add("checkpoint", {"name": "on the spawn", "position": [0.0, 0.0, -8.0, 0.0], "size": [2.0, 2.0, 2.0]})
+    ed.set(("goal",), "center", [0.0, 4.0, 8.0])  # 3 m over the floor
+    found = lint(ed, ed.check()[0])
+    assert "outside the level's w range" in found[c][0]
+    assert "never seen" in found[("world", 0)][0]
+    assert "overlaps solid geometry" in found[("checkpoint", 0)][0]  # the loader refuses a spawn there
+    assert found[("checkpoint", 1)] == ["at the same place as spawn"]
+    assert "no floor within a jump" in found[("goal",)][0]

@@ -126,39 +126,45 @@ def rotation_of(ed: LevelEditor, ref: Ref) -> np.ndarray:
 
 
 def rotate(ed: LevelEditor, refs, plane: str, degrees: float, center=None, step: float = 0.0) -> None:
-    """Turn the entries by ``degrees`` in ``plane`` about ``center (4,)`` (their pivot by default).
+    """Turn the entries by ``degrees`` in ``plane`` about ``center (4,)`` (their pivot by default);
+    ``step`` snaps the entries' own angles to multiples of it."""
+    turn(ed, refs, rotation4(plane, np.radians(degrees)), center, step, label=f"rotate in {plane}")
 
-    An entry with a ``rotation`` field turns with it; a mesh's ``yaw`` turns in the xz plane; a
-    box keeps its axes (a quarter turn in a 3D plane swaps its sizes).
+
+def turn(ed: LevelEditor, refs, r4, center=None, step: float = 0.0, label: str = "rotate", merge=False) -> None:
+    """Turn the entries by the rotation ``r4 (4, 4)`` about ``center (4,)`` (their pivot by default).
+
+    An entry with a ``rotation`` field turns with it; a mesh's ``yaw`` follows a turn in the xz
+    plane; a box keeps its axes (a quarter turn swaps its sizes). One entry turns in place.
     """
     refs = _top(refs)
     center = pivot(ed, refs) if center is None else np.asarray(center, np.float64)
     if center is None:
         return
-    r = rotation4(plane, np.radians(degrees))
-    quarter = plane in ("xy", "xz", "yz") and abs(abs(degrees) % 180.0 - 90.0) < 1e-6
-    with ed.batch(f"rotate {len(refs)} in {plane}"):
+    r4 = np.asarray(r4, np.float64)
+    perm = np.abs(np.round(r4[:3, :3]))
+    quarter = np.allclose(np.abs(r4[:3, :3]), perm, atol=1e-6) and np.allclose(r4[3], [0, 0, 0, 1], atol=1e-9)
+    xz_only = np.allclose(r4[[1, 3]], np.eye(4)[[1, 3]], atol=1e-9)
+    with ed.batch(label, key=("turn", tuple(refs)), merge=merge):
         for ref in refs:
             p = place_of(ed, ref)
             if p is not None and len(refs) > 1:
-                _set_place(ed, ref, center + r @ (p - center))
-            model = ed.table(ref)
-            kind = ref[-2] if len(ref) > 1 else ref[0]
-            if "rotation" in _model_fields(ref):
-                set_rotation(ed, ref, r @ rotation_of(ed, ref), step)
-            elif "yaw" in _model_fields(ref) and plane == "xz":
-                ed.set(ref, "yaw", _tidy(snap(float(ed.get(ref, "yaw", 0.0)) - degrees, step)))
-            elif kind == "box" and quarter and "size" in model:
-                size = list(ed.get(ref, "size"))
-                i, j = "xyz".index(plane[0]), "xyz".index(plane[1])
-                size[i], size[j] = size[j], size[i]
-                ed.set(ref, "size", size)
+                _set_place(ed, ref, center + r4 @ (p - center))
+            fields = _model_fields(ref)
+            if "rotation" in fields:
+                set_rotation(ed, ref, r4 @ rotation_of(ed, ref), step)
+            elif "yaw" in fields and xz_only:
+                yaw = float(ed.get(ref, "yaw", 0.0)) - np.degrees(np.arctan2(r4[2, 0], r4[0, 0]))
+                ed.set(ref, "yaw", _tidy(snap(yaw, step)))
+            elif "size" in fields and quarter and isinstance(ed.get(ref, "size"), list):
+                size = np.asarray(ed.get(ref, "size"), np.float64)
+                ed.set(ref, "size", [_tidy(x) for x in perm @ size])
 
 
-def scale(ed: LevelEditor, refs, factors, step: float = 0.0) -> None:
+def scale(ed: LevelEditor, refs, factors, step: float = 0.0, merge: bool = False) -> None:
     """Scale each entry's size by ``factors (4,)`` (x, y, z and w: the hyper-depth of 4D objects)."""
     f = np.asarray(factors, np.float64)
-    with ed.batch(f"scale {len(refs)}"):
+    with ed.batch(f"scale {len(refs)}", key=("scale", tuple(refs)), merge=merge):
         for ref in _top(refs):
             fields = _model_fields(ref)
             key = "scale" if "scale" in fields else "size" if "size" in fields else None
