@@ -52,6 +52,8 @@ class PlayView(View):
     finish_seconds = NEXT_LEVEL_DELAY
     #: Said as the next level starts ("": nothing).
     farewell = ""
+    #: The game was started by the level editor: finishing it goes back there, not to the next level.
+    from_editor = False
 
     def __init__(self, session, path: Path, checkpoint: int | None = None):
         super().__init__(session)
@@ -65,6 +67,7 @@ class PlayView(View):
         """Start the level at ``path`` (at ``checkpoint``), from scratch."""
         s = self.session
         self._path = Path(path)
+        self.from_editor = False
         self.game = Game(load_level(path), seed=s.seed)
         self.accumulator = 0.0
         self.crystals_found = 0
@@ -93,9 +96,11 @@ class PlayView(View):
         p = self.game.player
         return p.eye().copy(), float(p.yaw), float(p.pitch), float(p.position[3])
 
-    def play_game(self, game: Game, notice: str) -> None:
-        """Play ``game`` (of this level, edited) in place of the one running, without the level's
-        hints (they were read when it started), saying ``notice``."""
+    def play_game(self, game: Game, notice: str, path: Path | None = None) -> None:
+        """Play ``game`` (of this level, edited, or of the level file ``path`` the editor made) in place
+        of the one running, without the level's hints (they were read when it started), saying ``notice``."""
+        self._path = Path(path) if path is not None else self._path
+        self.from_editor = True
         self.game = game
         self.hints = False
         self.accumulator = 0.0
