@@ -36,7 +36,6 @@ KNOWN = {
     "02_crystal_cache": "bypasses: visible_crystals_only and no_radar pass the wall at w = -0.5",
     "03_tumbling_hall": "bypasses: straight (at the goal's w), no_bodies and no_radar win without the bodies",
     "04_armory": "soft-lock: waste_energy (no energy left for the switch, nothing refills it)",
-    "05_blast_and_field": "bypass: no_field (a straight shot at the odd crate); soft-locks: the energy spent",
     "08_around_the_corner": "bypass: frustum_no_orbit; soft-locks: wasted energy (nothing refills it)",
     "09_hive": "bypasses: unaimed_fire, no_w_move, no_blast, only_gun; soft-lock: wasted energy",
 }
