@@ -328,6 +328,27 @@ def test_blast_brings_everything_in_its_radius_to_the_players_w_and_nothing_else
     assert game.physics.body_position(body.motion.body)[1] == pytest.approx(0.35, abs=0.03)
 
 
+def test_what_the_blast_brings_is_drawn_as_soon_as_it_reaches_the_slice():
+    """Blast and Field: the kata switch pulled to the player's w shows at once, before anything
+    else comes or goes (nothing is fired at it yet)."""
+    game = Game(load_level(BLAST_FIELD))
+    for _ in range(120):
+        game.step(Actions(forward=1.0))  # to the blue door; the switch is 1.5 m behind
+    switch = game.entities.named("kata switch")
+
+    def drawn() -> bool:
+        return any(f"entity:{switch.id}" in b.members for b in game.frame().batches)
+
+    assert not drawn()  # far kata
+    game.step(Actions(presses=(("weapon_2", 1),)))
+    game.step(Actions(presses=(("fire", 1),)))
+    version = game.entities.version
+    for _ in range(60):
+        game.step(Actions())
+    assert switch.center(game)[3] == pytest.approx(0.0, abs=0.01)
+    assert game.entities.version == version and drawn()
+
+
 def test_field_turns_exactly_the_objects_in_its_radius_to_wireframe_and_back(tmp_path):
     game = scatter(tmp_path)
     styles = {e.name: e.style for e in game.entities}
