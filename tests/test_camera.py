@@ -183,7 +183,7 @@ def test_the_slice_never_turns_back_at_a_w_outside_the_level():
     _run(game, 60, turn_zw_neg=True)
     assert np.array_equal(game.camera.rotation, rotation) and np.array_equal(game.camera.anchor, anchor)
     assert game.event_counts["slice_aligned"] == 1 and game.event_counts["slice_turn_refused"] == 2
-    assert "walk back" in game.frame().hud.message
+    assert "Walk back" in game.frame().hud.message
     # The w keys never carry the player's world w out of the range either (they move along z now).
     _run(game, 90, w=1.0)
     assert _eye_w(game) > hi and game.camera.angles_deg() == pytest.approx((0.0, 0.0, 90.0))
