@@ -54,7 +54,7 @@ class PlayView(View):
 
     def __init__(self, session, path: Path, checkpoint: int | None = None):
         super().__init__(session)
-        self.input = PlayInput(session.bindings, self.window.keys)
+        self.input = PlayInput(session.bindings, self.window.keys, session.settings)
         self.load(path, checkpoint)
         if session.recording.path_given:  # --record FILE: the first level played
             self.start_recording()
@@ -111,6 +111,7 @@ class PlayView(View):
         self.window.set_exclusive_mouse(True)
         self.window.set_caption(f"Across Dimensions - {self.game.level.name}")
         self.input.forget()  # presses and buttons from before a pause or the editor are not this tick's
+        self.input.use(self.session.settings)  # changed in the pause menu's settings, maybe
 
     def on_update(self, dt: float) -> None:
         self.run(dt)
@@ -220,7 +221,7 @@ class PlayView(View):
         action = s.bindings.action_of("key", symbol)
         if s.onboarding.key(action, pyglet.window.key.symbol_string(symbol)):
             return  # the card took it, or the hints key
-        self.input.press("key", symbol, reduce_motion=s.settings.reduce_motion)
+        self.input.press("key", symbol)
         if self.window_key(action):
             return
         if action == "pause":
@@ -254,7 +255,7 @@ class PlayView(View):
     def on_mouse_press(self, x, y, button, modifiers) -> None:
         if self.session.onboarding.click():
             return
-        self.input.mouse_down(button, reduce_motion=self.session.settings.reduce_motion)
+        self.input.mouse_down(button)
 
     def on_mouse_release(self, x, y, button, modifiers) -> None:
         self.input.mouse_up(button)
@@ -262,4 +263,4 @@ class PlayView(View):
     def on_mouse_scroll(self, x, y, scroll_x, scroll_y) -> None:
         if scroll_y:
             notches = max(1, round(abs(scroll_y)))
-            self.input.press("wheel", 1 if scroll_y > 0 else -1, notches, self.session.settings.reduce_motion)
+            self.input.press("wheel", 1 if scroll_y > 0 else -1, notches)

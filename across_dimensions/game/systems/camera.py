@@ -25,10 +25,11 @@ import numpy as np
 
 from ...core.mesh import TriMesh3
 from ...world.geometry import box_trimesh
-from ..camera import GLIDE_FACTOR, TURN_PLANES, CameraRig
+from ..camera import GLIDE_FACTOR, GLIDE_SHARE, TURN_PLANES, CameraRig
 from ..entities import Placed
 from ..events import CameraSwitched, SliceAligned
 from ..frame import Drawable, SliceGauges
+from ..motion import JUMP_DEG, jump_now
 from ..system import System, encode
 
 FOCUS_COLOR = (1.0, 0.85, 0.2, 1.0)
@@ -67,6 +68,9 @@ def _turn(game, rig, spec, actions) -> None:
         speed * (float(getattr(actions, f"turn_{pl}_pos")) - float(getattr(actions, f"turn_{pl}_neg")))
         for pl in TURN_PLANES
     )
+    if actions.reduced_motion:  # jumps of JUMP_DEG instead of a smooth turn
+        jumps = [jump_now(game, f"turn_{pl}", rate != 0.0) for pl, rate in zip(TURN_PLANES, rates)]
+        rates = tuple(np.sign(r) * np.radians(JUMP_DEG) / game.dt if j else 0.0 for r, j in zip(rates, jumps))
     if any(rates):
         rig.turn(rates, game.dt, pivot)
         return
@@ -76,7 +80,8 @@ def _turn(game, rig, spec, actions) -> None:
                 rig.step(pl, sign)
     if actions.pressed("snap_slice"):
         rig.snap()
-    if rig.advance_glide(speed * GLIDE_FACTOR, game.dt, pivot):
+    glide = np.inf if actions.reduced_motion else speed * GLIDE_FACTOR  # reduced: lands this tick
+    if rig.advance_glide(glide, game.dt, pivot):
         game.emit(SliceAligned(tuple(round(a) for a in rig.angles_deg())))
 
 
@@ -131,12 +136,17 @@ def step(game, actions):
             _indicators(game, rig)
     elif rig.mode == "frustum":
         turn = float(actions.orbit_right) - float(actions.orbit_left)
-        if turn:
-            rig.orbit += turn * np.radians(spec.orbit_speed) * game.dt
+        stride = np.radians(spec.orbit_speed) * game.dt
+        if actions.reduced_motion:  # jumps of JUMP_DEG instead of a smooth orbit
+            stride = np.radians(JUMP_DEG) if jump_now(game, "orbit", turn != 0.0) else 0.0
+        if turn and stride:
+            rig.orbit += turn * stride
             rig.version += 1
         paid_up = _pay(game, rig, spec)
         if switch or not paid_up:
             rig.start_return()
+            if actions.reduced_motion:  # no glide back: the frustum view only fades out
+                rig.return_ticks = int(np.ceil(GLIDE_SHARE * _return_ticks(game)))
             game.emit(CameraSwitched("returning", "key" if switch else "energy"))
         _indicators(game, rig)
     else:  # returning
