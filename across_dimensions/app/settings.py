@@ -314,6 +314,16 @@ def look_delta(settings: Settings, dx_pixels: float, dy_pixels: float) -> tuple[
     return dyaw, dpitch
 
 
+def window_options(settings: Settings) -> dict:
+    """What the window takes from the settings: its size, vsync and fullscreen."""
+    return {
+        "width": settings.width,
+        "height": settings.height,
+        "vsync": settings.vsync,
+        "fullscreen": settings.fullscreen,
+    }
+
+
 # --------------------------------------------------------------------------
 # File
 # --------------------------------------------------------------------------

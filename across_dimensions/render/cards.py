@@ -20,7 +20,7 @@ import math
 
 from ..game.frame import Card
 from .font import GLYPH_H, text_width
-from .text_layout import wrap
+from .text_layout import scaled, wrap
 
 #: Seconds for the ball to go from above the plane to below it and back.
 PERIOD = 6.0
@@ -73,7 +73,7 @@ def draw_card(q, card: Card, width: int, height: int) -> None:
     if card.kind != "flatland":
         return
     W, H = int(width), int(height)
-    s = max(1, H // 300)
+    s = scaled(max(1, H // 300))
     q.rect(0, 0, W, H, DIM)
     pw, ph = int(W * 0.84), int(H * 0.84)
     px, py = (W - pw) // 2, (H - ph) // 2

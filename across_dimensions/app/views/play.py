@@ -81,6 +81,7 @@ class PlayView(View):
         s.onboarding.level_started(self.game.level.hints)
         heap.settle()  # no collector stalls mid-level (see core/heap.py)
         s.sound_director.reset()
+        s.captions.clear()
 
     @property
     def level_path(self) -> Path:
@@ -147,7 +148,9 @@ class PlayView(View):
         actions = self.read_actions()
         self.game.step(actions)
         s.onboarding.ticked(actions, DT)
-        s.sound.play(s.sound_director.cues(self.game, DT))
+        cues = s.sound_director.cues(self.game, DT)
+        s.sound.play(cues)
+        s.captions.heard(cues, DT)
         self.crystals_found += sum(e.kind == "crystal_collected" for e in self.game.events)
         s.recording.record(actions)
 
@@ -206,6 +209,7 @@ class PlayView(View):
         for label in hud.labels:  # and so do the labels beside things (the manipulation keys)
             label.text = with_keys(label.text, s.settings)
         hud.fps = self.window.fps if s.options.show_fps else None
+        hud.captions = s.captions.shown(s.settings.captions)
         hud.paused = False  # the pause menu dims the view and says so
         if s.notice_text:
             hud.message = s.notice_text
