@@ -138,3 +138,24 @@ def test_every_palette_changes_the_cues_and_the_renderer_follows_the_settings():
         assert w_cues.ghost_tint((0.2, 0.2, 0.2, 0.5), "plain") == (0.2, 0.2, 0.2, 0.5)
     finally:
         w_cues.use("default")
+
+
+def test_the_hud_and_the_radar_draw_their_w_cues_in_the_palette_in_use():
+    from across_dimensions.game.frame import EnergyGauge, Hud
+    from across_dimensions.render import radar
+    from across_dimensions.render.hud import hud_quads
+
+    hud = Hud(w=0.5, w_blocked=(1, -1), energy=EnergyGauge(3.0, 10.0), hint="a hint")
+
+    def colours() -> set:
+        return {tuple(np.round(r[8:12], 3)) for r in hud_quads(hud, 1280, 720)}
+
+    try:
+        for name in w_cues.NAMES:
+            w_cues.use(name)
+            seen = colours()
+            for key in ("gauge_ana", "blocked_ana", "blocked_kata", "energy", "hint_accent"):
+                assert tuple(np.round(np.float32(w_cues.cue(key)), 3)) in seen, (name, key)
+            assert radar._kind_rgb(w_cues.current())[0] == pytest.approx(w_cues.pin(radar.RADAR_KINDS[0]))
+    finally:
+        w_cues.use("default")

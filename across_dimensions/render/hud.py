@@ -554,7 +554,13 @@ def _weapon_panel(q: _QuadList, panel: WeaponPanel, m: HudMetrics) -> None:
     x, y, w, h = m.energy_bar()
     line_h = (GLYPH_H + 3) * s
     # Wrapped short of the middle, where the slice gauges are (larger text takes two lines).
-    lines = wrap(weapon_text(panel), max(w, m.width // 2 - 5 * m.margin - x), s)
+    limit = max(w, m.width // 2 - 5 * m.margin - x)
+    lines: list[str] = []
+    for part in weapon_text(panel).split("  "):  # break between its parts (name, cost, bullets)
+        if lines and text_width(f"{lines[-1]}  {part}", s) <= limit:
+            lines[-1] = f"{lines[-1]}  {part}"
+        else:
+            lines += wrap(part, limit, s)
     top = y - (len(lines) + 1) * line_h - 3 * h
     flash = min(max(float(panel.flash), 0.0), 1.0)
     for i, line in enumerate(lines):
