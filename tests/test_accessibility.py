@@ -124,12 +124,34 @@ def test_larger_text_grows_the_hud_and_keeps_it_inside_the_view(text_size, width
         assert (q[:, 0] + q[:, 2] <= width).all() and (q[:, 1] + q[:, 3] <= height).all(), size
         counts.append(len(q))
         # No words run into others (the weapon panel's used to run into the slice gauges' label).
-        b = np.array(_text_boxes(q))
-        x0, y0, x1, y1 = b[:, 0] + 1, b[:, 1] + 1, b[:, 0] + b[:, 2] - 1, b[:, 1] + b[:, 3] - 1
-        hit = (x0[:, None] < x1[None]) & (x0[None] < x1[:, None]) & (y0[:, None] < y1[None]) & (y0[None] < y1[:, None])
-        np.fill_diagonal(hit, False)
-        assert not hit.any(), (size, b[np.argwhere(hit)[0]])
+        assert len(_overlaps(q)) == 0, size
     assert scales[0] < scales[-1] and scales == sorted(scales)
+
+
+def _overlaps(q) -> np.ndarray:
+    """Pairs of words' glyphs that overlap (shadows left out), as index pairs."""
+    b = np.array(_text_boxes(q))
+    x0, y0, x1, y1 = b[:, 0] + 1, b[:, 1] + 1, b[:, 0] + b[:, 2] - 1, b[:, 1] + b[:, 3] - 1
+    hit = (x0[:, None] < x1[None]) & (x0[None] < x1[:, None]) & (y0[:, None] < y1[None]) & (y0[None] < y1[:, None])
+    np.fill_diagonal(hit, False)
+    return np.argwhere(hit)
+
+
+@pytest.mark.parametrize("width, height", VIEWS)
+def test_larger_text_keeps_the_teaching_card_inside_its_panel(text_size, width, height):
+    from across_dimensions.app.onboarding import FLATLAND_LINES
+    from across_dimensions.game.frame import Card
+
+    for size in SIZES:
+        text_size(size)
+        q = hud_quads(Hud(card=Card("flatland", 0.5, tuple(FLATLAND_LINES))), width, height)
+        plain = {tuple(r) for r in hud_quads(Hud(), width, height)}  # the w gauge's words under the card
+        q = np.array([r for r in q if tuple(r) not in plain])
+        words = np.array(_text_boxes(q))
+        px, py = (width - int(width * 0.84)) // 2, (height - int(height * 0.84)) // 2
+        assert (words[:, 0] >= px).all() and (words[:, 0] + words[:, 2] <= width - px).all(), size
+        assert (words[:, 1] >= py).all() and (words[:, 1] + words[:, 3] <= height - py).all(), size
+        assert len(_overlaps(q)) == 0, size
 
 
 def _menu(settings: Settings, screen: str):
@@ -338,3 +360,13 @@ def test_each_documented_setting_changes_something(name):
         assert not np.array_equal(a, b), name
     else:
         assert a != b, name
+
+
+def test_the_toggled_actions_that_are_on_are_named_on_screen():
+    inp, keys, code = _input(["w_ana", "orbit_left"])
+    inp.press("key", code["orbit_left"])
+    inp.press("key", code["w_ana"])
+    label = inp.latched_label()
+    assert label.text == "ON: {w_ana} w ana, {orbit_left} orbit left"
+    q = hud_quads(Hud(labels=[label]), 1280, 720)
+    assert "ON:" in quads_text(q)

@@ -155,3 +155,31 @@ def test_replays_record_the_setting_and_default_frames_are_unchanged():
     assert Actions.from_row(on.to_row()) == on
     assert Actions(forward=1.0).to_row() == [1.0, 0.0, 0.0, 0.0, 0.0, 0]  # no bit set when off
     assert replace(on, reduced_motion=False).to_row()[5] == 0
+
+
+def test_a_replay_recorded_with_the_setting_plays_back_with_it(orthogonal, tmp_path):
+    from across_dimensions.game.playback import play
+    from across_dimensions.game.replay import Recorder, Replay
+
+    script = (
+        [_a(True, turn_xw_pos=True)] * 20
+        + [_a(True, presses=(("snap_slice", 1),))]
+        + [_a(True, presses=(("step_zw_pos", 1),))]
+        + [_a(True, forward=1.0)] * 30
+    )
+    game = Game(orthogonal)
+    rec = Recorder(game, "07_orthogonal_worlds")
+    for a in script:
+        game.step(a)
+        rec.record(a)
+    path = tmp_path / "reduced.json"
+    rec.finish().save(path)
+    loaded = Replay.load(path)
+    assert all(a.reduced_motion for a in loaded.actions)
+    result = play(loaded, Game(orthogonal))
+    assert result.divergence is None and result.final_hash == game.state_hash()
+    # The same keys without the setting glide, so the game ends elsewhere.
+    plain = Game(orthogonal)
+    for a in script:
+        plain.step(replace(a, reduced_motion=False))
+    assert plain.state_hash() != game.state_hash()

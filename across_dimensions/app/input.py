@@ -22,7 +22,8 @@ import functools
 import pyglet
 
 from ..game.actions import CAMERA_BUTTONS, MAX_PRESSES, PRESSES, Actions
-from .keymap import KEY_NAMES, TOGGLE_PAIRS
+from ..game.frame import ScreenLabel
+from .keymap import KEY_NAMES, TOGGLE_PAIRS, TOGGLEABLE_ACTIONS
 from .settings import Settings
 
 _MOUSE = {
@@ -156,6 +157,11 @@ class PlayInput:
                     self.latched.discard(OPPOSITE.get(action))
             elif action not in COUNTED_ONLY:
                 self.tapped.add(action)
+
+    def latched_label(self) -> ScreenLabel:
+        """A label at the left of the view naming the toggled actions that are on, and their keys."""
+        names = ", ".join(f"{{{a}}} {a.replace('_', ' ')}" for a in TOGGLEABLE_ACTIONS if a in self.latched)
+        return ScreenLabel(f"ON: {names}", -10.0, 0.45)
 
     def mouse_down(self, button) -> None:
         self.mouse_buttons.add(button)

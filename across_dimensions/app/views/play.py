@@ -131,6 +131,7 @@ class PlayView(View):
         input_ = self.input
         if self.session.onboarding.before_tick(input_.held("w_ana") or input_.held("w_kata")):
             input_.drop_pending()  # the card is open: the mouse and keys do not reach the game
+            input_.latched.clear()  # nor a toggle switched on by the key that opened it
             return 0
         self.accumulator += dt
         steps = 0
@@ -210,6 +211,10 @@ class PlayView(View):
             label.text = with_keys(label.text, s.settings)
         hud.fps = self.window.fps if s.options.show_fps else None
         hud.captions = s.captions.shown(s.settings.captions)
+        if self.input.latched:  # toggled actions stay on until pressed again: say which
+            label = self.input.latched_label()
+            label.text = with_keys(label.text, s.settings)
+            hud.labels.append(label)
         hud.paused = False  # the pause menu dims the view and says so
         if s.notice_text:
             hud.message = s.notice_text
