@@ -159,13 +159,13 @@ def _menu(settings: Settings, screen: str):
     from across_dimensions.world.campaign import load_campaign
 
     menu = Menu(settings, Progress(), load_campaign())
-    menu.open("title")
-    for step in {"title": [], "settings": ["settings"], "controls": ["settings", "controls"]}[screen]:
+    menu.open("pause" if screen == "pause" else "title")
+    for step in {"settings": ["settings"], "controls": ["settings", "controls"], "levels": ["levels"]}.get(screen, []):
         menu.push(step)
     return menu
 
 
-@pytest.mark.parametrize("screen", ["title", "settings", "controls"])
+@pytest.mark.parametrize("screen", ["title", "pause", "levels", "settings", "controls"])
 @pytest.mark.parametrize("width, height", VIEWS)
 def test_larger_text_keeps_every_menu_inside_the_view(text_size, screen, width, height):
     menu = _menu(Settings(), screen)
