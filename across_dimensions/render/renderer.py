@@ -53,6 +53,7 @@ from ..core.edges import feature_edges
 from ..core.mesh import TriMesh3
 from ..game.frame import Drawable, Frame
 from . import materials
+from . import palette as w_cues
 from .batch import DEPTH_FRAGMENT, DEPTH_VERTEX, BatchBuffers
 from .context import RenderError
 from .hud import HudRenderer
@@ -255,9 +256,11 @@ class Renderer:
         self._constants: dict[int, tuple] = {}  # program -> the rarely changing uniforms it holds
 
     def set_palette(self, name: str) -> None:
-        """Switch the named colours: ``"default"``, or ``"colour_blind"`` (ana and kata, crystals
-        and trims told apart by lightness too, never by red and green alone)."""
+        """Switch the named colours: ``"default"``, ``"colour_blind"`` (ana and kata, crystals
+        and trims told apart by lightness too, never by red and green alone) or
+        ``"high_contrast"``; the overlays' w cues (:mod:`.palette`) follow."""
         self.palette = materials.palette("colorblind" if name in ("colour_blind", "colorblind") else name)
+        w_cues.use("colour_blind" if name == "colorblind" else name)  # the overlays' w cues follow
 
     def _look_programs(self, look: str) -> dict[str, moderngl.Program]:
         """The programs of ``look``, built on first use (a look not used costs nothing)."""
@@ -574,12 +577,12 @@ class Renderer:
             fbo.depth_mask = False
             prog = self._programs["ghost"]
             for _, d, gm, model in ghosts:
-                self._set(prog, "u_tint", tuple(float(x) for x in (d.tint or _NO_TINT)))
+                self._set(prog, "u_tint", tuple(float(x) for x in (w_cues.ghost_tint(d.tint, d.pattern) or _NO_TINT)))
                 self._set(prog, "u_pattern", GHOST_PATTERNS[d.pattern])
                 self._set(prog, "u_opacity", max(0.0, float(d.opacity)))
                 self._draw_mesh("ghost", gm, model, moderngl.TRIANGLES, gm.n_indices, d)
             for tb in ghost_batches:
-                self._set(prog, "u_tint", tuple(float(x) for x in (tb.tint or _NO_TINT)))
+                self._set(prog, "u_tint", tuple(float(x) for x in (w_cues.ghost_tint(tb.tint, tb.pattern) or _NO_TINT)))
                 self._set(prog, "u_pattern", GHOST_PATTERNS[tb.pattern])
                 self._set(prog, "u_opacity", max(0.0, float(tb.opacity)))
                 self._draw_batch(tb, vp_bytes, scifi)
