@@ -127,6 +127,15 @@ def _build(out: str) -> None:
     m.selection = None
     drag(300, 100, 1000, 600)
     said["box_selected"] = len(m.selected)
+    # A quick click on a panel (pressed and released with no frame between, as at a low frame rate)
+    # never reaches the view: the selection stays.
+    m.select(crystal)
+    w.on_mouse_motion(600, h - 400, 0, 0)  # the last frame saw the mouse over the view
+    _frames(w)
+    w.on_mouse_press(1100, h - 500, mouse.LEFT, 0)  # on the inspector, below its fields
+    w.on_mouse_release(1100, h - 500, mouse.LEFT, 0)
+    _frames(w)
+    said["panel_click"] = list(m.selection or [])
     press(key.S, key.MOD_CTRL)
     said["saved"] = [not m.dirty, ed.message]
     said["rects"] = len(ed.panels.rects)
@@ -200,6 +209,7 @@ def test_a_new_level_made_in_the_window_checks_probes_and_plays(xvfb, tmp_path):
     assert said["scale"] == [1.0, 1.0, 1.0, 2.0]
     assert "[[crystal]]" in said["clipboard"] and said["pasted"] == [["crystal", 1]] and said["after_undo"] == 1
     assert said["box_selected"] >= 2
+    assert said["panel_click"] == ["crystal", 0]
     assert said["saved"][0], said
     text = out.read_text(encoding="utf-8")
     assert "  [[world.box]]\n  center = [0.0, 2.0, 0.0]\n  size = [10.0, 4.0, 0.5]" in text
