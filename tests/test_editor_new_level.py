@@ -138,6 +138,14 @@ def _build(out: str) -> None:
     said["panel_click"] = list(m.selection or [])
     press(key.S, key.MOD_CTRL)
     said["saved"] = [not m.dirty, ed.message]
+    from across_dimensions.app.editor.files import load_recent
+
+    said["recent"] = load_recent()[0]
+    # Unsaved changes: New and closing the window ask first (the prompt holds what comes next).
+    m.set(("level",), "description", "changed")
+    press(key.N, key.MOD_CTRL)
+    said["asks"] = [ed.files.pending is not None, w.current_view.on_close()]
+    ed.files.pending = None
     said["rects"] = len(ed.panels.rects)
     print(json.dumps(said))
     w.close()
@@ -211,6 +219,7 @@ def test_a_new_level_made_in_the_window_checks_probes_and_plays(xvfb, tmp_path):
     assert said["box_selected"] >= 2
     assert said["panel_click"] == ["crystal", 0]
     assert said["saved"][0], said
+    assert said["recent"] == str(out.resolve()) and said["asks"] == [True, True]
     text = out.read_text(encoding="utf-8")
     assert "  [[world.box]]\n  center = [0.0, 2.0, 0.0]\n  size = [10.0, 4.0, 0.5]" in text
     # The saved file: check-level, the probe, and a walk from the spawn to the goal at w = 0.
