@@ -19,6 +19,7 @@ import pyglet
 
 from ...core import heap
 from ...game.sim import DT, Game, RadarView
+from ...game.stranded import RESTART_ACTION, stranded
 from ...render.debug_draw import DebugOverlay
 from ...render.pip import draw_pip
 from ...world.level import load_level
@@ -110,6 +111,17 @@ class PlayView(View):
         """Restart the level and record it (a replay always starts at the spawn)."""
         self.load(self._path)
         self.session.recording.start(self.game, self._path)
+
+    def restart_if_lost(self) -> bool:
+        """Restart from the last checkpoint (as Continue would), but only once the level can no
+        longer be won (the HUD says so and names the key); True when it restarted."""
+        if stranded(self.game) is None:
+            return False
+        checkpoint = checkpoint_of(self.game)
+        self.session.recording.stop()  # a replay runs from the spawn to the end, never across a restart
+        self.load(self._path, checkpoint)
+        self.session.say("Restarted from the last checkpoint" if checkpoint is not None else "Restarted", 3.0)
+        return True
 
     # ---------------------------------------------------------------- life
     def on_show(self) -> None:
@@ -234,6 +246,8 @@ class PlayView(View):
             s.open_editor(self)
         elif action == "record":
             s.recording.stop() if s.recording.active else self.start_recording()
+        elif action == RESTART_ACTION:
+            self.restart_if_lost()
         else:
             self._toggle(action)
 
