@@ -424,7 +424,10 @@ class EditorView(View):
 
     def on_close(self) -> bool:
         """Closing the window with unsaved changes asks first (Save, Discard or Cancel)."""
-        return self.files.confirm_close()
+        keep_open = self.files.confirm_close()
+        if not keep_open:
+            self.checks.stop()  # no check-level or probe left running after the window
+        return keep_open
 
     # ------------------------------------------------------------ dragging (the move gizmo)
     def _start_drag(self, ref, nx, ny, aspect) -> None:
