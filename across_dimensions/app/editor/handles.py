@@ -95,7 +95,7 @@ class Handles:
             self._gizmo = (self.model.text(), list(refs), center.copy(), now)
         before, refs, c0, _ = self._gizmo
         self._gizmo = (before, refs, c0, now)
-        self.model._restore_doc(before)  # noqa: SLF001 - the whole drag is redone from its start
+        self.model.restore_text(before)  # the whole drag is redone from its start
         grid, angle, w_step = self.steps()
         if self.operation == "move":
             d = now[:3, 3] - c0[:3]
@@ -168,7 +168,7 @@ class Handles:
         if self._own is None:
             return
         _, before, refs, start, what = self._own
-        self.model._restore_doc(before)  # noqa: SLF001 - the whole drag is redone from its start
+        self.model.restore_text(before)  # the whole drag is redone from its start
         _, angle, w_step = self.steps()
         if what == "w":
             group.move(self.model, refs, [0, 0, 0, (start[1] - y) * W_PER_PIXEL], w_step=w_step, merge=True)

@@ -448,7 +448,7 @@ class EditorView(View):
         hit = _plane_hit(o, d, point, normal)
         if hit is None:
             return
-        self.model._restore_doc(before)  # noqa: SLF001 - the whole drag is redone from its start (snapping)
+        self.model.restore_text(before)  # the whole drag is redone from its start (snapping)
         grid = self.handles.steps()[0]
         group.move(self.model, refs, [*(hit - start_hit), 0.0], grid=grid, merge=True)
 
