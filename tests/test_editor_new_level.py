@@ -98,6 +98,11 @@ def _build(out: str) -> None:
     _frames(w)
     drag(sx, sy, sx + 37, sy + 11)
     said["moved"] = m.get(crystal, "position")
+    # The move handle's x arrow (ImGuizmo's): dragged right, the crystal moves along x only, on the grid.
+    _frames(w)
+    sx, sy = ed.handles.screen_center
+    drag(sx + 45, sy, sx + 125, sy, steps=10)
+    said["arrow"] = [said["moved"], m.get(crystal, "position")]
     # A 4D object, turned on the xw ring (rotate handle: 2) by a snapped quarter turn, and its
     # hyper-depth doubled on the scale handle (3).
     ed.add("object", parent=None)
@@ -213,6 +218,8 @@ def test_a_new_level_made_in_the_window_checks_probes_and_plays(xvfb, tmp_path):
     assert said["w_handle"] == pytest.approx(1.0)  # 103 px * 0.01 = 1.03, on the 0.1 w step
     x, y, z, wv = said["moved"]
     assert all(abs(v / 0.25 - round(v / 0.25)) < 1e-9 for v in (x, y, z)) and wv == pytest.approx(1.0)
+    before, after = said["arrow"]
+    assert after[0] > before[0] and after[1:] == before[1:] and abs(after[0] / 0.25 - round(after[0] / 0.25)) < 1e-9
     assert said["rotation"] == {"xw": 90.0} or said["rotation"] == {"xw": -90.0}
     assert said["scale"] == [1.0, 1.0, 1.0, 2.0]
     assert "[[crystal]]" in said["clipboard"] and said["pasted"] == [["crystal", 1]] and said["after_undo"] == 1
