@@ -22,7 +22,7 @@ from across_dimensions.game.actions import Actions
 from across_dimensions.game.entities import Placed, reach
 from across_dimensions.game.player_bodies import tet_colliders
 from across_dimensions.game.sim import Game
-from across_dimensions.physics import BodyDef, PhysicsWorld
+from across_dimensions.physics import BodyDef, PhysicsWorld, WorldDef
 from across_dimensions.physics.tet_mesh import tet_geometry
 from across_dimensions.world.level import load_level
 
@@ -179,7 +179,7 @@ def test_bodies_thrown_through_the_doorway_pass_and_those_thrown_at_a_leg_bounce
 
 
 def test_rays_hit_the_arch_where_it_is_and_pass_its_doorway(arch):
-    world = PhysicsWorld(ground=False)
+    world = PhysicsWorld(WorldDef(ground=False))
     world.set_static_tets([arch])
     assert world.raycast((0.0, 1.0, -3.0, 0.0), (0, 0, 1, 0), 10.0) is None  # through the doorway
     who, t, _, normal = world.raycast((-1.1, 1.0, -3.0, 0.2), (0, 0, 1, 0), 10.0)
@@ -223,7 +223,7 @@ def test_a_ball_bounces_off_the_arch_as_high_as_off_the_same_box(arch):
     """Restitution 0.5: the rebound reaches e^2 = 1/4 of the drop, as on the lintel given as a solid box."""
     rebounds = []
     for as_tets in (True, False):
-        world = PhysicsWorld(world_restitution=0.5)
+        world = PhysicsWorld(WorldDef(world_restitution=0.5))
         if as_tets:
             world.set_static_tets([arch])
         else:
