@@ -38,7 +38,6 @@ KNOWN = {
     "04_armory": "soft-lock: waste_energy (no energy left for the switch, nothing refills it)",
     "05_blast_and_field": "bypass: no_field (a straight shot at the odd crate); soft-locks: the energy spent",
     "06_bridge": "bypasses: two running jumps, a 75-degree turn; soft-lock: the slab turned to and fro",
-    "09_hive": "bypasses: unaimed_fire, no_w_move, no_blast, only_gun; soft-lock: wasted energy",
 }
 
 CORRIDOR = """
