@@ -156,6 +156,52 @@ def test_turning_the_slice_carries_the_player_into_the_orthogonal_world():
     assert game.outcome == "complete" and game.respawns == 0
 
 
+def _eye_w(game: Game) -> float:
+    """The player's eye's w in the world (not the slice offset the w gauge shows)."""
+    p = game.player
+    return float(game.camera.to_world(np.append(p.eye(), p.position[3]))[3])
+
+
+def _turned_at_the_edge() -> Game:
+    """Orthogonal Worlds: the slice turned 90 degrees in zw on the start platform."""
+    game = Game(load_level(LEVELS / "07_orthogonal_worlds.toml"))
+    _run(game, 30, forward=1.0)
+    game.step(Actions(presses=(("step_zw_pos", 1),)))
+    _run(game, 60)
+    return game
+
+
+def test_the_slice_never_turns_back_at_a_w_outside_the_level():
+    game = _turned_at_the_edge()
+    lo, hi = game.level.w_range
+    _run(game, 140, forward=1.0)  # half way along the glass bridge: walking ahead is walking ana
+    assert _eye_w(game) > 9.0
+    rotation, anchor = game.camera.rotation.copy(), game.camera.anchor.copy()
+    # A step back and a held turn back are refused there: the slice stays as it was.
+    game.step(Actions(presses=(("step_zw_neg", 1),)))
+    _run(game, 60)
+    _run(game, 60, turn_zw_neg=True)
+    assert np.array_equal(game.camera.rotation, rotation) and np.array_equal(game.camera.anchor, anchor)
+    assert game.event_counts["slice_aligned"] == 1 and game.event_counts["slice_turn_refused"] == 2
+    assert "walk back" in game.frame().hud.message
+    # The w keys never carry the player's world w out of the range either (they move along z now).
+    _run(game, 90, w=1.0)
+    assert _eye_w(game) > hi and game.camera.angles_deg() == pytest.approx((0.0, 0.0, 90.0))
+    # Back on the start platform, where the world w is inside the range, the slice turns back,
+    # and the player's w (the gauge, the range's clamp) is their world w again.
+    while _eye_w(game) > 0.0:
+        game.step(Actions(forward=-1.0))
+    game.step(Actions(presses=(("step_zw_neg", 1),)))
+    _run(game, 60)
+    assert game.event_counts["slice_aligned"] == 2
+    assert game.camera.angles_deg() == pytest.approx((0.0, 0.0, 0.0))
+    assert game.camera.anchor[3] == 0.0 and game.player.position[3] == pytest.approx(_eye_w(game))
+    _run(game, 120, w=1.0)
+    assert _eye_w(game) == pytest.approx(hi)
+    _run(game, 240, w=-1.0)
+    assert _eye_w(game) == pytest.approx(lo)
+
+
 def test_energy_drains_at_the_stated_rate_and_the_return_starts_at_zero():
     game = Game(load_level(LEVELS / "08_around_the_corner.toml"))
     rate = game.level.camera.frustum_cost_milli  # thousandths per second

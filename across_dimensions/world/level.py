@@ -32,7 +32,7 @@ from ..core import fileio
 from ..core.errors import InputError
 from ..core.shapes import SHAPE_PARAM_RULES
 from ..core.transform import PLANES
-from . import design, gameplay, limits, resources
+from . import beacons, design, gameplay, limits, resources
 from .fields import REQUIRED, Field
 from .limits import (
     ANGLE,
@@ -151,10 +151,11 @@ MODELS = {
     "object": OBJECT,
     **gameplay.MODELS,
     "design": design.DESIGN_TABLE,
+    "beacon": beacons.BEACON_TABLE,
 }
 FORMATS = (1, 2)  # format 2 adds the tables of gameplay.MODELS
 #: Top-level keys written ``[[key]]`` (arrays of tables); the others are ``[key]`` tables.
-ARRAY_TABLES = ("box", "mesh", "world", "object", *gameplay.ARRAY_TABLES)
+ARRAY_TABLES = ("box", "mesh", "world", "object", *gameplay.ARRAY_TABLES, "beacon")
 
 # Shape parameters: how each is checked (the builders in core/shapes.py take these names).
 # One table of rules for the core's builders and for levels (core.shapes.SHAPE_PARAM_RULES);
@@ -299,6 +300,7 @@ class Level:
     health: gameplay.HealthSpec | None = None  # None: the player cannot be hurt
     camera: gameplay.CameraSpec = field(default_factory=gameplay.CameraSpec)
     needs: tuple[str, ...] = ()  # [design]: the mechanics the level is built to demand (world.design)
+    beacons: list[beacons.BeaconSpec] = field(default_factory=list)  # [[beacon]]: key objects brought back
 
     @property
     def bodies(self) -> int:
@@ -859,6 +861,7 @@ def load_level(path, source: bytes | None = None) -> Level:
     health = gameplay.read_health(r, data, bool(enemies))
     camera = gameplay.read_camera(r, data)
     needs = design.read_design(r, data)
+    resets = beacons.read_beacons(r, data, objects)
 
     if r.problems:
         raise LevelError(path, r.problems)
@@ -893,6 +896,7 @@ def load_level(path, source: bytes | None = None) -> Level:
         health=health,
         camera=camera,
         needs=needs,
+        beacons=resets,
     )
     from .placement import placement_problems  # where things are, once every entry is read
 
