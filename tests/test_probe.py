@@ -34,7 +34,6 @@ TIMEOUT = 600
 #: What the probe finds on the shipped levels today (issue: levels that demand what they teach).
 KNOWN = {
     "03_tumbling_hall": "bypasses: straight (at the goal's w), no_bodies and no_radar win without the bodies",
-    "09_hive": "bypasses: unaimed_fire, no_w_move, no_blast, only_gun; soft-lock: wasted energy",
 }
 
 CORRIDOR = """
