@@ -27,19 +27,14 @@ from across_dimensions.probe.skills import swing_distance
 from across_dimensions.world.design import NEEDS
 from across_dimensions.world.json_schema import level_schema
 from across_dimensions.world.level import LevelError
-from across_dimensions.world.resources import level_files
+from across_dimensions.world.resources import level_files, prologue_files
 
 REPO = Path(__file__).resolve().parents[1]
 TIMEOUT = 600
 
 #: What the probe finds on the shipped levels today (issue: levels that demand what they teach).
 KNOWN = {
-    "02_crystal_cache": "bypasses: visible_crystals_only and no_radar pass the wall at w = -0.5",
     "03_tumbling_hall": "bypasses: straight (at the goal's w), no_bodies and no_radar win without the bodies",
-    "04_armory": "soft-lock: waste_energy (no energy left for the switch, nothing refills it)",
-    "05_blast_and_field": "bypass: no_field (a straight shot at the odd crate); soft-locks: the energy spent",
-    "06_bridge": "bypasses: two running jumps, a 75-degree turn; soft-lock: the slab turned to and fro",
-    "08_around_the_corner": "bypass: frustum_no_orbit; soft-locks: wasted energy (nothing refills it)",
     "09_hive": "bypasses: unaimed_fire, no_w_move, no_blast, only_gun; soft-lock: wasted energy",
 }
 
@@ -64,14 +59,14 @@ def run(env, *args) -> subprocess.CompletedProcess:
 
 @pytest.fixture(scope="module")
 def rows() -> dict:
-    return {r["level"]: r for r in probe(level_files(), workers=2)}
+    return {r["level"]: r for r in probe(prologue_files() + level_files(), workers=2)}
 
 
 @pytest.mark.parametrize(
     "stem",
     [
         pytest.param(p.stem, marks=pytest.mark.xfail(strict=True, reason=KNOWN[p.stem])) if p.stem in KNOWN else p.stem
-        for p in level_files()
+        for p in prologue_files() + level_files()
     ],
 )
 def test_each_level_demands_what_it_teaches_and_never_traps(rows, stem):

@@ -141,6 +141,9 @@ class Session:
         if start.level_path is None:
             self.window.show_view(TitleView(self))
             return
+        if start.edit and self.warm is not None and not self.warm.ready:  # the window shows the compile
+            self.window.show_view(StartupView(self, Path(start.level_path), edit=True))
+            return
         self.start_level(start.level_path)
         if start.edit:
             self.open_editor(self.window.current_view, from_play=False)

@@ -186,12 +186,16 @@ class EnergyGauge:
         1 right after a crystal is collected, fading to 0 (the bar flashes).
     empty : bool
         True while the player asked for something the bar cannot pay for (the bar says "NO ENERGY").
+    costs : str
+        What each 4D action of the level costs, one line over the bar ("W 4/UNIT  GUN 1 ..."),
+        so the player knows before taking it; "" when nothing costs anything.
     """
 
     value: float
     maximum: float
     flash: float = 0.0
     empty: bool = False
+    costs: str = ""
 
 
 @dataclass(frozen=True)

@@ -597,6 +597,8 @@ def _energy_bar(q: _QuadList, gauge: EnergyGauge, m: HudMetrics) -> None:
     q.text(label, x, label_y, s, color)
     val = energy_text(gauge)
     q.text(val, x + w - text_width(val, s), label_y, s, _mix(TEXT_COLOR, ENERGY_FLASH_COLOR, flash))
+    if gauge.costs:  # what each 4D action costs, over the label (under the weapon panel)
+        q.text(gauge.costs, x, label_y - (GLYPH_H + 3) * s, s, ENERGY_LABEL_COLOR)
 
 
 _HUD_VS = """

@@ -24,6 +24,7 @@ import numpy as np
 
 from ..core.flat_section import Solid3, signed_area
 from ..core.flat_solids import box_solid, prism_solid, staircase_profile
+from .design import DESIGN_TABLE, read_design
 from .fields import Field
 from .level_reader import LevelError, TableReader, hint_problem, parse_level
 from .limits import MAX_NAME_CHARS, MAX_TEXT_CHARS, Range
@@ -199,6 +200,7 @@ class FlatLevel:
     items: list[ItemSpec] = field(default_factory=list)
     hints: list[HintSpec] = field(default_factory=list)
     checkpoints: list[tuple[str, np.ndarray]] = field(default_factory=list)
+    needs: tuple[str, ...] = ()  # [design]: the mechanics the prologue is built to demand (world.design)
 
 
 class _FlatReader(TableReader):
@@ -370,7 +372,7 @@ def load_flat_level(path, source: bytes | None = None) -> FlatLevel:
     path = Path(path)
     data, raw = parse_level(path, source)
     r = _FlatReader(path)
-    r.unknown(data, {**TABLES, **ARRAYS}, "top level")
+    r.unknown(data, {**TABLES, **ARRAYS, "design": DESIGN_TABLE}, "top level")
     t = {name: r.table(data, name, f"[{name}]", required=name in ("level", "spawn", "goal")) for name in TABLES}
     for name, model in TABLES.items():
         r.unknown(t[name], model, f"[{name}]")
@@ -390,6 +392,7 @@ def load_flat_level(path, source: bytes | None = None) -> FlatLevel:
     _movers(r, data, lvl)
     items = _items(r, data, solids)
     hints = _hints(r, data)
+    needs = read_design(r, data)
     checkpoints = []
     for where, ct in _entries(r, data, "checkpoint"):
         v = r.read(ct, CHECKPOINT, where)
@@ -419,4 +422,5 @@ def load_flat_level(path, source: bytes | None = None) -> FlatLevel:
         items=items,
         hints=hints,
         checkpoints=checkpoints,
+        needs=needs,
     )

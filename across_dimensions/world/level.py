@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import design, enemy_tables, gameplay, limits
+from . import beacons, design, enemy_tables, gameplay, limits
 from .fields import Field
 from .level_reader import DEFAULT_COLOR, LevelError, TableReader, hint_problem, parse_level
 from .limits import (
@@ -100,10 +100,11 @@ MODELS = {
     "object": OBJECT,
     **gameplay.MODELS,
     "design": design.DESIGN_TABLE,
+    "beacon": beacons.BEACON_TABLE,
 }
 FORMATS = (1, 2)  # format 2 adds the tables of gameplay.MODELS
 #: Top-level keys written ``[[key]]`` (arrays of tables); the others are ``[key]`` tables.
-ARRAY_TABLES = ("box", "mesh", "world", "object", *gameplay.ARRAY_TABLES)
+ARRAY_TABLES = ("box", "mesh", "world", "object", *gameplay.ARRAY_TABLES, "beacon")
 
 
 @dataclass
@@ -182,6 +183,7 @@ class Level:
     health: enemy_tables.HealthSpec | None = None  # None: the player cannot be hurt
     camera: gameplay.CameraSpec = field(default_factory=gameplay.CameraSpec)
     needs: tuple[str, ...] = ()  # [design]: the mechanics the level is built to demand (world.design)
+    beacons: list[beacons.BeaconSpec] = field(default_factory=list)  # [[beacon]]: key objects brought back
 
     @property
     def bodies(self) -> int:
@@ -331,7 +333,8 @@ def _content_tables(r: TableReader, data: dict) -> dict:
 
 
 def _system_tables(r: TableReader, data: dict, w_range, objects: list[ObjectSpec]) -> dict:
-    """The tables of the game's systems (format 2, :mod:`.gameplay`) and ``[design]``, by the
+    """The tables of the game's systems (format 2, :mod:`.gameplay`), ``[design]`` and
+    ``[[beacon]]``, by the
     :class:`Level` field each fills; ``w_range`` is None when the level's own is broken."""
     names = {o.name for o in objects}
     out = {
@@ -350,6 +353,7 @@ def _system_tables(r: TableReader, data: dict, w_range, objects: list[ObjectSpec
     out["health"] = enemy_tables.read_health(r, data, bool(out["enemies"]))
     out["camera"] = gameplay.read_camera(r, data)
     out["needs"] = design.read_design(r, data)
+    out["beacons"] = beacons.read_beacons(r, data, objects)
     return out
 
 

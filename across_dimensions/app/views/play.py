@@ -19,6 +19,7 @@ import pyglet
 
 from ...core import heap
 from ...game.sim import DT, Game, RadarView
+from ...game.stranded import RESTART_ACTION, stranded
 from ...render.debug_draw import DebugOverlay
 from ...render.pip import draw_pip
 from ...world.level import load_level
@@ -51,6 +52,8 @@ class PlayView(View):
     finish_seconds = NEXT_LEVEL_DELAY
     #: Said as the next level starts ("": nothing).
     farewell = ""
+    #: The game was started by the level editor: finishing it goes back there, not to the next level.
+    from_editor = False
 
     def __init__(self, session, path: Path, checkpoint: int | None = None):
         super().__init__(session)
@@ -64,6 +67,7 @@ class PlayView(View):
         """Start the level at ``path`` (at ``checkpoint``), from scratch."""
         s = self.session
         self._path = Path(path)
+        self.from_editor = False
         self.game = Game(load_level(path), seed=s.seed)
         self.accumulator = 0.0
         self.crystals_found = 0
@@ -92,9 +96,11 @@ class PlayView(View):
         p = self.game.player
         return p.eye().copy(), float(p.yaw), float(p.pitch), float(p.position[3])
 
-    def play_game(self, game: Game, notice: str) -> None:
-        """Play ``game`` (of this level, edited) in place of the one running, without the level's
-        hints (they were read when it started), saying ``notice``."""
+    def play_game(self, game: Game, notice: str, path: Path | None = None) -> None:
+        """Play ``game`` (of this level, edited, or of the level file ``path`` the editor made) in place
+        of the one running, without the level's hints (they were read when it started), saying ``notice``."""
+        self._path = Path(path) if path is not None else self._path
+        self.from_editor = True
         self.game = game
         self.hints = False
         self.accumulator = 0.0
@@ -105,6 +111,17 @@ class PlayView(View):
         """Restart the level and record it (a replay always starts at the spawn)."""
         self.load(self._path)
         self.session.recording.start(self.game, self._path)
+
+    def restart_if_lost(self) -> bool:
+        """Restart from the last checkpoint (as Continue would), but only once the level can no
+        longer be won (the HUD says so and names the key); True when it restarted."""
+        if stranded(self.game) is None:
+            return False
+        checkpoint = checkpoint_of(self.game)
+        self.session.recording.stop()  # a replay runs from the spawn to the end, never across a restart
+        self.load(self._path, checkpoint)
+        self.session.say("Restarted from the last checkpoint" if checkpoint is not None else "Restarted", 3.0)
+        return True
 
     # ---------------------------------------------------------------- life
     def on_show(self) -> None:
@@ -229,6 +246,8 @@ class PlayView(View):
             s.open_editor(self)
         elif action == "record":
             s.recording.stop() if s.recording.active else self.start_recording()
+        elif action == RESTART_ACTION:
+            self.restart_if_lost()
         else:
             self._toggle(action)
 
