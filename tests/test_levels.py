@@ -165,11 +165,13 @@ def test_readme_example_loads_and_uses_every_table(example):
 
 
 def test_readme_snippets_are_valid(tmp_path):
-    """The [[world.mesh]] snippet, appended to the minimal base level, loads."""
+    """The snippets, appended to the minimal base level with a crate (the body the [[beacon]]
+    snippet watches), load."""
     snippets = [b for b in readme_toml_blocks() if "[level]" not in b]
     assert snippets
     for i, snippet in enumerate(snippets):
-        load_level(base().write(tmp_path, f"snippet{i}.toml", extra=snippet))
+        level = base().object([0.0, 0.55, 2.0, 0.0], name="crate", scale=1.1, body="hypercube")
+        load_level(level.write(tmp_path, f"snippet{i}.toml", extra=snippet))
 
 
 def test_world_mesh_builds(tmp_path):
