@@ -53,6 +53,7 @@ import moderngl
 import numpy as np
 
 from ..game.frame import Hud, Radar
+from .captions import draw_captions
 from .cards import draw_card
 from .font import GLYPH_H, default_font
 from .font import text_width as text_width
@@ -94,6 +95,7 @@ from .hud_layout import HudMetrics as HudMetrics
 from .hud_layout import damage_cue_points as damage_cue_points
 from .hud_layout import health_bar_rect as health_bar_rect
 from .hud_layout import hint_lines, hint_rect, label_rect, message_layout, message_scale, warning_rect
+from .palette import cue
 from .quads import QUAD_FLOATS, QuadList
 from .quads import quads_text as quads_text
 from .text_layout import ellipsized
@@ -106,8 +108,8 @@ PAUSE_DIM_COLOR = (0.0, 0.0, 0.0, 0.55)
 BAND_COLOR = (0.0, 0.0, 0.0, 0.45)
 RADAR_LABEL_COLOR = (0.6, 0.9, 1.0, 0.85)
 HIT_COLOR = (1.0, 0.35, 0.25, 1.0)
-HINT_BAND_COLOR = (0.02, 0.04, 0.08, 0.72)
-HINT_ACCENT_COLOR = (0.3, 0.85, 1.0, 0.95)
+HINT_BAND_COLOR = cue("hint_band", "default")
+HINT_ACCENT_COLOR = cue("hint_accent", "default")
 HINT_TEXT_COLOR = (0.95, 0.97, 1.0, 1.0)
 HINT_LABEL_COLOR = (0.6, 0.8, 0.95, 0.8)
 WARNING_COLOR = (1.0, 0.8, 0.35, 0.95)
@@ -153,6 +155,7 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
     if not hud.paused:  # labels next to things on screen (the manipulation keys beside the held object)
         for label in hud.labels:
             _screen_label(q, label, m, hint_rect(hud, m.width, m.height))
+        draw_captions(q, hud.captions, m)  # sounds made visible (a setting)
     if hud.card is not None:  # the teaching card, over everything
         draw_card(q, hud.card, m.width, m.height)
     return q.array()
@@ -178,8 +181,8 @@ def _gauges(q: QuadList, hud: Hud, m: HudMetrics) -> None:
 def _radar_labels(q: QuadList, radar: Radar, m: HudMetrics) -> None:
     s = m.text_scale
     rx, ry, rw, rh = m.radar_rect()
-    q.text("+w", rx + s, ry + s, s, RADAR_LABEL_COLOR)
-    q.text("-w", rx + s, ry + rh - GLYPH_H * s - s, s, RADAR_LABEL_COLOR)
+    q.text("+w", rx + s, ry + s, s, cue("label_ana"))
+    q.text("-w", rx + s, ry + rh - GLYPH_H * s - s, s, cue("label_kata"))
     rng = f"{radar.range:.0f} m"
     q.text(rng, rx + rw - text_width(rng, s) - s, ry + rh - GLYPH_H * s - s, s, RADAR_LABEL_COLOR)
 
@@ -212,8 +215,8 @@ def _hint_panel(q: QuadList, hud: Hud, m: HudMetrics) -> None:
     x, y, w, h = hint_rect(hud, m.width, m.height)
     lines, scale, _ = hint_lines(hud.hint, m)
     pad = 3 * s
-    q.rect(x, y, w, h, HINT_BAND_COLOR)
-    q.rect(x, y, max(2, s), h, HINT_ACCENT_COLOR)  # the accent: a hint, not a notice
+    q.rect(x, y, w, h, cue("hint_band"))
+    q.rect(x, y, max(2, s), h, cue("hint_accent"))  # the accent: a hint, not a notice
     line_h = (GLYPH_H + 4) * scale
     for i, ln in enumerate(lines):
         q.text(ln, x + pad + 2 * s, y + pad + i * line_h, scale, HINT_TEXT_COLOR)

@@ -12,22 +12,24 @@ import numpy as np
 from ..game.frame import EnergyGauge, HealthGauge, Hud, SliceGauges, WeaponPanel
 from .font import GLYPH_H, GLYPH_W, text_width
 from .hud_layout import HudMetrics, damage_cue_points, health_bar_rect, slice_marker_x
+from .palette import cue
 from .quads import QuadList, mix
+from .text_layout import wrap
 
 OUTLINE_COLOR = (0.0, 0.0, 0.0, 0.55)
 TRACK_COLOR = (1.0, 1.0, 1.0, 0.16)
 TICK_COLOR = (1.0, 1.0, 1.0, 0.75)
-MARKER_COLOR = (1.0, 0.75, 0.15, 1.0)
-MARKER_OUT_OF_RANGE_COLOR = (1.0, 0.25, 0.2, 1.0)
-FILL_POS_COLOR = (1.0, 0.55, 0.25, 0.45)
-FILL_NEG_COLOR = (0.3, 0.6, 1.0, 0.45)
-BLOCKED_ANA_COLOR = (1.0, 0.55, 0.2, 0.95)  # the ana ghosts' warm hue, the kata ghosts' cool one
-BLOCKED_KATA_COLOR = (0.35, 0.7, 1.0, 0.95)
+MARKER_COLOR = cue("marker", "default")
+MARKER_OUT_OF_RANGE_COLOR = cue("marker_out", "default")
+FILL_POS_COLOR = cue("gauge_ana", "default")
+FILL_NEG_COLOR = cue("gauge_kata", "default")
+BLOCKED_ANA_COLOR = cue("blocked_ana", "default")
+BLOCKED_KATA_COLOR = cue("blocked_kata", "default")
 TEXT_COLOR = (0.92, 0.94, 1.0, 1.0)
 ENERGY_TRACK_COLOR = (0.55, 0.85, 1.0, 0.16)
-ENERGY_FILL_COLOR = (0.25, 0.9, 1.0, 0.9)
-ENERGY_FLASH_COLOR = (0.85, 1.0, 1.0, 1.0)
-ENERGY_EMPTY_COLOR = (1.0, 0.18, 0.15, 1.0)
+ENERGY_FILL_COLOR = cue("energy", "default")
+ENERGY_FLASH_COLOR = cue("energy_flash", "default")
+ENERGY_EMPTY_COLOR = cue("energy_empty", "default")
 #: What was just spent, after the fill: warm and bright, so a drain is seen as it happens.
 ENERGY_SPENT_COLOR = (1.0, 0.72, 0.35, 0.95)
 ENERGY_LABEL_COLOR = (0.75, 0.95, 1.0, 1.0)
@@ -41,7 +43,7 @@ HEALTH_SAFE_COLOR = (0.6, 0.9, 1.0, 1.0)
 DAMAGE_FLASH_COLOR = (0.9, 0.05, 0.0, 0.35)
 DAMAGE_VIGNETTE_BANDS = 4  # the red frame after a hit: bands fading inward
 DAMAGE_CUE_COLOR = (1.0, 0.2, 0.1, 0.9)
-SLICE_MARKER_COLOR = (1.0, 0.75, 0.15, 1.0)
+SLICE_MARKER_COLOR = cue("marker", "default")
 SLICE_ALIGNED_COLOR = (0.45, 1.0, 0.55, 1.0)
 SLICE_MODE_COLOR = (0.6, 0.9, 1.0, 1.0)
 
@@ -73,19 +75,19 @@ def draw_w_indicator(q: QuadList, hud: Hud, m: HudMetrics) -> None:
     if span > 0 and hud.w_min <= 0.0 <= hud.w_max:
         zy = int(round(y0 + (hud.w_max / span) * th))
         top, bot = sorted((zy, my))
-        q.rect(x0, top, bw, bot - top, FILL_POS_COLOR if hud.w >= 0 else FILL_NEG_COLOR)
+        q.rect(x0, top, bw, bot - top, cue("gauge_ana" if hud.w >= 0 else "gauge_kata"))
         ext = max(2, bw // 2)
         q.rect(x0 - ext, zy - m.thickness // 2, bw + 2 * ext, m.thickness, TICK_COLOR)
     mh = max(2, H // 120)
     mext = max(2, bw // 2 + 1)
     q.rect(x0 - mext - 1, my - mh // 2 - 1, bw + 2 * mext + 2, mh + 2, OUTLINE_COLOR)
-    q.rect(x0 - mext, my - mh // 2, bw + 2 * mext, mh, MARKER_COLOR if in_range else MARKER_OUT_OF_RANGE_COLOR)
+    q.rect(x0 - mext, my - mh // 2, bw + 2 * mext, mh, cue("marker" if in_range else "marker_out"))
     # Something solid where the player stands at the next ghost layer ana (top) or kata
     # (bottom): a cap on that end of the track and a word beside it, in the side's colour.
     for side in hud.w_blocked:
         cap_h = 2 * m.thickness
         cap_y = y0 if side > 0 else y0 + th - cap_h
-        color = BLOCKED_ANA_COLOR if side > 0 else BLOCKED_KATA_COLOR
+        color = cue("blocked_ana" if side > 0 else "blocked_kata")
         q.rect(x0, cap_y, bw, cap_h, color)
         word = "solid +w" if side > 0 else "solid -w"
         ty = y0 + 2 * s if side > 0 else y0 + th - GLYPH_H * s - 2 * s
@@ -137,15 +139,24 @@ def draw_weapon_panel(q: QuadList, panel: WeaponPanel, m: HudMetrics) -> None:
     s = m.text_scale
     x, y, w, h = m.energy_bar()
     line_h = (GLYPH_H + 3) * s
-    top = y - 2 * line_h - 3 * h
+    # Wrapped short of the middle, where the slice gauges are (larger text takes two lines).
+    limit = max(w, m.width // 2 - 5 * m.margin - x)
+    lines: list[str] = []
+    for part in weapon_text(panel).split("  "):  # break between its parts (name, cost, bullets)
+        if lines and text_width(f"{lines[-1]}  {part}", s) <= limit:
+            lines[-1] = f"{lines[-1]}  {part}"
+        else:
+            lines += wrap(part, limit, s)
+    top = y - (len(lines) + 1) * line_h - 3 * h
     flash = min(max(float(panel.flash), 0.0), 1.0)
-    q.text(weapon_text(panel), x, top, s, mix(WEAPON_COLOR, (1.0, 1.0, 1.0, 1.0), flash))
-    by = top + line_h
+    for i, line in enumerate(lines):
+        q.text(line, x, top + i * line_h, s, mix(WEAPON_COLOR, (1.0, 1.0, 1.0, 1.0), flash))
+    by = top + len(lines) * line_h
     q.rect(x - 1, by - 1, w + 2, h // 2 + 2, OUTLINE_COLOR)
     ready = 1.0 - min(max(float(panel.cooldown), 0.0), 1.0)
     q.rect(x, by, int(round(w * ready)), h // 2, WEAPON_READY_COLOR if ready >= 1.0 else WEAPON_COOL_COLOR)
     if panel.refused:
-        q.text(panel.refused, x, top - line_h, s, ENERGY_EMPTY_COLOR)
+        q.text(panel.refused, x, top - line_h, s, cue("energy_empty"))
 
 
 def energy_text(gauge: EnergyGauge) -> str:
@@ -171,8 +182,8 @@ def draw_energy_bar(q: QuadList, gauge: EnergyGauge, m: HudMetrics) -> None:
     if flash > 0:
         # A glow round the bar that fades with the flash.
         g = max(2, h // 3)
-        q.rect(x - g, y - g, w + 2 * g, h + 2 * g, ENERGY_FLASH_COLOR[:3] + (0.55 * flash,))
-    outline = (ENERGY_EMPTY_COLOR[:3] + (0.9,)) if gauge.empty else mix(OUTLINE_COLOR, ENERGY_FLASH_COLOR, flash)
+        q.rect(x - g, y - g, w + 2 * g, h + 2 * g, cue("energy_flash")[:3] + (0.55 * flash,))
+    outline = (cue("energy_empty")[:3] + (0.9,)) if gauge.empty else mix(OUTLINE_COLOR, cue("energy_flash"), flash)
     # The outline as four edges: a whole rectangle under the translucent track would tint it.
     for ex, ey, ew, eh in ((x - 1, y - 1, w + 2, 1), (x - 1, y + h, w + 2, 1), (x - 1, y, 1, h), (x + w, y, 1, h)):
         q.rect(ex, ey, ew, eh, outline)
@@ -181,15 +192,17 @@ def draw_energy_bar(q: QuadList, gauge: EnergyGauge, m: HudMetrics) -> None:
     pad = max(1, h // 6)
     inner_w = w - 2 * pad
     fill_w = energy_fill_width(gauge, inner_w)
-    q.rect(x + pad, y + pad, fill_w, h - 2 * pad, mix(ENERGY_FILL_COLOR, ENERGY_FLASH_COLOR, 0.8 * flash))
+    q.rect(x + pad, y + pad, fill_w, h - 2 * pad, mix(cue("energy"), cue("energy_flash"), 0.8 * flash))
     spent_w = energy_spent_width(gauge, inner_w)
     q.rect(x + pad + fill_w, y + pad, spent_w, h - 2 * pad, ENERGY_SPENT_COLOR)
     label_y = y - GLYPH_H * s - 3 * s - 1
-    label, color = ("NO ENERGY", ENERGY_EMPTY_COLOR) if gauge.empty else ("ENERGY", ENERGY_LABEL_COLOR)
+    label, color = ("NO ENERGY", cue("energy_empty")) if gauge.empty else ("ENERGY", ENERGY_LABEL_COLOR)
     q.text(label, x, label_y, s, color)
     val = energy_text(gauge)
-    val_color = ENERGY_EMPTY_COLOR if gauge.empty else mix(TEXT_COLOR, ENERGY_FLASH_COLOR, flash)
+    val_color = cue("energy_empty") if gauge.empty else mix(TEXT_COLOR, cue("energy_flash"), flash)
     q.text(val, x + w - text_width(val, s), label_y, s, val_color)
+    if gauge.costs:  # what each 4D action costs, over the label (under the weapon panel)
+        q.text(gauge.costs, x, label_y - (GLYPH_H + 3) * s, s, ENERGY_LABEL_COLOR)
 
 
 def energy_spent_width(gauge: EnergyGauge, inner_w: int) -> int:

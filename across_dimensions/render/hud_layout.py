@@ -12,7 +12,7 @@ import numpy as np
 
 from ..game.frame import Hud
 from .font import CELL_W, GLYPH_H, text_width
-from .text_layout import ellipsized, wrap
+from .text_layout import ellipsized, scaled, wrap
 
 #: Width over height of the radar's rectangle (the radar view fits itself to it).
 RADAR_ASPECT = 0.95
@@ -27,7 +27,7 @@ class HudMetrics:
 
     @property
     def text_scale(self) -> int:
-        return max(1, self.height // 300)
+        return scaled(max(1, self.height // 300))
 
     @property
     def margin(self) -> int:
