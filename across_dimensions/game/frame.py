@@ -187,20 +187,20 @@ class EnergyGauge:
         1 right after a crystal is collected, fading to 0 (the bar flashes).
     empty : bool
         True while the player asked for something the bar cannot pay for (the bar says "NO ENERGY").
-    spent : float
-        Energy just spent, shown after the fill until it sinks in (the window's
-        :class:`~across_dimensions.app.energy_trail.EnergyTrail`; 0 from the game).
     costs : str
         What each 4D action of the level costs, one line over the bar ("W 4/UNIT  GUN 1 ..."),
         so the player knows before taking it; "" when nothing costs anything.
+    spent : float
+        Energy just spent, shown after the fill until it sinks in (the window's
+        :class:`~across_dimensions.app.energy_trail.EnergyTrail`; 0 from the game).
     """
 
     value: float
     maximum: float
     flash: float = 0.0
     empty: bool = False
-    spent: float = 0.0
     costs: str = ""
+    spent: float = 0.0
 
 
 @dataclass(frozen=True)
