@@ -65,15 +65,19 @@ def kernel_counts() -> tuple[int, int, int]:
     return ready, len(seen), compiled
 
 
-def _notice() -> None:
-    """The terminal's line when the warm-up is slow: compiling, or only loading from the cache."""
-    compiling = kernel_counts()[2] > 0
-    what = (
-        "Compiling the 4D kernels (first run after an install: a few minutes on 2 cores)..."
-        if compiling
-        else "Loading the 4D kernels from the cache..."
-    )
-    print(what, file=sys.stderr, flush=True)
+def _notice(done: threading.Event) -> None:
+    """The terminal's line when kernels are being compiled (after :data:`NOTICE_AFTER`, once the
+    first one is): loading them from the cache says nothing, it is never "Compiling"."""
+    if done.wait(NOTICE_AFTER):
+        return
+    while not done.wait(COUNT_EVERY):
+        if kernel_counts()[2] > 0:
+            print(
+                "Compiling the 4D kernels (first run after an install: a few minutes on 2 cores)...",
+                file=sys.stderr,
+                flush=True,
+            )
+            return
 
 
 def _sections() -> None:
@@ -141,15 +145,13 @@ def warm_up(progress: Callable[[int, int, str], None] | None = None) -> None:
     ----------
     progress : callable, optional
         Called as ``progress(done, total, label)`` before each step and once at the end;
-        without it, a terminal notice appears when the compile takes longer than a cache hit.
+        without it, a terminal notice appears once kernels are being compiled (not for a cache hit).
     """
     import numba.core.dispatcher  # noqa: F401  here, not first on a counting thread mid-import
 
-    notice = None
+    done = threading.Event()
     if progress is None:
-        notice = threading.Timer(NOTICE_AFTER, _notice)
-        notice.daemon = True
-        notice.start()
+        threading.Thread(target=_notice, args=(done,), daemon=True).start()
     try:
         for i, (label, step) in enumerate(STEPS):
             if progress:
@@ -158,8 +160,7 @@ def warm_up(progress: Callable[[int, int, str], None] | None = None) -> None:
         if progress:
             progress(len(STEPS), len(STEPS), "ready")
     finally:
-        if notice is not None:
-            notice.cancel()
+        done.set()
 
 
 def stamp_path() -> Path | None:
