@@ -30,7 +30,7 @@ from ..world.resources import is_prologue_file, level_files, resolve_level
 from . import pyglet_options  # noqa: F401  (before pyglet.window or pyglet.gl load)
 from .screenshots import save_screenshot
 from .session import Session, Start, timing
-from .settings import Settings, load_settings, save_settings, settings_path
+from .settings import Settings, load_settings, save_settings, settings_path, window_options
 from .settings_log import report_warnings, warning_screen_line
 from .views.base import View
 from .warmup import BackgroundWarmUp
@@ -57,15 +57,7 @@ class GameWindow(pyglet.window.Window):
         config = pyglet.gl.Config(
             major_version=3, minor_version=3, forward_compatible=True, depth_size=24, double_buffer=True
         )
-        super().__init__(
-            settings.width,
-            settings.height,
-            caption="Across Dimensions",
-            resizable=True,
-            vsync=settings.vsync,
-            config=config,
-            fullscreen=settings.fullscreen,
-        )
+        super().__init__(caption="Across Dimensions", resizable=True, config=config, **window_options(settings))
         self.ctx = wrap_current_context()
         self.keys = pyglet.window.key.KeyStateHandler()  # which keys are down
         self.push_handlers(self.keys)

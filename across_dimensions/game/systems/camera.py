@@ -25,10 +25,11 @@ import numpy as np
 
 from ...core.mesh import TriMesh3
 from ...world.geometry import box_trimesh
-from ..camera import GLIDE_FACTOR, TURN_PLANES, CameraRig
+from ..camera import GLIDE_FACTOR, GLIDE_SHARE, TURN_PLANES, CameraRig
 from ..entities import Placed
 from ..events import CameraSwitched, SliceAligned, SliceTurnRefused
 from ..frame import Drawable, SliceGauges
+from ..motion import JUMP_DEG, jump_now
 from ..system import System, encode
 
 FOCUS_COLOR = (1.0, 0.85, 0.2, 1.0)
@@ -73,6 +74,9 @@ def _turn(game, rig, spec, actions) -> None:
         speed * (float(getattr(actions, f"turn_{pl}_pos")) - float(getattr(actions, f"turn_{pl}_neg")))
         for pl in TURN_PLANES
     )
+    if actions.reduced_motion:  # jumps of JUMP_DEG instead of a smooth turn
+        jumps = [jump_now(game, f"turn_{pl}", rate != 0.0) for pl, rate in zip(TURN_PLANES, rates)]
+        rates = tuple(np.sign(r) * np.radians(JUMP_DEG) / game.dt if j else 0.0 for r, j in zip(rates, jumps))
     landed = False
     if any(rates):
         rig.turn(rates, game.dt, pivot)
@@ -83,7 +87,8 @@ def _turn(game, rig, spec, actions) -> None:
                     rig.step(pl, sign)
         if actions.pressed("snap_slice"):
             rig.snap()
-        landed = rig.advance_glide(speed * GLIDE_FACTOR, game.dt, pivot)
+        glide_speed = np.inf if actions.reduced_motion else speed * GLIDE_FACTOR  # reduced: lands this tick
+        landed = rig.advance_glide(glide_speed, game.dt, pivot)
     if _leaves_the_w_range(game, rig, before[0], pivot):
         rig.restore(before)
         rig.glide = None if glide is None or _turns_towards_w(glide, before[0]) else glide
@@ -164,12 +169,17 @@ def step(game, actions):
             _indicators(game, rig)
     elif rig.mode == "frustum":
         turn = float(actions.orbit_right) - float(actions.orbit_left)
-        if turn:
-            rig.orbit += turn * np.radians(spec.orbit_speed) * game.dt
+        stride = np.radians(spec.orbit_speed) * game.dt
+        if actions.reduced_motion:  # jumps of JUMP_DEG instead of a smooth orbit
+            stride = np.radians(JUMP_DEG) if jump_now(game, "orbit", turn != 0.0) else 0.0
+        if turn and stride:
+            rig.orbit += turn * stride
             rig.version += 1
         paid_up = _pay(game, rig, spec)
         if switch or not paid_up:
             rig.start_return()
+            if actions.reduced_motion:  # no glide back: the frustum view only fades out
+                rig.return_ticks = int(np.ceil(GLIDE_SHARE * _return_ticks(game)))
             game.emit(CameraSwitched("returning", "key" if switch else "energy"))
         _indicators(game, rig)
     else:  # returning
@@ -241,7 +251,8 @@ def draw(game, frame, alpha) -> None:
     frame.hud.slice = SliceGauges(rig.angles_deg(), rig.mode, float(np.degrees(rig.orbit)))
     if game.tick - rig.refused_tick < REFUSED_NOTICE_TICKS and not frame.hud.message:
         lo, hi = game.level.w_range
-        frame.hud.message = f"The slice turns back only within w {lo:+.1f} to {hi:+.1f}: walk back first"
+        w = float(rig.to_world(_pivot(game))[3])
+        frame.hud.message = f"Turn back only at w {lo:+.1f} to {hi:+.1f} (you: w {w:+.1f}). Walk back first"
     if not rig.detached:
         return
     eye = frame.camera
