@@ -78,7 +78,10 @@ def test_armory_replay_pushes_the_crate_and_without_the_crate_does_not_finish(tm
     cut = text.index('[[object]]\nname = "crate"')
     end = text.index("\n\n", cut)
     no_crate = tmp_path / "04_armory.toml"
-    no_crate.write_text(text[:cut] + text[end:], encoding="utf-8")
+    text = text[:cut] + text[end:]
+    cut = text.index("[[beacon]]")  # and the crate's beacon with it
+    text = text[:cut] + text[text.index("\n\n", cut) :]
+    no_crate.write_text(text, encoding="utf-8")
     game = Game(load_level(no_crate), seed=replay.seed)
     assert game.entities.named("crate") is None
     result = play(replay, game, check=False)

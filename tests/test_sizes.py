@@ -20,19 +20,9 @@ MAX_PARAMETERS = 8
 DEBT: set[str] = {
     "render/hud.py",
     "render/radar.py",
-    "render/renderer.py",
-    "world/gameplay.py",
-    "world/level.py",
-    "app/cli.py:_parser",
-    "app/settings.py:load_settings",
-    "game/player.py:step_player",
     "render/hud.py:hud_quads",
     "render/menu.py:menu_quads",
-    "render/png.py:decode_png",
     "render/radar.py:radar_geometry",
-    "render/renderer.py:draw",
-    "world/level.py:_object_table",
-    "world/level.py:load_level",
     "world/bake.py:lift_asset",
 }
 

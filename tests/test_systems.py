@@ -4,6 +4,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.entities import Placed
@@ -201,6 +202,16 @@ def test_crystal_cache_needs_the_hidden_crystal():
     assert game.player.position[3] < 0.8  # not enough to get past the blue wall
     walk_to(game, 0.0, 12.0, ticks=600)
     assert game.outcome is None and game.player.position[2] < 3.0  # stopped at the wall
+    # The visible crystal grows back, but the bar holds 3, less than the 3.2 the wall's end costs.
+    game = crystal_cache()
+    walk_to(game, 0.0, -5.5)
+    for _ in range(16 * TICK_RATE):  # standing where it grows back takes it again
+        game.step(Actions())
+    assert game.energy.value == 3.0 and game.event_counts["crystal_collected"] == 2
+    hold_w(game, 1.0, 120)
+    assert game.player.position[3] == pytest.approx(0.75, abs=0.01)  # 3 / 4, short of 0.8
+    walk_to(game, 0.0, 12.0, ticks=600)
+    assert game.outcome is None and game.player.position[2] < 3.0
 
 
 def test_crystal_cache_route_by_the_radar():
@@ -210,7 +221,7 @@ def test_crystal_cache_route_by_the_radar():
     assert ana.kind == "crystal" and ana.height > 0 and not ana.visible  # a pin above the disc: go ana
     hold_w(game, 1.0, 11)
     walk_to(game, -3.0, -3.0)
-    assert game.energy.value > 4.0
+    assert game.energy.value == 3.0  # the cache fills the bar: 1.2 of it takes the player on to w = 0.8
     walk_to(game, 0.0, 0.0)
     hold_w(game, 1.0, 60)
     walk_to(game, 0.0, 12.0, ticks=900)
@@ -301,12 +312,8 @@ def test_ten_thousand_spawned_and_removed_entities_leave_the_physics_arrays_boun
 def test_a_bad_crystal_reports_every_problem_at_once(tmp_path):
     from across_dimensions.world.level import LevelError
 
-    path = tmp_path / "bad.toml"
-    path.write_text(
-        "[level]\nformat = 2\n[spawn]\nposition = [0, 0, 0, 0]\n[goal]\ncenter = [0, 1, 5]\nsize = [1, 1, 1]\n"
-        "[radar]\nrange = 0\n[[crystal]]\nposition = [0, 1, 2, 9.0]\nenergy = -1\n",
-        encoding="utf-8",
-    )
+    level = LevelBuilder(w_range=None, spawn=(0, 0, 0, 0), goal=(0, 1, 5), goal_size=(1, 1, 1), floor=None)
+    path = level.table("radar", range=0).crystal([0, 1, 2, 9.0], energy=-1).write(tmp_path, "bad.toml")
     with pytest.raises(LevelError) as e:
         load_level(path)
     problems = e.value.problems

@@ -296,20 +296,30 @@ def push_body(ctx: Ctx, name: str, dest_xz, ticks: int = 1800):
             return True
         d = to / dist
         half = b.radius / 2
+        w = _body_w(ctx, b)
         behind = b.center[[0, 2]] - d * (half + 0.55)
         p = read.feet(game)[[0, 2]]
         if np.dot(p - b.center[[0, 2]], d) > -half:  # on the wrong side: round it
             side = np.array([-d[1], d[0]])
             side = side if np.dot(p - b.center[[0, 2]], side) >= 0 else -side
-            yield from goto(ctx, b.center[[0, 2]] + side * (half + 0.9) - d * (half + 0.6), ticks=300)
+            yield from goto(ctx, b.center[[0, 2]] + side * (half + 0.9) - d * (half + 0.6), w, ticks=300)
         if distance_xz(game, behind) > 0.3:
-            yield from goto(ctx, behind, tol=0.2, ticks=300)
+            yield from goto(ctx, behind, w, tol=0.2, ticks=300)
         for _ in range(60):
-            yield drive(game, np.asarray(dest_xz, float), jump=False)
+            yield drive(game, np.asarray(dest_xz, float), w, jump=False, allow_w=ctx.allow.w)
             b2 = read.body_named(game, name)
             if b2 is None or np.linalg.norm(np.asarray(dest_xz) - b2.center[[0, 2]]) < 0.3:
                 break
     return False
+
+
+def _body_w(ctx: Ctx, b) -> float | None:
+    """The w to push the body at: its own, when it lies off the slice and the strategy may
+    find it there (the radar shows its pin) and move along w; else None (stay)."""
+    here = float(read.feet(ctx.game)[3])
+    if abs(b.center[3] - here) <= 0.1 or not (ctx.allow.w and ctx.allow.radar):
+        return None
+    return float(b.center[3])
 
 
 # ------------------------------------------------------------------ enemies

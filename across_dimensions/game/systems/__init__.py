@@ -17,6 +17,7 @@ mechanic: ``CONVENTIONS.md``, *Systems*.
 """
 
 from . import (
+    beacons,
     bullets,
     camera,
     crystals,
@@ -41,7 +42,8 @@ from . import (
 #: switch; it holds the w keys while detached); seek reads its presses before the player moves
 #: (the glide starts on the tick of the press); manipulation (it turns objects and takes
 #: the walking keys while one is held); the player moves, pushes bodies; weapons fire and
-#: steer bullets before physics runs, bullets read its contacts after; enemies (the blast, bullet
+#: steer bullets, and the beacons bring back bodies out of range, before physics runs; bullets
+#: read its contacts after; enemies (the blast, bullet
 #: hits, their moves and shots) and the player's health after the bullets; pickups; the outcome.
 #: Frame order: manipulation (its ghost previews, HUD line), scenery, entities, radar, HUD,
 #: then the ghosts along w, after everything solid. Setup runs in the same order, so the
@@ -55,6 +57,7 @@ SYSTEMS = (
     push.SYSTEM,
     weapons.SYSTEM,
     solid_bodies.SYSTEM,
+    beacons.SYSTEM,
     rigid_bodies.SYSTEM,
     bullets.SYSTEM,
     enemies.SYSTEM,

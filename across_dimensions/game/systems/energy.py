@@ -19,10 +19,28 @@ def step(game, actions) -> None:
         game.energy.tick()
 
 
+def cost_line(level) -> str:
+    """What each 4D action of ``level`` costs, in the HUD's words: moving along w per unit,
+    each weapon per use, turning an object per degree, the frustum camera per second."""
+    parts = []
+    if level.energy.w_cost > 0 and level.w_range[1] > level.w_range[0]:
+        parts.append(f"W {level.energy.w_cost:g}/UNIT")
+    for spec in level.weapons:
+        if spec.cost_milli > 0 and (spec.kind != "gun" or spec.ammo < 0):
+            parts.append(f"{spec.kind.upper()} {spec.cost_milli / 1000:g}")
+    turns = sorted({m.cost_milli for m in level.manipulables if m.cost_milli > 0})
+    if turns:
+        parts.append(f"TURN {turns[0] / 1000:g}/DEG" if len(turns) == 1 else f"TURN {turns[0] / 1000:g}+/DEG")
+    if level.camera.frustum and level.camera.frustum_cost > 0:
+        parts.append(f"VIEW {level.camera.frustum_cost:g}/S")
+    return "  ".join(parts)
+
+
 def draw(game, frame, alpha) -> None:
     bar = game.energy
     if bar is not None:
-        frame.hud.energy = EnergyGauge(bar.value, bar.maximum, bar.flash / FLASH_TICKS, empty=bar.milli == 0)
+        flash = bar.flash / FLASH_TICKS
+        frame.hud.energy = EnergyGauge(bar.value, bar.maximum, flash, bar.milli == 0, cost_line(game.level))
 
 
 def state_bytes(game) -> bytes:

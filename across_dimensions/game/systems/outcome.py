@@ -1,10 +1,13 @@
-"""Winning: the level is complete once the player stands in the goal."""
+"""Winning: the level is complete once the player stands in the goal; and losing: once the
+level can no longer be won (:mod:`..stranded`), the HUD says why and names the key that
+restarts from the last checkpoint."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from ..events import LevelComplete
+from ..stranded import notice
 from ..system import System
 
 
@@ -27,6 +30,10 @@ def step(game, actions) -> None:
 def draw(game, frame, alpha) -> None:
     if game.outcome == "complete":
         frame.hud.message = "Level complete"
+        return
+    lost = notice(game)
+    if lost is not None:
+        frame.hud.message = lost
 
 
 SYSTEM = System("outcome", step=step, draw=draw)
