@@ -164,11 +164,11 @@ class Panels:
             label = m.label(ref)
             if self.search and self.search.lower() not in label.lower():
                 continue
-            bad_here = ref in bad or ref in flagged
-            if bad_here:
-                imgui.push_style_color(imgui.Col_.text, RED)
+            color = RED if ref in bad else YELLOW if ref in flagged else None  # problems, warnings
+            if color is not None:
+                imgui.push_style_color(imgui.Col_.text, color)
             clicked, _ = imgui.selectable(f"{_fit(label)}##{ref}", ref in m.selected)
-            if bad_here:
+            if color is not None:
                 imgui.pop_style_color()
             if clicked:
                 m.select(ref, toggle=imgui.get_io().key_shift)
