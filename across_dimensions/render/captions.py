@@ -26,9 +26,9 @@ def caption_rects(captions, m) -> list[tuple[int, int, int, int]]:
     ex, bar_y, ew, bar_h = m.energy_bar()
     left, right = ex + ew + m.margin, m.radar_rect()[0] - m.margin
     line_h = (GLYPH_H + 4) * s
-    # Above the weapon panel (up to two lines and a refusal over the energy bar), the slice
-    # gauges and the warning line.
-    bottom = min(int(m.height * 0.74), bar_y - 5 * (GLYPH_H + 3) * s - 3 * bar_h)
+    # Above the weapon panel (up to two lines and a refusal, over up to two lines of costs over
+    # the energy bar), the slice gauges and the warning line.
+    bottom = min(int(m.height * 0.74), bar_y - 7 * (GLYPH_H + 3) * s - 3 * bar_h)
     out = []
     for i, c in enumerate(captions):
         w = min(right - left, text_width(c.text, s) + 4 * s)

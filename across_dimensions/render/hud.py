@@ -283,7 +283,8 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
 
     # --- weapon panel (above the energy bar) and hit marks round the crosshair
     if hud.weapon is not None:
-        _weapon_panel(q, hud.weapon, m)
+        costs = hud.energy.costs if hud.energy is not None else ""
+        _weapon_panel(q, hud.weapon, m, max(0, len(left_lines(costs, m, gauges=True)) - 1))
 
     # --- health bar (top-left) and where the last hit came from
     if hud.health is not None:
@@ -518,8 +519,7 @@ def _slice_gauges(q: _QuadList, g: SliceGauges, m: HudMetrics) -> None:
     gw = max(24, m.width // 12)
     gh = max(3, m.height // 150)
     label_w = text_width("XW", s) + 2 * s
-    total = 3 * (label_w + gw) + 2 * m.margin
-    x = (m.width - total) // 2
+    x = slice_gauges_left(m)
     # Bottom centre, above the warning line: the top centre is the hint panel's.
     y = m.height - m.margin - 2 * (GLYPH_H + 4) * s - gh
     for name, angle in zip(("XW", "YW", "ZW"), g.angles):
@@ -541,6 +541,28 @@ def _slice_gauges(q: _QuadList, g: SliceGauges, m: HudMetrics) -> None:
         q.text(text, (m.width - text_width(text, s)) // 2, y - 2 * gh - (GLYPH_H + 3) * s, s, SLICE_MODE_COLOR)
 
 
+def slice_gauges_left(m: HudMetrics) -> int:
+    """Pixel column where the slice gauges (bottom centre) begin."""
+    label_w = text_width("XW", m.text_scale) + 2 * m.text_scale
+    return (m.width - 3 * (label_w + max(24, m.width // 12)) - 2 * m.margin) // 2
+
+
+def left_lines(text: str, m: HudMetrics, gauges: bool = False) -> list[str]:
+    """``text`` (parts two spaces apart) in lines over the energy bar that stop short of the
+    middle: of the slice gauges' left end when ``gauges`` (the lines on their row), else of the
+    slice mode's label above them. Broken between parts, not inside one, where it can."""
+    s = m.text_scale
+    x, _, w, _ = m.energy_bar()
+    limit = max(w, (slice_gauges_left(m) if gauges else m.width // 2 - 4 * m.margin) - m.margin - x)
+    lines: list[str] = []
+    for part in text.split("  ") if text else ():
+        if lines and text_width(f"{lines[-1]}  {part}", s) <= limit:
+            lines[-1] = f"{lines[-1]}  {part}"
+        else:
+            lines += wrap(part, limit, s)
+    return lines
+
+
 def weapon_text(panel: WeaponPanel) -> str:
     """The weapon panel's line: ``[1/3] 120-CELL GUN  COST 1`` (or ``AMMO 12``), plus the bullets in flight."""
     pay = f"AMMO {panel.ammo}" if panel.ammo >= 0 else f"COST {panel.cost:g}"
@@ -548,20 +570,14 @@ def weapon_text(panel: WeaponPanel) -> str:
     return text + (f"  LIVE {panel.live}" if panel.live >= 0 else "")
 
 
-def _weapon_panel(q: _QuadList, panel: WeaponPanel, m: HudMetrics) -> None:
-    """Above the energy bar: the weapon's line, a cooldown bar (full when ready) and a refusal line."""
+def _weapon_panel(q: _QuadList, panel: WeaponPanel, m: HudMetrics, raised: int = 0) -> None:
+    """Above the energy bar (and ``raised`` lines more, over a cost line that takes more than
+    one): the weapon's line, a cooldown bar (full when ready) and a refusal line."""
     s = m.text_scale
     x, y, w, h = m.energy_bar()
     line_h = (GLYPH_H + 3) * s
-    # Wrapped short of the middle, where the slice gauges are (larger text takes two lines).
-    limit = max(w, m.width // 2 - 5 * m.margin - x)
-    lines: list[str] = []
-    for part in weapon_text(panel).split("  "):  # break between its parts (name, cost, bullets)
-        if lines and text_width(f"{lines[-1]}  {part}", s) <= limit:
-            lines[-1] = f"{lines[-1]}  {part}"
-        else:
-            lines += wrap(part, limit, s)
-    top = y - (len(lines) + 1) * line_h - 3 * h
+    lines = left_lines(weapon_text(panel), m)  # larger text takes two lines
+    top = y - (len(lines) + 1 + raised) * line_h - 3 * h
     flash = min(max(float(panel.flash), 0.0), 1.0)
     for i, line in enumerate(lines):
         q.text(line, x, top + i * line_h, s, _mix(WEAPON_COLOR, (1.0, 1.0, 1.0, 1.0), flash))
@@ -611,8 +627,10 @@ def _energy_bar(q: _QuadList, gauge: EnergyGauge, m: HudMetrics) -> None:
     q.text(label, x, label_y, s, color)
     val = energy_text(gauge)
     q.text(val, x + w - text_width(val, s), label_y, s, _mix(TEXT_COLOR, cue("energy_flash"), flash))
-    if gauge.costs:  # what each 4D action costs, over the label (under the weapon panel)
-        q.text(gauge.costs, x, label_y - (GLYPH_H + 3) * s, s, ENERGY_LABEL_COLOR)
+    # What each 4D action costs, over the label (under the weapon panel), clear of the gauges.
+    costs = left_lines(gauge.costs, m, gauges=True)
+    for i, line in enumerate(costs):
+        q.text(line, x, label_y - (len(costs) - i) * (GLYPH_H + 3) * s, s, ENERGY_LABEL_COLOR)
 
 
 _HUD_VS = """
