@@ -24,6 +24,7 @@ EVENT_WORDS = {
     "player_died": "you died",
     "loot_released": "loot released",
     "object_reset": "object put back",
+    "slice_turn_refused": "slice turn refused",
 }
 #: Words for each captioned effect (effects not here are not captioned).
 WORDS = {
