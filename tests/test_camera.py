@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.core.frustum import frustum_project
 from across_dimensions.core.shapes import make_shape
@@ -27,12 +28,6 @@ SWITCH = Actions(presses=(("switch_camera", 1),))
 def _run(game: Game, n: int, **kw) -> None:
     for _ in range(n):
         game.step(Actions(**kw))
-
-
-def _level(tmp_path: Path, text: str, name: str = "cam.toml"):
-    path = tmp_path / name
-    path.write_text(text, encoding="utf-8")
-    return load_level(path)
 
 
 # ----------------------------------------------------------------------- the rig
@@ -183,7 +178,7 @@ def test_the_slice_never_turns_back_at_a_w_outside_the_level():
     _run(game, 60, turn_zw_neg=True)
     assert np.array_equal(game.camera.rotation, rotation) and np.array_equal(game.camera.anchor, anchor)
     assert game.event_counts["slice_aligned"] == 1 and game.event_counts["slice_turn_refused"] == 2
-    assert "walk back" in game.frame().hud.message
+    assert "Walk back" in game.frame().hud.message
     # The w keys never carry the player's world w out of the range either (they move along z now).
     _run(game, 90, w=1.0)
     assert _eye_w(game) > hi and game.camera.angles_deg() == pytest.approx((0.0, 0.0, 90.0))
@@ -290,32 +285,18 @@ def test_camera_modes_replay_deterministically():
     assert len(set(hashes[0])) == len(script)
 
 
-BASE = """
-[level]
-format = 2
-[spawn]
-position = [0.0, 0.0, 0.0, 0.0]
-[goal]
-center = [0.0, 1.0, 5.0]
-size = [1.0, 2.0, 1.0]
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [10.0, 1.0, 10.0]
-"""
-
-
 @pytest.mark.parametrize(
     "entry, needle",
     [
-        ("turn_speed = 0.0", "'turn_speed'"),
-        ("fov = 170.0", "'fov'"),
-        ("frustum = 1", "'frustum'"),
-        ("orbit = 3.0", "'orbit'"),
+        ({"turn_speed": 0.0}, "'turn_speed'"),
+        ({"fov": 170.0}, "'fov'"),
+        ({"frustum": 1}, "'frustum'"),
+        ({"orbit": 3.0}, "'orbit'"),
     ],
 )
 def test_bad_camera_table_names_the_file_and_the_entry(tmp_path, entry, needle):
     with pytest.raises(LevelError) as e:
-        _level(tmp_path, BASE + f"[camera]\n{entry}\n")
+        LevelBuilder(floor=(10.0, 1.0, 10.0)).table("camera", **entry).load(tmp_path, "cam.toml")
     lines = str(e.value).splitlines()
     assert any("[camera]" in ln and needle in ln for ln in lines), lines
     assert "cam.toml" in str(e.value)

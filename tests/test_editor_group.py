@@ -151,3 +151,26 @@ def test_quick_warnings_flag_what_cannot_be_reached_as_you_edit(ed):
     assert "overlaps solid geometry" in found[("checkpoint", 0)][0]  # the loader refuses a spawn there
     assert found[("checkpoint", 1)] == ["at the same place as spawn"]
     assert "no floor within a jump" in found[("goal",)][0]
+
+
+def test_the_checks_panel_runs_check_level_and_the_probe_and_names_the_entries(ed):
+    pytest.importorskip("imgui_bundle")
+    import time
+
+    from across_dimensions.app.editor.checks import Checks
+
+    class Mode:  # what the panel reads of the editor's view
+        model = ed
+
+    ed.set(("goal",), "size", [-1.0, 2.0, 2.0])  # a problem check-level names, in [goal]
+    checks = Checks(Mode())
+    checks.run()
+    for _ in range(1200):
+        checks.poll()
+        if not checks.running:
+            break
+        time.sleep(0.1)
+    assert not checks.running and checks.folder is None  # both finished, their folder removed
+    texts = [t for t, _ in checks.findings]
+    assert any("size" in t and ("goal",) == ref for t, ref in checks.findings), texts
+    assert any(t.startswith("probe: ") for t in texts), texts  # the probe refuses a broken level too

@@ -98,6 +98,11 @@ def _build(out: str) -> None:
     _frames(w)
     drag(sx, sy, sx + 37, sy + 11)
     said["moved"] = m.get(crystal, "position")
+    # The move handle's x arrow (ImGuizmo's): dragged right, the crystal moves along x only, on the grid.
+    _frames(w)
+    sx, sy = ed.handles.screen_center
+    drag(sx + 45, sy, sx + 125, sy, steps=10)
+    said["arrow"] = [said["moved"], m.get(crystal, "position")]
     # A 4D object, turned on the xw ring (rotate handle: 2) by a snapped quarter turn, and its
     # hyper-depth doubled on the scale handle (3).
     ed.add("object", parent=None)
@@ -127,8 +132,25 @@ def _build(out: str) -> None:
     m.selection = None
     drag(300, 100, 1000, 600)
     said["box_selected"] = len(m.selected)
+    # A quick click on a panel (pressed and released with no frame between, as at a low frame rate)
+    # never reaches the view: the selection stays.
+    m.select(crystal)
+    w.on_mouse_motion(600, h - 400, 0, 0)  # the last frame saw the mouse over the view
+    _frames(w)
+    w.on_mouse_press(1100, h - 500, mouse.LEFT, 0)  # on the inspector, below its fields
+    w.on_mouse_release(1100, h - 500, mouse.LEFT, 0)
+    _frames(w)
+    said["panel_click"] = list(m.selection or [])
     press(key.S, key.MOD_CTRL)
     said["saved"] = [not m.dirty, ed.message]
+    from across_dimensions.app.editor.files import load_recent
+
+    said["recent"] = load_recent()[0]
+    # Unsaved changes: New and closing the window ask first (the prompt holds what comes next).
+    m.set(("level",), "description", "changed")
+    press(key.N, key.MOD_CTRL)
+    said["asks"] = [ed.files.pending is not None, w.current_view.on_close()]
+    ed.files.pending = None
     said["rects"] = len(ed.panels.rects)
     print(json.dumps(said))
     w.close()
@@ -196,11 +218,15 @@ def test_a_new_level_made_in_the_window_checks_probes_and_plays(xvfb, tmp_path):
     assert said["w_handle"] == pytest.approx(1.0)  # 103 px * 0.01 = 1.03, on the 0.1 w step
     x, y, z, wv = said["moved"]
     assert all(abs(v / 0.25 - round(v / 0.25)) < 1e-9 for v in (x, y, z)) and wv == pytest.approx(1.0)
+    before, after = said["arrow"]
+    assert after[0] > before[0] and after[1:] == before[1:] and abs(after[0] / 0.25 - round(after[0] / 0.25)) < 1e-9
     assert said["rotation"] == {"xw": 90.0} or said["rotation"] == {"xw": -90.0}
     assert said["scale"] == [1.0, 1.0, 1.0, 2.0]
     assert "[[crystal]]" in said["clipboard"] and said["pasted"] == [["crystal", 1]] and said["after_undo"] == 1
     assert said["box_selected"] >= 2
+    assert said["panel_click"] == ["crystal", 0]
     assert said["saved"][0], said
+    assert said["recent"] == str(out.resolve()) and said["asks"] == [True, True]
     text = out.read_text(encoding="utf-8")
     assert "  [[world.box]]\n  center = [0.0, 2.0, 0.0]\n  size = [10.0, 4.0, 0.5]" in text
     # The saved file: check-level, the probe, and a walk from the spawn to the goal at w = 0.

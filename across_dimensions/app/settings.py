@@ -366,7 +366,6 @@ def load_settings(path: str | os.PathLike | None = None) -> tuple[Settings, list
         are kept. Keys bound to more than one action are reported too.
     """
     path = Path(path) if path is not None else settings_path()
-    defaults = _defaults()
     try:
         # Regular files of at most SETTINGS_MAX_BYTES only: a FIFO or a link to
         # /dev/zero must not hang or exhaust memory. A byte-order mark is skipped.
@@ -379,38 +378,53 @@ def load_settings(path: str | os.PathLike | None = None) -> tuple[Settings, list
         return default_settings(), [f"{path}: not valid TOML (nested too deeply); using the default settings"]
     except (tomllib.TOMLDecodeError, ValueError) as exc:  # ValueError: an integer of over 4300 digits
         return default_settings(), [f"{path}: not valid TOML ({exc}); using the default settings"]
-
     warnings: list[str] = []
+    values = _read_values(path, data, warnings)
+    preset = PRESETS[values.get("preset", _defaults()["preset"])]
+    overrides = _read_bindings(path, data.get("bindings", {}), preset, warnings)
+    # Every value was checked above, so construction cannot fail.
+    settings = Settings(bindings=overrides, **values)
+    warnings.extend(f"{path}: [bindings] {problem}" for problem in settings.problems())
+    return settings, warnings
 
-    def bad(entry: str, value: Any, expected: str, default: Any, why: str = "") -> None:
-        shown = list(default) if isinstance(default, tuple) else default
-        detail = f" ({why})" if why else ""
-        warnings.append(f"{path}: {entry} = {value!r}{detail}: expected {expected}; using the default {shown!r}")
 
+def _bad(path: Path, entry: str, value: Any, expected: str, default: Any, why: str = "") -> str:
+    """The warning for an entry whose value is refused, naming the default used instead."""
+    shown = list(default) if isinstance(default, tuple) else default
+    detail = f" ({why})" if why else ""
+    return f"{path}: {entry} = {value!r}{detail}: expected {expected}; using the default {shown!r}"
+
+
+def _read_values(path: Path, data: dict, warnings: list[str]) -> dict[str, Any]:
+    """The valid settings of ``data`` (all but ``[bindings]``), by name; a warning for each bad or
+    unknown one."""
+    defaults = _defaults()
     values: dict[str, Any] = {}
     for name, rule in RULES.items():
         if name in data:
             try:
                 values[name] = rule.convert(data[name])
             except (TypeError, ValueError):
-                bad(name, data[name], rule.expected, defaults[name])
-
+                warnings.append(_bad(path, name, data[name], rule.expected, defaults[name]))
     for name in data:
         if name not in RULES and name != "bindings":
             # Ignored rather than fatal: it may come from a newer version.
             warnings.append(
                 f"{path}: unknown setting {name!r}, ignored; expected one of {', '.join(list(RULES) + ['[bindings]'])}"
             )
+    return values
 
-    preset = PRESETS[values.get("preset", defaults["preset"])]
-    overrides: dict[str, tuple[str, ...]] = {}
-    raw_bindings = data.get("bindings", {})
+
+def _read_bindings(path: Path, raw_bindings, preset: dict, warnings: list[str]) -> dict[str, tuple[str, ...]]:
+    """The valid key bindings of the ``[bindings]`` table, by action; a warning for each bad one
+    (that action keeps the preset's keys)."""
     if not isinstance(raw_bindings, dict):
         warnings.append(
             f"{path}: bindings = {raw_bindings!r}: expected a [bindings] table of "
             f'action = ["KEY", ...]; using the preset\'s bindings'
         )
-        raw_bindings = {}
+        return {}
+    overrides: dict[str, tuple[str, ...]] = {}
     for action, raw in raw_bindings.items():
         if action not in ACTION_DESCRIPTIONS:
             close = difflib.get_close_matches(action, ACTIONS, n=1)
@@ -422,12 +436,8 @@ def load_settings(path: str | os.PathLike | None = None) -> tuple[Settings, list
         try:
             overrides[action] = parse_keys(raw)
         except (TypeError, ValueError) as exc:
-            bad(f"[bindings] {action}", raw, KEYS_EXPECTED, preset.get(action, ()), str(exc))
-
-    # Every value was checked above, so construction cannot fail.
-    settings = Settings(bindings=overrides, **values)
-    warnings.extend(f"{path}: [bindings] {problem}" for problem in settings.problems())
-    return settings, warnings
+            warnings.append(_bad(path, f"[bindings] {action}", raw, KEYS_EXPECTED, preset.get(action, ()), str(exc)))
+    return overrides
 
 
 def _to_toml(settings: Settings) -> dict[str, Any]:

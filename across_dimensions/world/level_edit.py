@@ -260,10 +260,12 @@ class LevelEditor:
         finally:
             self._batch = None
             after = self.text()
-            self._restore_doc(before)
-            self._do(label, lambda: self._restore_doc(after), key=key, merge=merge)
+            self.restore_text(before)
+            self._do(label, lambda: self.restore_text(after), key=key, merge=merge)
 
-    def _restore_doc(self, text: str) -> None:
+    def restore_text(self, text: str) -> None:
+        """Put the document back to ``text`` with no undo step: a drag redoes its whole change from
+        where it began (so snapping works on the total), and the step is recorded by that change."""
         self.doc = tomlkit.parse(text)
         self._checked = None
 
@@ -346,7 +348,7 @@ class LevelEditor:
         return self.add(ref[-2], values, parent=ref[:-2] or None)
 
     def _restore(self, text: str) -> None:
-        self._restore_doc(text)
+        self.restore_text(text)
         self.selected = [r for r in self.selected if self.exists(r)]
 
     def undo(self) -> str | None:

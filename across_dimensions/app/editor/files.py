@@ -123,7 +123,7 @@ class Files:
 
     def confirm_close(self) -> bool:
         """The window is asked to close: True keeps it open (to ask about unsaved changes first)."""
-        if not self.model.dirty or self.pending is not None:
+        if not self.model.dirty:
             return False
         self.pending, self.dialog = self.mode.window.close, PROMPT
         return True

@@ -18,9 +18,11 @@ from imgui_bundle import imgui, imguizmo
 
 from ...core.transform import rotation4
 from ...world import level_group as group
+from ...world.level_edit import model_of
 
 OPERATIONS = ("move", "rotate", "scale")
 W_RINGS = (("xw", 112, (1.0, 0.35, 0.85, 1.0)), ("yw", 128, (0.3, 0.9, 1.0, 1.0)), ("zw", 144, (1.0, 0.6, 0.2, 1.0)))
+RING_LABEL_DEG = {"xw": 20.0, "yw": 45.0, "zw": 70.0}  # where on its ring each plane's name is written
 RING_GRAB = 7  # pixels either side of a ring that grab it
 W_BAR = (110, 60)  # the w handle: pixels right of the selection (beyond the x arrow), half its height
 W_PER_PIXEL = 0.01  # w moved per pixel dragged on the w handle
@@ -93,7 +95,7 @@ class Handles:
             self._gizmo = (self.model.text(), list(refs), center.copy(), now)
         before, refs, c0, _ = self._gizmo
         self._gizmo = (before, refs, c0, now)
-        self.model._restore_doc(before)  # noqa: SLF001 - the whole drag is redone from its start
+        self.model.restore_text(before)  # the whole drag is redone from its start
         grid, angle, w_step = self.steps()
         if self.operation == "move":
             d = now[:3, 3] - c0[:3]
@@ -117,11 +119,15 @@ class Handles:
             for plane, radius, c in W_RINGS:
                 hot = self._own is not None and self._own[4] == plane
                 dl.add_circle(imgui.ImVec2(sx, sy), radius, col(imgui.ImVec4(*c)), 64, 4.0 if hot else 2.0)
-                dl.add_text(imgui.ImVec2(sx + radius * 0.71 + 4, sy - radius * 0.71 - 14), col(imgui.ImVec4(*c)), plane)
+                a = math.radians(RING_LABEL_DEG[plane])  # each label at its own angle: they never overlap
+                at = imgui.ImVec2(sx + radius * math.cos(a) + 4, sy - radius * math.sin(a) - 14)
+                dl.add_text(at, col(imgui.ImVec4(*c)), plane)
             return
         bx, half = sx + W_BAR[0], W_BAR[1]
         white = col(imgui.ImVec4(0.85, 0.85, 1.0, 1.0))
         if self.operation == "scale":  # the hyper-depth: a horizontal bar under the selection
+            if not self._hyper():
+                return
             y = sy + W_BAR[0]
             dl.add_line(imgui.ImVec2(sx - half, y), imgui.ImVec2(sx + half, y), white, 2.0)
             dl.add_rect_filled(imgui.ImVec2(sx - 6, y - 6), imgui.ImVec2(sx + 6, y + 6), white)
@@ -132,6 +138,10 @@ class Handles:
         dl.add_text(imgui.ImVec2(bx + 10, sy - 7), white, f"w {center[3]:+.2f}")
         dl.add_text(imgui.ImVec2(bx - 12, sy - half - 16), white, "ana")
         dl.add_text(imgui.ImVec2(bx - 14, sy + half + 2), white, "kata")
+
+    def _hyper(self) -> bool:
+        """Does a selected entry have a hyper-depth (a ``scale`` with a w part: a 4D object)?"""
+        return any(getattr(model_of(r).get("scale"), "n", 0) == 4 for r in self.refs())
 
     # ------------------------------------------------------------ our own handles' drags
     def grab(self, x: float, y: float) -> bool:
@@ -144,7 +154,7 @@ class Handles:
             r = math.hypot(x - sx, y - sy)
             what = next((p for p, radius, _ in W_RINGS if abs(r - radius) <= RING_GRAB), None)
         elif self.operation == "scale":
-            if abs(y - (sy + W_BAR[0])) <= 8 and abs(x - sx) <= W_BAR[1]:
+            if self._hyper() and abs(y - (sy + W_BAR[0])) <= 8 and abs(x - sx) <= W_BAR[1]:
                 what = "depth"
         elif abs(x - (sx + W_BAR[0])) <= 10 and abs(y - sy) <= W_BAR[1]:
             what = "w"
@@ -158,7 +168,7 @@ class Handles:
         if self._own is None:
             return
         _, before, refs, start, what = self._own
-        self.model._restore_doc(before)  # noqa: SLF001 - the whole drag is redone from its start
+        self.model.restore_text(before)  # the whole drag is redone from its start
         _, angle, w_step = self.steps()
         if what == "w":
             group.move(self.model, refs, [0, 0, 0, (start[1] - y) * W_PER_PIXEL], w_step=w_step, merge=True)

@@ -424,7 +424,10 @@ class EditorView(View):
 
     def on_close(self) -> bool:
         """Closing the window with unsaved changes asks first (Save, Discard or Cancel)."""
-        return self.files.confirm_close()
+        keep_open = self.files.confirm_close()
+        if not keep_open:
+            self.checks.stop()  # no check-level or probe left running after the window
+        return keep_open
 
     # ------------------------------------------------------------ dragging (the move gizmo)
     def _start_drag(self, ref, nx, ny, aspect) -> None:
@@ -445,7 +448,7 @@ class EditorView(View):
         hit = _plane_hit(o, d, point, normal)
         if hit is None:
             return
-        self.model._restore_doc(before)  # noqa: SLF001 - the whole drag is redone from its start (snapping)
+        self.model.restore_text(before)  # the whole drag is redone from its start (snapping)
         grid = self.handles.steps()[0]
         group.move(self.model, refs, [*(hit - start_hit), 0.0], grid=grid, merge=True)
 

@@ -195,7 +195,8 @@ class Panels:
         if len(m.selected) > 1:
             imgui.text_colored(GREY, f"and {len(m.selected) - 1} more selected (the handles move them all)")
         # Room for the longest label ("position w", "rotation xw", "params radius"...) inside the panel.
-        longest = max((imgui.calc_text_size(f"{k} xw").x for k in model_of(ref)), default=80.0)
+        names = [f"{k} xw" for k in model_of(ref)] + ["hyper-depth"]
+        longest = max(imgui.calc_text_size(n).x for n in names) + imgui.get_frame_height()  # and its "x"
         imgui.push_item_width(-min(longest + 12, PANEL_W / 2))
         table = m.table(ref)
         for key, f in model_of(ref).items():

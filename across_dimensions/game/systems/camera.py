@@ -251,7 +251,8 @@ def draw(game, frame, alpha) -> None:
     frame.hud.slice = SliceGauges(rig.angles_deg(), rig.mode, float(np.degrees(rig.orbit)))
     if game.tick - rig.refused_tick < REFUSED_NOTICE_TICKS and not frame.hud.message:
         lo, hi = game.level.w_range
-        frame.hud.message = f"The slice turns back only within w {lo:+.1f} to {hi:+.1f}: walk back first"
+        w = float(rig.to_world(_pivot(game))[3])
+        frame.hud.message = f"Turn back only at w {lo:+.1f} to {hi:+.1f} (you: w {w:+.1f}). Walk back first"
     if not rig.detached:
         return
     eye = frame.camera
