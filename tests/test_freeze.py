@@ -186,12 +186,11 @@ def test_first_start_opens_a_level_in_seconds_with_the_shipped_kernels(built, di
     # The first start of this player: the kernels come from the folder, so the level's first
     # frame follows within seconds and nothing is compiled into the player's cache.
     home = tmp_path / "home"
-    start = time.time()
     args = ("play", "01_first_steps", "--screenshot-after", "0.001", "--quit-after", "1")
     done = _run(built, *args, home=home, DISPLAY=display, ACROSS_DIMENSIONS_TIMING="1")
     assert done.returncode == 0, done.stderr
     frame = next(line for line in done.stdout.splitlines() if line.startswith("timing: first level frame"))
-    assert float(frame.split(" at ")[1]) - start < FIRST_FRAME_LIMIT, done.stdout
+    assert float(frame.split(" at ")[1].split()[0]) < FIRST_FRAME_LIMIT, done.stdout  # seconds from the start
     assert not list(home.rglob("*.nbi")), "kernels were compiled on a processor that runs the shipped ones"
     shots = list((home / "Pictures" / "Across Dimensions").glob("across-dimensions_*.png"))  # platformdirs
     assert len(shots) == 1 and shots[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -138,8 +138,11 @@ def test_energy_bar_pixels(gl_ctx):
             assert left[2] > 150 and left[1] > 150 and left[0] < 120
             assert right[2] < 120
             assert np.abs(none[row, x : x + bw] - none[row, x + bw + 20]).max() <= 2
-            mid = empty[row, x + bw // 2]
-            assert mid[0] > mid[1] + 60 and mid[0] > mid[2] + 60, "the empty bar is red"
+            # Empty looks empty: inside, the track is the unfilled half's dark, not a red fill;
+            # only the outline (just outside the track) is red.
+            assert np.abs(empty[row, x + bw // 2] - half[row, x + 3 * bw // 4]).max() <= 6, "the empty bar looks filled"
+            edge = empty[y - 1, x + bw // 2]
+            assert edge[0] > edge[1] + 60 and edge[0] > edge[2] + 60, "the empty bar's outline is red"
         assert gl_ctx.error == "GL_NO_ERROR"
     finally:
         r.release()
@@ -159,3 +162,26 @@ def test_w_gauge_says_which_side_is_solid():
     assert ana_c in ana and kata_c not in ana
     assert ana_c in both and kata_c in both
     assert "solid+w" in quads_text(hud_quads(Hud(w=0.0, w_min=-1.0, w_max=1.0, w_blocked=(1,)), 1280, 720))
+
+
+def test_an_empty_bar_has_no_fill_and_spending_shows_as_a_segment_that_sinks_in():
+    from across_dimensions.app.energy_trail import GRACE_SECONDS, EnergyTrail
+    from across_dimensions.render.hud_gauges import ENERGY_SPENT_COLOR, energy_spent_width
+
+    empty = hud_quads(Hud(energy=EnergyGauge(0.0, 10.0, empty=True)), 1280, 720)
+    assert len(rows_with_color(empty, ENERGY_FILL_COLOR)) == 0  # no fill at all, not a red one
+    assert shows_text(empty, "NO ENERGY") and shows_text(empty, "0/10")
+    # Holding a w key: 0.1 a tick at 10 FPS. The trail keeps what was spent in sight.
+    trail, value, widths = EnergyTrail(), 4.0, []
+    trail.update(EnergyGauge(value, 10.0), 0.1)
+    for _ in range(5):
+        value -= 0.4
+        g = trail.update(EnergyGauge(value, 10.0), 0.1)
+        widths.append(energy_spent_width(g, 400))
+    assert g.spent == pytest.approx(2.0) and widths == sorted(widths) and widths[0] > 0
+    quads = hud_quads(Hud(energy=g), 1280, 720)
+    assert len(rows_with_color(quads, ENERGY_SPENT_COLOR)) == 1
+    # Once the spending stops: whole for the grace, then it sinks in, and it is gone.
+    left = [trail.update(EnergyGauge(value, 10.0), 0.1).spent for _ in range(int(GRACE_SECONDS / 0.1) + 12)]
+    assert left[0] == pytest.approx(2.0) and left[int(GRACE_SECONDS / 0.1) - 1] == pytest.approx(2.0)
+    assert left[-1] == 0.0 and left == sorted(left, reverse=True)

@@ -121,7 +121,7 @@ def test_enemies_and_crystals_count_in_the_cost_estimate(env, tmp_path):
     r = check_level(env, path)
     assert r.returncode == 0, r.stderr  # a warning, not a refusal
     (warning,) = r.stderr.splitlines()
-    assert warning.startswith(f"{path}: warning: will likely not keep 60 Hz") and "64 enemies and 0 crystals" in warning
+    assert warning.startswith(f"{path}: warning: will likely not keep 60 Hz") and "64 enemies and 2 crystals" in warning
     crystals = "".join(
         f'\n[[crystal]]\nname = "c{i}"\nposition = [{i % 8 - 3.5:.1f}, 1.0, {i // 8 * 0.5 - 18:.2f}, 0.3]\n'
         for i in range(64)

@@ -484,7 +484,7 @@ def test_python_in_strings_is_just_text(tmp_path, monkeypatch):
     level = load_level(DATA / "code_is_data.toml")
     assert level.name == "__import__('os').system('touch MARKER')"
     assert level.description.startswith("eval(")
-    assert level.hints[0] == "__import__('os').system('touch MARKER')"
+    assert level.hints[0].text == "__import__('os').system('touch MARKER')"
     assert level.worlds[0].name == "os.system('touch MARKER')"
     assert list(tmp_path.iterdir()) == []  # nothing ran: no MARKER file
 

@@ -499,6 +499,10 @@ def test_warm_up_child_reports_every_step():
         [sys.executable, "-m", "across_dimensions.app.warmup"], capture_output=True, text=True, timeout=900
     )
     assert r.returncode == 0, r.stdout + r.stderr
-    lines = r.stdout.splitlines()
+    lines = [ln for ln in r.stdout.splitlines() if ln.startswith("step ")]
     n = len(STEPS)
     assert lines == [f"step {i} {n} {label}" for i, (label, _) in enumerate(STEPS)] + [f"step {n} {n} ready"]
+    # Between them, the kernels every half second: ready of all, never more, and never falling.
+    counts = [tuple(map(int, ln.split()[1:])) for ln in r.stdout.splitlines() if ln.startswith("kernels ")]
+    assert all(0 <= ready <= total and compiled <= total for ready, total, compiled in counts)
+    assert [c[0] for c in counts] == sorted(c[0] for c in counts)

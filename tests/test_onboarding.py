@@ -184,7 +184,7 @@ def test_the_card_draws_a_ball_whose_cut_grows_and_shrinks():
 
 
 def test_the_font_draws_every_hint_of_every_level_and_the_card():
-    texts = [with_keys(h) for path in level_files() for h in load_level(path).hints]
+    texts = [with_keys(h.text) for path in level_files() for h in load_level(path).hints]
     texts += [with_keys(t) for t in __import__("across_dimensions.app.onboarding", fromlist=["x"]).FLATLAND_LINES]
     assert texts, "no hints found"
     missing = {t: missing_glyphs(t) for t in texts if missing_glyphs(t)}
@@ -283,7 +283,7 @@ def test_play_with_a_corrupt_settings_file_warns_once_and_shows_the_hint_clear_o
     assert shots, r.stdout
     img = read_png(shots[0]).astype(int)
     h, w = img.shape[:2]
-    first_hint = load_level(resolve_level("01_first_steps")).hints[0]
+    first_hint = load_level(resolve_level("01_first_steps")).hints[0].text
     hud = Hud(hint=with_keys(first_hint), hint_label="Hint 1/2 \u00b7 H hides")
     hx, hy, hw, hh = hint_rect(hud, w, h)
     # The hint's accent bar is drawn at the panel's left edge, in the accent colour (cyan).

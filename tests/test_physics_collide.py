@@ -5,7 +5,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from across_dimensions.core import transform
-from across_dimensions.physics import collide
+from across_dimensions.physics import boxes, collide
+from across_dimensions.physics.collide import Box
 
 angles = st.lists(st.floats(-np.pi, np.pi, allow_nan=False), min_size=6, max_size=6)
 halves = st.lists(st.floats(0.2, 1.0), min_size=4, max_size=4)
@@ -21,7 +22,7 @@ def _box_box(xa, ra, ha, xb, rb, hb, margin=0.02):
     cd = np.zeros(collide.SCRATCH_POINTS)
     wk = np.zeros((collide.SCRATCH_ROWS, 4))
     op, on, od = np.zeros((8, 4)), np.zeros((8, 4)), np.zeros(8)
-    n = max(collide.box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, wk, op, on, od, 0), 0)
+    n = max(boxes.box_box(Box(xa, ra, ha), Box(xb, rb, hb), margin, (cp, cd), wk, (op, on, od), 0), 0)
     return op[:n], on[:n], od[:n]
 
 
@@ -68,7 +69,9 @@ def test_box_contacts_agree_with_sampled_overlap(a1, a2, h1, h2, off):
 def test_box_sphere_depth_is_exact(a, h, off, r):
     rot, half, c = _rot(a), np.asarray(h), np.asarray(off)
     op, on, od = np.zeros((1, 4)), np.zeros((1, 4)), np.zeros(1)
-    n = collide.box_sphere(np.zeros(4), rot, half, c, r, 0.02, np.zeros((collide.SCRATCH_ROWS, 4)), op, on, od, 0)
+    n = collide.box_sphere(
+        Box(np.zeros(4), rot, half), c, r, 0.02, np.zeros((collide.SCRATCH_ROWS, 4)), (op, on, od), 0
+    )
     q = rot.T @ c
     outside = np.linalg.norm(q - np.clip(q, -half, half))
     if outside > 0:
@@ -100,13 +103,13 @@ def test_box_box_names_its_separating_axis_and_that_axis_alone_tells_apart():
         xa, xb = rng.normal(size=4) * 0.3, rng.normal(size=4) * 0.3
         ra, rb = _rot(rng.uniform(-np.pi, np.pi, 6)), _rot(rng.uniform(-np.pi, np.pi, 6))
         ha, hb = rng.uniform(0.05, 0.3, 4), rng.uniform(0.05, 0.3, 4)
-        n = collide.box_box(xa, ra, ha, xb, rb, hb, 0.01, cp, cd, wk, op, on, od, 0)
+        n = boxes.box_box(Box(xa, ra, ha), Box(xb, rb, hb), 0.01, (cp, cd), wk, (op, on, od), 0)
         if n < 0:
             axis = -1 - n
             assert 0 <= axis < 56
             seen.add(axis >= 8)
-            assert collide.separated_along(axis, xa, ra, ha, xb, rb, hb, 0.01, wk)
+            assert boxes.separated_along(axis, Box(xa, ra, ha), Box(xb, rb, hb), 0.01, wk)
         else:
             for axis in rng.integers(0, 56, 5):
-                assert not collide.separated_along(axis, xa, ra, ha, xb, rb, hb, 0.01, wk)
+                assert not boxes.separated_along(axis, Box(xa, ra, ha), Box(xb, rb, hb), 0.01, wk)
     assert seen == {False, True}  # both face and face-edge axes were met

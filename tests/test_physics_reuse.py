@@ -3,7 +3,7 @@
 import numpy as np
 
 from across_dimensions.core import transform
-from across_dimensions.physics import BodyDef, PhysicsWorld, WorldDef, collide, reuse
+from across_dimensions.physics import BodyDef, PhysicsWorld, WorldDef, boxes, collide, reuse
 from across_dimensions.physics.bench import build_pile
 
 
@@ -15,7 +15,8 @@ def _box_box(xa, ra, ha, xb, rb, hb, margin):
     cp, cd = np.zeros((collide.SCRATCH_POINTS, 4)), np.zeros(collide.SCRATCH_POINTS)
     wk = np.zeros((collide.SCRATCH_ROWS, 4))
     op, on, od = np.zeros((8, 4)), np.zeros((8, 4)), np.zeros(8)
-    n = max(collide.box_box(xa, ra, ha, xb, rb, hb, margin, cp, cd, wk, op, on, od, 0), 0)
+    box_a, box_b = collide.Box(xa, ra, ha), collide.Box(xb, rb, hb)
+    n = max(boxes.box_box(box_a, box_b, margin, (cp, cd), wk, (op, on, od), 0), 0)
     return op[:n].copy(), on[:n].copy(), od[:n].copy()
 
 

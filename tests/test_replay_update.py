@@ -71,12 +71,26 @@ def test_a_replay_that_no_longer_completes_is_left_untouched(env, tmp_path):
 def test_a_changed_level_file_is_refused_as_replay_refuses_it(env, tmp_path):
     data = json.loads(SOURCE.read_text())
     data["level_hash"] = "0" * 64
+    data["hashes"]["120"] = "0" * 16  # and the states differ: the change reached the simulation
     path = tmp_path / "other.json"
     path.write_text(_compact(data))
     before = path.read_bytes()
     r = run(env, tmp_path, "replay", NAME, path, "--update-hashes")
     one_line_error(r, "level file changed", status=3)
     assert path.read_bytes() == before
+
+
+def test_a_level_file_changed_without_touching_the_simulation_gets_its_header_only(env, tmp_path):
+    """An edit of a level's hints changes the file's hash, not a single state: every state plays
+    as recorded, so only the header's level hash is written again."""
+    data = json.loads(SOURCE.read_text())
+    data["level_hash"] = "0" * 64
+    path = tmp_path / "hints.json"
+    path.write_text(_compact(data))
+    r = run(env, tmp_path, "replay", NAME, path, "--update-hashes")
+    assert r.returncode == 0, r.stderr
+    assert "hashes unchanged; level hash" in r.stdout
+    assert path.read_bytes() == SOURCE.read_bytes()
 
 
 @pytest.mark.parametrize("extra", [["--no-check"], ["--screenshots", "shots"]])

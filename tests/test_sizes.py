@@ -18,30 +18,6 @@ MAX_PARAMETERS = 8
 
 #: Modules and functions still over a guide: ``"path"`` for a module, ``"path:function"`` for a function.
 DEBT: set[str] = {
-    "physics/collide.py",
-    "physics/tet_mesh.py",
-    "render/hud.py",
-    "render/radar.py",
-    "physics/collide.py:reduce_points",
-    "physics/collide.py:_clip_into",
-    "physics/collide.py:box_box",
-    "physics/queries.py:raycast_kernel",
-    "physics/tet_mesh.py:_emit_box",
-    "physics/tet_mesh.py:sphere_tets",
-    "physics/tet_mesh.py:box_tets",
-    "render/hud.py:hud_quads",
-    "render/menu.py:menu_quads",
-    "render/radar.py:radar_geometry",
-    "physics/collide.py:sphere_sphere",
-    "physics/collide.py:box_sphere",
-    "physics/collide.py:_emit",
-    "physics/collide.py:_face_edge_axes",
-    "physics/collide.py:separated_along",
-    "physics/collide.py:sphere_halfspace",
-    "physics/collide.py:box_halfspace",
-    "physics/tet_mesh.py:_add",
-    "physics/tet_mesh.py:_keep_least_deep",
-    "physics/tet_mesh.py:_surface_point",
     "world/bake.py:lift_asset",
 }
 

@@ -256,7 +256,8 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
     outcome, same tick) the file is rewritten atomically with the new hashes
     and its actions unchanged (exit 0). A different ending leaves the file
     untouched (exit 1); a changed level file is refused as ``replay`` refuses
-    it (exit 3). The bakes of the level's assets are recorded again with the
+    it (exit 3), unless every state plays as recorded (an edit of its hints or
+    comments): then only the header's level hash changes. The bakes of the level's assets are recorded again with the
     hashes (and a replay of an older format gets them for the first time).
     """
     import json
@@ -266,7 +267,12 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
     from ..game.replay_level import same_file
 
     result, fresh = rehash(rep, game)
-    refused = None if same_file(rep, game.level) else level_divergence(rep, game)
+    changed, total = changed_hashes(rep, fresh)
+    # A level file edited without touching the simulation (its hints, comments) plays every
+    # recorded state as recorded: then its header takes the file's new hash.
+    same_play = not changed and (result.outcome, result.ticks) == (rep.outcome, rep.final_ticks)
+    same_bakes = rep.bakes is None or rep.bakes == fresh.bakes
+    refused = None if same_file(rep, game.level) or (same_play and same_bakes) else level_divergence(rep, game)
     problem = None
     if refused is None and (result.outcome, result.ticks) != (rep.outcome, rep.final_ticks):
         problem = (
@@ -274,7 +280,6 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
             f"{rep.final_ticks}, got {_outcome(result.outcome)} at tick {result.ticks}"
         )
     updated = False
-    changed, total = changed_hashes(rep, fresh)
     header = (rep.level_hash, rep.bakes) != (fresh.level_hash, fresh.bakes)
     if refused is None and problem is None and (changed or header):
         _check_actions_kept(args.replay, fresh)

@@ -46,8 +46,18 @@ class Screenshotter:
         self.save(game, self.folder / f"frame_{game.tick:05d}.png")
 
     def save(self, game, path: Path) -> None:
+        from .onboarding import with_keys
+        from .settings import default_settings
+
+        frame = game.frame()
+        # The game's prompts and labels name actions ({manipulate}); the window shows the
+        # player's keys, and a screenshot the default ones, never the raw placeholders.
+        keys = default_settings()
+        frame.hud.message = with_keys(frame.hud.message, keys)
+        for label in frame.hud.labels:
+            label.text = with_keys(label.text, keys)
         self.target.use()
-        self.renderer.draw(game.frame(), self.target.viewport)
+        self.renderer.draw(frame, self.target.viewport)
         self.target.save_png(path)
         self.count += 1
 

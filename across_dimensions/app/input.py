@@ -24,6 +24,7 @@ import pyglet
 from ..game.actions import CAMERA_BUTTONS, MAX_PRESSES, PRESSES, Actions
 from ..game.frame import ScreenLabel
 from .keymap import KEY_NAMES, TOGGLE_PAIRS, TOGGLEABLE_ACTIONS
+from .onboarding import with_keys as with_keys  # the window's prompts; kept importable from here
 from .settings import Settings
 
 _MOUSE = {
@@ -65,30 +66,6 @@ def key_code(name: str) -> tuple[str, int]:
     if name.startswith("MOUSE_"):
         return "mouse", getattr(pyglet.window.mouse, _MOUSE[name])
     return "key", getattr(pyglet.window.key, name)
-
-
-def with_keys(text: str, settings: Settings) -> str:
-    """``text`` with each ``{action}`` replaced by the keys bound to it (``"W/UP"``); unknown names
-    and stray braces stay as written."""
-    keys = {
-        a: "/".join(
-            k.replace("MOUSE_", "mouse ").lower() if k.startswith("MOUSE_") else k.lstrip("_")
-            for k in settings.keys_for(a)
-        )
-        or "(unbound)"
-        for a in settings.bindings
-    }
-    try:
-        return text.format_map(_Missing(keys))
-    except (ValueError, IndexError):  # a stray brace in a game prompt: show it as written
-        return text
-
-
-class _Missing(dict):
-    """format_map helper: unknown ``{names}`` stay as written."""
-
-    def __missing__(self, key):
-        return "{" + key + "}"
 
 
 class Bindings:

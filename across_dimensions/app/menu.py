@@ -35,7 +35,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..render.scale import SOFTWARE_SCALE
-from ..world.campaign import CampaignEntry
+from ..world.campaign import CampaignEntry, locked_because
 from .keymap import ACTION_DESCRIPTIONS, ACTIONS, PRESETS, TOGGLEABLE_ACTIONS
 from .saves import Progress
 from .settings import Settings
@@ -175,7 +175,7 @@ class MenuView:
     footer: str
     prompt: str | None = None
     message: str = ""
-    progress: tuple[int, int, str] | None = None
+    progress: tuple | None = None  # (steps done, steps, what, fraction 0..1): the warm-up's line
     dim: bool = False
 
 
@@ -233,7 +233,7 @@ class Menu:
         self.first: dict[str, int] = {}
         self.capturing: str | None = None  # the action waiting for its new key
         self.conflict: tuple[str, str, tuple[str, ...]] | None = None  # (action, key, other actions)
-        self.progress_bar: tuple[int, int, str] | None = None
+        self.progress_bar: tuple | None = None
         self.message = ""
         self.skippable = False  # the paused level may be skipped (the prologue): the pause menu says so
         self.optional = frozenset(e.stem for e in campaign if e.optional)
@@ -259,6 +259,7 @@ class Menu:
 
     def push(self, screen: str) -> None:
         self.stack.append(screen)
+        self.message = ""
         items = self.items()
         keep = self.selected.get(screen, 0)
         if screen in ("conflict", "title", "pause") or not (0 <= keep < len(items) and items[keep].enabled):
@@ -268,6 +269,7 @@ class Menu:
 
     def pop(self) -> str | None:
         """Go back one screen; from a root screen, pause resumes and the title stays."""
+        self.message = ""
         if len(self.stack) > 1:
             self.stack.pop()
             return None
@@ -355,9 +357,10 @@ class Menu:
         action, key, others = self.conflict
         old = self.settings.keys_for(action)
         swap = f"{ACTION_DESCRIPTIONS[others[0]]} gets {key_label(old[0])}" if old else "it leaves the others"
+        # What each choice does: on the row's second line (a long description would run over it).
         return [
-            Item("swap", "Swap keys", swap if len(others) == 1 and old else "move it here"),
-            Item("both", "Bind it to both", "shown as a conflict"),
+            Item("swap", "Swap keys", "", note=swap if len(others) == 1 and old else "move it here"),
+            Item("both", "Bind it to both", "", note="shown as a conflict"),
             Item("cancel", "Cancel"),
         ]
 
@@ -437,7 +440,11 @@ class Menu:
     def click(self, index: int, fraction: float | None = None) -> str | None:
         """A click on row ``index``; ``fraction`` (0..1) is where along a slider's bar it landed."""
         items = self.items()
-        if self.capturing or not (0 <= index < len(items)) or not items[index].enabled:
+        self.message = ""
+        if self.capturing or not (0 <= index < len(items)):
+            return None
+        if not items[index].enabled:  # a locked level: say which one opens it
+            self.message = locked_because(self.campaign, self.progress.finished, items[index].key[6:])
             return None
         self.selected[self.screen] = index
         item = items[index]

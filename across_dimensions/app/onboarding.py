@@ -1,7 +1,8 @@
 """What the window shows a new player: hints, the flat-being card, and the settings warning line.
 
 * Hints (:class:`~across_dimensions.game.hints.HintBook`) stay on screen, in their own panel,
-  until the player does what each asks or dismisses it with the ``hints`` key; the same key shows
+  until the player does what each asks (the level state a hint's ``until`` names, or the action it
+  names) or dismisses it with the ``hints`` key; the same key shows
   them again. The window's notices and the game's prompts never replace them.
 * Before the first move along w in a session, the ``"flatland"`` card (drawn by
   :mod:`across_dimensions.render.cards`) stops the game and teaches the idea with the
@@ -96,6 +97,29 @@ def fill_keys(text: str, settings) -> str:
         return text
 
 
+def with_keys(text: str, settings) -> str:
+    """``text`` with each ``{action}`` replaced by the keys bound to it, short (``"W/UP"``): the
+    game's prompts and the labels beside things, where room is scarce (hints use :func:`fill_keys`'s
+    words). Unknown names and stray braces stay as written."""
+
+    class _Keys(dict):
+        def __missing__(self, key):
+            return "{" + key + "}"
+
+    keys = {
+        a: "/".join(
+            k.replace("MOUSE_", "mouse ").lower() if k.startswith("MOUSE_") else k.lstrip("_")
+            for k in settings.keys_for(a)
+        )
+        or "(unbound)"
+        for a in settings.bindings
+    }
+    try:
+        return text.format_map(_Keys(keys))
+    except (ValueError, IndexError):  # a stray brace in a game prompt: show it as written
+        return text
+
+
 class Onboarding:
     """Hints, the card and the warning line of one window.
 
@@ -137,12 +161,16 @@ class Onboarding:
             self.ui_cues.append("menu_select")
         return self.blocking
 
-    def ticked(self, actions, dt: float) -> None:
-        """A tick was simulated with ``actions``."""
+    def ticked(self, actions, dt: float, game=None) -> None:
+        """A tick was simulated with ``actions``; ``game`` is the state after it (the hints that
+        wait for an outcome read it)."""
         if self.hints_on:
             before = self.book.current()
-            self.book.tick(actions, dt)
-            if before is not None and before.done and before.asks and not self.book.reviewing:
+            self.book.tick(actions, dt, game)
+            finished = game is not None and game.event_counts.get("level_complete", 0) > 0
+            if finished:
+                self.done_flash = None  # the level's end closes the hints: no tick mark over "Level complete"
+            elif before is not None and before.done and (before.asks or before.until) and not self.book.reviewing:
                 self.done_flash = (before.text, DONE_SECONDS)  # done by doing it: tick it off visibly
 
     def wall(self, dt: float) -> None:

@@ -37,6 +37,43 @@ from collections.abc import Callable
 from pathlib import Path
 
 NOTICE_AFTER = 1.5  # seconds: a cache hit finishes well before this
+#: Seconds between the child's kernel counts (``kernels DONE TOTAL COMPILED`` lines).
+COUNT_EVERY = 0.5
+#: Kernels to have compiled, and seconds to have spent, before an estimate of the time left is
+#: said: the first kernels (the cross-section's) are not typical of the rest.
+ESTIMATE_AFTER = (5, 5.0)
+
+
+def kernel_counts() -> tuple[int, int, int]:
+    """``(ready, total, compiled)``: the game's numba kernels imported so far, those with machine
+    code (compiled here or loaded from the cache) and those compiled here (cache misses).
+
+    Read from the dispatchers' own bookkeeping, so it is cheap enough to poll while a compile runs
+    on another thread. A kernel called only from other kernels is compiled into them and may stay
+    without code of its own, so ``ready`` ends below ``total``.
+    """
+    from numba.core.dispatcher import Dispatcher
+
+    seen: dict[int, Dispatcher] = {}
+    for name, module in list(sys.modules.items()):
+        if module is not None and name.startswith("across_dimensions"):
+            for v in list(vars(module).values()):
+                if isinstance(v, Dispatcher):
+                    seen[id(v)] = v
+    ready = sum(bool(d.overloads) for d in seen.values())
+    compiled = sum(sum(d.stats.cache_misses.values()) > 0 for d in seen.values())
+    return ready, len(seen), compiled
+
+
+def _notice() -> None:
+    """The terminal's line when the warm-up is slow: compiling, or only loading from the cache."""
+    compiling = kernel_counts()[2] > 0
+    what = (
+        "Compiling the 4D kernels (first run after an install: a few minutes on 2 cores)..."
+        if compiling
+        else "Loading the 4D kernels from the cache..."
+    )
+    print(what, file=sys.stderr, flush=True)
 
 
 def _sections() -> None:
@@ -106,12 +143,11 @@ def warm_up(progress: Callable[[int, int, str], None] | None = None) -> None:
         Called as ``progress(done, total, label)`` before each step and once at the end;
         without it, a terminal notice appears when the compile takes longer than a cache hit.
     """
+    import numba.core.dispatcher  # noqa: F401  here, not first on a counting thread mid-import
+
     notice = None
     if progress is None:
-        notice = threading.Timer(
-            NOTICE_AFTER,
-            lambda: print("Compiling the 4D kernels (first run only, about a minute)...", file=sys.stderr, flush=True),
-        )
+        notice = threading.Timer(NOTICE_AFTER, _notice)
         notice.daemon = True
         notice.start()
     try:
@@ -178,6 +214,30 @@ class BackgroundWarmUp(threading.Thread):
         self.error: BaseException | None = None
         self.seconds: float | None = None
         self.finished = threading.Event()
+        self.kernels = (0, 0, 0)  # the child's last count: ready, total, compiled (kernel_counts)
+        self.compiling = False  # a child is compiling (not only loading from the cache)
+        self.started = time.perf_counter()
+
+    def status(self, now: float | None = None) -> str:
+        """What the title says of the warm-up: the step, the kernels ready of all, the time so far
+        and, once it can be told from this run's own pace, about how long is left."""
+        elapsed = (time.perf_counter() if now is None else now) - self.started
+        if self.compiling and not self.kernels[1]:  # the child has not reported yet
+            return f"{self.label}, starting the compiler, {_clock(elapsed)} so far"
+        if not self.compiling or not self.kernels[2]:  # nothing compiled yet: only loading
+            return f"{self.label}, loading the kernels, {_clock(elapsed)} so far"
+        ready, total, _ = self.kernels
+        text = f"{self.label}, {ready} of {total} kernels, {_clock(elapsed)} so far"
+        if ready >= ESTIMATE_AFTER[0] and elapsed >= ESTIMATE_AFTER[1] and total > ready:
+            # This run's pace over the kernels still without code: an upper bound, as some of
+            # them are compiled into others and never need their own.
+            text += f", at most about {_clock(elapsed * (total - ready) / ready)} left"
+        return text
+
+    def fraction(self) -> float:
+        """How far along, 0..1: the steps done, or the kernels ready when that says more."""
+        ready, total, _ = self.kernels
+        return max(self.done / max(1, self.total), ready / total if total else 0.0)
 
     def _progress(self, done: int, total: int, label: str) -> None:
         self.done, self.total, self.label = done, total, label
@@ -207,13 +267,17 @@ class BackgroundWarmUp(threading.Thread):
         # The game may close mid-compile: the child goes with it.
         stop = atexit.register(lambda: child.poll() is None and child.kill())
         try:
+            self.compiling = True
             for line in child.stdout:  # blocks in a read that releases the interpreter lock
                 parts = line.split(maxsplit=3)
                 if len(parts) >= 3 and parts[0] == "step" and parts[1].isdigit() and parts[2].isdigit():
                     self._progress(int(parts[1]), int(parts[2]), parts[3].strip() if len(parts) > 3 else "")
+                elif len(parts) == 4 and parts[0] == "kernels" and all(p.isdigit() for p in parts[1:]):
+                    self.kernels = (int(parts[1]), int(parts[2]), int(parts[3]))
             child.wait()
         finally:
             atexit.unregister(stop)
+            self.compiling = False  # what follows loads what the child compiled
 
     def run(self) -> None:
         start = time.perf_counter()
@@ -232,9 +296,47 @@ class BackgroundWarmUp(threading.Thread):
         return self.finished.is_set()
 
 
+def _clock(seconds: float) -> str:
+    """``75.2`` -> ``"1:15"``."""
+    m, s = divmod(int(seconds), 60)
+    return f"{m}:{s:02d}"
+
+
+def warm_progress(warm) -> tuple | None:
+    """The warm-up's line for a panel: ``(steps done, steps, what is happening, fraction)``, or
+    None when there is none or it is over. The time in it moves once a second, so a still screen
+    showing it is redrawn once a second, not every frame."""
+    if warm is None or warm.ready:
+        return None
+    return warm.done, warm.total, warm.status(), round(warm.fraction(), 3)
+
+
 def main() -> int:
-    """The child process's work: each step, announced as ``step DONE TOTAL LABEL`` on stdout."""
-    warm_up(lambda done, total, label: print(f"step {done} {total} {label}", flush=True))
+    """The child process's work: each step, announced as ``step DONE TOTAL LABEL`` on stdout, and
+    every :data:`COUNT_EVERY` seconds the kernels, as ``kernels READY TOTAL COMPILED``."""
+    import numba.core.dispatcher  # noqa: F401  before the counting thread reads it
+
+    lock = threading.Lock()
+
+    def say(line: str) -> None:
+        with lock:
+            print(line, flush=True)
+
+    stop = threading.Event()
+
+    parent = os.getppid()
+
+    def count() -> None:
+        while not stop.wait(COUNT_EVERY):
+            if os.getppid() != parent:  # the window is gone (killed): no one waits for the kernels
+                os._exit(1)
+            say("kernels {} {} {}".format(*kernel_counts()))
+
+    threading.Thread(target=count, daemon=True).start()
+    try:
+        warm_up(lambda done, total, label: say(f"step {done} {total} {label}"))
+    finally:
+        stop.set()
     return 0
 
 

@@ -35,10 +35,10 @@ from .settings_log import report_warnings, warning_screen_line
 from .views.base import View
 from .warmup import BackgroundWarmUp
 
-#: Seconds between redraws of a still view that has not changed (a menu): a software
-#: rasterizer would otherwise redraw a still screen 120 times a second, taking the CPU the
-#: kernel compile behind the title needs. Below ``on_draw``'s 0.25 s clamp, so time keeps pace.
-IDLE_REDRAW = 0.2
+#: Seconds between updates of a still view (a menu): its clock, notices and the warm-up's
+#: progress need no more, and the loop's 120 wakes a second then cost next to nothing while the
+#: kernels compile. Below ``draw``'s 0.25 s clamp, so time keeps pace.
+IDLE_UPDATE = 0.1
 
 
 class GameWindow(pyglet.window.Window):
@@ -72,7 +72,7 @@ class GameWindow(pyglet.window.Window):
         self.level_drawn = False
         self.screenshot_after, self.quit_after = start.screenshot_after, start.quit_after
         self.shot_pending = False
-        self._drawn_signature, self._drawn_times, self._drawn_at = None, 0, 0.0
+        self._drawn_signature, self._drawn_times = None, 0
         self.session = Session(self, settings, start)
         self.session.first_view(start)
         timing("window open")
@@ -117,25 +117,28 @@ class GameWindow(pyglet.window.Window):
         self.current_view.on_update(dt)
 
     def draw(self, dt: float) -> None:
-        """pyglet's redraw, skipped (no draw, no buffer swap) while a still view is unchanged."""
+        """pyglet's redraw: the clock first, then the picture, skipped (no draw, no buffer swap)
+        while a still view shows what both buffers already hold. A still view (a menu, the title
+        over the kernel compile) is drawn only when what it shows changes, so it leaves the CPU to
+        the compile."""
+        # One update per pass: the wall clock is read here, in the app, and reaches the
+        # simulation only as a whole number of fixed ticks.
+        now = time.perf_counter()
+        if self.last_draw is None or now - self.last_draw >= IDLE_UPDATE or self.current_view.still_frame() is None:
+            self.update(0.0 if self.last_draw is None else min(now - self.last_draw, 0.25))
+            self.last_draw = now
         signature = self.current_view.still_frame()
         if signature is None or self.shot_pending:
             self._drawn_signature = None
         else:
-            now = time.perf_counter()
             fresh = signature != self._drawn_signature
-            if not fresh and self._drawn_times >= 2 and now - self._drawn_at < IDLE_REDRAW:
+            if not fresh and self._drawn_times >= 2:
                 return  # both buffers already hold this picture
             self._drawn_times = 1 if fresh else self._drawn_times + 1
-            self._drawn_signature, self._drawn_at = signature, now
+            self._drawn_signature = signature
         super().draw(dt)
 
     def on_draw(self):
-        # One update per drawn frame: the wall clock is read here, in the app,
-        # and reaches the simulation only as a whole number of fixed ticks.
-        now = time.perf_counter()
-        self.update(0.0 if self.last_draw is None else min(now - self.last_draw, 0.25))
-        self.last_draw = now
         fw, fh = self.get_framebuffer_size()
         self.current_view.on_draw(self.ctx.screen, (0, 0, fw, fh))
         if self.current_view.shows_level and not self.level_drawn:

@@ -187,6 +187,9 @@ class EnergyGauge:
         1 right after a crystal is collected, fading to 0 (the bar flashes).
     empty : bool
         True while the player asked for something the bar cannot pay for (the bar says "NO ENERGY").
+    spent : float
+        Energy just spent, shown after the fill until it sinks in (the window's
+        :class:`~across_dimensions.app.energy_trail.EnergyTrail`; 0 from the game).
     costs : str
         What each 4D action of the level costs, one line over the bar ("W 4/UNIT  GUN 1 ..."),
         so the player knows before taking it; "" when nothing costs anything.
@@ -196,6 +199,7 @@ class EnergyGauge:
     maximum: float
     flash: float = 0.0
     empty: bool = False
+    spent: float = 0.0
     costs: str = ""
 
 
@@ -299,11 +303,16 @@ class Radar:
     w_scale : float
         Disc radii per unit of w offset (pin height = w offset * w_scale).
     pins : list of RadarPin
+    interest : (n, 4) float64
+        What the player may be looking for in the slice now (crystals, switches, bodies,
+        enemies whose cross-section shows): centre ``x, y, z`` in the frame's 3D space and a
+        radius. The renderer fades the radar while one of them lies behind it on screen.
     """
 
     range: float
     w_scale: float
     pins: list[RadarPin] = field(default_factory=list)
+    interest: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
 
 
 @dataclass

@@ -1,8 +1,13 @@
 """The level's hints, shown one at a time until the player does what each one asks.
 
-A level's ``hints`` are plain strings (``levels/README.md``); their ``{action}`` placeholders say
-both which keys to show (the window fills in the player's own bindings) and what the hint asks
-for. A hint is *done* when the player performs any action it names while it is on screen:
+A hint that asks for an outcome says which in the level file (``until``, :mod:`..world.hints`):
+the crystal taken, the switch's door gone, the barrier passed. It is done when that level state
+holds, never by a key press alone; and when the state of a *later* hint already holds, the hints
+before it are done too, so they follow a player who runs ahead. The level's end closes them all.
+
+Any other hint's ``{action}`` placeholders say both which keys to show (the window fills in the
+player's own bindings) and what the hint asks for. It is *done* when the player performs any
+action it names while it is on screen:
 
 * a held input (walking, moving along w, jumping, holding fire) counts once it has been held for
   :data:`HOLD_SECONDS` in total while the hint shows, so "hold {w_ana}" is done by holding, not by
@@ -24,6 +29,7 @@ from __future__ import annotations
 import string
 from dataclasses import dataclass, field
 
+from ..world.hints import HintSpec
 from .actions import PRESSES, Actions
 
 #: Seconds an input must be held (in total, while the hint shows) to count as done: long enough
@@ -58,6 +64,25 @@ def placeholders(text: str) -> tuple[str, ...]:
         return ()
 
 
+def holds(until: dict, game) -> bool:
+    """Whether ``game`` (a :class:`~.sim.Game`) is in the state ``until`` names (all of it)."""
+    p = game.player.position
+    for key, v in until.items():
+        if key == "event":
+            ok = game.event_counts.get(v, 0) > 0
+        elif key == "gone":
+            ok = game.entities.named(v) is None
+        elif key == "weapon":
+            ars = game.states.weapons
+            ok = ars is not None and ars.current.kind == v
+        else:
+            x = float(p["xyzw".index(key[0])])
+            ok = x >= v if key.endswith("_min") else x <= v
+        if not ok:
+            return False
+    return True
+
+
 def reading_seconds(text: str) -> float:
     """Seconds a hint without an action stays on screen."""
     return READ_BASE_SECONDS + READ_SECONDS_PER_CHAR * len(text)
@@ -69,6 +94,7 @@ class Hint:
 
     text: str
     asks: tuple[str, ...]
+    until: dict = field(default_factory=dict)
     shown: float = 0.0  # seconds on screen so far
     held: float = 0.0  # seconds of holding an asked-for input while on screen
     done: bool = False
@@ -80,24 +106,27 @@ class HintBook:
 
     Parameters
     ----------
-    texts : list of str
-        The level's hints, with their ``{action}`` placeholders unfilled.
+    texts : list of HintSpec or str
+        The level's hints, with their ``{action}`` placeholders unfilled (a string: no ``until``).
 
     Notes
     -----
-    Call :meth:`tick` once per simulated tick with that tick's actions, :meth:`note` when the
+    Call :meth:`tick` once per simulated tick with that tick's actions and the game after it, :meth:`note` when the
     player presses a key for an action that never reaches the simulation (toggle the radar,
     take a screenshot ...), and :meth:`toggle` for the ``hints`` key. :meth:`current` is what to
     show.
     """
 
-    texts: list[str]
+    texts: list
     hints: list[Hint] = field(init=False)
     reviewing: bool = False
 
     def __post_init__(self) -> None:
-        self.texts = list(self.texts)
-        self.hints = [Hint(t, placeholders(t)) for t in self.texts]
+        self.texts = [HintSpec(t) if isinstance(t, str) else t for t in self.texts]
+        self.hints = self._fresh()
+
+    def _fresh(self) -> list[Hint]:
+        return [Hint(t.text, placeholders(t.text), dict(t.until)) for t in self.texts]
 
     def current(self) -> Hint | None:
         """The hint on screen, or None when every hint is done."""
@@ -107,20 +136,34 @@ class HintBook:
         """Index of the hint on screen in the level's list, -1 when none."""
         return next((i for i, h in enumerate(self.hints) if not h.done), -1)
 
-    def tick(self, actions: Actions, dt: float) -> None:
-        """One simulated tick of ``dt`` seconds passed with ``actions`` as the player's input."""
+    def tick(self, actions: Actions, dt: float, game=None) -> None:
+        """One simulated tick of ``dt`` seconds passed with ``actions`` as the player's input;
+        ``game`` is the state after it (None: only actions and reading times count)."""
         h = self.current()
         if h is None:
             return
         h.shown += dt
-        if not h.asks or self.reviewing:
-            if h.shown >= reading_seconds(h.text):
+        if game is not None and not self.reviewing and self._state_done(game):
+            return
+        if not h.asks or self.reviewing or h.until:
+            if h.shown >= reading_seconds(h.text) and (self.reviewing or not h.until):
                 h.done = True
             if h.asks and self.reviewing and self._performed(h, actions, dt):
                 h.done = True
             return
         if self._performed(h, actions, dt):
             h.done = True
+
+    def _state_done(self, game) -> bool:
+        """Close the hints up to the last whose ``until`` holds (all at the level's end)."""
+        if game.event_counts.get("level_complete", 0):
+            for h in self.hints:
+                h.done = True
+            return True
+        last = max((i for i, h in enumerate(self.hints) if not h.done and h.until and holds(h.until, game)), default=-1)
+        for h in self.hints[: last + 1]:
+            h.done = True
+        return last >= 0
 
     def _performed(self, h: Hint, actions: Actions, dt: float) -> bool:
         if any(actions.pressed(a) for a in h.asks):
@@ -135,7 +178,7 @@ class HintBook:
         if action in _HELD or action in PRESSES:
             return
         h = self.current()
-        if h is not None and action in h.asks:
+        if h is not None and action in h.asks and not h.until:
             h.done = True
 
     def toggle(self) -> None:
@@ -144,7 +187,7 @@ class HintBook:
         if h is not None:
             h.done = True
         elif self.hints:
-            self.hints = [Hint(t, placeholders(t)) for t in self.texts]
+            self.hints = self._fresh()
             self.reviewing = True
 
     def remaining(self) -> int:

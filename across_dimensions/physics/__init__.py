@@ -35,8 +35,8 @@ Game-facing API of :class:`PhysicsWorld`:
 Modules: :mod:`.bivector` (rotation maths on bivectors), :mod:`.mass`
 (hypervolumes and inertia), :mod:`.state` (the named bundles a tick works on),
 :mod:`.pipeline` (one compiled tick) and its stages in order: :mod:`.broadphase`,
-:mod:`.narrowphase` (shape pairs in :mod:`.collide` and :mod:`.tet_mesh`, kept box
-manifolds in :mod:`.reuse`), :mod:`.prepare` (contact preparation), :mod:`.solver`
+:mod:`.narrowphase` (shape pairs in :mod:`.collide`, :mod:`.boxes` and
+:mod:`.tet_contacts`, kept box manifolds in :mod:`.reuse`), :mod:`.prepare` (contact preparation), :mod:`.solver`
 (contact impulses, with :mod:`.scalars`), :mod:`.integration` and :mod:`.islands`
 (waking and sleeping); :mod:`.queries` (ray casts, box push-out), :mod:`.body_def`,
 :mod:`.world_def`, :mod:`.events`, :mod:`.debug_draw`, :mod:`.world` (with

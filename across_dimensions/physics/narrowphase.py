@@ -16,8 +16,7 @@ reference-count call per array, see :mod:`.state`):
 3. the shape tests: :func:`_body_pass` (two bodies), :func:`_plane_pass`
    (half-spaces and convex solids), :func:`_box_pass` (world boxes and solid
    boxes), :func:`_tet_pass` (tet meshes);
-4. :func:`_compact`: the pairs' points, each written at its own slot of
-   :data:`.collide.MAX_POINTS` rows, moved together in key order;
+4. :func:`_compact`: the pairs' points, written pass by pass, put in key order;
 5. :func:`_keep_pass` (this tick's manifolds) and :func:`_label_pass` (pair
    names and surface velocities).
 """
@@ -31,22 +30,22 @@ import numpy as np
 from across_dimensions.core._jit import njit
 
 from .borrow import borrowed, keep
+from .boxes import box_box, separated_along
 from .collide import (
     BOX,
     MAX_POINTS,
     SCRATCH_ROWS,
     SPHERE,
-    box_box,
+    Box,
     box_halfspace,
     box_sphere,
-    separated_along,
     sphere_halfspace,
     sphere_sphere,
 )
 from .reuse import emit_kept, keep_points, pair_pose, pose_close
 from .sorting import argsort_by_body
 from .state import STATIC_KEY
-from .tet_mesh import box_tets, sphere_tets
+from .tet_contacts import box_tets, sphere_tets
 
 
 class PairPlan(NamedTuple):
@@ -70,8 +69,12 @@ class PairPlan(NamedTuple):
         Points found; ``-1 - axis`` for two boxes apart along ``axis``.
     tet : (P,) int64
         The tet mesh of a pair with one, or -1.
+    src : (P,) int64
+        First row of the pair's points as its pass wrote them.
     start : (P,) int64
         First row of the pair's points after :func:`_compact`.
+    rows : (1,) int64
+        Rows the passes have written so far.
     """
 
     order: np.ndarray
@@ -81,7 +84,9 @@ class PairPlan(NamedTuple):
     old: np.ndarray
     got: np.ndarray
     tet: np.ndarray
+    src: np.ndarray
     start: np.ndarray
+    rows: np.ndarray
 
 
 #: Rows of the narrowphase's work array: the routines' rows, then the small arrays below.
@@ -128,7 +133,10 @@ def _plan(npairs, pairs, bodies, static, prm):
             elif s < nh + nw + ns:
                 frame[op] = 2
     none = np.full(npairs, -1, dtype=np.int64)
-    return PairPlan(order, keys[order], frame, none, none.copy(), np.zeros(npairs, np.int64), none.copy(), none.copy())
+    zero = np.zeros(npairs, np.int64)
+    return PairPlan(
+        order, keys[order], frame, none, none.copy(), zero, none.copy(), zero.copy(), zero.copy(), np.zeros(1, np.int64)
+    )
 
 
 @njit(inline="always")
@@ -149,9 +157,10 @@ def _frame_pose(frame, b, pos, rot, solids, first_solid, work):
 
 @njit(cache=True)
 def _reuse_pass(plan, bodies, static, scratch, contacts, prm, work, kept):
-    """Reuse each kept manifold whose pair moved less than the tolerances (its points go to the
-    pair's slot); note last tick's separating axis of two boxes found apart."""
+    """Reuse each kept manifold whose pair moved less than the tolerances; note last tick's
+    separating axis of two boxes found apart."""
     order, keys, frames, tried, olds, gots = plan.order, plan.key, plan.frame, plan.tried, plan.old, plan.got
+    src, cur = plan.src, plan.rows
     pairs = scratch.pairs
     marg = scratch.margin
     pos = bodies.position
@@ -179,9 +188,11 @@ def _reuse_pass(plan, bodies, static, scratch, contacts, prm, work, kept):
         pair_pose(pos[a], rot[a], fx, fr, pose)
         if pose_close(pose, old_pose, oi, prm.reuse_distance, prm.reuse_angle):
             m = marg[a] + (marg[b] - prm.margin if b >= 0 else 0.0)
-            k = op * MAX_POINTS
+            k = cur[0]
             gots[op] = emit_kept(old_local, old_first[oi], old_count[oi], (pos[a], rot[a]), (fx, fr), m, out, k)
             olds[op] = oi
+            src[op] = k
+            cur[0] = k + gots[op]
 
 
 @njit(inline="always")
@@ -194,26 +205,27 @@ def _flip(cn, k, got):
 
 @njit(cache=True)
 def _body_pass(plan, bodies, scratch, contacts, prm, work):
-    """Contacts of the pairs of two bodies (not reused) at their slots; ``-1 - axis`` as ``got``
-    for two boxes apart along candidate ``axis``."""
+    """Contacts of the pairs of two bodies (not reused); ``-1 - axis`` as ``got`` for two boxes
+    apart along candidate ``axis``."""
     order, tried, olds, gots = plan.order, plan.tried, plan.old, plan.got
+    src, cur = plan.src, plan.rows
     pairs = scratch.pairs
     marg = scratch.margin
-    sp = scratch.points
-    sd = scratch.point_depths
+    cand = (scratch.points, scratch.point_depths)
     shape = bodies.shape
     half = bodies.half_extents
     pos = bodies.position
     rot = bodies.rotation
     bound = bodies.bound
-    cp, cn, cd = contacts.point, contacts.normal, contacts.depth
+    cn = contacts.normal
+    out = (contacts.point, cn, contacts.depth)
     wk = work[:SCRATCH_ROWS]
     for op in range(order.shape[0]):
         a = pairs[order[op], 0]
         b = pairs[order[op], 1]
         if b < 0 or olds[op] >= 0:
             continue
-        k = op * MAX_POINTS
+        k = cur[0]
         m = marg[a] + marg[b] - prm.margin
         # Bounding balls apart by more than the margin: no contact whatever
         # the shapes (a cheap exit before the full test; the box-box test
@@ -226,27 +238,31 @@ def _body_pass(plan, bodies, scratch, contacts, prm, work):
         if d2 > reach * reach:
             continue
         if shape[a] == SPHERE and shape[b] == SPHERE:
-            gots[op] = sphere_sphere(pos[a], half[a, 0], pos[b], half[b, 0], m, wk, cp, cn, cd, k)
+            gots[op] = sphere_sphere(pos[a], half[a, 0], pos[b], half[b, 0], m, wk, out, k)
         elif shape[a] == BOX and shape[b] == SPHERE:
-            gots[op] = box_sphere(pos[a], rot[a], half[a], pos[b], half[b, 0], m, wk, cp, cn, cd, k)
+            gots[op] = box_sphere(Box(pos[a], rot[a], half[a]), pos[b], half[b, 0], m, wk, out, k)
         elif shape[a] == SPHERE and shape[b] == BOX:
-            gots[op] = box_sphere(pos[b], rot[b], half[b], pos[a], half[a, 0], m, wk, cp, cn, cd, k)
+            gots[op] = box_sphere(Box(pos[b], rot[b], half[b]), pos[a], half[a, 0], m, wk, out, k)
             _flip(cn, k, gots[op])
-        elif tried[op] >= 0 and separated_along(tried[op], pos[a], rot[a], half[a], pos[b], rot[b], half[b], m, wk):
+        elif tried[op] >= 0 and separated_along(
+            tried[op], Box(pos[a], rot[a], half[a]), Box(pos[b], rot[b], half[b]), m, wk
+        ):
             gots[op] = -1 - tried[op]
         else:
-            gots[op] = box_box(pos[a], rot[a], half[a], pos[b], rot[b], half[b], m, sp, sd, wk, cp, cn, cd, k)
+            gots[op] = box_box(Box(pos[a], rot[a], half[a]), Box(pos[b], rot[b], half[b]), m, cand, wk, out, k)
+        src[op] = k
+        cur[0] = k + max(gots[op], 0)
 
 
 @njit(cache=True)
 def _plane_pass(plan, bodies, static, scratch, contacts, work):
     """Contacts of bodies with half-spaces, and with convex solids through the facet of least
-    penetration (when it is within the margin), at the pairs' slots."""
+    penetration (when it is within the margin)."""
     order, olds, gots = plan.order, plan.old, plan.got
+    src, cur = plan.src, plan.rows
     pairs = scratch.pairs
     marg = scratch.margin
-    sp = scratch.points
-    sd = scratch.point_depths
+    cand = (scratch.points, scratch.point_depths)
     shape = bodies.shape
     half = bodies.half_extents
     pos = bodies.position
@@ -256,7 +272,8 @@ def _plane_pass(plan, bodies, static, scratch, contacts, work):
     cr = static.convex_ranges
     nh = hs.shape[0]
     first_convex = nh + static.boxes.shape[0] + static.solids.shape[0]
-    cp, cn, cd = contacts.point, contacts.normal, contacts.depth
+    cn = contacts.normal
+    out = (contacts.point, cn, contacts.depth)
     wk = work[:SCRATCH_ROWS]
     for op in range(order.shape[0]):
         a = pairs[order[op], 0]
@@ -275,11 +292,13 @@ def _plane_pass(plan, bodies, static, scratch, contacts, work):
         pn = work[_NORMAL]
         for t in range(4):
             pn[t] = planes[f, t]
-        k = op * MAX_POINTS
+        k = cur[0]
         if shape[a] == SPHERE:
-            gots[op] = sphere_halfspace(pos[a], half[a, 0], pn, planes[f, 4], m, cp, cn, cd, k)
+            gots[op] = sphere_halfspace(pos[a], half[a, 0], pn, planes[f, 4], m, out, k)
         else:
-            gots[op] = box_halfspace(pos[a], rot[a], half[a], pn, planes[f, 4], m, sp, sd, wk, cp, cn, cd, k)
+            gots[op] = box_halfspace(Box(pos[a], rot[a], half[a]), pn, planes[f, 4], m, cand, wk, out, k)
+        src[op] = k
+        cur[0] = k + max(gots[op], 0)
 
 
 @njit(inline="always")
@@ -314,16 +333,16 @@ def _least_penetration(planes, rows, a, shape, half, pos, rot):
 
 @njit(cache=True)
 def _box_pass(plan, bodies, static, scratch, contacts, work):
-    """Contacts of bodies with the level's solid boxes and with world boxes, at the pairs' slots.
+    """Contacts of bodies with the level's solid boxes and with world boxes.
 
     A world box spans all of w: it is made a 4D box wide enough in w that its
     w faces can never be the separating axis.
     """
     order, olds, gots = plan.order, plan.old, plan.got
+    src, cur = plan.src, plan.rows
     pairs = scratch.pairs
     marg = scratch.margin
-    sp = scratch.points
-    sd = scratch.point_depths
+    cand = (scratch.points, scratch.point_depths)
     shape = bodies.shape
     half = bodies.half_extents
     pos = bodies.position
@@ -332,7 +351,8 @@ def _box_pass(plan, bodies, static, scratch, contacts, work):
     so = static.solids
     nh = static.half_spaces.shape[0]
     nw = wb.shape[0]
-    cp, cn, cd = contacts.point, contacts.normal, contacts.depth
+    cn = contacts.normal
+    out = (contacts.point, cn, contacts.depth)
     wk = work[:SCRATCH_ROWS]
     vx = work[_X]
     vh = work[_HALF]
@@ -361,73 +381,70 @@ def _box_pass(plan, bodies, static, scratch, contacts, work):
             vx[3] = pos[a, 3]
             vh[3] = 4.0 * np.sqrt(rad) + 1.0
             br = vr
-        k = op * MAX_POINTS
+        k = cur[0]
         if shape[a] == SPHERE:
-            gots[op] = box_sphere(vx, br, vh, pos[a], half[a, 0], marg[a], wk, cp, cn, cd, k)
+            gots[op] = box_sphere(Box(vx, br, vh), pos[a], half[a, 0], marg[a], wk, out, k)
             _flip(cn, k, gots[op])
         else:
-            gots[op] = box_box(pos[a], rot[a], half[a], vx, br, vh, marg[a], sp, sd, wk, cp, cn, cd, k)
+            gots[op] = box_box(Box(pos[a], rot[a], half[a]), Box(vx, br, vh), marg[a], cand, wk, out, k)
+        src[op] = k
+        cur[0] = k + max(gots[op], 0)
 
 
 @njit(cache=True)
 def _tet_pass(plan, bodies, static, scratch, contacts):
     """Contacts of bodies with the level's tet meshes (the boundaries of its other solid objects)."""
     order, gots, tet = plan.order, plan.got, plan.tet
+    src, cur = plan.src, plan.rows
     pairs = scratch.pairs
     marg = scratch.margin
-    tcp, tcn, tcd = scratch.tet_points, scratch.tet_normals, scratch.tet_depths
+    cand = (scratch.tet_points, scratch.tet_normals, scratch.tet_depths)
     shape = bodies.shape
     half = bodies.half_extents
     pos = bodies.position
     rot = bodies.rotation
-    tets, tpl, tby, tbd = static.tets, static.tet_planes, static.tet_bary, static.tet_bounds
+    mesh = (static.tets, static.tet_planes, static.tet_bary, static.tet_bounds)
     tr = static.tet_ranges
     tsw = static.tet_sweep
     first = static.half_spaces.shape[0] + static.boxes.shape[0] + static.solids.shape[0]
     first += static.convex_ranges.shape[0]
-    cp, cn, cd = contacts.point, contacts.normal, contacts.depth
+    out = (contacts.point, contacts.normal, contacts.depth)
     for op in range(order.shape[0]):
         a = pairs[order[op], 0]
         q = -1 - pairs[order[op], 1] - first
         if q < 0:
             continue
-        t0 = tr[q, 0]
-        t1 = tr[q, 1]
-        ax = int(tsw[q, 0])
-        ext = tsw[q, 1]
+        run = (tr[q, 0], tr[q, 1], int(tsw[q, 0]), tsw[q, 1])
         m = marg[a]
-        k = op * MAX_POINTS
+        k = cur[0]
         tet[op] = q
         if shape[a] == SPHERE:
-            gots[op] = sphere_tets(
-                pos[a], half[a, 0], tets, tpl, tby, tbd, t0, t1, ax, ext, m, tcp, tcn, tcd, cp, cn, cd, k
-            )
+            gots[op] = sphere_tets(pos[a], half[a, 0], mesh, run, m, cand, out, k)
         else:
-            gots[op] = box_tets(
-                pos[a], rot[a], half[a], tets, tpl, tby, tbd, t0, t1, ax, ext, m, tcp, tcn, tcd, cp, cn, cd, k
-            )
+            gots[op] = box_tets(Box(pos[a], rot[a], half[a]), mesh, run, m, cand, out, k)
+        src[op] = k
+        cur[0] = k + max(gots[op], 0)
 
 
 @njit(cache=True)
 def _compact(plan, contacts):
-    """Move each pair's points from its slot to follow the previous pair's; returns the count.
-
-    A pair's slot starts at or after where its points go, so rows move
-    forward only and none is overwritten before it is read.
-    """
-    gots, start = plan.got, plan.start
+    """Put the pairs' points in key order (the passes wrote them pass by pass); returns the count."""
+    gots, src, start = plan.got, plan.src, plan.start
     cp, cn, cd = contacts.point, contacts.normal, contacts.depth
+    total = plan.rows[0]
+    tp = cp[:total].copy()
+    tn = cn[:total].copy()
+    td = cd[:total].copy()
     k = 0
     for op in range(gots.shape[0]):
         got = max(gots[op], 0)
         start[op] = k
-        src = op * MAX_POINTS
-        if src != k:
-            for q in range(got):
-                for t in range(4):
-                    cp[k + q, t] = cp[src + q, t]
-                    cn[k + q, t] = cn[src + q, t]
-                cd[k + q] = cd[src + q]
+        s = src[op]
+        for q in range(got):
+            for t in range(4):
+                cp[k + q, t] = tp[s + q, t]
+                cn[k + q, t] = tn[s + q, t]
+            cd[k + q] = td[s + q]
         k += got
     return k
 

@@ -58,36 +58,19 @@ def _slab_hit(o, d, lo, hi, ndim):
 
 
 @njit(cache=True)
-def raycast_kernel(bodies, static, o, d, max_t, use_world, normal):
-    """Nearest hit of the ray ``o + t d`` (``d`` unit, ``0 <= t <= max_t``).
-
-    Shapes that contain the origin are skipped, so a shot fired from inside a
-    body (the shooter) passes out of it.
-
-    Returns
-    -------
-    hit : int
-        Body index, ``-1 - s`` for static world collider ``s``, or ``-(2**62)``
-        for no hit.
-    t : float
-    normal : (4,) float64
-        Written with the outward surface normal at the hit.
-    """
-    nb = bodies.count
+def _ray_bodies(bodies, o, d, best_t, normal):
+    """Nearest body hit before ``best_t``: ``(body or -(2**62), t)``."""
     alive = bodies.alive
     shape = bodies.shape
     half = bodies.half_extents
     pos = bodies.position
     rot = bodies.rotation
-    hs = static.half_spaces
-    wb = static.boxes
-    best_t = max_t
     best = -(1 << 62)
     ol = np.empty(4)
     dl = np.empty(4)
     lo = np.empty(4)
     hi = np.empty(4)
-    for i in range(nb):
+    for i in range(bodies.count):
         if not alive[i]:
             continue
         if shape[i] == SPHERE:
@@ -124,106 +107,159 @@ def raycast_kernel(bodies, static, o, d, max_t, use_world, normal):
                 best = i
                 for m in range(4):
                     normal[m] = sg * rot[i, m, ax]
-    if use_world:
-        nh = hs.shape[0]
-        for s in range(nh):
-            dn = 0.0
-            on = -hs[s, 4]
+    return best, best_t
+
+
+@njit(cache=True)
+def _ray_half_spaces_and_boxes(static, o, d, best, best_t, normal):
+    """Nearer hits of the half-spaces and 3D world boxes: ``(hit, t)``."""
+    hs = static.half_spaces
+    wb = static.boxes
+    nh = hs.shape[0]
+    lo = np.empty(4)
+    hi = np.empty(4)
+    for s in range(nh):
+        dn = 0.0
+        on = -hs[s, 4]
+        for m in range(4):
+            dn += hs[s, m] * d[m]
+            on += hs[s, m] * o[m]
+        if dn >= 0.0 or on < 0.0:
+            continue
+        t = -on / dn
+        if t < best_t:
+            best_t = t
+            best = -1 - s
             for m in range(4):
-                dn += hs[s, m] * d[m]
-                on += hs[s, m] * o[m]
-            if dn >= 0.0 or on < 0.0:
+                normal[m] = hs[s, m]
+    for s in range(wb.shape[0]):
+        for a in range(3):
+            lo[a] = wb[s, a] - wb[s, 3 + a]
+            hi[a] = wb[s, a] + wb[s, 3 + a]
+        t, ax, sg = _slab_hit(o, d, lo, hi, 3)
+        if ax >= 0 and t < best_t:
+            best_t = t
+            best = -1 - nh - s
+            for m in range(4):
+                normal[m] = 0.0
+            normal[ax] = sg
+    return best, best_t
+
+
+@njit(cache=True)
+def _ray_solids(static, o, d, best, best_t, normal):
+    """Nearer hits of the level's solid boxes and convex solids: ``(hit, t)``.
+
+    A convex solid clips the ray by every facet (Cyrus-Beck); the ray enters
+    where the last facet it crosses from outside lets it in.
+    """
+    so = static.solids
+    cpl = static.convex_planes
+    cr = static.convex_ranges
+    first = static.half_spaces.shape[0] + static.boxes.shape[0]
+    ol = np.empty(4)
+    dl = np.empty(4)
+    lo = np.empty(4)
+    hi = np.empty(4)
+    for s in range(so.shape[0]):
+        for a in range(4):
+            u = 0.0
+            v = 0.0
+            for m in range(4):
+                u += so[s, 8 + 4 * m + a] * (o[m] - so[s, m])
+                v += so[s, 8 + 4 * m + a] * d[m]
+            ol[a] = u
+            dl[a] = v
+            lo[a] = -so[s, 4 + a]
+            hi[a] = so[s, 4 + a]
+        t, ax, sg = _slab_hit(ol, dl, lo, hi, 4)
+        if ax >= 0 and t < best_t:
+            best_t = t
+            best = -1 - first - s
+            for m in range(4):
+                normal[m] = sg * so[s, 8 + 4 * m + ax]
+    for q in range(cr.shape[0]):
+        t_in = -np.inf
+        t_out = np.inf
+        f_in = -1
+        for f in range(cr[q, 0], cr[q, 1]):
+            dn = 0.0
+            on = -cpl[f, 4]
+            for m in range(4):
+                dn += cpl[f, m] * d[m]
+                on += cpl[f, m] * o[m]
+            if dn == 0.0:
+                if on > 0.0:
+                    t_in = np.inf
+                    break
                 continue
             t = -on / dn
-            if t < best_t:
-                best_t = t
-                best = -1 - s
-                for m in range(4):
-                    normal[m] = hs[s, m]
-        for s in range(wb.shape[0]):
-            for a in range(3):
-                lo[a] = wb[s, a] - wb[s, 3 + a]
-                hi[a] = wb[s, a] + wb[s, 3 + a]
-            t, ax, sg = _slab_hit(o, d, lo, hi, 3)
-            if ax >= 0 and t < best_t:
-                best_t = t
-                best = -1 - nh - s
-                for m in range(4):
-                    normal[m] = 0.0
-                normal[ax] = sg
-        so = static.solids
-        nw = wb.shape[0]
-        for s in range(so.shape[0]):
-            for a in range(4):
-                u = 0.0
-                v = 0.0
-                for m in range(4):
-                    u += so[s, 8 + 4 * m + a] * (o[m] - so[s, m])
-                    v += so[s, 8 + 4 * m + a] * d[m]
-                ol[a] = u
-                dl[a] = v
-                lo[a] = -so[s, 4 + a]
-                hi[a] = so[s, 4 + a]
-            t, ax, sg = _slab_hit(ol, dl, lo, hi, 4)
-            if ax >= 0 and t < best_t:
-                best_t = t
-                best = -1 - nh - nw - s
-                for m in range(4):
-                    normal[m] = sg * so[s, 8 + 4 * m + ax]
-        # Convex solids: clip the ray by every facet (Cyrus-Beck); it enters
-        # where the last facet it crosses from outside lets it in.
-        cpl = static.convex_planes
-        cr = static.convex_ranges
-        ns = so.shape[0]
-        for q in range(cr.shape[0]):
-            t_in = -np.inf
-            t_out = np.inf
-            f_in = -1
-            for f in range(cr[q, 0], cr[q, 1]):
-                dn = 0.0
-                on = -cpl[f, 4]
-                for m in range(4):
-                    dn += cpl[f, m] * d[m]
-                    on += cpl[f, m] * o[m]
-                if dn == 0.0:
-                    if on > 0.0:
-                        t_in = np.inf
-                        break
-                    continue
-                t = -on / dn
-                if dn < 0.0:
-                    if t > t_in:
-                        t_in = t
-                        f_in = f
-                elif t < t_out:
-                    t_out = t
-            if f_in >= 0 and 0.0 <= t_in <= t_out and t_in < best_t:
-                best_t = t_in
-                best = -1 - nh - nw - ns - q
-                for m in range(4):
-                    normal[m] = cpl[f_in, m]
-        # Tet meshes: the nearest outward face hit, within meshes whose bounds the ray meets.
-        tr = static.tet_ranges
-        tmb = static.tet_mesh_bounds
-        nq = cr.shape[0]
-        for q in range(tr.shape[0]):
-            for a in range(4):
-                lo[a] = tmb[q, a]
-                hi[a] = tmb[q, 4 + a]
-            inside = True
-            for a in range(4):
-                if o[a] < lo[a] or o[a] > hi[a]:
-                    inside = False
-            if not inside:
-                t, ax, sg = _slab_hit(o, d, lo, hi, 4)
-                if ax < 0 or t >= best_t:
-                    continue
-            t, hit = ray_tets(o, d, static.tets, static.tet_planes, static.tet_bary, tr[q, 0], tr[q, 1], best_t)
-            if hit >= 0:
-                best_t = t
-                best = -1 - nh - nw - ns - nq - q
-                for m in range(4):
-                    normal[m] = static.tet_planes[hit, m]
+            if dn < 0.0:
+                if t > t_in:
+                    t_in = t
+                    f_in = f
+            elif t < t_out:
+                t_out = t
+        if f_in >= 0 and 0.0 <= t_in <= t_out and t_in < best_t:
+            best_t = t_in
+            best = -1 - first - so.shape[0] - q
+            for m in range(4):
+                normal[m] = cpl[f_in, m]
+    return best, best_t
+
+
+@njit(cache=True)
+def _ray_tet_meshes(static, o, d, best, best_t, normal):
+    """Nearer hits of the tet meshes: the nearest outward face hit, within meshes whose bounds
+    the ray meets: ``(hit, t)``."""
+    tr = static.tet_ranges
+    tmb = static.tet_mesh_bounds
+    first = static.half_spaces.shape[0] + static.boxes.shape[0] + static.solids.shape[0]
+    first += static.convex_ranges.shape[0]
+    lo = np.empty(4)
+    hi = np.empty(4)
+    for q in range(tr.shape[0]):
+        for a in range(4):
+            lo[a] = tmb[q, a]
+            hi[a] = tmb[q, 4 + a]
+        inside = True
+        for a in range(4):
+            if o[a] < lo[a] or o[a] > hi[a]:
+                inside = False
+        if not inside:
+            t, ax, sg = _slab_hit(o, d, lo, hi, 4)
+            if ax < 0 or t >= best_t:
+                continue
+        t, hit = ray_tets(o, d, static.tets, static.tet_planes, static.tet_bary, tr[q, 0], tr[q, 1], best_t)
+        if hit >= 0:
+            best_t = t
+            best = -1 - first - q
+            for m in range(4):
+                normal[m] = static.tet_planes[hit, m]
+    return best, best_t
+
+
+@njit(cache=True)
+def raycast_kernel(bodies, static, o, d, max_t, use_world, normal):
+    """Nearest hit of the ray ``o + t d`` (``d`` unit, ``0 <= t <= max_t``).
+
+    Shapes that contain the origin are skipped, so a shot fired from inside a
+    body (the shooter) passes out of it.
+
+    Returns
+    -------
+    hit : int
+        Body index, ``-1 - s`` for static world collider ``s``, or ``-(2**62)``
+        for no hit.
+    t : float
+    normal : (4,) float64
+        Written with the outward surface normal at the hit.
+    """
+    best, best_t = _ray_bodies(bodies, o, d, max_t, normal)
+    if use_world:
+        best, best_t = _ray_half_spaces_and_boxes(static, o, d, best, best_t, normal)
+        best, best_t = _ray_solids(static, o, d, best, best_t, normal)
+        best, best_t = _ray_tet_meshes(static, o, d, best, best_t, normal)
     return best, best_t
 
 

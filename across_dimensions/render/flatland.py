@@ -32,7 +32,8 @@ from ..core.mesh import TriMesh3
 from ..game.flatland.view import FlatFrame
 from ..game.frame import Camera3, Drawable, Frame, Hud
 from .font import GLYPH_H, text_width
-from .hud import _QuadList, hud_quads
+from .hud import hud_quads
+from .quads import QuadList
 from .renderer import Renderer
 from .text_layout import scaled
 
@@ -335,7 +336,7 @@ class FlatRenderer:
     # ---------------------------------------------------------------- the z bar
     def _bar_quads(self, frame: FlatFrame, width: int, height: int, alpha: float) -> np.ndarray:
         """The z bar beside the view: ``(n, 12) float32`` HUD quads."""
-        q = _QuadList()
+        q = QuadList()
         s = scaled(max(1, height // 300))
         bar_w = max(6, width // 110)
         x0 = width - max(4, width // 64) - bar_w

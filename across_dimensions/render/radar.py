@@ -50,7 +50,8 @@ from ..game.frame import RADAR_KINDS, Camera3, Radar
 from .context import RenderError
 from .hud import HudMetrics
 from .palette import current, pin
-from .shaders import FLAT_FRAGMENT, FLAT_VERTEX
+from .radar_shapes import disc_vertices, unit_shapes, weld
+from .shaders import FLAT_VERTEX
 
 #: The disc's radius in radar space; pin heights and positions are in these units.
 RADIUS = 1.0
@@ -100,14 +101,6 @@ def _kind_rgb(palette: str) -> np.ndarray:
 #: Floats per instance: position xyz | scale xyz | colour rgb, emission.
 INSTANCE_FLOATS = 10
 
-DISC_FILL = (0.06, 0.22, 0.32, 0.42)
-DISC_RIM_FILL = (0.10, 0.38, 0.52, 0.55)
-RING_COLOR = (0.45, 0.85, 1.0, 0.55)
-RIM_COLOR = (0.6, 0.95, 1.0, 0.95)
-AXIS_COLOR = (0.45, 0.85, 1.0, 0.22)
-WEDGE_COLOR = (0.7, 0.95, 1.0, 0.14)
-FORWARD_COLOR = (0.85, 1.0, 1.0, 0.95)
-PLAYER_COLOR = (1.0, 1.0, 1.0, 1.0)
 BACKDROP_COLOR = (0.0, 0.02, 0.05, 0.5)
 #: Rings round the pin a seek heads for.
 SOUGHT_COLOR = (1.0, 0.97, 0.55)
@@ -182,17 +175,9 @@ def radar_geometry(radar: Radar, px_per_radius: float = 120.0) -> RadarGeometry:
     emission = np.where(seen, 0.8, 0.0)
     ones = np.ones(n)
 
-    def rows(pos, scale, rgb, em):
-        out = np.empty((len(rgb), INSTANCE_FLOATS), np.float32)
-        out[:, 0:3] = pos
-        out[:, 3:6] = scale
-        out[:, 6:9] = rgb
-        out[:, 9] = em
-        return out
-
     inst: dict[str, np.ndarray] = {}
     heads = np.stack([x, y, z], axis=1)
-    head_rows = rows(heads, size[:, None], color, emission)
+    head_rows = _rows(heads, size[:, None], color, emission)
     # Group the heads by shape with one stable sort (pins of one kind keep their order).
     shape_code = _KIND_SHAPE[code]
     order = np.argsort(shape_code, kind="stable")
@@ -205,23 +190,45 @@ def radar_geometry(radar: Radar, px_per_radius: float = 120.0) -> RadarGeometry:
     stem_w = max(STEM_WIDTH, STEM_MIN_PX * px)
     sy = np.where(np.abs(y) < 1e-4, 1e-4, y)
     disc = np.stack([x, 0 * x, z], 1)
-    inst["stem"] = rows(disc, np.stack([stem_w * ones, sy, ones], 1), 0.75 * color, 0.3 * emission)
+    inst["stem"] = _rows(disc, np.stack([stem_w * ones, sy, ones], 1), 0.75 * color, 0.3 * emission)
     # Feet lie just above the disc so the disc (drawn after, depth-tested) never covers them.
     foot = max(0.028, 2.2 * px)
-    inst["foot"] = rows(disc + [0.0, 0.004, 0.0], np.stack([foot * ones, ones, foot * ones], 1), color, emission)
+    inst["foot"] = _rows(disc + [0.0, 0.004, 0.0], np.stack([foot * ones, ones, foot * ones], 1), color, emission)
+    sought = np.fromiter((getattr(p, "sought", False) for p in pins), bool, n)
+    _marks(inst, heads, h, size, color, (seen, sought, clamped), px)
+    geo.instances = inst
+    geo.heads, geo.clamped = heads, clamped
+    geo.shapes = [SHAPES[c] for c in shape_code]
+    return geo
+
+
+def _rows(pos, scale, rgb, em) -> np.ndarray:
+    """Instance rows ``(n, INSTANCE_FLOATS) float32``: position, scale, colour, emission."""
+    out = np.empty((len(rgb), INSTANCE_FLOATS), np.float32)
+    out[:, 0:3] = pos
+    out[:, 3:6] = scale
+    out[:, 6:9] = rgb
+    out[:, 9] = em
+    return out
+
+
+def _marks(inst: dict, heads, h, size, color, flags, px: float) -> None:
+    """The rings round visible pins' feet, the seek target's rings, the arrows of clamped heads
+    (``flags``: the pins seen, sought and clamped, ``(p,) bool`` each)."""
+    seen, sought, clamped = flags
+    x, y, z = heads[:, 0], heads[:, 1], heads[:, 2]
     if seen.any():
         # Wider than the head, so the ring shows round a head sitting on the disc.
         ring = np.repeat(np.maximum(1.7 * size[seen], 6.0 * px)[:, None], 3, axis=1)
         ring_rgb = 0.3 * color[seen] + 0.7
-        inst["seen_ring"] = rows(np.stack([x[seen], 0.006 + 0 * x[seen], z[seen]], 1), ring, ring_rgb, 1.0)
-    sought = np.fromiter((getattr(p, "sought", False) for p in pins), bool, n)
+        inst["seen_ring"] = _rows(np.stack([x[seen], 0.006 + 0 * x[seen], z[seen]], 1), ring, ring_rgb, 1.0)
     if sought.any():
         # The seek's target: two wide bright rings, round its head and round its foot,
         # so it stands out by shape (rings) and brightness, not by colour alone.
         big = np.repeat(np.maximum(2.6 * size[sought], 9.0 * px)[:, None], 3, axis=1)
         xs, zs = x[sought], z[sought]
         at = [np.stack([xs, y[sought], zs], 1), np.stack([xs, 0.008 + 0 * xs, zs], 1)]
-        rings = [rows(pos, big, np.tile(SOUGHT_COLOR, (len(pos), 1)), 1.0) for pos in at]
+        rings = [_rows(pos, big, np.tile(SOUGHT_COLOR, (len(pos), 1)), 1.0) for pos in at]
         inst["seen_ring"] = np.concatenate([inst.get("seen_ring", rings[0][:0]), *rings])
     if clamped.any():
         sgn = np.sign(h[clamped])
@@ -229,246 +236,7 @@ def radar_geometry(radar: Radar, px_per_radius: float = 120.0) -> RadarGeometry:
         asz = size[clamped] * 0.9
         arrow_rgb = 0.4 * color[clamped] + 0.6  # lighter than the head, so it reads as a sign, not a second head
         pos = np.stack([x[clamped], ay, z[clamped]], 1)
-        inst["arrow"] = rows(pos, np.stack([asz, sgn * asz * 1.2, asz], 1), arrow_rgb, 0.0)
-    geo.instances = inst
-    geo.heads, geo.clamped = heads, clamped
-    geo.shapes = [SHAPES[c] for c in shape_code]
-    return geo
-
-
-# ----------------------------------------------------------------- unit meshes
-def _soup(verts, faces) -> np.ndarray:
-    """Triangle soup ``(3 f, 6) float32`` (position, flat normal) from indexed triangles."""
-    v = np.asarray(verts, np.float64)[np.asarray(faces, np.int64)]  # (f, 3, 3)
-    n = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
-    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
-    out = np.empty((len(v), 3, 6), np.float32)
-    out[:, :, :3] = v
-    out[:, :, 3:] = n[:, None, :]
-    return out.reshape(-1, 6)
-
-
-def _hull_faces(verts) -> list[tuple[int, int, int]]:
-    """Triangles of a small convex point set (brute force; winding does not matter here)."""
-    v = np.asarray(verts, np.float64)
-    faces = []
-    m = len(v)
-    for i in range(m):
-        for j in range(i + 1, m):
-            for k in range(j + 1, m):
-                n = np.cross(v[j] - v[i], v[k] - v[i])
-                if np.linalg.norm(n) < 1e-9:
-                    continue
-                d = (v - v[i]) @ n
-                if (d <= 1e-9).all() or (d >= -1e-9).all():
-                    faces.append((i, j, k))
-    return faces
-
-
-def _box(center, half) -> np.ndarray:
-    c, h = np.asarray(center, float), np.asarray(half, float)
-    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], float) * h + c
-    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
-    return _soup(corners, [t for a, b, c_, d in quads for t in ((a, b, c_), (a, c_, d))])
-
-
-def _revolve(profile, axis: int, segments: int) -> np.ndarray:
-    """Surface of revolution of ``(r, t)`` profile points round the coordinate ``axis``."""
-    ang = np.linspace(0, 2 * np.pi, segments + 1)[:-1]
-    p = np.asarray(profile, float)
-    a, b = [i for i in range(3) if i != axis]
-    verts = np.zeros((len(p) * segments, 3))
-    for i, (r, t) in enumerate(p):
-        sl = slice(i * segments, (i + 1) * segments)
-        verts[sl, axis] = t
-        verts[sl, a] = r * np.cos(ang)
-        verts[sl, b] = r * np.sin(ang)
-    faces = []
-    for i in range(len(p) - 1):
-        for s in range(segments):
-            q0, q1 = i * segments + s, i * segments + (s + 1) % segments
-            faces += [(q0, q1, q1 + segments), (q0, q1 + segments, q0 + segments)]
-    soup = _soup(verts, faces)
-    # Drop degenerate triangles at the tips (radius 0).
-    tri = soup.reshape(-1, 3, 6)
-    keep = np.abs(tri[:, :, 3:]).sum(axis=(1, 2)) > 0
-    return tri[keep].reshape(-1, 6)
-
-
-def _sphere(subdiv: int = 1) -> np.ndarray:
-    t = (1 + 5**0.5) / 2
-    v = [
-        (-1, t, 0),
-        (1, t, 0),
-        (-1, -t, 0),
-        (1, -t, 0),
-        (0, -1, t),
-        (0, 1, t),
-        (0, -1, -t),
-        (0, 1, -t),
-        (t, 0, -1),
-        (t, 0, 1),
-        (-t, 0, -1),
-        (-t, 0, 1),
-    ]
-    v = [np.array(p, float) / np.linalg.norm(p) for p in v]
-    f = _hull_faces(v)
-    for _ in range(subdiv):
-        nf, cache = [], {}
-
-        def mid(i, j, cache=cache):
-            key = (min(i, j), max(i, j))
-            if key not in cache:
-                m = v[i] + v[j]
-                v.append(m / np.linalg.norm(m))
-                cache[key] = len(v) - 1
-            return cache[key]
-
-        for a, b, c in f:
-            ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
-            nf += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
-        f = nf
-    return _soup(v, f)
-
-
-def weld(soup: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Indexed form of a triangle soup: unique ``(k, 6) float32`` rows and ``(3 f,) uint32`` indices.
-
-    Indexed draws let llvmpipe shade each shared vertex once per instance instead of once per
-    triangle corner (it runs vertex shaders on the CPU).
-    """
-    q = np.round(np.asarray(soup, np.float64) * 1e5).astype(np.int64)
-    _, first, inverse = np.unique(q, axis=0, return_index=True, return_inverse=True)
-    return np.ascontiguousarray(soup[first], np.float32), inverse.reshape(-1).astype(np.uint32)
-
-
-def unit_shapes() -> dict[str, np.ndarray]:
-    """Every instanced shape as a triangle soup ``(k, 6) float32`` (position, normal), about unit size.
-
-    Heads fit in ``[-1, 1]^3``; ``stem`` is the quad ``x in [-0.5, 0.5], y in [0, 1]`` facing -z;
-    ``foot`` a flat unit disc and ``seen_ring`` a flat annulus (r 0.75 to 1) in the x-z plane;
-    ``arrow`` a cone with its tip at ``y = 1`` and its base at ``y = 0``.
-    """
-    s: dict[str, np.ndarray] = {}
-    octa = [(0.75, 0, 0), (-0.75, 0, 0), (0, 1.25, 0), (0, -1.25, 0), (0, 0, 0.75), (0, 0, -0.75)]
-    s["octahedron"] = _soup(octa, _hull_faces(octa))
-    s["cube"] = _box((0, 0, 0), (0.75, 0.75, 0.75))
-    tet = np.array([(1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1)], float) * 0.8
-    # Stella octangula: two interpenetrating tetrahedra, all spikes.
-    s["star"] = np.concatenate([_soup(tet, _hull_faces(tet)), _soup(-tet, _hull_faces(-tet))])
-    sphere = _sphere(0)  # an icosahedron with smooth normals: bullets are a few pixels wide
-    sphere[:, 3:] = sphere[:, :3]
-    s["sphere"] = sphere
-    # Torus standing in the x-y plane (a ring facing the radar camera): revolve a circle about z,
-    # built as rings of quads.
-    # Few segments: llvmpipe transforms every vertex of every instance on the CPU.
-    seg, tube, big, small = 10, 4, 0.72, 0.27
-    u = np.linspace(0, 2 * np.pi, seg + 1)[:-1]
-    w = np.linspace(0, 2 * np.pi, tube + 1)[:-1]
-    U, Wt = np.meshgrid(u, w, indexing="ij")
-    ring_r = big + small * np.cos(Wt)
-    tv = np.stack([ring_r * np.cos(U), ring_r * np.sin(U), small * np.sin(Wt)], -1).reshape(-1, 3)
-    tf = []
-    for i in range(seg):
-        for j in range(tube):
-            a, b = i * tube + j, ((i + 1) % seg) * tube + j
-            c, d = ((i + 1) % seg) * tube + (j + 1) % tube, i * tube + (j + 1) % tube
-            tf += [(a, b, c), (a, c, d)]
-    torus = _soup(tv, tf).reshape(-1, 6)
-    # Smooth normals (from the tube's centre line), so the welded mesh shares every vertex.
-    p = torus[:, :3].astype(np.float64)
-    centre = p.copy()
-    centre[:, 2] = 0.0
-    centre *= big / np.maximum(np.linalg.norm(centre, axis=1, keepdims=True), 1e-12)
-    nrm = p - centre
-    torus[:, 3:] = nrm / np.linalg.norm(nrm, axis=1, keepdims=True)
-    s["torus"] = torus
-    bar = 0.22
-    s["cross"] = np.concatenate([_box((0, 0, 0), half) for half in ((1.0, bar, bar), (bar, 1.0, bar), (bar, bar, 1.0))])
-    # Camera eye: a cone lying on its side, tip to the right (reads as a projector or eye beam).
-    s["cone"] = _revolve([(0.0, 1.0), (0.7, -0.8), (0.0, -0.8)], axis=0, segments=10)
-    # Object: a hollow cube, each face a square frame (eight triangles), so its edges read as an outline.
-    e, t = 0.8, 0.55
-    frames = []
-    for axis in range(3):
-        a, b = [i for i in range(3) if i != axis]
-        for side in (-e, e):
-            outer = [(-e, -e), (e, -e), (e, e), (-e, e)]
-            pts = []
-            for u, v in outer + [(t * u, t * v) for u, v in outer]:
-                p = np.zeros(3)
-                p[axis], p[a], p[b] = side, u, v
-                pts.append(p)
-            tris = [t_ for i in range(4) for t_ in ((i, (i + 1) % 4, 4 + (i + 1) % 4), (i, 4 + (i + 1) % 4, 4 + i))]
-            frames.append(_soup(pts, tris))
-    s["cube_outline"] = np.concatenate(frames)
-    s["stem"] = _soup([(-0.5, 0, 0), (0.5, 0, 0), (0.5, 1, 0), (-0.5, 1, 0)], [(0, 1, 2), (0, 2, 3)])
-    k = 8
-    ang = np.linspace(0, 2 * np.pi, k + 1)[:-1]
-    circle = np.stack([np.cos(ang), 0 * ang, np.sin(ang)], 1)
-    s["foot"] = _soup(np.vstack([[0, 0, 0], circle]), [(0, 1 + i, 1 + (i + 1) % k) for i in range(k)])
-    k = 12
-    ang = np.linspace(0, 2 * np.pi, k + 1)[:-1]
-    circle = np.stack([np.cos(ang), 0 * ang, np.sin(ang)], 1)
-    ring = np.vstack([circle, 0.72 * circle])
-    quads = [((i, (i + 1) % k, k + (i + 1) % k), (i, k + (i + 1) % k, k + i)) for i in range(k)]
-    s["seen_ring"] = _soup(ring, [t for q in quads for t in q])
-    s["arrow"] = _revolve([(0.0, 1.0), (1.0, 0.0), (0.0, 0.0)], axis=1, segments=8)
-    return s
-
-
-def _annulus(r0, r1, color, segments=64, y=0.0, a0=0.0, a1=2 * np.pi) -> np.ndarray:
-    ang = np.linspace(a0, a1, segments + 1)
-    c0, s0 = np.cos(ang[:-1]), np.sin(ang[:-1])
-    c1, s1 = np.cos(ang[1:]), np.sin(ang[1:])
-
-    # Angle 0 is +x, angles grow towards +z.
-    def p(r, c, s):
-        return np.stack([r * c, np.full_like(c, y), r * s], -1)
-
-    a, b, c, d = p(r0, c0, s0), p(r1, c0, s0), p(r1, c1, s1), p(r0, c1, s1)
-    tris = np.stack([a, b, c, a, c, d], 1).reshape(-1, 3)
-    return _colored(tris, color)
-
-
-def _colored(points, color) -> np.ndarray:
-    out = np.empty((len(points), 7), np.float32)
-    out[:, :3] = points
-    out[:, 3:] = color
-    return out
-
-
-def disc_vertices() -> np.ndarray:
-    """The static disc as a translucent triangle list ``(k, 7) float32`` (position, RGBA), back to front layers."""
-    parts = [
-        _annulus(0.0, 0.66, DISC_FILL),
-        _annulus(0.66, 1.0, DISC_RIM_FILL),
-    ]
-    # The player's view wedge (about a 75 degree field of view, centred on +z).
-    half = np.radians(37.5)
-    parts.append(_annulus(0.0, 1.0, WEDGE_COLOR, segments=16, a0=np.pi / 2 - half, a1=np.pi / 2 + half))
-    for r in (1 / 3, 2 / 3):
-        parts.append(_annulus(r - 0.007, r + 0.007, RING_COLOR))
-    parts.append(_annulus(0.985, 1.015, RIM_COLOR))
-    w = 0.006
-    for tri in (((-1, -w), (1, -w), (1, w)), ((-1, -w), (1, w), (-1, w))):
-        parts.append(_colored(np.array([(x, 0.0, z) for x, z in tri]), AXIS_COLOR))  # x axis
-        parts.append(_colored(np.array([(z, 0.0, x) for x, z in tri]), AXIS_COLOR))  # z axis
-    # Forward notch outside the rim, and the player's chevron at the centre, both pointing +z.
-    parts.append(_colored(np.array([(-0.09, 0.0, 1.03), (0.09, 0.0, 1.03), (0.0, 0.0, 1.17)]), FORWARD_COLOR))
-    chev = np.array(
-        [
-            (-0.06, 0.0, -0.05),
-            (0.0, 0.0, 0.09),
-            (0.0, 0.0, -0.01),
-            (0.06, 0.0, -0.05),
-            (0.0, 0.0, -0.01),
-            (0.0, 0.0, 0.09),
-        ]
-    )
-    chev[:, 1] = 0.007
-    parts.append(_colored(chev, PLAYER_COLOR))
-    return np.concatenate(parts).astype(np.float32)
+        inst["arrow"] = _rows(pos, np.stack([asz, sgn * asz * 1.2, asz], 1), arrow_rgb, 0.0)
 
 
 def radar_view_proj(aspect: float) -> tuple[np.ndarray, float]:
@@ -521,6 +289,7 @@ _SHAPE_FS = """
 #version 330
 uniform vec3 u_light;
 uniform vec3 u_to_eye;
+uniform float u_alpha;
 in vec3 v_normal;
 in vec4 v_color;
 out vec4 f_color;
@@ -531,7 +300,18 @@ void main() {
     vec3 base = v_color.rgb * (0.38 + 0.62 * d);
     // Emission (alpha channel): visible pins glow towards a lighter tint of their colour.
     vec3 glow = mix(v_color.rgb, vec3(1.0), 0.35) * (0.75 + 0.25 * d);
-    f_color = vec4(mix(base, glow, v_color.a), 1.0);
+    f_color = vec4(mix(base, glow, v_color.a), u_alpha);
+}
+"""
+
+#: The disc and backdrop's shader: the flat one with the radar's opacity (see radar_yield).
+_FLAT_FS = """
+#version 330
+uniform float u_alpha;
+in vec4 v_color;
+out vec4 f_color;
+void main() {
+    f_color = vec4(v_color.rgb, v_color.a * u_alpha);
 }
 """
 
@@ -573,7 +353,7 @@ class RadarRenderer:
         self.ctx = ctx
         try:
             self.shape_prog = ctx.program(vertex_shader=_SHAPE_VS, fragment_shader=_SHAPE_FS)
-            self.flat_prog = ctx.program(vertex_shader=FLAT_VERTEX, fragment_shader=FLAT_FRAGMENT)
+            self.flat_prog = ctx.program(vertex_shader=FLAT_VERTEX, fragment_shader=_FLAT_FS)
         except Exception as e:
             raise RenderError(f"radar shaders failed to build: {e}") from e
         self._objects: list = [self.shape_prog, self.flat_prog]
@@ -633,8 +413,10 @@ class RadarRenderer:
             hit = self._vp_cache[key] = (_mat4_bytes(vp), ndc_r)
         return hit
 
-    def draw(self, radar: Radar, viewport: tuple[int, int, int, int], scale: float = 1.0) -> None:
+    def draw(self, radar: Radar, viewport: tuple[int, int, int, int], scale: float = 1.0, alpha: float = 1.0) -> None:
         """Draw ``radar`` into its corner of ``viewport`` (``(x, y, w, h)``, GL convention) of the bound framebuffer.
+
+        ``alpha`` below 1 draws it see-through (the radar giving way, :mod:`.radar_yield`).
 
         With ``scale`` below 1, the bound framebuffer is the scene's at that render scale and
         ``viewport`` the window's: the radar goes where the window's rectangle falls in it, so
@@ -667,6 +449,7 @@ class RadarRenderer:
         # Destination alpha stays 1 so screenshots stay opaque.
         ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
         self.flat_prog["u_view_proj"].write(_IDENTITY)
+        self.flat_prog["u_alpha"].value = float(alpha)
         t0 = clock()
         # The depth reset writes no colour: no blending for the whole rectangle's worth of pixels.
         fbo.color_mask = False, False, False, False
@@ -674,11 +457,13 @@ class RadarRenderer:
         fbo.color_mask = True, True, True, True
         self._back_vao.render(moderngl.TRIANGLES, vertices=self._back_n - 6, first=6)
         spent = clock() - t0
-        ctx.disable(moderngl.BLEND)
+        if alpha >= 1.0:  # opaque pins need no blending; faded ones do
+            ctx.disable(moderngl.BLEND)
         ctx.depth_func = "<"
         self.draw_calls = 1
 
         self.shape_prog["u_view_proj"].write(vp_bytes)
+        self.shape_prog["u_alpha"].value = float(alpha)
         for name in SHAPES:
             rows = geo.instances.get(name)
             if rows is None or len(rows) == 0:

@@ -57,6 +57,7 @@ from .context import RenderError
 from .hud import HudRenderer
 from .mesh_cache import GpuMesh, MeshCache
 from .radar import RadarRenderer
+from .radar_yield import YIELD_ALPHA, radar_yields
 from .shaders import PROGRAMS, program_source
 from .sky import SkyRenderer
 
@@ -470,7 +471,9 @@ class Renderer:
         viewport = tuple(int(x) for x in viewport)
         if radar:
             self.draw_radar(frame, viewport)
-        self.hud.draw(frame.hud, viewport, frame.radar)
+        # A radar giving way to what lies behind it (see radar_yield) goes without its labels.
+        labels = None if frame.radar is None or radar_yields(frame, *viewport[2:]) else frame.radar
+        self.hud.draw(frame.hud, viewport, labels)
 
     def draw_radar(self, frame: Frame, viewport: tuple[int, int, int, int], scale: float = 1.0) -> None:
         """Draw ``frame``'s radar (when not None) in its corner of the window's ``viewport``.
@@ -481,7 +484,9 @@ class Renderer:
         frame. Its labels stay sharp: the HUD draws them at full size.
         """
         if frame.radar is not None:
-            self.radar.draw(frame.radar, tuple(int(x) for x in viewport), scale)
+            viewport = tuple(int(x) for x in viewport)
+            alpha = YIELD_ALPHA if radar_yields(frame, *viewport[2:]) else 1.0
+            self.radar.draw(frame.radar, viewport, scale, alpha)
             self.stats.draw_calls += self.radar.draw_calls
 
     def _depth_prepass(self, opaque: list, batches: list, vp_bytes: bytes) -> None:

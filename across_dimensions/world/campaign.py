@@ -151,3 +151,15 @@ def next_in_campaign(campaign: list[CampaignEntry], stem: str) -> CampaignEntry 
     if stem in stems and stems.index(stem) + 1 < len(stems):
         return campaign[stems.index(stem) + 1]
     return None
+
+
+def locked_because(campaign: list[CampaignEntry], finished, stem: str) -> str:
+    """What a click on the locked level ``stem`` says: the level to finish first to open it
+    (``finished``: the stems finished so far); "" when ``stem`` is not in ``campaign``."""
+    stems = [e.stem for e in campaign]
+    if stem not in stems:
+        return ""
+    i = stems.index(stem)
+    need = [e for e in campaign[:i] if not e.optional and e.stem not in finished] or campaign[max(0, i - 1) : i]
+    first = f"finish {need[-1].title} first to open" if need else "it opens after"
+    return f"Locked: {first} {campaign[i].title}."

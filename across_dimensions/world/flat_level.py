@@ -26,6 +26,7 @@ from ..core.flat_section import Solid3, signed_area
 from ..core.flat_solids import box_solid, prism_solid, staircase_profile
 from .design import DESIGN_TABLE, read_design
 from .fields import Field
+from .hints import HintSpec
 from .level_reader import LevelError, TableReader, hint_problem, parse_level
 from .limits import MAX_NAME_CHARS, MAX_TEXT_CHARS, Range
 from .resources import FLAT_FORMAT as FORMAT
@@ -167,15 +168,6 @@ class ItemSpec:
     radius: float
     opens: str
     color: tuple
-
-
-@dataclass(frozen=True)
-class HintSpec:
-    """A hint and the level state that completes it (``until``: ``x_min``, ``x_max``, ``z_min``,
-    ``z_max``, ``event``; all given must hold). Without ``until`` it stays for its reading time."""
-
-    text: str
-    until: dict
 
 
 @dataclass

@@ -18,6 +18,7 @@ from __future__ import annotations
 from ..core.shapes import SHAPE_PARAM_RULES
 from ..core.transform import PLANES
 from .fields import REQUIRED, Field
+from .hints import UNTIL
 from .level import ARRAY_TABLES, FORMATS, MODELS
 from .limits import MAX_COUNTS, MAX_NAME_CHARS
 
@@ -74,7 +75,15 @@ def _field(table: str, name: str, f: Field) -> dict:
         return {"type": "object", "properties": props, "additionalProperties": False}
     if f.kind == "hints":
         limit, _ = MAX_COUNTS["hints"]
-        return {"type": "array", "items": {"type": "string"}, "maxItems": limit}
+        until = {key: _field("until", key, u) for key, u in UNTIL.items()}
+        done_by = {"type": "object", "properties": until, "additionalProperties": False, "minProperties": 1}
+        table = {
+            "type": "object",
+            "properties": {"text": {"type": "string", "minLength": 1}, "until": done_by},
+            "required": ["text"],
+            "additionalProperties": False,
+        }
+        return {"type": "array", "items": {"anyOf": [{"type": "string"}, table]}, "maxItems": limit}
     if f.kind == "words":
         return {"type": "array", "items": {"enum": list(f.choices)}, "uniqueItems": True}
     if f.kind == "tables":

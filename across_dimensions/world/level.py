@@ -26,13 +26,13 @@ import numpy as np
 
 from . import beacons, design, enemy_tables, gameplay, limits
 from .fields import Field
+from .hints import HintSpec, hint_name_problems, read_hints
 from .level_reader import DEFAULT_COLOR, LevelError, TableReader, hint_problem, parse_level
 from .limits import (
     ANGLE,
     COORD,
     GRAVITY_MAX,
     INVERSE_CUBE_G,
-    MAX_COUNTS,
     MAX_NAME_CHARS,
     MAX_TEXT_CHARS,
     ROLLING_RESISTANCE,
@@ -167,7 +167,7 @@ class Level:
     worlds: list[WorldSpec]
     objects: list[ObjectSpec]
     source_hash: str
-    hints: list[str] = field(default_factory=list)
+    hints: list[HintSpec] = field(default_factory=list)
     crystals: list[gameplay.CrystalSpec] = field(default_factory=list)
     energy: gameplay.EnergySpec = field(default_factory=gameplay.EnergySpec)
     radar: gameplay.RadarSpec | None = None
@@ -244,19 +244,7 @@ def _level_table(r: TableReader, data, path: Path) -> tuple[dict, bool]:
         r.problem("[level]", f"field 'w_range': expected [low, high] with low <= high, got {w_range.tolist()}")
         w_ok = False
     v["w_range"] = w_range
-    hints = meta.get("hints", [])
-    if not (isinstance(hints, list) and all(isinstance(h, str) for h in hints)):
-        r.problem("[level]", "field 'hints': expected a list of strings")
-        hints = []
-    limit, what = MAX_COUNTS["hints"]
-    if len(hints) > limit:
-        r.problem("[level]", f"field 'hints': a level may have at most {limit} {what}, got {len(hints)}")
-        hints = hints[:limit]
-    for i, h in enumerate(hints, 1):
-        why = hint_problem(h)
-        if why:
-            r.problem("[level]", f"field 'hints': hint #{i}: {why}")
-    v["hints"] = list(hints)
+    v["hints"] = read_hints(r, meta, hint_problem)
     return v, w_ok
 
 
@@ -388,6 +376,8 @@ def load_level(path, source: bytes | None = None) -> Level:
     phys = r.read(phys_t, PHYSICS, "[physics]")
     content = _content_tables(r, data)
     systems = _system_tables(r, data, w_range if w_ok else None, content["objects"])
+    found = [*content["objects"], *systems["crystals"], *systems["targets"], *systems["enemies"]]
+    r.problems += hint_name_problems(path, meta["hints"], {x.name for x in found})
     if r.problems:
         raise LevelError(path, r.problems)
     level = Level(

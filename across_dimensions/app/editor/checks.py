@@ -167,10 +167,14 @@ class Checks:
         imgui.end()
 
     def _line(self, color, text: str, ref, key: str) -> None:
-        imgui.push_style_color(imgui.Col_.text, color)
+        """One problem, wrapped inside the panel; clicking it selects (and frames) its entry."""
+        imgui.push_id(key)
         imgui.push_text_wrap_pos(0.0)
-        if imgui.selectable(f"{text}##{key}", ref is not None and ref in self.model.selected)[0] and ref is not None:
+        imgui.text_colored(color, text)
+        imgui.pop_text_wrap_pos()
+        if ref is not None and imgui.is_item_hovered():
+            imgui.set_tooltip(f"click: select {self.model.where(ref)}")
+        if ref is not None and imgui.is_item_clicked():
             self.model.select(ref)
             self.mode.focus()
-        imgui.pop_text_wrap_pos()
-        imgui.pop_style_color()
+        imgui.pop_id()

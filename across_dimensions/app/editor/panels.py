@@ -164,11 +164,11 @@ class Panels:
             label = m.label(ref)
             if self.search and self.search.lower() not in label.lower():
                 continue
-            bad_here = ref in bad or ref in flagged
-            if bad_here:
-                imgui.push_style_color(imgui.Col_.text, RED)
+            color = RED if ref in bad else YELLOW if ref in flagged else None  # problems, warnings
+            if color is not None:
+                imgui.push_style_color(imgui.Col_.text, color)
             clicked, _ = imgui.selectable(f"{_fit(label)}##{ref}", ref in m.selected)
-            if bad_here:
+            if color is not None:
                 imgui.pop_style_color()
             if clicked:
                 m.select(ref, toggle=imgui.get_io().key_shift)
@@ -344,10 +344,11 @@ class Panels:
         """The level's hints, one line each ({action} placeholders become the player's keys)."""
         imgui.text("hints")
         for i, h in enumerate(value):
-            changed, text = imgui.input_text(f"hint {i + 1}", h if isinstance(h, str) else "")
+            table = isinstance(h, dict)  # { text, until }: the words are edited here, until in the file
+            changed, text = imgui.input_text(f"hint {i + 1}", str(h.get("text", "")) if table else str(h))
             self._after_widget()
             if changed:
-                self._edited(ref, key, value[:i] + [text] + value[i + 1 :])
+                self._edited(ref, key, value[:i] + [{**h, "text": text} if table else text] + value[i + 1 :])
             imgui.same_line()
             if imgui.small_button(f"x##{i}"):
                 self.model.set(ref, key, value[:i] + value[i + 1 :] or None)

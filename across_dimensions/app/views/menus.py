@@ -16,6 +16,7 @@ import pyglet
 from ...render.menu import hit, rows_that_fit
 from ..input import key_name
 from ..menu import menu_verb
+from ..warmup import warm_progress
 from .base import View
 
 #: The clear colour behind the menus when no level is under them.
@@ -136,9 +137,8 @@ class TitleView(MenuScreen):
         return super().still_frame()
 
     def _show_progress(self) -> None:
-        warm = self.session.warm
-        if warm is not None:
-            self.menu.progress_bar = None if warm.ready else (warm.done, warm.total, warm.label)
+        if self.session.warm is not None:
+            self.menu.progress_bar = warm_progress(self.session.warm)
 
     def run(self, command: str) -> None:
         s = self.session

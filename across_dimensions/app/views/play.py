@@ -12,6 +12,7 @@ through its methods (:meth:`PlayView.eye`, :meth:`PlayView.play_game`, :attr:`Pl
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +24,7 @@ from ...game.stranded import RESTART_ACTION, stranded
 from ...render.debug_draw import DebugOverlay
 from ...render.pip import draw_pip
 from ...world.level import load_level
+from ..energy_trail import EnergyTrail
 from ..input import PlayInput, with_keys
 from ..onboarding import fill_keys
 from ..saves import checkpoint_of, resume_at_checkpoint
@@ -72,6 +74,7 @@ class PlayView(View):
         self.accumulator = 0.0
         self.crystals_found = 0
         self.hints = True
+        self.energy_trail, self._drawn_at = EnergyTrail(), time.perf_counter()
         resume_at_checkpoint(self.game, checkpoint)
         # A level is where Continue resumes only when it is open in the campaign.
         stems = [e.stem for e in s.campaign]
@@ -165,11 +168,14 @@ class PlayView(View):
         s = self.session
         actions = self.read_actions()
         self.game.step(actions)
-        s.onboarding.ticked(actions, DT)
+        s.onboarding.ticked(actions, DT, self.game)
         cues = s.sound_director.cues(self.game, DT)
         s.sound.play(cues)
         s.captions.heard(cues, DT)
         self.crystals_found += sum(e.kind == "crystal_collected" for e in self.game.events)
+        if any(e.kind == "respawned" for e in self.game.events):  # a fall is never silent
+            where = "the last checkpoint" if checkpoint_of(self.game) is not None else "the start"
+            s.say(f"You fell out of the level: back at {where}.", 3.0)
         s.recording.record(actions)
 
     def read_actions(self):
@@ -226,6 +232,9 @@ class PlayView(View):
             hud.message = with_keys(hud.message, s.settings)
         for label in hud.labels:  # and so do the labels beside things (the manipulation keys)
             label.text = with_keys(label.text, s.settings)
+        now = time.perf_counter()
+        hud.energy = self.energy_trail.update(hud.energy, now - self._drawn_at)
+        self._drawn_at = now
         hud.fps = self.window.fps if s.options.show_fps else None
         hud.captions = s.captions.shown(s.settings.captions)
         if self.input.latched:  # toggled actions stay on until pressed again: say which

@@ -1,10 +1,14 @@
-"""The start-up view: a level named on the command line waits here for the kernels to compile."""
+"""The start-up view: a level waits here for the kernels to compile (Esc goes back to the title,
+where the compile goes on)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
+import pyglet
+
 from ..menu import MenuView
+from ..warmup import warm_progress
 from .base import View
 from .menus import BACKDROP
 
@@ -30,9 +34,8 @@ class StartupView(View):
     def on_show(self) -> None:
         self.window.set_exclusive_mouse(True)
 
-    def _progress(self) -> tuple[int, int, str]:
-        w = self.session.warm
-        return (w.done, w.total, w.label) if w is not None and not w.ready else (1, 1, "ready")
+    def _progress(self) -> tuple:
+        return warm_progress(self.session.warm) or (1, 1, "ready")
 
     def on_update(self, dt: float) -> None:
         warm = self.session.warm
@@ -45,7 +48,8 @@ class StartupView(View):
         target.use()
         self.window.ctx.clear(*BACKDROP)
         title = "Starting the editor..." if self.edit else "Starting..."
-        view = MenuView("title", "ACROSS DIMENSIONS", [], 0, 0, 0, title, progress=self._progress())
+        footer = f"{title}  Esc: back to the title (the preparation goes on)"
+        view = MenuView("title", "ACROSS DIMENSIONS", [], 0, 0, 0, footer, progress=self._progress())
         self.session.menu_renderer.draw(view, viewport)
 
     def still_frame(self):
@@ -53,5 +57,7 @@ class StartupView(View):
 
     def on_key_press(self, symbol, modifiers) -> None:
         action = self.session.bindings.action_of("key", symbol)
-        if action == "screenshot":
+        if symbol == pyglet.window.key.ESCAPE or action == "pause":
+            self.session.to_title()
+        elif action == "screenshot":
             self.window_key(action)

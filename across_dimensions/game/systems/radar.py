@@ -16,6 +16,9 @@ from ..frame import Radar, RadarPin
 from ..system import System
 from .seek import sought_id
 
+#: Radar kinds the player may be looking for: the radar never hides them (see ``Radar.interest``).
+INTEREST = ("crystal", "target", "body", "enemy")
+
 
 def draw(game, frame, alpha) -> None:
     level, view = game.radar_settings, game.radar_view
@@ -37,7 +40,7 @@ def draw(game, frame, alpha) -> None:
     w = frame.camera.w
     height = (c[:, 3] - w) * w_scale
     inside = x * x + z * z <= 1.0
-    pins = []
+    pins, interest = [], []
     sought = sought_id(game)
     for k in np.flatnonzero(inside):
         e = table.entities[tracked[k]]
@@ -48,7 +51,9 @@ def draw(game, frame, alpha) -> None:
         else:
             visible = game.entity_sections.has_section(e.id)  # the sections system sliced it this frame
         pins.append(RadarPin(e.radar, float(x[k]), float(z[k]), float(height[k]), visible, e.id == sought))
-    frame.radar = Radar(reach, w_scale, pins)
+        if visible and e.radar in INTEREST:
+            interest.append((*c[k, :3], e.radius))
+    frame.radar = Radar(reach, w_scale, pins, np.array(interest, np.float64).reshape(-1, 4))
 
 
 SYSTEM = System("radar", draw=draw)

@@ -129,11 +129,20 @@ def _say(game, s: Seek, text: str) -> None:
     s.message_tick = game.tick + round(MESSAGE_SECONDS / game.dt)
 
 
+#: How each kind of entity reads in a seek message (the level's names are ids: "stack-1").
+NOUNS = {"body": "4D body", "target": "switch", "crystal": "crystal", "enemy": "enemy", "object": "4D object"}
+
+
 def _name(game, thing) -> str:
+    """What the player reads for ``thing``: ``"the tumbler (4D body)"``, ``"the goal"``."""
     if thing == GOAL:
         return "the goal"
     e = game.entities.get(thing)
-    return f"{e.kind} '{e.name}'" if e is not None and e.name else (e.kind if e is not None else "?")
+    if e is None:
+        return "something"
+    noun = NOUNS.get(e.kind, e.kind.replace("_", " "))
+    words = (e.name or "").replace("-", " ").replace("_", " ").strip()
+    return f"the {words} ({noun})" if words else f"a {noun}"
 
 
 def _press(game, s: Seek, jump: bool) -> None:

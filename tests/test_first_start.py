@@ -1,0 +1,78 @@
+"""The first start never looks hung: the warm-up says what it does, how far, for how long, and
+how long is left; the start-up view can be left with Esc; timings count from the command's start."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+from across_dimensions.app import warmup
+from across_dimensions.app.warmup import BackgroundWarmUp, kernel_counts, warm_progress
+
+
+def _warm(done=2, kernels=(0, 0, 0), compiling=True, elapsed=30.0):
+    w = BackgroundWarmUp()
+    w.done, w.label, w.kernels, w.compiling = done, warmup.STEPS[done][0], kernels, compiling
+    return w, w.started + elapsed
+
+
+def test_the_status_says_the_step_the_kernels_the_time_and_an_estimate_only_once_it_can():
+    w, now = _warm(kernels=(0, 0, 0))
+    assert "starting the compiler, 0:30 so far" in w.status(now)
+    w, now = _warm(kernels=(3, 90, 0))
+    assert "loading the kernels" in w.status(now) and "Compiling" not in w.status(now)  # nothing compiled
+    w, now = _warm(kernels=(3, 90, 2), elapsed=4.0)
+    assert w.status(now) == "4D physics, 3 of 90 kernels, 0:04 so far"  # too early to tell what is left
+    w, now = _warm(kernels=(30, 90, 30), elapsed=60.0)
+    # 30 kernels a minute, 60 to go: at most about two more minutes.
+    assert w.status(now) == "4D physics, 30 of 90 kernels, 1:00 so far, at most about 2:00 left"
+    assert w.fraction() == max(2 / len(warmup.STEPS), 30 / 90)
+    w, now = _warm(compiling=False)
+    assert "loading the kernels" in w.status(now)
+
+
+def test_the_panel_line_moves_once_a_second_and_goes_when_ready():
+    w, _ = _warm(kernels=(30, 90, 30))
+    line = warm_progress(w)
+    assert line[:2] == (2, len(warmup.STEPS)) and "kernels" in line[2] and 0 < line[3] <= 1
+    w.finished.set()
+    assert warm_progress(w) is None and warm_progress(None) is None
+
+
+def test_kernel_counts_read_the_dispatchers():
+    from across_dimensions.core import section  # noqa: F401  a module full of kernels
+
+    ready, total, compiled = kernel_counts()
+    assert total > 5 and 0 <= ready <= total and 0 <= compiled <= total
+
+
+_ESC = """
+import pyglet
+pyglet.options["headless"] = True
+from types import SimpleNamespace
+from pathlib import Path
+from across_dimensions.app.views.startup import StartupView
+went = []
+session = SimpleNamespace(window=None, warm=None, bindings=SimpleNamespace(action_of=lambda kind, code: None),
+                          to_title=lambda: went.append("title"))
+view = StartupView(session, Path("levels/02_crystal_cache.toml"))
+view.on_key_press(pyglet.window.key.ESCAPE, 0)
+print(went)
+"""
+
+
+def test_esc_leaves_the_start_up_view_for_the_title():
+    out = subprocess.run([sys.executable, "-c", _ESC], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "['title']"
+
+
+def test_timing_counts_seconds_from_the_commands_start():
+    code = "import time; time.sleep(1.2); from across_dimensions.app.session import timing; timing('now')"
+    env = {**os.environ, "ACROSS_DIMENSIONS_TIMING": "1"}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, env=env)
+    assert out.returncode == 0, out.stderr
+    line = next(ln for ln in out.stdout.splitlines() if ln.startswith("timing: now at "))
+    seconds = float(line.split(" at ")[1].split()[0])
+    assert 1.2 <= seconds < 60.0  # the sleep and the imports, from the process's start
