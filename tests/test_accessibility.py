@@ -99,7 +99,7 @@ def _busy_hud() -> Hud:
         hint="Hold E to move ana (+w) and Q to move kata (-w); the ghosts show what lies either way.",
         hint_label="hint 2 of 4 - H dismisses",
         warning="settings.toml: fov_deg = 400: expected a number of degrees from 50 to 120",
-        energy=EnergyGauge(3.0, 10.0),
+        energy=EnergyGauge(3.0, 10.0, costs="W 5/UNIT  GUN 0.5  TURN 0.1/DEG  VIEW 1/S"),
         weapon=WeaponPanel("120-cell gun", 1, 1, 0.5, 0.3, refused="NOT ENOUGH ENERGY", live=0),
         slice=SliceGauges((30.0, 0.0, 0.0), "frustum", 30.0),
         captions=[Caption("crystal hum, ana, left", 1, -0.8), Caption("enemy, kata, right", -1, 0.9)],

@@ -139,8 +139,11 @@ def test_a_manipulated_object_turns_a_whole_step_at_once_with_the_setting():
     game = Game(load_level(LEVELS / "06_bridge.toml"))
     for _ in range(60):
         game.step(Actions(forward=1.0))
-    for _ in range(8):
-        game.step(Actions(pitch=-0.03))
+    for _ in range(20):  # look down until the crosshair is on the slab
+        if game.states.manipulation.aimed == game.entities.named("slab").id:
+            break
+        game.step(Actions(pitch=-0.015))
+    assert game.states.manipulation.aimed == game.entities.named("slab").id
     slab = game.entities.named("slab").data
     step = round(slab.spec.step * 1000)
     seen = []

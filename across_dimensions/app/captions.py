@@ -23,6 +23,8 @@ EVENT_WORDS = {
     "seek_blocked": "seek stopped",
     "player_died": "you died",
     "loot_released": "loot released",
+    "object_reset": "object put back",
+    "slice_turn_refused": "slice turn refused",
 }
 #: Words for each captioned effect (effects not here are not captioned).
 WORDS = {

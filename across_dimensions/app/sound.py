@@ -72,6 +72,7 @@ EVENT_SOUNDS: dict[str, str | None] = {
     "checkpoint_reached": "arrive",
     "camera_switched": "field",
     "slice_aligned": "arrive",
+    "object_reset": "respawn",
     "slice_turn_refused": "refused",
 }
 

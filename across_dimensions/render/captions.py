@@ -1,8 +1,8 @@
 """Drawing sounds made visible: the captions and the marks at the screen's edge.
 
 The captions (``hud.captions``, made by :mod:`across_dimensions.app.captions` when the player
-turns them on) are lines on dark bands below the crosshair, above the slice gauges and the
-weapon panel and between the energy bar and the radar, newest at the bottom. A sound heard along w also gets
+turns them on) are lines on dark bands at the left of the view, above the weapon panel and the
+energy bar and short of the middle (where the player aims), newest at the bottom. A sound heard along w also gets
 a mark at the edge of the view on its side (left or right): a bar in the palette's ana or
 kata colour, higher for ana and lower for kata (as the w gauge and the radar's pins), with
 ``+w`` or ``-w`` written beside it, so the side is never told by colour alone.
@@ -23,17 +23,19 @@ MARK_Y = {1: 0.36, -1: 0.62}
 def caption_rects(captions, m) -> list[tuple[int, int, int, int]]:
     """Each caption's band ``(x, y, w, h)`` in pixels (origin top-left) for HUD metrics ``m``."""
     s = m.text_scale
-    ex, bar_y, ew, bar_h = m.energy_bar()
-    left, right = ex + ew + m.margin, m.radar_rect()[0] - m.margin
+    _, bar_y, _, bar_h = m.energy_bar()
+    # The left of the view, clear of the edge marks and short of the middle (what is aimed at).
+    left = m.margin + 4 * CELL_W * s
+    right = max(left + 8 * CELL_W * s, m.width // 2 - 2 * m.margin)
     line_h = (GLYPH_H + 4) * s
-    # Above the weapon panel (up to two lines and a refusal over the energy bar), the slice
-    # gauges and the warning line.
-    bottom = min(int(m.height * 0.74), bar_y - 5 * (GLYPH_H + 3) * s - 3 * bar_h)
+    # Above the weapon panel (up to two lines and a refusal, over up to two lines of costs over
+    # the energy bar), the slice gauges and the warning line.
+    bottom = min(int(m.height * 0.74), bar_y - 7 * (GLYPH_H + 3) * s - 3 * bar_h)
     out = []
     for i, c in enumerate(captions):
         w = min(right - left, text_width(c.text, s) + 4 * s)
         y = bottom - (len(captions) - i) * (line_h + s)
-        out.append((left + (right - left - w) // 2, y, w, line_h))
+        out.append((left, y, w, line_h))
     return out
 
 

@@ -94,7 +94,7 @@ from .hud_gauges import energy_text as energy_text
 from .hud_layout import HudMetrics as HudMetrics
 from .hud_layout import damage_cue_points as damage_cue_points
 from .hud_layout import health_bar_rect as health_bar_rect
-from .hud_layout import hint_lines, hint_rect, label_rect, message_layout, message_scale, warning_rect
+from .hud_layout import hint_lines, hint_rect, label_rect, left_lines, message_layout, message_scale, warning_rect
 from .palette import cue
 from .quads import QUAD_FLOATS, QuadList
 from .quads import quads_text as quads_text
@@ -169,7 +169,8 @@ def _gauges(q: QuadList, hud: Hud, m: HudMetrics) -> None:
     if hud.energy is not None:
         draw_energy_bar(q, hud.energy, m)
     if hud.weapon is not None:
-        draw_weapon_panel(q, hud.weapon, m)
+        costs = hud.energy.costs if hud.energy is not None else ""  # two lines of costs lift the panel
+        draw_weapon_panel(q, hud.weapon, m, max(0, len(left_lines(costs, m, gauges=True)) - 1))
     if hud.health is not None:
         draw_health_bar(q, hud.health, m)
     if hud.damage_dir is not None:

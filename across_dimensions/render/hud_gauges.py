@@ -11,10 +11,9 @@ import numpy as np
 
 from ..game.frame import EnergyGauge, HealthGauge, Hud, SliceGauges, WeaponPanel
 from .font import GLYPH_H, GLYPH_W, text_width
-from .hud_layout import HudMetrics, damage_cue_points, health_bar_rect, slice_marker_x
+from .hud_layout import HudMetrics, damage_cue_points, health_bar_rect, left_lines, slice_gauges_left, slice_marker_x
 from .palette import cue
 from .quads import QuadList, mix
-from .text_layout import wrap
 
 OUTLINE_COLOR = (0.0, 0.0, 0.0, 0.55)
 TRACK_COLOR = (1.0, 1.0, 1.0, 0.16)
@@ -104,8 +103,7 @@ def draw_slice_gauges(q: QuadList, g: SliceGauges, m: HudMetrics) -> None:
     gw = max(24, m.width // 12)
     gh = max(3, m.height // 150)
     label_w = text_width("XW", s) + 2 * s
-    total = 3 * (label_w + gw) + 2 * m.margin
-    x = (m.width - total) // 2
+    x = slice_gauges_left(m)
     # Bottom centre, above the warning line: the top centre is the hint panel's.
     y = m.height - m.margin - 2 * (GLYPH_H + 4) * s - gh
     for name, angle in zip(("XW", "YW", "ZW"), g.angles):
@@ -134,20 +132,14 @@ def weapon_text(panel: WeaponPanel) -> str:
     return text + (f"  LIVE {panel.live}" if panel.live >= 0 else "")
 
 
-def draw_weapon_panel(q: QuadList, panel: WeaponPanel, m: HudMetrics) -> None:
-    """Above the energy bar: the weapon's line, a cooldown bar (full when ready) and a refusal line."""
+def draw_weapon_panel(q: QuadList, panel: WeaponPanel, m: HudMetrics, raised: int = 0) -> None:
+    """Above the energy bar (and ``raised`` lines more, over a cost line that takes more than
+    one): the weapon's line, a cooldown bar (full when ready) and a refusal line."""
     s = m.text_scale
     x, y, w, h = m.energy_bar()
     line_h = (GLYPH_H + 3) * s
-    # Wrapped short of the middle, where the slice gauges are (larger text takes two lines).
-    limit = max(w, m.width // 2 - 5 * m.margin - x)
-    lines: list[str] = []
-    for part in weapon_text(panel).split("  "):  # break between its parts (name, cost, bullets)
-        if lines and text_width(f"{lines[-1]}  {part}", s) <= limit:
-            lines[-1] = f"{lines[-1]}  {part}"
-        else:
-            lines += wrap(part, limit, s)
-    top = y - (len(lines) + 1) * line_h - 3 * h
+    lines = left_lines(weapon_text(panel), m)  # larger text takes two lines
+    top = y - (len(lines) + 1 + raised) * line_h - 3 * h
     flash = min(max(float(panel.flash), 0.0), 1.0)
     for i, line in enumerate(lines):
         q.text(line, x, top + i * line_h, s, mix(WEAPON_COLOR, (1.0, 1.0, 1.0, 1.0), flash))
@@ -201,8 +193,10 @@ def draw_energy_bar(q: QuadList, gauge: EnergyGauge, m: HudMetrics) -> None:
     val = energy_text(gauge)
     val_color = cue("energy_empty") if gauge.empty else mix(TEXT_COLOR, cue("energy_flash"), flash)
     q.text(val, x + w - text_width(val, s), label_y, s, val_color)
-    if gauge.costs:  # what each 4D action costs, over the label (under the weapon panel)
-        q.text(gauge.costs, x, label_y - (GLYPH_H + 3) * s, s, ENERGY_LABEL_COLOR)
+    # What each 4D action costs, over the label (under the weapon panel), clear of the gauges.
+    costs = left_lines(gauge.costs, m, gauges=True)
+    for i, line in enumerate(costs):
+        q.text(line, x, label_y - (len(costs) - i) * (GLYPH_H + 3) * s, s, ENERGY_LABEL_COLOR)
 
 
 def energy_spent_width(gauge: EnergyGauge, inner_w: int) -> int:

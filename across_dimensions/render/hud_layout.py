@@ -188,6 +188,28 @@ def message_layout(hud: Hud, width: int, height: int) -> tuple[list[str], int, t
     return lines, scale, ((m.width - band_w) // 2, ytop - pad, band_w, block_h + pad), line_h
 
 
+def slice_gauges_left(m: HudMetrics) -> int:
+    """Pixel column where the slice gauges (bottom centre) begin."""
+    label_w = text_width("XW", m.text_scale) + 2 * m.text_scale
+    return (m.width - 3 * (label_w + max(24, m.width // 12)) - 2 * m.margin) // 2
+
+
+def left_lines(text: str, m: HudMetrics, gauges: bool = False) -> list[str]:
+    """``text`` (parts two spaces apart) in lines over the energy bar that stop short of the
+    middle: of the slice gauges' left end when ``gauges`` (the lines on their row), else of the
+    slice mode's label above them. Broken between parts, not inside one, where it can."""
+    s = m.text_scale
+    x, _, w, _ = m.energy_bar()
+    limit = max(w, (slice_gauges_left(m) if gauges else m.width // 2 - 4 * m.margin) - m.margin - x)
+    lines: list[str] = []
+    for part in text.split("  ") if text else ():
+        if lines and text_width(f"{lines[-1]}  {part}", s) <= limit:
+            lines[-1] = f"{lines[-1]}  {part}"
+        else:
+            lines += wrap(part, limit, s)
+    return lines
+
+
 def slice_marker_x(angle_deg: float, x0: int, width: int) -> int:
     """Pixel column of a slice gauge's marker: -180 degrees at ``x0``, +180 at ``x0 + width``."""
     t = (min(max(angle_deg, -180.0), 180.0) + 180.0) / 360.0

@@ -40,7 +40,7 @@ def draw(game, frame, alpha) -> None:
     bar = game.energy
     if bar is not None:
         flash = bar.flash / FLASH_TICKS
-        frame.hud.energy = EnergyGauge(bar.value, bar.maximum, flash, bar.milli == 0, cost_line(game.level))
+        frame.hud.energy = EnergyGauge(bar.value, bar.maximum, flash, bar.milli == 0, costs=cost_line(game.level))
 
 
 def state_bytes(game) -> bytes:
