@@ -33,7 +33,6 @@ TIMEOUT = 600
 
 #: What the probe finds on the shipped levels today (issue: levels that demand what they teach).
 KNOWN = {
-    "03_tumbling_hall": "bypasses: straight (at the goal's w), no_bodies and no_radar win without the bodies",
     "05_blast_and_field": "bypass: no_field (a straight shot at the odd crate); soft-locks: the energy spent",
     "06_bridge": "bypasses: two running jumps, a 75-degree turn; soft-lock: the slab turned to and fro",
     "08_around_the_corner": "bypass: frustum_no_orbit; soft-locks: wasted energy (nothing refills it)",
