@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.core.frustum import frustum_project
 from across_dimensions.core.shapes import make_shape
@@ -27,12 +28,6 @@ SWITCH = Actions(presses=(("switch_camera", 1),))
 def _run(game: Game, n: int, **kw) -> None:
     for _ in range(n):
         game.step(Actions(**kw))
-
-
-def _level(tmp_path: Path, text: str, name: str = "cam.toml"):
-    path = tmp_path / name
-    path.write_text(text, encoding="utf-8")
-    return load_level(path)
 
 
 # ----------------------------------------------------------------------- the rig
@@ -156,6 +151,52 @@ def test_turning_the_slice_carries_the_player_into_the_orthogonal_world():
     assert game.outcome == "complete" and game.respawns == 0
 
 
+def _eye_w(game: Game) -> float:
+    """The player's eye's w in the world (not the slice offset the w gauge shows)."""
+    p = game.player
+    return float(game.camera.to_world(np.append(p.eye(), p.position[3]))[3])
+
+
+def _turned_at_the_edge() -> Game:
+    """Orthogonal Worlds: the slice turned 90 degrees in zw on the start platform."""
+    game = Game(load_level(LEVELS / "07_orthogonal_worlds.toml"))
+    _run(game, 30, forward=1.0)
+    game.step(Actions(presses=(("step_zw_pos", 1),)))
+    _run(game, 60)
+    return game
+
+
+def test_the_slice_never_turns_back_at_a_w_outside_the_level():
+    game = _turned_at_the_edge()
+    lo, hi = game.level.w_range
+    _run(game, 140, forward=1.0)  # half way along the glass bridge: walking ahead is walking ana
+    assert _eye_w(game) > 9.0
+    rotation, anchor = game.camera.rotation.copy(), game.camera.anchor.copy()
+    # A step back and a held turn back are refused there: the slice stays as it was.
+    game.step(Actions(presses=(("step_zw_neg", 1),)))
+    _run(game, 60)
+    _run(game, 60, turn_zw_neg=True)
+    assert np.array_equal(game.camera.rotation, rotation) and np.array_equal(game.camera.anchor, anchor)
+    assert game.event_counts["slice_aligned"] == 1 and game.event_counts["slice_turn_refused"] == 2
+    assert "Walk back" in game.frame().hud.message
+    # The w keys never carry the player's world w out of the range either (they move along z now).
+    _run(game, 90, w=1.0)
+    assert _eye_w(game) > hi and game.camera.angles_deg() == pytest.approx((0.0, 0.0, 90.0))
+    # Back on the start platform, where the world w is inside the range, the slice turns back,
+    # and the player's w (the gauge, the range's clamp) is their world w again.
+    while _eye_w(game) > 0.0:
+        game.step(Actions(forward=-1.0))
+    game.step(Actions(presses=(("step_zw_neg", 1),)))
+    _run(game, 60)
+    assert game.event_counts["slice_aligned"] == 2
+    assert game.camera.angles_deg() == pytest.approx((0.0, 0.0, 0.0))
+    assert game.camera.anchor[3] == 0.0 and game.player.position[3] == pytest.approx(_eye_w(game))
+    _run(game, 120, w=1.0)
+    assert _eye_w(game) == pytest.approx(hi)
+    _run(game, 240, w=-1.0)
+    assert _eye_w(game) == pytest.approx(lo)
+
+
 def test_energy_drains_at_the_stated_rate_and_the_return_starts_at_zero():
     game = Game(load_level(LEVELS / "08_around_the_corner.toml"))
     rate = game.level.camera.frustum_cost_milli  # thousandths per second
@@ -187,7 +228,10 @@ def test_the_frustum_view_stays_put_while_the_player_walks():
     _run(game, 30, forward=1.0, yaw=0.02)
     later = {d.key: d for d in game.frame().drawables if d.key.startswith("frustum:")}
     assert first.keys() == later.keys() and first
-    for key, d in first.items():  # the same meshes (not re-projected) at the same place
+    # The crystals turn on their own (re-projected as they spin); the door and the switch do not.
+    still = {k: d for k, d in first.items() if game.entities.get(int(k.rsplit(":", 1)[1])).kind != "crystal"}
+    assert {game.entities.get(int(k.rsplit(":", 1)[1])).kind for k in still} == {"object", "target"}
+    for key, d in still.items():  # the same meshes (not re-projected) at the same place
         assert later[key].revision == d.revision and later[key].mesh is d.mesh
         assert np.array_equal(later[key].model, d.model)
     assert not game.events or all(e.kind != "camera_switched" for e in game.events)
@@ -198,12 +242,12 @@ def test_bullets_seen_through_the_4d_camera_hit_around_the_corner():
 
     def shot(orbit_ticks: int, frustum: bool = True) -> bool:
         game = Game(level)
-        _run(game, 14, forward=1.0)
+        _run(game, 14, forward=1.0)  # onto the mark, facing the door
         _run(game, 30)
-        game.step(Actions(yaw=np.radians(-22.0), pitch=-0.04))
         if frustum:
             game.step(SWITCH)
-            _run(game, orbit_ticks, orbit_right=True)
+            _run(game, orbit_ticks, orbit_left=True)
+        game.step(Actions(yaw=np.radians(-36.0), pitch=np.radians(-20.0)))  # low, ahead on the left
         game.step(Actions(presses=(("fire", 1),)))
         target = game.entities.of_kind("target")[0]
         for _ in range(60):
@@ -213,8 +257,8 @@ def test_bullets_seen_through_the_4d_camera_hit_around_the_corner():
         return game.event_counts["target_hit"] == 1
 
     assert not shot(0, frustum=False)  # cross-section: the switch is out of reach
-    assert not shot(0)  # at the switch its image lies behind the end wall
-    assert shot(120)  # 80 degrees round the orbit its image is in the hall: the same shot hits
+    assert not shot(0)  # unorbited, its image lies deep under the floor
+    assert shot(135)  # 90 degrees round the orbit its image sits on the floor in the hall: the same shot hits
 
 
 def test_camera_modes_replay_deterministically():
@@ -241,32 +285,18 @@ def test_camera_modes_replay_deterministically():
     assert len(set(hashes[0])) == len(script)
 
 
-BASE = """
-[level]
-format = 2
-[spawn]
-position = [0.0, 0.0, 0.0, 0.0]
-[goal]
-center = [0.0, 1.0, 5.0]
-size = [1.0, 2.0, 1.0]
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [10.0, 1.0, 10.0]
-"""
-
-
 @pytest.mark.parametrize(
     "entry, needle",
     [
-        ("turn_speed = 0.0", "'turn_speed'"),
-        ("fov = 170.0", "'fov'"),
-        ("frustum = 1", "'frustum'"),
-        ("orbit = 3.0", "'orbit'"),
+        ({"turn_speed": 0.0}, "'turn_speed'"),
+        ({"fov": 170.0}, "'fov'"),
+        ({"frustum": 1}, "'frustum'"),
+        ({"orbit": 3.0}, "'orbit'"),
     ],
 )
 def test_bad_camera_table_names_the_file_and_the_entry(tmp_path, entry, needle):
     with pytest.raises(LevelError) as e:
-        _level(tmp_path, BASE + f"[camera]\n{entry}\n")
+        LevelBuilder(floor=(10.0, 1.0, 10.0)).table("camera", **entry).load(tmp_path, "cam.toml")
     lines = str(e.value).splitlines()
     assert any("[camera]" in ln and needle in ln for ln in lines), lines
     assert "cam.toml" in str(e.value)

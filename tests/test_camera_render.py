@@ -4,51 +4,26 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.sim import Game
-from across_dimensions.world.level import load_level
 
-SCENE = """
-[level]
-format = 2
-w_range = [-1.0, 1.0]
-[spawn]
-position = [0.0, 0.0, 0.0, 0.0]
-[goal]
-center = [0.0, 1.0, 30.0]
-size = [1.0, 2.0, 1.0]
-[camera]
-turn = false
-frustum = true
-frustum_cost = 0.0
-[[box]]
-center = [0.0, -0.5, 5.0]
-size = [12.0, 1.0, 16.0]
-color = [0.3, 0.32, 0.37]
-[[box]]
-center = [-4.0, 1.5, 6.0]
-size = [0.5, 3.0, 8.0]
-color = [0.6, 0.5, 0.4]
-[[object]]
-shape = "tesseract"
-position = [0.8, 1.2, 5.0, {w}]
-scale = [1.2, 1.4, 1.2, {depth}]
-color = [0.85, 0.3, 0.3]
-[[object]]
-shape = "24-cell"
-position = [-1.5, 1.0, 7.0, {w}]
-scale = [0.8, 0.8, 0.8, {depth}]
-color = [0.3, 0.6, 0.9]
-"""
 SIZE = (160, 90)
 SWITCH = Actions(presses=(("switch_camera", 1),))
 
 
 def _game(tmp_path, w: float, depth: float) -> Game:
-    path = tmp_path / f"scene_{w}_{depth}.toml"
-    path.write_text(SCENE.format(w=w, depth=depth), encoding="utf-8")
-    return Game(load_level(path))
+    """A wall and two 4D objects at ``w``, ``depth`` deep, with the frustum camera free to use."""
+    scene = (
+        LevelBuilder(goal=(0.0, 1.0, 30.0), floor=None)
+        .table("camera", turn=False, frustum=True, frustum_cost=0.0)
+        .box([0.0, -0.5, 5.0], [12.0, 1.0, 16.0], color=[0.3, 0.32, 0.37])
+        .box([-4.0, 1.5, 6.0], [0.5, 3.0, 8.0], color=[0.6, 0.5, 0.4])
+        .object([0.8, 1.2, 5.0, w], scale=[1.2, 1.4, 1.2, depth], color=[0.85, 0.3, 0.3])
+        .object([-1.5, 1.0, 7.0, w], "24-cell", scale=[0.8, 0.8, 0.8, depth], color=[0.3, 0.6, 0.9])
+    )
+    return Game(scene.load(tmp_path, f"scene_{w}_{depth}.toml"))
 
 
 @pytest.fixture

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from conftest import shots_in, xvfb_display
 
-from across_dimensions.app.editor import INSTALL_HINT, missing
+from across_dimensions.app.editor import EXTRA_MODULES, INSTALL_HINT, missing
 from across_dimensions.render.png import read_png
 
 REPO = Path(__file__).resolve().parents[1]
@@ -150,3 +150,15 @@ def test_the_editor_key_in_play_opens_the_editor(env, tmp_path, xvfb):
     bars = [_menu_bar(p) for p in shots_in(shots)]
     in_editor = [np.mean(np.abs(b - MENU_BAR_GREY) <= 3) > 0.8 for b in bars]
     assert in_editor == [False, True, False], (in_editor, out, err)
+
+
+def test_the_readme_installs_the_extra_from_the_source_folder():
+    import tomllib
+
+    section = (REPO / "README.md").read_text(encoding="utf-8").split("## The level editor", 1)[1]
+    line = section.split("```", 2)[1].strip().splitlines()[0]
+    assert line.split("#")[0].strip() == 'pip install -e ".[editor]"'  # works in a checkout, no index needed
+    extra = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))["project"]["optional-dependencies"]
+    names = {d.split(">")[0].split("=")[0].strip().lower() for d in extra["editor"]}
+    assert {d.lower() for d in EXTRA_MODULES.values()} <= names
+    assert 'pip install -e ".[editor]"' in INSTALL_HINT

@@ -48,15 +48,16 @@ def test_click_selects_what_is_visible_at_the_slice(game):
     # wall (z = 2.7 to 3.3, present for |w| < 0.8), the goal and the far wall (z = 14).
     cam = view.EditorCamera(np.array([0.0, 1.0, -9.0]), 0.0, 0.0, 0.0)
     assert view.pick(game, cam, 0.0, 0.0, 16 / 9, ALL) == ("crystal", 0)
-    cam.w = 0.6  # the crystal's section is empty; the world's wall is there, shrunk to 60 %
+    cam.w = 0.6  # the crystal's section is empty; the world's wall is there (a prism: full size)
     assert view.pick(game, cam, 0.0, 0.0, 16 / 9, ALL) == ("world", 0, "box", 0)
     cam.w = 0.9  # the world is gone too: the goal's box (z = 11 to 13) is next
     assert view.pick(game, cam, 0.0, 0.0, 16 / 9, ALL) == ("goal",)
-    # The shrunk wall is picked only within its section: at w = 0.6 it spans x in +-4.5 * 0.6.
+    # The wall is picked only where it is: off to the side, at w = 0.6 it hides what is behind it,
+    # at w = 0.9 it does not.
     right = view.EditorCamera(np.array([3.0, 1.0, -9.0]), 0.0, 0.0, 0.6)
-    assert view.pick(game, right, 0.0, 0.0, 16 / 9, ALL) == ("box", 4)
-    right.w = 0.0
     assert view.pick(game, right, 0.0, 0.0, 16 / 9, ALL) == ("world", 0, "box", 0)
+    right.w = 0.9
+    assert view.pick(game, right, 0.0, 0.0, 16 / 9, ALL) == ("box", 4)
     # Looking up at the empty sky picks nothing.
     sky = view.EditorCamera(np.array([0.0, 2.0, 0.0]), 0.0, 1.2, 0.0)
     assert view.pick(game, sky, 0.0, 0.0, 16 / 9, ALL) is None
@@ -108,14 +109,14 @@ def test_previews_show_the_section_shrinking_away_from_the_objects_w(game):
     assert view.preview_frames(game, ("box", 0), 0.0, [0.0], SectionCache()) == []  # boxes are the same at every w
 
 
-def test_world_previews_fade_with_the_profile(game):
+def test_world_previews_follow_the_profile(game):
     frames = view.preview_frames(game, ("world", 0), 0.0, [0.0, 0.6, 0.9], SectionCache())
     sizes = [
         float(np.ptp(f.drawables[0].mesh.vertices[:, 0])) if len(f.drawables[0].mesh.vertices) else 0.0
         for _, f in frames
     ]
     assert sizes[0] == pytest.approx(9.0, rel=1e-4)  # the wall's full 9 m at the world's w
-    assert 0 < sizes[1] < sizes[0] and sizes[2] == 0.0  # round profile over depth 1.6: gone at |w| >= 0.8
+    assert sizes[1] == sizes[0] and sizes[2] == 0.0  # a prism over depth 1.6: full size, gone at |w| >= 0.8
 
 
 def test_frustum_view_keeps_the_slice_size_and_shrinks_ana(game):

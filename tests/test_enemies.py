@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.core.section import cross_section
 from across_dimensions.core.transform import rotation, scaling, translation
@@ -26,20 +27,14 @@ from across_dimensions.world.resources import levels_dir, resolve_level
 ROOT = Path(__file__).resolve().parents[1]
 HIVE = levels_dir() / "09_hive.toml"
 
-HEADER = """
-[level]
-format = 2
-name = "enemy test"
-w_range = [-3.0, 3.0]
-[spawn]
-position = [0.0, 0.0, 0.0, 0.0]
-[goal]
-center = [0.0, 1.0, 40.0]
-size = [1.0, 1.0, 1.0]
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [40.0, 1.0, 90.0]
-"""
+
+def hall() -> LevelBuilder:
+    """A long hall from w = -3 to 3, the goal far ahead."""
+    return LevelBuilder(
+        "enemy test", w_range=(-3.0, 3.0), goal=(0.0, 1.0, 40.0), goal_size=(1.0, 1.0, 1.0), floor=(40.0, 1.0, 90.0)
+    )
+
+
 GUN = """
 [[weapon]]
 kind = "gun"
@@ -50,12 +45,6 @@ amplitude = 0.01
 size = 0.15
 lifetime = 2.0
 """
-
-
-def level(tmp_path, body: str, name="e.toml"):
-    path = tmp_path / name
-    path.write_text(HEADER + body, encoding="utf-8")
-    return load_level(path)
 
 
 def enemy(game, name=None):
@@ -84,9 +73,9 @@ def frozen(monkeypatch):
 
 # ------------------------------------------------------------------ bodies and animation
 def test_section_at_time_t_is_the_lifted_mesh_cut_after_its_animation_pose(tmp_path):
-    lv = level(
+    lv = hall().load(
         tmp_path,
-        """
+        extra="""
 [[enemy]]
 name = "tree"
 kind = "morph"
@@ -158,19 +147,13 @@ def test_swarm_is_ten_hyperspheres_and_its_section_changes_as_it_turns_in_zw():
 
 
 # ------------------------------------------------------------------ the state machine
-SCOUT = """
-[[enemy]]
-name = "scout"
-kind = "swarm"
-position = [0.0, 1.5, 10.0, 1.6]
-health = 3
-sight = 10.0
-reach = 8.0
-"""
+def scout(level: LevelBuilder) -> LevelBuilder:
+    """``level`` with a swarm posted 10 m ahead, 1.6 ana, that sees the player within 10 m."""
+    return level.enemy("scout", [0.0, 1.5, 10.0, 1.6], kind="swarm", health=3, sight=10.0, reach=8.0)
 
 
 def test_state_machine_follows_the_players_position(tmp_path):
-    game = Game(level(tmp_path, SCOUT))
+    game = Game(scout(hall()).load(tmp_path))
     game.player.position[:] = [0.0, 0.0, -20.0, 0.0]  # 30 m from its post: out of sight
     states = set()
     for _ in range(3 * TICK_RATE):
@@ -202,7 +185,7 @@ def test_state_machine_follows_the_players_position(tmp_path):
 
 
 def test_an_attack_is_announced_and_can_be_dodged_along_w(tmp_path):
-    game = Game(level(tmp_path, SCOUT))
+    game = Game(scout(hall()).load(tmp_path))
     game.player.position[:] = [0.0, 0.0, 4.0, 0.0]
     seen, looks = [], []
     for _ in range(8 * TICK_RATE):
@@ -218,7 +201,7 @@ def test_an_attack_is_announced_and_can_be_dodged_along_w(tmp_path):
     assert "glow" not in looks[:-TICK_RATE]
     assert not any(ev.kind == "player_hit" for ev in seen)
     # Stepping along w out of the shot's slice dodges it; standing still does not.
-    dodger = Game(level(tmp_path, SCOUT))
+    dodger = Game(scout(hall()).load(tmp_path))
     dodger.player.position[:] = [0.0, 0.0, 4.0, 0.0]
     dodger.step(Actions())
     while not dodger.states.enemies.shots:
@@ -235,12 +218,8 @@ def test_an_attack_is_announced_and_can_be_dodged_along_w(tmp_path):
 
 
 def test_enemies_never_move_through_the_3d_world(tmp_path):
-    wall = """
-[[box]]
-center = [0.0, 2.0, 6.0]
-size = [40.0, 4.0, 0.5]
-"""
-    game = Game(level(tmp_path, SCOUT + wall))
+    wall = hall().box([0.0, 2.0, 6.0], [40.0, 4.0, 0.5])
+    game = Game(scout(wall).load(tmp_path))
     game.player.position[:] = [0.0, 0.0, 2.0, 0.0]  # the wall is between the post and the player
     for _ in range(6 * TICK_RATE):
         game.step(Actions())
@@ -259,7 +238,7 @@ weak_spot = [0.0, 0.0, 0.0, 0.9]
 
 
 def test_a_weak_spot_takes_damage_only_from_a_hit_at_its_own_w(tmp_path, frozen):
-    game = Game(level(tmp_path, WARDEN + GUN))
+    game = Game(hall().load(tmp_path, extra=WARDEN + GUN))
     run(game, 1)
     foe = enemy(game).data
     game.player.position[1] = 0.0
@@ -280,7 +259,7 @@ def test_a_weak_spot_takes_damage_only_from_a_hit_at_its_own_w(tmp_path, frozen)
 
 def test_a_swinging_bullet_reaches_the_weak_spot_from_the_right_distance(tmp_path, frozen):
     swing = GUN.replace("amplitude = 0.01", "amplitude = 0.8\nperiod = 2.0")
-    game = Game(level(tmp_path, WARDEN + swing))
+    game = Game(hall().load(tmp_path, extra=WARDEN + swing))
     run(game, 1)
     game.player.position[:] = [0.0, 0.0, 1.5, 1.0]  # 4.5 m away at the body's w: the swing reaches ana 0.74
     hits = [ev for ev in fire(game, 60) if isinstance(ev, EnemyHit)]
@@ -302,7 +281,7 @@ loot = 5.0
 start = 0.0
 max = 20.0
 """
-    game = Game(level(tmp_path, body + GUN))
+    game = Game(hall().load(tmp_path, extra=body + GUN))
     run(game, 1)
     eid = enemy(game).id
     assert len(game.entities.of_kind("loot")) == 1
@@ -334,7 +313,7 @@ cost = 0.0
 radius = 7.0
 duration = 0.6
 """
-    game = Game(level(tmp_path, body + GUN))
+    game = Game(hall().load(tmp_path, extra=body + GUN))
     run(game, 30)
     foe = enemy(game).data
     assert foe.state == "hidden" and foe.centre[3] == pytest.approx(1.6)
@@ -370,7 +349,7 @@ health = 1
 loot = 5.0
 sight = 1.0
 """
-    game = Game(level(tmp_path, body + GUN))
+    game = Game(hall().load(tmp_path, extra=body + GUN))
     run(game, 30)
     ahead, behind = enemy(game, "carrier").data, enemy(game, "behind").data
     assert ahead.state == behind.state == "hidden"
@@ -486,8 +465,7 @@ BAD = [
 
 @pytest.mark.parametrize(("entry", "message"), BAD)
 def test_bad_enemy_entries_are_one_line_each(tmp_path, entry, message):
-    path = tmp_path / "bad.toml"
-    path.write_text(HEADER + f'[[enemy]]\nname = "x"\n{entry}\n', encoding="utf-8")
+    path = hall().write(tmp_path, "bad.toml", extra=f'[[enemy]]\nname = "x"\n{entry}\n')
     with pytest.raises(LevelError) as err:
         load_level(path)
     lines = err.value.problems

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pymunk
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.flatland import FlatGame
@@ -26,27 +27,12 @@ from across_dimensions.world.resources import levels_dir
 REPO = Path(__file__).resolve().parents[1]
 PROLOGUE = levels_dir() / "prologue.toml"
 
-#: The smallest room: a floor 40 m long at every z of [-3, 3], the being at x = 0.
-ROOM = """
-[level]
-format = "flatland"
-z_range = [-3.0, 3.0]
-[spawn]
-position = [0.0, 0.0, 0.0]
-[goal]
-center = [18.0, 1.0]
-size = [2.0, 2.0]
-[[box]]
-name = "floor"
-center = [0.0, -1.0, 0.0]
-size = [40.0, 2.0, 8.0]
-"""
 
-
-def room(tmp_path, extra: str = "", name: str = "room") -> FlatGame:
-    path = tmp_path / f"{name}.toml"
-    path.write_text(ROOM + extra, encoding="utf-8")
-    return FlatGame(load_flat_level(path))
+def room(tmp_path, level: LevelBuilder | None = None, name: str = "room") -> FlatGame:
+    """A game of ``level``: by default the smallest room, a floor 40 m long at every z of [-3, 3],
+    the being at x = 0."""
+    level = LevelBuilder.flatland() if level is None else level
+    return FlatGame(load_flat_level(level.write(tmp_path, f"{name}.toml")))
 
 
 def run(game: FlatGame, actions: Actions, ticks: int) -> None:
@@ -66,7 +52,7 @@ def circles(game: FlatGame) -> list[pymunk.Circle]:
 def test_a_balls_circle_radius_follows_z(tmp_path):
     # A ball of radius 1.5 centred at z = 1: in the plane z0 its circle has radius
     # sqrt(1.5^2 - (z0 - 1)^2), and there is no circle where |z0 - 1| >= 1.5.
-    game = room(tmp_path, "[[ball]]\ncenter = [6.0, 1.5, 1.0]\nradius = 1.5\n")
+    game = room(tmp_path, LevelBuilder.flatland().add("ball", center=[6.0, 1.5, 1.0], radius=1.5))
     seen = []
     for _ in range(200):  # hold w_ana: the plane moves from 0 to 3
         game.step(Actions(w=1.0))
@@ -82,8 +68,8 @@ def test_a_balls_circle_radius_follows_z(tmp_path):
 
 
 def test_a_wall_that_tapers_along_z_shrinks_and_vanishes(tmp_path):
-    wall = '[[prism]]\nname = "wall"\nalong = "x"\nextent = [3.0, 3.5]\n'
-    wall += "profile = [[-1.0, 0.0], [1.0, 0.0], [0.0, 4.0]]\n"  # [z, y]: 4 m high at z = 0, gone at |z| = 1
+    profile = [[-1.0, 0.0], [1.0, 0.0], [0.0, 4.0]]  # [z, y]: 4 m high at z = 0, gone at |z| = 1
+    wall = LevelBuilder.flatland().add("prism", name="wall", along="x", extent=[3.0, 3.5], profile=profile)
     game = room(tmp_path, wall)
     heights = []
     while game.z < 1.2:
@@ -98,7 +84,7 @@ def test_a_wall_that_tapers_along_z_shrinks_and_vanishes(tmp_path):
 
 
 def test_a_box_outside_its_z_extent_leaves_the_space(tmp_path):
-    game = room(tmp_path, '[[box]]\nname = "block"\ncenter = [4.0, 0.5, 0.5]\nsize = [1.0, 1.0, 1.0]\n')
+    game = room(tmp_path, LevelBuilder.flatland().box([4.0, 0.5, 0.5], [1.0, 1.0, 1.0], name="block"))
     n0 = len(shapes(game, pymunk.Poly))
     for w, inside in ((1.0, lambda z: z < 1.0), (-1.0, lambda z: z >= 0.0), (1.0, lambda z: z < 0.5)):
         while inside(game.z):  # hold the key until the plane leaves [0, 1) (or reaches its middle)
@@ -110,10 +96,8 @@ def test_a_box_outside_its_z_extent_leaves_the_space(tmp_path):
 
 def test_standing_on_something_that_vanishes_falls(tmp_path):
     # A platform 2 m up, only for z in [-0.5, 0.5]; the being starts on it.
-    level = ROOM.replace("position = [0.0, 0.0, 0.0]", "position = [0.0, 2.0, 0.0]")
-    level += '[[box]]\nname = "ledge"\ncenter = [0.0, 1.5, 0.0]\nsize = [3.0, 1.0, 1.0]\n'
-    (tmp_path / "ledge.toml").write_text(level, encoding="utf-8")
-    game = FlatGame(load_flat_level(tmp_path / "ledge.toml"))
+    ledge = LevelBuilder.flatland(spawn=(0.0, 2.0, 0.0)).box([0.0, 1.5, 0.0], [3.0, 1.0, 1.0], name="ledge")
+    game = room(tmp_path, ledge, "ledge")
     run(game, Actions(), 30)
     assert game.grounded and game.position[1] == pytest.approx(2.0, abs=0.01)
     run(game, Actions(w=1.0), 45)  # past z = 0.5: the ledge is gone
@@ -140,7 +124,7 @@ def test_the_being_walks_and_jumps(tmp_path):
 
 
 def test_the_being_pushes_a_crate_against_its_friction(tmp_path):
-    game = room(tmp_path, "[[crate]]\ncenter = [2.0, 0.5, 0.0]\nsize = [1.0, 1.0, 8.0]\nmass = 25.0\n")
+    game = room(tmp_path, LevelBuilder.flatland().add("crate", center=[2.0, 0.5, 0.0], size=[1.0, 1.0, 8.0], mass=25.0))
     body, _ = game.space.crates[0]
     run(game, Actions(right=1.0), 120)
     assert body.position.x > 5.0  # pushed along, not climbed
@@ -154,7 +138,7 @@ def test_the_being_pushes_a_crate_against_its_friction(tmp_path):
 
 
 def test_moving_along_z_is_refused_where_a_wall_would_appear_around_the_being(tmp_path):
-    game = room(tmp_path, '[[box]]\nname = "pillar"\ncenter = [0.0, 2.0, 1.5]\nsize = [1.0, 4.0, 1.0]\n')
+    game = room(tmp_path, LevelBuilder.flatland().box([0.0, 2.0, 1.5], [1.0, 4.0, 1.0], name="pillar"))
     run(game, Actions(w=1.0), 120)
     assert game.z < 1.0 and game.event_counts["z_blocked"] == 1
     run(game, Actions(right=1.0), 30)  # step out from under it: now the plane moves on
@@ -201,12 +185,13 @@ def test_same_actions_give_the_same_hashes_twice_and_in_a_fresh_process(tmp_path
 
 # ------------------------------------------------------- hints and the frame
 def test_hints_are_done_by_the_level_state_not_by_keys(tmp_path):
-    extra = (
-        '[[hint]]\ntext = "Hold {w_ana}."\nuntil = { z_min = 0.5 }\n'
-        '[[hint]]\ntext = "Walk right."\nuntil = { x_min = 3.0 }\n'
-        '[[hint]]\ntext = "Read me."\n'
+    level = (
+        LevelBuilder.flatland()
+        .add("hint", text="Hold {w_ana}.", until={"z_min": 0.5})
+        .add("hint", text="Walk right.", until={"x_min": 3.0})
+        .add("hint", text="Read me.")
     )
-    game = room(tmp_path, extra)
+    game = room(tmp_path, level)
     hints = StateHints(game.level.hints)
     for _ in range(20):  # the key held for a third of a second: not far enough along z
         game.step(Actions(w=1.0))
@@ -224,7 +209,10 @@ def test_hints_are_done_by_the_level_state_not_by_keys(tmp_path):
 
 
 def test_the_frame_shows_the_sections_and_the_z_bar(tmp_path):
-    game = room(tmp_path, "[[ball]]\ncenter = [6.0, 1.5, 2.0]\nradius = 1.0\n[[item]]\nposition = [3.0, 1.0, -1.0]\n")
+    game = room(
+        tmp_path,
+        LevelBuilder.flatland().add("ball", center=[6.0, 1.5, 2.0], radius=1.0).add("item", position=[3.0, 1.0, -1.0]),
+    )
     frame = flat_frame(game)
     assert [p.key for p in frame.pieces] == ["floor"] and frame.circles == []
     assert {(p.kind, p.z, p.in_plane) for p in frame.pins} == {("ball", 2.0, False), ("item", -1.0, False)}
@@ -256,10 +244,8 @@ def test_the_pit_needs_the_ball(tmp_path):
 def test_a_jump_just_after_leaving_the_ground_still_goes(tmp_path, late, jumps):
     # Coyote time: a being that walked off a ledge (or whose circle shrank away under it) may jump
     # for a few ticks more, so a tap late by a frame still jumps; later it is falling.
-    level = ROOM.replace("position = [0.0, 0.0, 0.0]", "position = [0.0, 2.0, 0.0]")
-    level += '[[box]]\nname = "ledge"\ncenter = [-1.0, 1.5, 0.0]\nsize = [2.4, 1.0, 8.0]\n'
-    (tmp_path / "ledge.toml").write_text(level, encoding="utf-8")
-    game = FlatGame(load_flat_level(tmp_path / "ledge.toml"))
+    ledge = LevelBuilder.flatland(spawn=(0.0, 2.0, 0.0)).box([-1.0, 1.5, 0.0], [2.4, 1.0, 8.0], name="ledge")
+    game = room(tmp_path, ledge, "ledge")
     run(game, Actions(), 20)
     while game.grounded:
         game.step(Actions(right=1.0))

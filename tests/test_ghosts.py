@@ -4,6 +4,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.core.section import cross_section
 from across_dimensions.core.transform import translation
@@ -15,61 +16,35 @@ from across_dimensions.world.level import LevelError, load_level
 
 LEVELS = Path(__file__).parent.parent / "levels"
 
-GHOST_LEVEL = """
-[level]
-format = 2
-name = "Ghost test"
-w_range = [-1.5, 1.5]
 
-[spawn]
-position = [0.0, 0.0, 0.0, 0.0]
-
-[goal]
-center = [0.0, 1.0, 40.0]
-size = [2.0, 2.0, 2.0]
-
-[ghosts]
-distance = 0.6
-
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [40.0, 1.0, 100.0]
-
-[[object]]   # a solid wall a little ana: absent at w = 0, present at w = 0.6
-name = "wall"
-shape = "tesseract"
-position = [0.0, 1.0, 3.0, 0.6]
-scale = [3.0, 2.0, 0.5, 0.5]
-color = [0.8, 0.2, 0.2]
-
-[[object]]   # a rigid body a little kata
-name = "ball"
-shape = "hypersphere"
-params = { subdivisions = 1 }
-position = [0.0, 0.5, 5.0, -0.6]
-scale = 0.5
-color = [0.2, 0.6, 1.0]
-body = "hypersphere"
-mass = 1.0
-
-[[world]]
-name = "veil"
-w = 0.6
-depth = 0.8
-profile = "prism"
-color = [0.3, 1.0, 0.4]
-
-  [[world.box]]
-  center = [0.0, 1.0, 8.0]
-  size = [4.0, 2.0, 0.3]
-"""
+def ghosts_level(**ghosts) -> LevelBuilder:
+    """A wall a little ana, a body a little kata and a world's wall at w = 0.6, with ``[ghosts]`` set
+    to ``ghosts`` (left out when empty)."""
+    level = LevelBuilder(
+        "Ghost test", w_range=(-1.5, 1.5), goal=(0.0, 1.0, 40.0), goal_size=(2.0, 2.0, 2.0), floor=(40.0, 1.0, 100.0)
+    )
+    if ghosts:
+        level.table("ghosts", **ghosts)
+    # a solid wall a little ana: absent at w = 0, present at w = 0.6
+    level.object([0.0, 1.0, 3.0, 0.6], name="wall", scale=[3.0, 2.0, 0.5, 0.5], color=[0.8, 0.2, 0.2])
+    # a rigid body a little kata
+    level.object(
+        [0.0, 0.5, 5.0, -0.6],
+        "hypersphere",
+        name="ball",
+        params={"subdivisions": 1},
+        scale=0.5,
+        color=[0.2, 0.6, 1.0],
+        body="hypersphere",
+        mass=1.0,
+    )
+    veil = {"center": [0.0, 1.0, 8.0], "size": [4.0, 2.0, 0.3]}
+    return level.world(0.6, 0.8, name="veil", profile="prism", color=[0.3, 1.0, 0.4], boxes=[veil])
 
 
 @pytest.fixture
 def ghost_level(tmp_path):
-    path = tmp_path / "ghosts.toml"
-    path.write_text(GHOST_LEVEL)
-    return load_level(path)
+    return ghosts_level(distance=0.6).load(tmp_path, "ghosts.toml")
 
 
 def ghost_drawables(frame):
@@ -174,13 +149,10 @@ def test_ghost_layers_stay_inside_the_w_range_and_switch_off(ghost_level):
 
 
 def test_level_can_turn_ghosts_off_and_checks_the_table(tmp_path):
-    path = tmp_path / "off.toml"
-    path.write_text(GHOST_LEVEL.replace("distance = 0.6", "enabled = false"))
-    game = Game(load_level(path))
+    game = Game(ghosts_level(enabled=False).load(tmp_path, "off.toml"))
     assert not ghost_drawables(game.frame())
-    path.write_text(GHOST_LEVEL.replace("distance = 0.6", "distance = -1\nlayers = 3"))
     with pytest.raises(LevelError) as e:
-        load_level(path)
+        ghosts_level(distance=-1, layers=3).load(tmp_path, "off.toml")
     text = str(e.value)
     assert "[ghosts]" in text and "distance" in text and "layers" in text
 
@@ -230,11 +202,7 @@ def test_levels_readme_ghosts_and_seek_snippet_loads(tmp_path):
 
     text = (LEVELS / "README.md").read_text(encoding="utf-8")
     (snippet,) = [b for b in re.findall(r"^``` ?toml\n(.*?)^```", text, re.S | re.M) if "[ghosts]" in b]
-    base = GHOST_LEVEL.split("[ghosts]")[0]  # format 2, without its own [ghosts]
-    rest = GHOST_LEVEL.split("distance = 0.6", 1)[1]
-    path = tmp_path / "snippet.toml"
-    path.write_text(base + rest + "\n" + snippet)
-    level = load_level(path)
+    level = ghosts_level().load(tmp_path, "snippet.toml", extra=snippet)  # without its own [ghosts]
     assert level.ghosts.enabled and level.ghosts.distance == 0.3 and not level.seek.enabled
 
 

@@ -67,7 +67,7 @@ def test_readme_example_validates(validator):
         (("w_cost = 4.0", "w_cost = -1.0"), "less than the minimum"),
         (("range = 16.0", "range = 0.0"), "less than the minimum"),
         (('name = "kata cache"', 'name = "kata cache"\nshape = "cube"'), "is not one of"),
-        (("energy = 3.0\nrespawn", "energy = 0.0\nrespawn"), "less than or equal to the minimum"),
+        (("energy = 3.0\n", "energy = 0.0\n"), "less than or equal to the minimum"),  # a crystal
     ],
 )
 def test_bad_values_are_caught_as_you_type(validator, edit, why):

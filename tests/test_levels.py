@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder, write_text
 
 from across_dimensions.core.shapes import SHAPES
 from across_dimensions.core.transform import PLANES
@@ -26,23 +27,14 @@ REPO = Path(__file__).resolve().parents[1]
 DATA = Path(__file__).resolve().parent / "data" / "levels"
 README = REPO / "levels" / "README.md"
 
-# A small valid level: tests append entries to it or edit it.
-BASE = """\
-[level]
-name = "base"
-w_range = [-1.0, 1.0]
 
-[spawn]
-position = [0.0, 0.0, 0.0, 0.0]
+def base(**kw) -> LevelBuilder:
+    """A small valid level (format 1) that tests add entries to."""
+    return LevelBuilder("base", format=None, **kw)
 
-[goal]
-center = [0.0, 1.0, 5.0]
-size = [1.0, 2.0, 1.0]
 
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [10.0, 1.0, 12.0]
-"""
+# Its text, for the tests about how a specific text is read.
+BASE = base().text()
 
 OBJECT = """
 [[object]]
@@ -50,12 +42,6 @@ name = "thing"
 shape = "tesseract"
 position = [2.0, 1.0, 3.0, 0.0]
 """
-
-
-def write(tmp_path, text: str, name: str = "level.toml") -> Path:
-    path = tmp_path / name
-    path.write_text(text, encoding="utf-8")
-    return path
 
 
 def problems_of(path) -> list[str]:
@@ -132,7 +118,7 @@ def example(tmp_path) -> Path:
     """The complete example level from levels/README.md, as a file."""
     blocks = [b for b in readme_toml_blocks() if "[level]" in b and "The Crossing" in b]
     assert len(blocks) == 1, "levels/README.md should have exactly one complete example, The Crossing"
-    return write(tmp_path, blocks[0], "example.toml")
+    return write_text(tmp_path, blocks[0], "example.toml")
 
 
 def test_readme_documents_every_table_field_and_shape():
@@ -179,11 +165,13 @@ def test_readme_example_loads_and_uses_every_table(example):
 
 
 def test_readme_snippets_are_valid(tmp_path):
-    """The [[world.mesh]] snippet, appended to the minimal base level, loads."""
+    """The snippets, appended to the minimal base level with a crate (the body the [[beacon]]
+    snippet watches), load."""
     snippets = [b for b in readme_toml_blocks() if "[level]" not in b]
     assert snippets
     for i, snippet in enumerate(snippets):
-        load_level(write(tmp_path, BASE + "\n" + snippet, f"snippet{i}.toml"))
+        level = base().object([0.0, 0.55, 2.0, 0.0], name="crate", scale=1.1, body="hypercube")
+        load_level(level.write(tmp_path, f"snippet{i}.toml", extra=snippet))
 
 
 def test_world_mesh_builds(tmp_path):
@@ -191,7 +179,7 @@ def test_world_mesh_builds(tmp_path):
     from across_dimensions.game.sim import Game
 
     snippet = next(b for b in readme_toml_blocks() if "[[world.mesh]]" in b)
-    game = Game(load_level(write(tmp_path, BASE + "\n" + snippet)))
+    game = Game(load_level(base().write(tmp_path, extra=snippet)))
     (world,) = game.scene.worlds
     assert world.scale_at(-0.3) == pytest.approx(1.0)
     lo, hi = world.boxes_at(-0.3)[0]
@@ -364,7 +352,7 @@ def test_several_problems_are_reported_at_once():
 def test_every_problem_names_the_file(tmp_path):
     """Even when the file is somewhere else, under another name."""
     src = (DATA / "several_problems.toml").read_text(encoding="utf-8")
-    path = write(tmp_path, src, "elsewhere.toml")
+    path = write_text(tmp_path, src, "elsewhere.toml")
     assert all(p.startswith(f"{path}: ") for p in problems_of(path))
 
 
@@ -382,7 +370,7 @@ def test_syntax_error_names_file_and_line():
 
 
 def test_missing_table_entries(tmp_path):
-    problems = problems_of(write(tmp_path, "# nothing here\n"))
+    problems = problems_of(write_text(tmp_path, "# nothing here\n"))
     assert any("missing table [level]" in p for p in problems)
     assert any("missing table [spawn]" in p for p in problems)
     assert any("missing table [goal]" in p for p in problems)
@@ -449,10 +437,10 @@ def test_missing_table_entries(tmp_path):
     ],
 )
 def test_more_single_problems(tmp_path, extra, fragments):
-    text = BASE + "\n" + extra
     if extra.startswith("box = "):  # a top-level key must come before the first table
-        text = extra + BASE.replace("[[box]]\ncenter = [0.0, -0.5, 0.0]\nsize = [10.0, 1.0, 12.0]\n", "")
-    path = write(tmp_path, text)
+        path = write_text(tmp_path, extra + base(floor=None).text())
+    else:
+        path = base().write(tmp_path, extra=extra)
     problems = problems_of(path)
     assert len(problems) == 1, problems
     for frag in fragments:
@@ -460,8 +448,7 @@ def test_more_single_problems(tmp_path, extra, fragments):
 
 
 def test_hints_and_format_types(tmp_path):
-    text = BASE.replace('name = "base"', 'name = "base"\nformat = "1"\nhints = "just one"')
-    problems = problems_of(write(tmp_path, text))
+    problems = problems_of(base().level(format="1", hints="just one").write(tmp_path))
     assert len(problems) == 2
     assert "field 'format': expected a number" in problems[0]
     assert "field 'hints': expected a list of strings" in problems[1]
@@ -503,8 +490,7 @@ def test_python_in_strings_is_just_text(tmp_path, monkeypatch):
 
 
 def test_python_in_numbers_is_not_evaluated(tmp_path):
-    text = BASE.replace("size = [1.0, 2.0, 1.0]", 'size = "[1.0, 2.0, 0.5 + 0.5]"')
-    (msg,) = problems_of(write(tmp_path, text))
+    (msg,) = problems_of(base().table("goal", size="[1.0, 2.0, 0.5 + 0.5]").write(tmp_path))
     assert "[goal]: field 'size': expected a list of 3 numbers" in msg
 
 
@@ -513,7 +499,7 @@ def test_python_in_params_is_not_evaluated(tmp_path, monkeypatch):
     extra = OBJECT.replace(
         "position", "params = { \"__class__\" = \"__import__('os').system('touch MARKER')\" }\nposition"
     )
-    (msg,) = problems_of(write(tmp_path, BASE + extra))
+    (msg,) = problems_of(base().write(tmp_path, extra=extra))
     assert "field 'params'" in msg and "'__class__'" in msg
     assert sorted(p.name for p in tmp_path.iterdir()) == ["level.toml"]
 
@@ -604,7 +590,7 @@ def test_check_level_unreadable_files(tmp_path):
 
 
 def test_check_level_relative_path_is_echoed(tmp_path):
-    (tmp_path / "mine.toml").write_text(BASE + "\n[[box]]\ncenter = [0, 0, 0]\nsize = [0, 1, 1]\n")
+    base().box([0, 0, 0], [0, 1, 1]).write(tmp_path, "mine.toml")
     res = check_level("mine.toml", cwd=tmp_path)
     assert res.returncode == 2
     assert res.stderr.splitlines()[:2] == [
@@ -633,13 +619,13 @@ HUGER = "9" * 5000  # beyond Python's int-string limit: tomllib raises a bare Va
     ids=["vector", "number", "scale", "angles", "5000_digits"],
 )
 def test_huge_integer_is_a_problem_not_a_crash(tmp_path, extra):
-    problems = problems_of(write(tmp_path, BASE + "\n" + extra))
+    problems = problems_of(base().write(tmp_path, extra=extra))
     assert len(problems) == 1
 
 
 @pytest.mark.parametrize("digits", [HUGE, HUGER], ids=["400_digits", "5000_digits"])
 def test_check_level_huge_integer(tmp_path, digits):
-    path = write(tmp_path, BASE + "\n" + OBJECT.replace("position", f"mass = {digits}\nposition"))
+    path = base().write(tmp_path, extra=OBJECT.replace("position", f"mass = {digits}\nposition"))
     good = REPO / "levels" / "01_first_steps.toml"
     res = check_level(path, good)
     assert res.returncode == 2 and "internal error" not in res.stderr
@@ -660,13 +646,13 @@ def test_check_level_huge_integer(tmp_path, digits):
 )
 def test_bad_shape_param_values(tmp_path, shape, params):
     extra = OBJECT.replace('"tesseract"', f'"{shape}"').replace("position", f"params = {params}\nposition")
-    (msg,) = problems_of(write(tmp_path, BASE + extra))
+    (msg,) = problems_of(base().write(tmp_path, extra=extra))
     assert "[[object]] #1 'thing': field 'params'" in msg
 
 
 def test_unknown_shape_with_params_reports_one_problem(tmp_path):
     extra = OBJECT.replace('"tesseract"', '"hypercube"').replace("position", "params = { size = 2.0 }\nposition")
-    problems = problems_of(write(tmp_path, BASE + extra))
+    problems = problems_of(base().write(tmp_path, extra=extra))
     assert len(problems) == 1, problems
     assert "5-cell" not in problems[0].split("expected one of")[0]
 
@@ -680,52 +666,45 @@ def test_unknown_shape_with_params_reports_one_problem(tmp_path):
     ids=["mesh", "object"],
 )
 def test_empty_asset_path(tmp_path, extra):
-    (msg,) = problems_of(write(tmp_path, BASE + "\n" + extra))
+    (msg,) = problems_of(base().write(tmp_path, extra=extra))
     assert "field 'asset'" in msg
 
 
 @pytest.mark.parametrize("asset", ["README.md", "meshes/make_assets.py"])
 def test_asset_must_be_a_mesh_format(tmp_path, asset):
-    (msg,) = problems_of(write(tmp_path, BASE + f'\n[[mesh]]\nasset = "{asset}"\n'))
+    (msg,) = problems_of(base().mesh(asset).write(tmp_path))
     assert "field 'asset'" in msg and ".obj" in msg
 
 
 def test_nul_in_asset_path(tmp_path):
-    (msg,) = problems_of(write(tmp_path, BASE + '\n[[mesh]]\nasset = "meshes/crate\\u0000.obj"\n'))
+    (msg,) = problems_of(base().mesh("meshes/crate\u0000.obj").write(tmp_path))
     assert "inside the assets folder" in msg
 
 
 @pytest.mark.parametrize(
-    "edit",
+    "level",
     [
-        ("w_range = [-1.0, 1.0]", "w_range = [1.0]"),  # + "got [0.0, 0.0]"
-        (
-            "w_range = [-1.0, 1.0]\n\n[spawn]\nposition = [0.0, 0.0, 0.0, 0.0]",
-            "w_range = [0.5, 1.0]\n\n[spawn]\nposition = [0.0, 0.0, 0.0]",
-        ),  # + "w = 0 is outside"
-        ("[spawn]\nposition = [0.0, 0.0, 0.0, 0.0]\n", ""),  # + "missing field 'position'"
-        ("[[box]]", '[[world]]\nname = "m"\nw = 0.0\ndepth = 1.0\n[[world.mesh]]\nasset = "../x.obj"\n\n[[box]]'),
+        base(w_range=(1.0,)),  # + "got [0.0, 0.0]"
+        base(w_range=(0.5, 1.0), spawn=(0.0, 0.0, 0.0)),  # + "w = 0 is outside"
+        base().without("spawn"),  # + "missing field 'position'"
+        base().world(0.0, 1.0, name="m", meshes=[{"asset": "../x.obj"}]),
     ],
     ids=["w_range_short", "spawn_short", "missing_spawn", "world_only_bad_mesh"],
 )
-def test_one_mistake_one_problem(tmp_path, edit):
-    old, new = edit
-    assert old in BASE
-    problems = problems_of(write(tmp_path, BASE.replace(old, new, 1)))
+def test_one_mistake_one_problem(tmp_path, level):
+    problems = problems_of(level.write(tmp_path))
     assert len(problems) == 1, problems
 
 
-@pytest.mark.parametrize("goal_w", ["[1.0, -1.0]", "[5.0, 6.0]"], ids=["reversed", "outside_level"])
+@pytest.mark.parametrize("goal_w", [(1.0, -1.0), (5.0, 6.0)], ids=["reversed", "outside_level"])
 def test_goal_w_range_checked(tmp_path, goal_w):
-    text = BASE.replace("size = [1.0, 2.0, 1.0]", f"size = [1.0, 2.0, 1.0]\nw_range = {goal_w}")
-    (msg,) = problems_of(write(tmp_path, text))
+    (msg,) = problems_of(base(goal_w=goal_w).write(tmp_path))
     assert "[goal]: field 'w_range'" in msg
 
 
 @pytest.mark.parametrize("hint", ["Press { to open", "Use {} here", "a } b", "{w_ana.upper}"])
 def test_hint_braces_are_checked(tmp_path, hint):
-    text = BASE.replace('name = "base"', f'name = "base"\nhints = ["{hint}"]')
-    (msg,) = problems_of(write(tmp_path, text))
+    (msg,) = problems_of(base().level(hints=[hint]).write(tmp_path))
     assert "field 'hints'" in msg
 
 

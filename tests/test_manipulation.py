@@ -11,6 +11,7 @@ import sys
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.core.section import cross_section
 from across_dimensions.core.transform import translation
@@ -31,7 +32,7 @@ def _at_the_edge() -> Game:
     game = Game(load_level(BRIDGE))
     for _ in range(60):
         game.step(Actions(forward=1.0))
-    for _ in range(8):
+    for _ in range(6):  # 10 degrees down: the beam is 11 m ahead, 1.6 m below the eye
         game.step(Actions(pitch=-0.03))
     return game
 
@@ -94,7 +95,7 @@ def test_turning_stops_where_the_energy_runs_out(tmp_path):
     game = Game(load_level(p))
     for _ in range(60):
         game.step(Actions(forward=1.0))
-    for _ in range(8):
+    for _ in range(6):  # 10 degrees down: the beam is 11 m ahead, 1.6 m below the eye
         game.step(Actions(pitch=-0.03))
     for _ in range(300):
         game.step(Actions(manipulate=True, right=1.0))
@@ -236,34 +237,16 @@ def test_bad_manipulation_entries_are_one_line_each(tmp_path, body, needle):
     assert out.returncode == 2 and needle in out.stderr
 
 
-TABLE = """
-[level]
-format = 2
-w_range = [-1.0, 1.0]
-[spawn]
-position = [0.0, 0.0, -6.0, 0.0]
-[goal]
-center = [30.0, 1.0, 0.0]
-size = [1.0, 2.0, 1.0]
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [20.0, 1.0, 20.0]
-[[object]]
-name = "table"
-shape = "tesseract"
-position = [0.0, 1.0, 0.0, 0.0]
-scale = [3.0, 0.3, 3.0, 3.0]
-[[object]]
-name = "cube"
-shape = "tesseract"
-position = [0.0, 1.4, 0.0, 0.0]
-scale = 0.5
-body = "hypercube"
-[[manipulable]]
-object = "table"
-max = { PLANE = 45.0 }
-speed = 30.0
-"""
+def table_level(plane: str) -> LevelBuilder:
+    """A cube resting on a table the player may turn 45 degrees in ``plane``."""
+    return (
+        LevelBuilder(spawn=(0.0, 0.0, -6.0, 0.0), goal=(30.0, 1.0, 0.0), floor=(20.0, 1.0, 20.0))
+        .object([0.0, 1.0, 0.0, 0.0], name="table", scale=[3.0, 0.3, 3.0, 3.0])
+        .object([0.0, 1.4, 0.0, 0.0], name="cube", scale=0.5, body="hypercube")
+        .add("manipulable", object="table", max={plane: 45.0}, speed=30.0)
+    )
+
+
 #: How far a resting body may sink into what it rests on: the physics solver's
 #: contact slop is a few millimetres; 2 cm is far below any visible overlap.
 SINK = 0.02
@@ -271,9 +254,7 @@ SINK = 0.02
 
 @pytest.mark.parametrize("plane, falls", [("xy", True), ("yw", False)])
 def test_a_body_on_a_turned_object_follows_it_or_falls_and_never_sinks_in(tmp_path, plane, falls):
-    p = tmp_path / "table.toml"
-    p.write_text(TABLE.replace("PLANE", plane))
-    game = Game(load_level(p))
+    game = Game(table_level(plane).load(tmp_path, "table.toml"))
     cube, table = game.entities.named("cube"), game.entities.named("table")
     for _ in range(60):
         game.step(Actions())
@@ -325,14 +306,14 @@ def test_the_window_shows_the_prompt_with_the_players_own_keys():
 
 
 def test_an_object_may_slide_along_w_paid_like_the_players_own_moves(tmp_path):
-    text = BRIDGE.read_text().replace("reach = 10.0", "reach = 10.0\nslide = [-0.5, 0.2]")
+    text = BRIDGE.read_text().replace("reach = 12.0", "reach = 12.0\nslide = [-0.5, 0.2]")
     text = text.replace("max = 100.0", "max = 100.0\nw_cost = 2.0")
     p = tmp_path / "slide.toml"
     p.write_text(text)
     game = Game(load_level(p))
     for _ in range(60):
         game.step(Actions(forward=1.0))
-    for _ in range(8):
+    for _ in range(6):  # 10 degrees down: the beam is 11 m ahead, 1.6 m below the eye
         game.step(Actions(pitch=-0.03))
     slab = _slab(game)
     assert slab.data.planes == ["yw", "zw", "w"]
@@ -351,7 +332,7 @@ def test_an_object_may_slide_along_w_paid_like_the_players_own_moves(tmp_path):
 
 
 def test_bad_slide_is_one_line(tmp_path):
-    text = BRIDGE.read_text().replace("reach = 10.0", "reach = 10.0\nslide = [0.3, -0.2]")
+    text = BRIDGE.read_text().replace("reach = 12.0", "reach = 12.0\nslide = [0.3, -0.2]")
     p = tmp_path / "bad_slide.toml"
     p.write_text(text)
     with pytest.raises(LevelError) as info:

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from across_dimensions.core import transform
-from across_dimensions.physics import BodyDef, PhysicsWorld
+from across_dimensions.physics import BodyDef, PhysicsWorld, WorldDef
 
 G = 9.81
 
@@ -20,7 +20,7 @@ def _kinetic(world, ids):
 
 # ---------------------------------------------------------------- free motion
 def test_free_fall_matches_g():
-    world = PhysicsWorld(ground=False)
+    world = PhysicsWorld(WorldDef(ground=False))
     b = world.add_body(
         BodyDef("hypersphere", radius=0.3, position=(1.0, 50.0, -2.0, 0.5), velocity=(0.5, 0.0, 0.0, 0.25))
     )
@@ -43,7 +43,7 @@ def test_free_fall_matches_g():
 
 
 def test_gravity_is_settable_per_level():
-    world = PhysicsWorld(gravity=(0.0, 0.0, 0.0, -2.0), ground=False)
+    world = PhysicsWorld(WorldDef(gravity=(0.0, 0.0, 0.0, -2.0), ground=False))
     b = world.add_body(BodyDef("hypercube", size=0.5))
     for _ in range(60):
         world.step(1 / 60)
@@ -55,7 +55,7 @@ def test_gravity_is_settable_per_level():
 
 def test_inverse_cube_attraction():
     gc = 0.5
-    world = PhysicsWorld(gravity=(0, 0, 0, 0), inverse_cube_G=gc, ground=False, softening=0.0)
+    world = PhysicsWorld(WorldDef(gravity=(0, 0, 0, 0), inverse_cube_G=gc, ground=False, softening=0.0))
     a = world.add_body(BodyDef("hypersphere", radius=0.1, position=(0, 0, 0, 0), mass=3.0))
     b = world.add_body(BodyDef("hypersphere", radius=0.1, position=(0, 0, 0, 2.0), mass=5.0))
     world.step(1 / 60)
@@ -68,7 +68,7 @@ def test_inverse_cube_attraction():
     assert vb[3] / dt == pytest.approx(-gc * 3.0 / r**3, rel=1e-3)
     np.testing.assert_allclose(3.0 * va + 5.0 * vb, 0.0, atol=1e-15)
     # Doubling the distance divides the pull by eight (not four as in 3D).
-    world2 = PhysicsWorld(gravity=(0, 0, 0, 0), inverse_cube_G=gc, ground=False, softening=0.0)
+    world2 = PhysicsWorld(WorldDef(gravity=(0, 0, 0, 0), inverse_cube_G=gc, ground=False, softening=0.0))
     world2.add_body(BodyDef("hypersphere", radius=0.1, position=(0, 0, 0, 0), mass=3.0))
     b2 = world2.add_body(BodyDef("hypersphere", radius=0.1, position=(0, 0, 0, 4.0), mass=5.0))
     world2.step(1 / 60)
@@ -78,7 +78,7 @@ def test_inverse_cube_attraction():
 def test_free_tumbling_box_conserves_angular_momentum_and_energy():
     # A box with four different sides has an anisotropic inertia on bivectors, so
     # omega precesses while L = I_world omega must stay fixed in the world frame.
-    world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
+    world = PhysicsWorld(WorldDef(gravity=(0, 0, 0, 0), ground=False))
     b = world.add_body(
         BodyDef(
             "hypercube",
@@ -104,7 +104,7 @@ def test_free_tumbling_box_conserves_angular_momentum_and_energy():
 
 
 def test_free_hypercube_spin_is_steady():
-    world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
+    world = PhysicsWorld(WorldDef(gravity=(0, 0, 0, 0), ground=False))
     w0 = np.array([0.2, 0.0, -1.0, 1.5, 0.7, -0.3])
     b = world.add_body(BodyDef("hypercube", size=1.0, angular_velocity=w0))
     for _ in range(60):
@@ -117,7 +117,7 @@ def test_free_hypercube_spin_is_steady():
 # ---------------------------------------------------------------- collisions
 @pytest.mark.parametrize("m2", [1.0, 3.0])
 def test_elastic_head_on_collision_conserves_momentum_and_energy(m2):
-    world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
+    world = PhysicsWorld(WorldDef(gravity=(0, 0, 0, 0), ground=False))
     a = world.add_body(
         BodyDef(
             "hypersphere",
@@ -194,7 +194,7 @@ def test_hypersphere_slides_into_rolling_with_four_d_inertia():
 def test_spin_friction_and_rolling_resistance_stop_a_ball():
     # Spinning in place in the xz plane (parallel to the ground) is braked by
     # the contact patch; rolling only by the optional rolling resistance.
-    world = PhysicsWorld(rolling_resistance=0.05)
+    world = PhysicsWorld(WorldDef(rolling_resistance=0.05))
     r = 0.3
     spinner = world.add_body(
         BodyDef("hypersphere", radius=r, position=(0, r, 0, 0), angular_velocity={"xz": 5.0, "zw": -3.0})
@@ -221,7 +221,7 @@ def test_spin_friction_and_rolling_resistance_stop_a_ball():
 
 def test_hypersphere_rolls_down_a_slope_without_slipping():
     theta = 0.3
-    world = PhysicsWorld(ground=False)
+    world = PhysicsWorld(WorldDef(ground=False))
     # Slope: the solid below a plane through the origin tilted in the xy plane.
     n = np.array([np.sin(theta), np.cos(theta), 0.0, 0.0])
     world.add_half_space(n, 0.0)
@@ -244,7 +244,7 @@ def test_hypersphere_rolls_down_a_slope_without_slipping():
 
 
 def test_off_centre_hit_tumbles_a_hypercube_through_w_planes():
-    world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
+    world = PhysicsWorld(WorldDef(gravity=(0, 0, 0, 0), ground=False))
     cube = world.add_body(
         BodyDef(
             "hypercube",
@@ -268,7 +268,7 @@ def test_off_centre_hit_tumbles_a_hypercube_through_w_planes():
 
 
 def test_push_at_a_point_spins_the_body():
-    world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
+    world = PhysicsWorld(WorldDef(gravity=(0, 0, 0, 0), ground=False))
     b = world.add_body(BodyDef("hypercube", size=1.0, mass=2.0))
     world.push(b, (0, 0, 0, 1.0), point=(0.5, 0, 0, 0))
     v, w = world.body_velocity(b)
@@ -279,7 +279,7 @@ def test_push_at_a_point_spins_the_body():
 
 # ---------------------------------------------------------------- resting
 def _stack(allow_sleep):
-    world = PhysicsWorld(allow_sleep=allow_sleep)
+    world = PhysicsWorld(WorldDef(allow_sleep=allow_sleep))
     ids = [
         world.add_body(
             BodyDef("hypercube", size=1.0, position=(0.02 * k, 0.5 + 1.0 * k + 0.01 * k, 0, -0.01 * k), friction=0.6)

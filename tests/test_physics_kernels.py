@@ -4,8 +4,9 @@ the linear pair sort orders exactly as the merge sort, and borrowed arrays are t
 import numpy as np
 
 from across_dimensions.core._jit import njit
-from across_dimensions.physics import bivector, pipeline, sorting
+from across_dimensions.physics import bivector, broadphase, narrowphase, sorting
 from across_dimensions.physics.borrow import borrowed, keep
+from across_dimensions.physics.state import DYNAMIC, Inertia
 
 
 def test_argsort_by_body_matches_the_stable_merge_sort():
@@ -41,12 +42,12 @@ def test_sweep_finds_exactly_the_overlapping_pairs_and_survives_a_small_buffer()
         slo = np.ascontiguousarray(lo[order].T)
         shi = np.ascontiguousarray(hi[order].T)
         cand = np.empty((len(want) + 5, 2), np.int64)
-        got = pipeline._sweep(order, slo, shi, dyn[order].copy(), ax, cand)
+        got = broadphase._sweep(order, slo, shi, dyn[order].copy(), ax, cand)
         assert got == len(want)
         assert {(int(i), int(j)) for i, j in cand[:got]} == want
         # Too small a buffer is reported, never overrun.
         small = np.full((len(want) // 2, 2), -7, np.int64)
-        assert pipeline._sweep(order, slo, shi, dyn[order].copy(), ax, small) == -1
+        assert broadphase._sweep(order, slo, shi, dyn[order].copy(), ax, small) == -1
 
 
 @njit
@@ -88,7 +89,7 @@ def _tangent_frame(f):
 
 
 def test_solver_tuple_helpers_match_the_bivector_routines():
-    from across_dimensions.physics import solver
+    from across_dimensions.physics import scalars
 
     rng = np.random.default_rng(11)
     for _ in range(20):
@@ -96,17 +97,17 @@ def test_solver_tuple_helpers_match_the_bivector_routines():
         want_v, want_b = np.empty(4), np.empty(6)
         bivector.spin_velocity(w, r, want_v)
         bivector.wedge(r, p, want_b)
-        np.testing.assert_allclose(solver._spin_velocity(*w, *r), want_v, atol=1e-14)
-        np.testing.assert_allclose(solver._wedge(tuple(r), tuple(p)), want_b, atol=1e-14)
+        np.testing.assert_allclose(scalars.spin_velocity(*w, *r), want_v, atol=1e-14)
+        np.testing.assert_allclose(scalars.wedge(tuple(r), tuple(p)), want_b, atol=1e-14)
 
 
 def test_prepared_rows_match_the_contact_jacobians():
     """The solver's effective masses and normal response, computed from ``|r|^2 - (r.d)^2`` and
     point velocities, against the Jacobian definition ``J M^-1 J^T`` of every row pair, for a
     pile with anisotropic boxes (full inverse inertias) as well as hypercubes and balls."""
-    from across_dimensions.physics import solver
     from across_dimensions.physics.bench import build_pile
     from across_dimensions.physics.body_def import BodyDef
+    from across_dimensions.physics.prepare import prepare
 
     world = build_pile(60, seed=3)
     for k in range(8):
@@ -114,24 +115,24 @@ def test_prepared_rows_match_the_contact_jacobians():
     for _ in range(90):
         world.step(1.0 / 60.0)
     b, prm = world.bodies, world.params[0]
-    npairs = pipeline.find_pairs(
+    npairs = broadphase.find_pairs(
         b, world.static, prm["tick_dt"], prm["margin"], world._scratch.pairs, world._scratch.margin
     )
     kept = world._kept
     prm_off = world.params.copy()
     prm_off["reuse_angle"] = 0.0
-    nc = pipeline.narrowphase(npairs, b, world.static, world._scratch, world.contacts, kept[0], kept[1], prm_off[0])
+    nc = narrowphase.narrowphase(npairs, b, world.static, world._scratch, world.contacts, kept[0], kept[1], prm_off[0])
     nb = b.count
     iinv = np.zeros((nb, 6, 6))
     iso = np.zeros(nb)
     for i in range(nb):
-        if b.alive[i] and b.kind[i] == pipeline.DYNAMIC and b.awake[i]:
+        if b.alive[i] and b.kind[i] == DYNAMIC and b.awake[i]:
             bivector.world_inverse_inertia(b.rotation[i], b.inv_inertia[i], iinv[i])
             ii = b.inv_inertia[i]
             iso[i] = ii[0] if np.all(ii == ii[0]) else -1.0
     assert (iso < 0).sum() == 8 and nc > 100
     rows = world._rows
-    solver.prepare(nc, world.contacts, b, iinv, iso, prm, world.warm, rows)
+    prepare(nc, world.contacts, b, Inertia(iso, iinv), prm, world.warm, rows)
     ab = world.contacts.body_a[:nc], world.contacts.body_b[:nc]
     aniso = 0
     for c in range(nc):

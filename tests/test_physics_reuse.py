@@ -3,7 +3,7 @@
 import numpy as np
 
 from across_dimensions.core import transform
-from across_dimensions.physics import BodyDef, PhysicsWorld, collide, reuse
+from across_dimensions.physics import BodyDef, PhysicsWorld, WorldDef, collide, reuse
 from across_dimensions.physics.bench import build_pile
 
 
@@ -21,9 +21,9 @@ def _box_box(xa, ra, ha, xb, rb, hb, margin):
 
 def _kept_points(xa, ra, xb, rb, pts, nrm, dep, margin):
     local = np.zeros((8, 12))
-    reuse.keep_points(pts, nrm, dep, 0, len(dep), xa, ra, xb, rb, local, 0)
+    reuse.keep_points((pts, nrm, dep), 0, len(dep), (xa, ra), (xb, rb), local, 0)
     op, on, od = np.zeros((8, 4)), np.zeros((8, 4)), np.zeros(8)
-    n = reuse.emit_kept(local, 0, len(dep), xa, ra, xb, rb, margin, op, on, od, 0)
+    n = reuse.emit_kept(local, 0, len(dep), (xa, ra), (xb, rb), margin, (op, on, od), 0)
     return local, (op[:n], on[:n], od[:n])
 
 
@@ -40,9 +40,8 @@ def test_kept_points_come_back_unchanged_and_ride_along_rigidly():
     # Both bodies moved and turned together: the same contact, carried along.
     turn, shift = _rot([0.3, -0.2, 0.5, 0.1, 0.0, 0.4]), np.array([1.0, -2.0, 0.5, 3.0])
     op, on, od = np.zeros((8, 4)), np.zeros((8, 4)), np.zeros(8)
-    n = reuse.emit_kept(
-        local, 0, len(dep), shift + turn @ xa, turn @ ra, shift + turn @ xb, turn @ rb, 0.02, op, on, od, 0
-    )
+    frame_a, frame_b = (shift + turn @ xa, turn @ ra), (shift + turn @ xb, turn @ rb)
+    n = reuse.emit_kept(local, 0, len(dep), frame_a, frame_b, 0.02, (op, on, od), 0)
     assert n == len(dep)
     np.testing.assert_allclose(od[:n], dep, atol=1e-12)
     np.testing.assert_allclose(op[:n], shift + pts @ turn.T, atol=1e-12)
@@ -58,14 +57,14 @@ def test_kept_depths_follow_a_small_relative_motion():
     # full test agrees: a face contact's depth does not depend on the slide).
     xb2 = xb + np.array([0.0003, -0.0004, 0.0002, 0.0])
     op, on, od = np.zeros((8, 4)), np.zeros((8, 4)), np.zeros(8)
-    n = reuse.emit_kept(local, 0, len(dep), xa, ra, xb2, rb, 0.02, op, on, od, 0)
+    n = reuse.emit_kept(local, 0, len(dep), (xa, ra), (xb2, rb), 0.02, (op, on, od), 0)
     _, _, fresh = _box_box(xa, ra, ha, xb2, rb, hb, 0.02)
     np.testing.assert_allclose(od[:n], dep + 0.0004, atol=1e-12)
     np.testing.assert_allclose(np.sort(od[:n]), np.sort(fresh), atol=1e-12)
 
 
 def _stack(reuse_angle):
-    world = PhysicsWorld(allow_sleep=False, reuse_angle=reuse_angle)
+    world = PhysicsWorld(WorldDef(allow_sleep=False, reuse_angle=reuse_angle))
     for k in range(5):
         world.add_body(
             BodyDef("hypercube", size=0.5, position=(0.02 * k, 0.25 + 0.5 * k, 0.0, -0.01 * k), angles={"xw": 0.01 * k})

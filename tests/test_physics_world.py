@@ -5,7 +5,7 @@ import pytest
 
 from across_dimensions.core import transform
 from across_dimensions.game.player_bodies import player_collide
-from across_dimensions.physics import BodyDef, ContactEvent, PhysicsWorld
+from across_dimensions.physics import BodyDef, ContactEvent, PhysicsWorld, WorldDef
 from across_dimensions.physics.bench import bench_physics, build_pile
 
 
@@ -113,7 +113,7 @@ def test_step_runs_fixed_ticks_whatever_the_frame_time():
 
 # ---------------------------------------------------------------- bodies & API
 def test_body_pose_is_a_model_matrix():
-    world = PhysicsWorld(ground=False, gravity=(0, 0, 0, 0))
+    world = PhysicsWorld(WorldDef(ground=False, gravity=(0, 0, 0, 0)))
     b = world.add_body(BodyDef("hypercube", size=(1, 2, 3, 4), position=(1, 2, 3, 4), angles={"xw": 0.4}))
     pose = world.body_pose(b)
     assert pose.shape == (5, 5)
@@ -129,7 +129,7 @@ def test_body_pose_is_a_model_matrix():
 
 
 def test_pose_interpolates_between_ticks():
-    world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
+    world = PhysicsWorld(WorldDef(gravity=(0, 0, 0, 0), ground=False))
     b = world.add_body(BodyDef("hypercube", size=1.0, velocity=(0, 0, 0, 6.0), angular_velocity={"xw": 3.0}))
     world.step(1 / 60)
     world.step(1 / 120)
@@ -220,7 +220,7 @@ def test_contact_events_report_touches():
 
 
 def test_body_body_events_name_both_bodies():
-    world = PhysicsWorld(gravity=(0, 0, 0, 0), ground=False)
+    world = PhysicsWorld(WorldDef(gravity=(0, 0, 0, 0), ground=False))
     a = world.add_body(BodyDef("hypercube", size=1.0, position=(0, 0, 0, 0)))
     b = world.add_body(BodyDef("hypersphere", radius=0.3, position=(0, 0, 0, 1.2), velocity=(0, 0, 0, -2)))
     began = []
@@ -236,7 +236,7 @@ def test_body_body_events_name_both_bodies():
 
 # ---------------------------------------------------------------- player
 def test_player_is_blocked_only_by_bodies_in_its_slice():
-    world = PhysicsWorld(gravity=(0, 0, 0, 0))
+    world = PhysicsWorld(WorldDef(gravity=(0, 0, 0, 0)))
     near = world.add_body(BodyDef("hypercube", size=1.0, position=(1.0, 0.5, 0.0, 0.0)))
     far = world.add_body(BodyDef("hypercube", size=1.0, position=(-1.0, 0.5, 0.0, 0.8)))
     # Player of radius 0.3 at x = 0.3: overlaps `near` (its face at x = 0.5) by 0.1.
@@ -256,7 +256,7 @@ def test_player_is_blocked_only_by_bodies_in_its_slice():
 
 
 def test_player_sees_the_cross_section_of_a_hypersphere():
-    world = PhysicsWorld(gravity=(0, 0, 0, 0))
+    world = PhysicsWorld(WorldDef(gravity=(0, 0, 0, 0)))
     s = world.add_body(BodyDef("hypersphere", radius=1.0, position=(0.0, 1.0, 0.0, 0.0)))
     # At w = 0.6 (slab edge 0.55) the section has radius sqrt(1 - 0.55^2).
     r3 = np.sqrt(1 - 0.55**2)
@@ -302,7 +302,7 @@ def test_player_push_moves_touched_dynamic_bodies():
 
 # ---------------------------------------------------------------- ray casts
 def test_raycast_hits_the_nearest_body():
-    world = PhysicsWorld(gravity=(0, 0, 0, 0))
+    world = PhysicsWorld(WorldDef(gravity=(0, 0, 0, 0)))
     s = world.add_body(BodyDef("hypersphere", radius=0.5, position=(5, 1, 0, 0)))
     c = world.add_body(BodyDef("hypercube", size=1.4, position=(8, 1, 0, 0)))
     hit = world.raycast((0, 1, 0, 0), (1, 0, 0, 0), 100)
@@ -324,7 +324,7 @@ def test_raycast_hits_the_nearest_body():
 
 
 def test_raycast_into_a_rotated_hypercube_and_world_box():
-    world = PhysicsWorld(gravity=(0, 0, 0, 0))
+    world = PhysicsWorld(WorldDef(gravity=(0, 0, 0, 0)))
     rot = transform.angles_to_rotation({"xw": 0.3})
     c = world.add_body(BodyDef("hypercube", size=1.0, position=(0, 5, 0, 0), rotation=rot))
     hit = world.raycast((0, 5, -3, 0), (0, 0, 1, 0), 10)

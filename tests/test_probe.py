@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.game.actions import IDLE
 from across_dimensions.game.sim import Game
@@ -25,40 +26,21 @@ from across_dimensions.probe.runner import probe
 from across_dimensions.probe.skills import swing_distance
 from across_dimensions.world.design import NEEDS
 from across_dimensions.world.json_schema import level_schema
-from across_dimensions.world.level import LevelError, load_level
-from across_dimensions.world.resources import level_files
+from across_dimensions.world.level import LevelError
+from across_dimensions.world.resources import level_files, prologue_files
 
 REPO = Path(__file__).resolve().parents[1]
 TIMEOUT = 600
 
 #: What the probe finds on the shipped levels today (issue: levels that demand what they teach).
-KNOWN = {
-    "05_blast_and_field": "bypass: no_field (a straight shot at the odd crate); soft-locks: the energy spent",
-    "06_bridge": "bypasses: two running jumps, a 75-degree turn; soft-lock: the slab turned to and fro",
-    "08_around_the_corner": "bypass: frustum_no_orbit; soft-locks: wasted energy (nothing refills it)",
-    "09_hive": "bypasses: unaimed_fire, no_w_move, no_blast, only_gun; soft-lock: wasted energy",
-}
+KNOWN: dict = {}
 
-CORRIDOR = """
-[level]
-format = 2
-name = "Corridor"
-w_range = [-1.0, 1.0]
 
-[design]
-needs = {needs}
-
-[spawn]
-position = [0.0, 0.0, -6.0, 0.0]
-
-[goal]
-center = [0.0, 1.0, 6.0]
-size = [3.0, 2.0, 2.0]
-
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [6.0, 1.0, 16.0]
-"""
+def corridor(needs) -> LevelBuilder:
+    """A straight corridor with nothing in the way, declaring ``[design] needs``."""
+    return LevelBuilder(
+        "Corridor", spawn=(0.0, 0.0, -6.0, 0.0), goal=(0.0, 1.0, 6.0), goal_size=(3.0, 2.0, 2.0), floor=(6.0, 1.0, 16.0)
+    ).table("design", needs=needs)
 
 
 def run(env, *args) -> subprocess.CompletedProcess:
@@ -74,14 +56,14 @@ def run(env, *args) -> subprocess.CompletedProcess:
 
 @pytest.fixture(scope="module")
 def rows() -> dict:
-    return {r["level"]: r for r in probe(level_files(), workers=2)}
+    return {r["level"]: r for r in probe(prologue_files() + level_files(), workers=2)}
 
 
 @pytest.mark.parametrize(
     "stem",
     [
         pytest.param(p.stem, marks=pytest.mark.xfail(strict=True, reason=KNOWN[p.stem])) if p.stem in KNOWN else p.stem
-        for p in level_files()
+        for p in prologue_files() + level_files()
     ],
 )
 def test_each_level_demands_what_it_teaches_and_never_traps(rows, stem):
@@ -101,21 +83,15 @@ def test_rows_name_strategies_and_what_they_avoided(rows):
 
 
 # ------------------------------------------------------------------ [design]
-def _level(tmp_path, text: str) -> Path:
-    p = tmp_path / "level.toml"
-    p.write_text(text)
-    return p
-
-
 def test_design_needs_are_read_and_checked(tmp_path):
-    assert load_level(_level(tmp_path, CORRIDOR.format(needs='["w_move", "gun"]'))).needs == ("w_move", "gun")
+    assert corridor(["w_move", "gun"]).load(tmp_path).needs == ("w_move", "gun")
     with pytest.raises(LevelError) as e:
-        load_level(_level(tmp_path, CORRIDOR.format(needs='["w_move", "fly", "w_move"]') + "[design.x]\n"))
+        corridor(["w_move", "fly", "w_move"]).load(tmp_path, extra="[design.x]\n")
     text = "\n".join(e.value.problems)
     assert "[design]: field 'needs': entry #2: expected one of w_move" in text and "got 'fly'" in text
     assert "entry #3: 'w_move' is listed twice" in text
     with pytest.raises(LevelError, match="expected a list of distinct words"):
-        load_level(_level(tmp_path, CORRIDOR.format(needs='"gun"')))
+        corridor("gun").load(tmp_path)
 
 
 def test_every_shipped_level_declares_its_needs_and_the_schema_knows_them():
@@ -137,47 +113,36 @@ def test_swing_distance_puts_the_bullet_at_the_wanted_w():
     assert swing_distance(Gun, 1.6, 0.2) is None  # beyond the swing
 
 
-SWITCH = """
-[level]
-format = 2
-w_range = [-0.5, 0.5]
-[spawn]
-position = [0.0, 0.0, -6.0, 0.0]
-[goal]
-center = [0.0, 1.0, 8.0]
-size = [3.0, 2.0, 2.0]
-[energy]
-start = {start}
-max = 5.0
-[[weapon]]
-kind = "gun"
-cost = 1.0
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [8.0, 1.0, 20.0]
-[[object]]
-name = "door"
-shape = "tesseract"
-position = [0.0, 2.0, 4.0, 0.0]
-scale = [8.0, 4.0, 0.4, 3.0]
-[[target]]
-name = "switch"
-position = [0.0, 1.6, 0.0, 0.0]
-opens = "door"
-"""
+def switch_room(start: float) -> LevelBuilder:
+    """A door the gun opens by hitting its switch, with ``start`` energy and a shot costing 1."""
+    return (
+        LevelBuilder(
+            w_range=(-0.5, 0.5),
+            spawn=(0.0, 0.0, -6.0, 0.0),
+            goal=(0.0, 1.0, 8.0),
+            goal_size=(3.0, 2.0, 2.0),
+            floor=(8.0, 1.0, 20.0),
+        )
+        .table("energy", start=start, max=5.0)
+        .weapon("gun", cost=1.0)
+        .object([0.0, 2.0, 4.0, 0.0], name="door", scale=[8.0, 4.0, 0.4, 3.0])
+        .add("target", name="switch", position=[0.0, 1.6, 0.0, 0.0], opens="door")
+    )
 
 
 def test_energy_proof_needs_a_bar_too_short_and_nothing_to_refill_it(tmp_path):
-    def locks(start: float, crystal: str = "") -> list:
-        level = load_level(_level(tmp_path, SWITCH.format(start=start) + crystal))
+    def locks(start: float, crystal: bool = False) -> list:
+        room = switch_room(start)
+        if crystal:  # a crystal lies in the level
+            room.crystal([2.0, 1.0, -4.0, 0.0], energy=1.0)
+        level = room.load(tmp_path)
         game = Game(level)
         game.step(IDLE)  # the first tick sets the switches up
         return softlocks(game, planned_route(level))
 
     assert any(f.startswith("energy: 0.5 left") for f in locks(0.5))  # a shot costs 1
     assert locks(1.0) == []
-    crystal = "[[crystal]]\nposition = [2.0, 1.0, -4.0, 0.0]\nenergy = 1.0\n"
-    assert locks(0.5, crystal) == []  # a crystal lies in the level
+    assert locks(0.5, crystal=True) == []
 
 
 # ------------------------------------------------------------------ the command
@@ -190,7 +155,7 @@ def test_probe_command_json_on_a_level_with_nothing_to_find(env):
 
 
 def test_probe_command_finds_a_bypass_and_exits_1(env, tmp_path):
-    level = _level(tmp_path, CORRIDOR.format(needs='["w_move"]'))  # nothing stands in the way
+    level = corridor(["w_move"]).write(tmp_path)  # nothing stands in the way
     r = run(env, "probe", level)
     assert r.returncode == 1, r.stderr
     assert "bypass: wall_hug won at" in r.stdout and "without w_move" in r.stdout
@@ -215,5 +180,5 @@ def test_probe_command_refuses_bad_input_in_one_line(env, args, says):
 
 
 def test_probe_command_refuses_a_bad_level(env, tmp_path):
-    r = run(env, "probe", _level(tmp_path, CORRIDOR.format(needs='["teleport"]')))
+    r = run(env, "probe", corridor(["teleport"]).write(tmp_path))
     assert r.returncode == 2 and "got 'teleport'" in r.stderr

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from across_dimensions.core.edges import feature_edges
 from across_dimensions.core.mesh import TriMesh3
 from across_dimensions.game.frame import Camera3, Drawable, Frame, Hud
 from across_dimensions.render import font
@@ -25,7 +26,7 @@ from across_dimensions.render.context import Offscreen, RenderError
 from across_dimensions.render.demo import box_mesh, plane_mesh
 from across_dimensions.render.hud import MARKER_COLOR, HudMetrics, hud_quads
 from across_dimensions.render.png import PngError, decode_png, encode_png, read_png, write_png
-from across_dimensions.render.renderer import Renderer, feature_edges
+from across_dimensions.render.renderer import Renderer
 
 W, H = 160, 90
 SKY = (0.05, 0.06, 0.10)

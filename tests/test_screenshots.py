@@ -91,40 +91,54 @@ def test_in_the_window_f12_f9_and_f2_never_end_the_game(env, tmp_path, xvfb):
     e = dict(env, DISPLAY=xvfb, ACROSS_DIMENSIONS_DATA_DIR=str(tmp_path / "data"))
     e[screenshots.DIR_ENV] = str(blocker / "shots")  # every screenshot fails to write
     e.pop("WAYLAND_DISPLAY", None)
-    game = subprocess.Popen(
-        [sys.executable, "-m", "across_dimensions", "play", str(level), "--settings", str(settings)],
-        cwd=tmp_path,
-        env=e,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
+    errors = tmp_path / "stderr.txt"
+
+    def said(text: str, times: int = 1, within: float = 120.0) -> bool:
+        """Wait until the game has written ``text`` to stderr ``times`` times (it may be busy)."""
+        deadline = time.monotonic() + within
+        while time.monotonic() < deadline and game.poll() is None:
+            if errors.read_text(encoding="utf-8").count(text) >= times:
+                return True
+            time.sleep(0.2)
+        return errors.read_text(encoding="utf-8").count(text) >= times
 
     def key(name, then=1.0):
         subprocess.run(["xdotool", "key", name], env=e, check=True)
         time.sleep(then)
 
-    try:
-        for _ in range(900):  # the level's name in the caption: the kernels are loaded and it plays
-            found = subprocess.run(["xdotool", "search", "--name", "First Steps"], env=e, capture_output=True)
-            if found.stdout.strip():
-                break
-            time.sleep(0.2)
-        time.sleep(1.0)
-        key("F12")
-        key("F9", 2.5)  # record ...
-        key("F9")  # ... and stop
-        level.write_bytes(b"\xff\xfe not a level")
-        key("F2")
-        key("F12")
-        assert game.poll() is None, "the game ended"
-    finally:
-        game.terminate()
-        out, err = game.communicate(timeout=60)
+    with errors.open("w", encoding="utf-8") as err_file:
+        game = subprocess.Popen(
+            [sys.executable, "-m", "across_dimensions", "play", str(level), "--settings", str(settings)],
+            cwd=tmp_path,
+            env=e,
+            stdout=subprocess.PIPE,
+            stderr=err_file,
+            text=True,
+        )
+        try:
+            for _ in range(900):  # the level's name in the caption: the kernels are loaded and it plays
+                found = subprocess.run(["xdotool", "search", "--name", "First Steps"], env=e, capture_output=True)
+                if found.stdout.strip():
+                    break
+                time.sleep(0.2)
+            time.sleep(1.0)
+            key("F12")
+            assert said("warning: Screenshot not saved: ")
+            key("F9", 2.5)  # record ...
+            key("F9")  # ... and stop
+            level.write_bytes(b"\xff\xfe not a level")
+            key("F2")
+            if missing_message() is None:  # with the editor extra, F2 reads the broken file and says so
+                assert said(f"warning: Cannot open the editor: {level}: not a text file")
+            key("F12")
+            assert said("warning: Screenshot not saved: ", times=2)
+            assert game.poll() is None, "the game ended"
+        finally:
+            game.terminate()
+            out, _ = game.communicate(timeout=60)
+    err = errors.read_text(encoding="utf-8")
     assert game.returncode in (0, 128 + 15), err
     assert "Traceback" not in err and "internal error" not in err, err
     assert err.count("warning: Screenshot not saved: ") == 2, err
-    if missing_message() is None:  # with the editor extra, F2 reads the broken file and says so
-        assert f"warning: Cannot open the editor: {level}: not a text file" in err, err
     recordings = list((tmp_path / "data" / "replays").glob("level_*.json"))
     assert len(recordings) == 1 and f"replay saved: {recordings[0]}" in out, out + err

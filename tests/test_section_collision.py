@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.core import lift, shapes
 from across_dimensions.core.mesh import concatenate
@@ -55,31 +56,15 @@ def test_inside_a_closed_section():
     assert sc.box_blocked(cube[0] * 0.1, cube[1] * 0.1, tris)  # wholly inside: blocked though no triangle is hit
 
 
+def _room(spawn, goal=(30.0, 1.0, 0.0), yaw=None) -> LevelBuilder:
+    """A 20 m floor at w from -0.5 to 0.5."""
+    return LevelBuilder(w_range=(-0.5, 0.5), spawn=spawn, yaw=yaw, goal=goal, floor=(20.0, 1.0, 20.0))
+
+
 def _slab_level(tmp_path, angle_deg: float, plane: str = "xy"):
-    text = f"""
-[level]
-format = 2
-w_range = [-0.5, 0.5]
-[spawn]
-position = [-2.0, 0.0, 0.0, 0.0]
-yaw = 90.0
-[goal]
-center = [30.0, 1.0, 0.0]
-size = [1.0, 2.0, 1.0]
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [20.0, 1.0, 20.0]
-[[object]]
-name = "slab"
-shape = "tesseract"
-position = [2.0, 0.0, 0.0, 0.0]
-rotation = {{ {plane} = {angle_deg} }}
-scale = [6.0, 0.2, 3.0, 1.0]
-solid = true
-"""
-    p = tmp_path / "slab.toml"
-    p.write_text(text)
-    return Game(load_level(p))
+    slab = dict(name="slab", rotation={plane: angle_deg}, scale=[6.0, 0.2, 3.0, 1.0], solid=True)
+    level = _room((-2.0, 0.0, 0.0, 0.0), yaw=90.0).object([2.0, 0.0, 0.0, 0.0], **slab)
+    return Game(level.load(tmp_path, "slab.toml"))
 
 
 def test_player_stands_on_a_slab_turned_20_degrees_at_its_section_height(tmp_path):
@@ -187,29 +172,9 @@ def test_collision_benchmark_runs_and_reports_both_ways():
 def _world_arch_game(tmp_path, profile: str = "prism"):
     """An arch asset (3 m wide, legs 0.5 m thick, opening 2 m x 2.75 m, 0.5 m deep) as a
     ``[[world.mesh]]`` part across the player's way at z = 4."""
-    text = f"""
-[level]
-format = 2
-w_range = [-0.5, 0.5]
-[spawn]
-position = [0.0, 0.0, 1.0, 0.0]
-[goal]
-center = [0.0, 1.0, 30.0]
-size = [1.0, 2.0, 1.0]
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [20.0, 1.0, 20.0]
-[[world]]
-w = 0.0
-depth = 2.0
-profile = "{profile}"
-  [[world.mesh]]
-  asset = "meshes/arch.obj"
-  position = [0.0, 0.0, 4.0]
-"""
-    p = tmp_path / "arch.toml"
-    p.write_text(text)
-    return Game(load_level(p))
+    arch = {"asset": "meshes/arch.obj", "position": [0.0, 0.0, 4.0]}
+    level = _room((0.0, 0.0, 1.0, 0.0), goal=(0.0, 1.0, 30.0)).world(0.0, 2.0, profile=profile, meshes=[arch])
+    return Game(level.load(tmp_path, "arch.toml"))
 
 
 def test_a_world_mesh_arch_lets_the_player_through_its_doorway(tmp_path):
@@ -264,33 +229,12 @@ def test_a_bullet_stops_at_a_closed_door_and_passes_once_it_is_open():
 
 
 def test_a_body_rests_on_a_solid_tesseract_slab_where_its_section_is(tmp_path):
-    text = """
-[level]
-format = 2
-w_range = [-0.5, 0.5]
-[spawn]
-position = [-5.0, 0.0, 0.0, 0.0]
-[goal]
-center = [30.0, 1.0, 0.0]
-size = [1.0, 2.0, 1.0]
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [20.0, 1.0, 20.0]
-[[object]]
-name = "table"
-shape = "tesseract"
-position = [0.0, 1.0, 0.0, 0.0]
-scale = [2.0, 0.2, 2.0, 1.0]
-[[object]]
-name = "ball"
-shape = "hypersphere"
-position = [0.0, 2.0, 0.0, 0.0]
-scale = 0.3
-body = "hypersphere"
-"""
-    p = tmp_path / "table.toml"
-    p.write_text(text)
-    game = Game(load_level(p))
+    level = (
+        _room((-5.0, 0.0, 0.0, 0.0))
+        .object([0.0, 1.0, 0.0, 0.0], name="table", scale=[2.0, 0.2, 2.0, 1.0])
+        .object([0.0, 2.0, 0.0, 0.0], "hypersphere", name="ball", scale=0.3, body="hypersphere")
+    )
+    game = Game(level.load(tmp_path, "table.toml"))
     ball = game.entities.named("ball")
     for _ in range(180):
         game.step(Actions())
@@ -304,24 +248,8 @@ body = "hypersphere"
 
 
 def test_a_3d_mesh_arch_lets_the_player_through_its_doorway_and_stops_them_at_its_legs(tmp_path):
-    text = """
-[level]
-format = 2
-w_range = [-0.5, 0.5]
-[spawn]
-position = [0.0, 0.0, 1.0, 0.0]
-[goal]
-center = [0.0, 1.0, 30.0]
-size = [1.0, 2.0, 1.0]
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [20.0, 1.0, 20.0]
-[[mesh]]
-asset = "meshes/arch.obj"
-position = [0.0, 0.0, 4.0]
-"""
-    p = tmp_path / "mesh_arch.toml"
-    p.write_text(text)
+    level = _room((0.0, 0.0, 1.0, 0.0), goal=(0.0, 1.0, 30.0)).mesh("meshes/arch.obj", position=(0.0, 0.0, 4.0))
+    p = level.write(tmp_path, "mesh_arch.toml")
     for x, through in ((0.0, True), (-1.25, False)):
         game = Game(load_level(p))
         assert np.isnan(game.colliders_at(0.0)[1]).all()  # the mesh's bounding box does not collide
@@ -353,33 +281,12 @@ def test_what_solid_objects_are_for_the_bodies():
 def test_a_ball_lands_on_a_solid_24_cell_and_never_ends_inside_it(tmp_path):
     from across_dimensions.game.player_bodies import solid_colliders
 
-    text = """
-[level]
-format = 2
-w_range = [-0.5, 0.5]
-[spawn]
-position = [-5.0, 0.0, 0.0, 0.0]
-[goal]
-center = [30.0, 1.0, 0.0]
-size = [1.0, 2.0, 1.0]
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [20.0, 1.0, 20.0]
-[[object]]
-name = "rock"
-shape = "24-cell"
-position = [0.0, 1.5, 0.0, 0.0]
-scale = 1.2
-[[object]]
-name = "ball"
-shape = "hypersphere"
-position = [0.05, 4.0, 0.03, 0.02]
-scale = 0.3
-body = "hypersphere"
-"""
-    p = tmp_path / "rock.toml"
-    p.write_text(text)
-    game = Game(load_level(p))
+    level = (
+        _room((-5.0, 0.0, 0.0, 0.0))
+        .object([0.0, 1.5, 0.0, 0.0], "24-cell", name="rock", scale=1.2)
+        .object([0.05, 4.0, 0.03, 0.02], "hypersphere", name="ball", scale=0.3, body="hypersphere")
+    )
+    game = Game(level.load(tmp_path, "rock.toml"))
     ball = game.entities.named("ball")
     r = float(np.linalg.norm(ball.mesh.vertices, axis=1).max()) * 0.3
     _, ((planes, lo, hi),) = solid_colliders(game)

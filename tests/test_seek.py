@@ -4,6 +4,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.events import EnergySpent, SeekArrived, SeekBlocked, SeekStarted
@@ -128,37 +129,23 @@ def test_seek_stops_at_the_nearest_reachable_w_when_out_of_energy(crystal_level)
     assert "not enough energy" in game.frame().hud.message
 
 
-WALLED = """
-[level]
-format = 2
-name = "Seek wall"
-w_range = [-1.0, 1.5]
-[spawn]
-position = [0.0, 0.0, 0.0, 0.0]
-[goal]
-center = [0.0, 1.0, 40.0]
-size = [2.0, 2.0, 2.0]
-w_range = [1.0, 1.5]
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [40.0, 1.0, 100.0]
-[[world]]   # a block round the player that exists only for w in (0.5, 1.5)
-name = "block"
-w = 1.0
-depth = 1.0
-profile = "prism"
-  [[world.box]]
-  center = [0.0, 1.0, 0.0]
-  size = [2.0, 2.0, 2.0]
-[[crystal]]
-name = "beyond"
-position = [0.0, 1.0, 6.0, 1.0]
-"""
+def walled(crystal=(0.0, 1.0, 6.0, 1.0), name: str | None = "beyond") -> LevelBuilder:
+    """A block round the player that exists only for w in (0.5, 1.5), the goal at w >= 1 and a
+    crystal (named ``name``, by default past the block)."""
+    block = {"center": [0.0, 1.0, 0.0], "size": [2.0, 2.0, 2.0]}
+    level = LevelBuilder(
+        "Seek wall",
+        w_range=(-1.0, 1.5),
+        goal=(0.0, 1.0, 40.0),
+        goal_size=(2.0, 2.0, 2.0),
+        goal_w=(1.0, 1.5),
+        floor=(40.0, 1.0, 100.0),
+    ).world(1.0, 1.0, name="block", profile="prism", boxes=[block])
+    return level.crystal(crystal, **({} if name is None else {"name": name}))
 
 
 def test_seek_blocked_by_a_wall_stops_just_short_and_says_so(tmp_path):
-    path = tmp_path / "walled.toml"
-    path.write_text(WALLED)
+    path = walled().write(tmp_path, "walled.toml")
     for press in (SEEK, JUMP):
         game = Game(load_level(path))
         events = run(game, press)
@@ -172,9 +159,7 @@ def test_seek_blocked_by_a_wall_stops_just_short_and_says_so(tmp_path):
 
 
 def test_seek_goes_to_the_goals_w(tmp_path):
-    path = tmp_path / "goal.toml"
-    path.write_text(WALLED.replace('name = "beyond"\nposition = [0.0, 1.0, 6.0, 1.0]', "position = [0, 1, 90, 0]"))
-    game = Game(load_level(path))
+    game = Game(walled([0, 1, 90, 0], name=None).load(tmp_path, "goal.toml"))
     game.player.position[:3] = [0.0, 0.0, 30.0]  # out of the block, near the goal
     events = run(game, SEEK)
     assert [e.entity for e in events if isinstance(e, SeekArrived)] == [-1]
@@ -182,9 +167,7 @@ def test_seek_goes_to_the_goals_w(tmp_path):
 
 
 def test_level_can_disable_seek(tmp_path):
-    path = tmp_path / "noseek.toml"
-    path.write_text(WALLED + "\n[seek]\nenabled = false\n")
-    game = Game(load_level(path))
+    game = Game(walled().table("seek", enabled=False).load(tmp_path, "noseek.toml"))
     game.step(SEEK)
     assert not game.states.seek.active and game.player.position[3] == 0.0
     assert "off in this level" in game.frame().hud.message

@@ -467,7 +467,7 @@ def test_load_never_raises_on_random_documents(tmp_path):
     values = st.recursive(
         scalars, lambda c: st.lists(c, max_size=3) | st.dictionaries(st.text(max_size=5), c, max_size=3), max_leaves=6
     )
-    names = st.sampled_from([*settings_mod._RULES, "bindings", "other"])
+    names = st.sampled_from([*settings_mod.RULES, "bindings", "other"])
     bindings = st.dictionaries(
         st.sampled_from([*ACTIONS, "fly"]),
         st.one_of(values, st.lists(st.sampled_from([*sorted(KEY_NAMES), "w", "1", "BAD"]), max_size=3)),

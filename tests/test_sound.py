@@ -56,20 +56,22 @@ def test_every_event_kind_has_a_sound_and_later_enemy_events_are_matched_by_name
 def test_the_w_filter_leaves_the_slice_clear_and_muffles_detunes_and_quiets_off_it():
     tone = np.sin(2 * np.pi * 1000 * np.arange(synth.RATE // 2) / synth.RATE).astype(np.float32)
     assert synth.w_filter(tone, 0.0) is tone  # on the slice: exactly as synthesized
-    # Detuned: a source ana sounds higher, kata lower, by DETUNE_SEMITONES at W_AUDIBLE.
-    up, down = synth.w_filter(tone, synth.W_AUDIBLE), synth.w_filter(tone, -synth.W_AUDIBLE)
-    ratio = 2 ** (synth.DETUNE_SEMITONES / 12)
+    # Detuned: a source ana sounds higher, kata lower, by DETUNE_SEMITONES at W_AUDIBLE (where it
+    # has faded out: measured at 90 % of the way there).
+    up, down = synth.w_filter(tone, 0.9 * synth.W_AUDIBLE), synth.w_filter(tone, -0.9 * synth.W_AUDIBLE)
+    ratio = 2 ** (0.9 * synth.DETUNE_SEMITONES / 12)
     assert peak_hz(up) == pytest.approx(1000 * ratio, rel=0.01)  # the FFT bin is 0.34 Hz; 1% is the resampling
     assert peak_hz(down) == pytest.approx(1000 / ratio, rel=0.01)
     # Muffled: the brightness of a noisy effect falls steadily with the distance along w.
     shot = synth.effect("shot")
     for sign in (1, -1):
-        bright = [high_fraction(synth.w_filter(shot, sign * dw)) for dw in (0.0, 0.3, 0.75, 1.5)]
+        bright = [high_fraction(synth.w_filter(shot, sign * dw)) for dw in (0.0, 0.3, 0.75, 1.4)]
         assert all(a > b for a, b in zip(bright, bright[1:])), bright
         assert bright[-1] < 0.1 * bright[0], bright
-    # Quieter, then silent past W_AUDIBLE.
-    rms = [float(np.sqrt(np.mean(synth.w_filter(shot, dw) ** 2))) for dw in (0.0, 0.75, 1.5)]
+    # Quieter, fading to silence at W_AUDIBLE.
+    rms = [float(np.sqrt(np.mean(synth.w_filter(shot, dw) ** 2))) for dw in (0.0, 0.75, 1.4)]
     assert rms[0] > rms[1] > rms[2] > 0
+    assert not synth.w_filter(shot, synth.W_AUDIBLE).any()
     assert not synth.w_filter(shot, synth.W_AUDIBLE + 0.01).any()
 
 

@@ -9,52 +9,33 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.game.actions import IDLE, Actions
 from across_dimensions.game.sim import Game
 from across_dimensions.game.stranded import stranded
 from across_dimensions.game.systems.energy import cost_line
-from across_dimensions.world.level import LevelError, load_level
+from across_dimensions.world.level import LevelError
 
 _NO_WINDOW = 77
 
-#: A switch behind the player opens the door to the exit; the bar holds one shot.
-SWITCH = """
-[level]
-format = 2
-w_range = [-0.5, 0.5]
-[spawn]
-position = [0.0, 0.0, -6.0, 0.0]
-[goal]
-center = [0.0, 1.0, 8.0]
-size = [3.0, 2.0, 2.0]
-[energy]
-start = 1.0
-max = 5.0
-w_cost = 2.0
-[[weapon]]
-kind = "gun"
-cost = 1.0
-cooldown = 0.1
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [8.0, 1.0, 20.0]
-[[object]]
-name = "door"
-shape = "tesseract"
-position = [0.0, 2.0, 4.0, 0.0]
-scale = [8.0, 4.0, 0.4, 3.0]
-[[target]]
-name = "switch"
-position = [0.0, 1.6, 0.0, 0.0]
-opens = "door"
-"""
 
-
-def _level(tmp_path, text: str) -> Path:
-    p = tmp_path / "level.toml"
-    p.write_text(text)
-    return p
+def switch_room(opens: str = "door", goal_w=None) -> LevelBuilder:
+    """A switch behind the player opens the door to the exit; the bar holds one shot."""
+    return (
+        LevelBuilder(
+            w_range=(-0.5, 0.5),
+            spawn=(0.0, 0.0, -6.0, 0.0),
+            goal=(0.0, 1.0, 8.0),
+            goal_size=(3.0, 2.0, 2.0),
+            goal_w=goal_w,
+            floor=(8.0, 1.0, 20.0),
+        )
+        .table("energy", start=1.0, max=5.0, w_cost=2.0)
+        .weapon("gun", cost=1.0, cooldown=0.1)
+        .object([0.0, 2.0, 4.0, 0.0], name="door", scale=[8.0, 4.0, 0.4, 3.0])
+        .add("target", name="switch", position=[0.0, 1.6, 0.0, 0.0], opens=opens)
+    )
 
 
 def _fire_at_the_floor(game: Game) -> None:
@@ -66,7 +47,7 @@ def _fire_at_the_floor(game: Game) -> None:
 
 
 def test_a_level_out_of_energy_says_it_is_lost_and_names_the_restart_key(tmp_path):
-    game = Game(load_level(_level(tmp_path, SWITCH)))
+    game = Game(switch_room().load(tmp_path))
     game.step(IDLE)
     assert stranded(game) is None and "restart" not in game.frame().hud.message
     _fire_at_the_floor(game)
@@ -78,21 +59,18 @@ def test_a_level_out_of_energy_says_it_is_lost_and_names_the_restart_key(tmp_pat
 
 
 def test_a_crystal_or_the_switch_thrown_means_the_level_is_not_lost(tmp_path):
-    crystal = "[[crystal]]\nposition = [3.0, 1.0, -4.0, 0.0]\nenergy = 1.0\n"
-    game = Game(load_level(_level(tmp_path, SWITCH + crystal)))
+    game = Game(switch_room().crystal([3.0, 1.0, -4.0, 0.0], energy=1.0).load(tmp_path))
     game.step(IDLE)
     _fire_at_the_floor(game)
     assert game.energy.milli == 0 and stranded(game) is None  # the crystal can refill it
-    game = Game(load_level(_level(tmp_path, SWITCH.replace('opens = "door"', 'opens = ""'))))
+    game = Game(switch_room(opens="").load(tmp_path))
     game.step(IDLE)
     _fire_at_the_floor(game)
     assert stranded(game) is None  # nothing left to pay for
 
 
 def test_the_way_along_w_to_an_exit_counts(tmp_path):
-    text = SWITCH.replace("size = [3.0, 2.0, 2.0]", "size = [3.0, 2.0, 2.0]\nw_range = [0.4, 0.5]")
-    text = text.replace('opens = "door"', 'opens = ""')
-    game = Game(load_level(_level(tmp_path, text)))
+    game = Game(switch_room(opens="", goal_w=(0.4, 0.5)).load(tmp_path))
     game.step(IDLE)
     assert stranded(game) is None  # 0.8 of the bar's 1.0 takes the player to w = 0.4
     _fire_at_the_floor(game)
@@ -100,7 +78,7 @@ def test_the_way_along_w_to_an_exit_counts(tmp_path):
 
 
 def test_the_hud_lists_what_each_4d_action_costs(tmp_path):
-    level = load_level(_level(tmp_path, SWITCH))
+    level = switch_room().load(tmp_path)
     assert cost_line(level) == "W 2/UNIT  GUN 1"
     game = Game(level)
     game.step(IDLE)
@@ -108,37 +86,23 @@ def test_the_hud_lists_what_each_4d_action_costs(tmp_path):
 
 
 # ------------------------------------------------------------------ beacons
-CRATE = """
-[level]
-format = 2
-w_range = [-0.5, 0.5]
-[spawn]
-position = [0.0, 0.0, -6.0, 0.0]
-[goal]
-center = [0.0, 1.0, 8.0]
-size = [3.0, 2.0, 2.0]
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [8.0, 1.0, 20.0]
-[[object]]
-name = "crate"
-shape = "tesseract"
-position = [0.0, 0.55, 0.0, 0.0]
-scale = 1.1
-body = "hypercube"
-mass = 3.0
-"""
-BEACON = """
-[[beacon]]
-object = "crate"
-min = [-1.0, -1.0, -2.0, -0.5]
-max = [1.0, 3.0, 2.0, 0.5]
-after = 0.5
-"""
+BEACON = {"object": "crate", "min": [-1.0, -1.0, -2.0, -0.5], "max": [1.0, 3.0, 2.0, 0.5], "after": 0.5}
+
+
+def crate_room(body: bool = True) -> LevelBuilder:
+    """A hypercube crate (a rigid body unless ``body`` is false) on the floor ahead."""
+    crate = {"body": "hypercube", "mass": 3.0} if body else {}
+    return LevelBuilder(
+        w_range=(-0.5, 0.5),
+        spawn=(0.0, 0.0, -6.0, 0.0),
+        goal=(0.0, 1.0, 8.0),
+        goal_size=(3.0, 2.0, 2.0),
+        floor=(8.0, 1.0, 20.0),
+    ).object([0.0, 0.55, 0.0, 0.0], name="crate", scale=1.1, **crate)
 
 
 def test_a_body_out_of_its_beacons_range_comes_back_and_it_is_said(tmp_path):
-    game = Game(load_level(_level(tmp_path, CRATE + BEACON)))
+    game = Game(crate_room().add("beacon", **BEACON).load(tmp_path))
     game.step(IDLE)
     crate = game.entities.named("crate")
     start = np.array(crate.center(game))
@@ -154,7 +118,7 @@ def test_a_body_out_of_its_beacons_range_comes_back_and_it_is_said(tmp_path):
 
 
 def test_a_body_without_a_beacon_stays_where_it_went(tmp_path):
-    game = Game(load_level(_level(tmp_path, CRATE)))
+    game = Game(crate_room().load(tmp_path))
     game.step(IDLE)
     crate = game.entities.named("crate")
     game.physics.set_pose(crate.motion.body, np.array(crate.center(game)) + [3.0, 0.0, 0.0, 0.0])
@@ -173,19 +137,17 @@ def test_a_body_without_a_beacon_stays_where_it_went(tmp_path):
     ],
 )
 def test_check_level_names_a_bad_beacon(tmp_path, entry, says):
-    table = BEACON
-    for line in entry.splitlines():
-        key = line.split("=")[0].strip()
-        table = "\n".join(x for x in table.splitlines() if not x.startswith(key + " "))
+    table = dict(BEACON)
+    for line in entry.splitlines():  # the entry's fields (as text) take the place of the beacon's
+        table.pop(line.split("=")[0].strip(), None)
     with pytest.raises(LevelError) as e:
-        load_level(_level(tmp_path, CRATE + table + "\n" + entry + "\n"))
+        crate_room().add("beacon", **table).load(tmp_path, extra=entry + "\n")
     assert any("[[beacon]] #1" in p and says in p for p in e.value.problems), e.value.problems
 
 
 def test_a_beacon_on_an_object_that_is_no_body_is_refused(tmp_path):
-    text = CRATE.replace('body = "hypercube"\nmass = 3.0\n', "") + BEACON
     with pytest.raises(LevelError, match="is not a rigid body"):
-        load_level(_level(tmp_path, text))
+        crate_room(body=False).add("beacon", **BEACON).load(tmp_path)
 
 
 # ------------------------------------------------------------------ the window
@@ -201,8 +163,7 @@ def _restart_key():
         from across_dimensions.app.settings import Settings
         from across_dimensions.app.window import GameWindow
 
-        path = Path(tempfile.mkdtemp()) / "lost.toml"
-        path.write_text(SWITCH)
+        path = switch_room().write(Path(tempfile.mkdtemp()), "lost.toml")
         w = GameWindow(Settings(), Start(path))
     except Exception as e:  # no EGL here: no headless window
         print(f"no headless pyglet window: {e}")
@@ -224,7 +185,8 @@ def _restart_key():
 def test_the_restart_key_restarts_a_lost_level_in_the_window():
     code = f"import pyglet, runpy; pyglet.options['headless'] = True; runpy.run_path({__file__!r})['_restart_key']()"
     root = str(Path(__file__).parent.parent)
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([root, os.environ.get("PYTHONPATH", "")]))
+    tests = str(Path(__file__).parent)  # for levels_builder
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([root, tests, os.environ.get("PYTHONPATH", "")]))
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, env=env)
     if r.returncode == _NO_WINDOW:
         pytest.skip(r.stdout.strip())

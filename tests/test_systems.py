@@ -4,6 +4,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.entities import Placed
@@ -311,12 +312,8 @@ def test_ten_thousand_spawned_and_removed_entities_leave_the_physics_arrays_boun
 def test_a_bad_crystal_reports_every_problem_at_once(tmp_path):
     from across_dimensions.world.level import LevelError
 
-    path = tmp_path / "bad.toml"
-    path.write_text(
-        "[level]\nformat = 2\n[spawn]\nposition = [0, 0, 0, 0]\n[goal]\ncenter = [0, 1, 5]\nsize = [1, 1, 1]\n"
-        "[radar]\nrange = 0\n[[crystal]]\nposition = [0, 1, 2, 9.0]\nenergy = -1\n",
-        encoding="utf-8",
-    )
+    level = LevelBuilder(w_range=None, spawn=(0, 0, 0, 0), goal=(0, 1, 5), goal_size=(1, 1, 1), floor=None)
+    path = level.table("radar", range=0).crystal([0, 1, 2, 9.0], energy=-1).write(tmp_path, "bad.toml")
     with pytest.raises(LevelError) as e:
         load_level(path)
     problems = e.value.problems

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.core import lift
 from across_dimensions.core.mesh import concatenate
@@ -22,40 +23,23 @@ from across_dimensions.game.actions import Actions
 from across_dimensions.game.entities import Placed, reach
 from across_dimensions.game.player_bodies import tet_colliders
 from across_dimensions.game.sim import Game
-from across_dimensions.physics import BodyDef, PhysicsWorld
+from across_dimensions.physics import BodyDef, PhysicsWorld, WorldDef
 from across_dimensions.physics.tet_mesh import tet_geometry
-from across_dimensions.world.level import load_level
 
 TOP = 2.601  # the arch's top
 HEIGHT_TOL = 5e-3
 SLOP = 0.02
 
-_LEVEL = """
-[level]
-format = 2
-w_range = [-0.5, 0.5]
-[spawn]
-position = [-6.0, 0.0, -6.0, 0.0]
-[goal]
-center = [30.0, 1.0, 0.0]
-size = [1.0, 2.0, 1.0]
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [20.0, 1.0, 20.0]
-[[object]]
-name = "round arch"
-asset = "meshes/arch.obj"
-position = [0.0, 0.0, 8.0, 0.0]
-depth = 1.0
-{extra}
-"""
 
-
-def _game(tmp_path, extra: str = "") -> Game:
-    """The level (with the round arch at z = 8) and the box arch at the origin, placed by a system."""
-    p = tmp_path / "arch.toml"
-    p.write_text(_LEVEL.format(extra=extra))
-    game = Game(load_level(p))
+def _game(tmp_path, crate=None) -> Game:
+    """The level (with the round arch at z = 8, and a crate at ``crate`` if given) and the box arch
+    at the origin, placed by a system."""
+    level = LevelBuilder(
+        w_range=(-0.5, 0.5), spawn=(-6.0, 0.0, -6.0, 0.0), goal=(30.0, 1.0, 0.0), floor=(20.0, 1.0, 20.0)
+    ).object([0.0, 0.0, 8.0, 0.0], None, name="round arch", asset="meshes/arch.obj", depth=1.0)
+    if crate is not None:
+        level.object(crate, name="crate", scale=0.5, body="hypercube")
+    game = Game(level.load(tmp_path, "arch.toml"))
     parts = []
     pillar, lintel = [0.4, 2.2, 0.6], [2.4, 0.4, 0.6]
     for c, size in (([-1.0, 1.1, 0.0], pillar), ([1.0, 1.1, 0.0], pillar), ([0.0, 2.401, 0.0], lintel)):
@@ -179,7 +163,7 @@ def test_bodies_thrown_through_the_doorway_pass_and_those_thrown_at_a_leg_bounce
 
 
 def test_rays_hit_the_arch_where_it_is_and_pass_its_doorway(arch):
-    world = PhysicsWorld(ground=False)
+    world = PhysicsWorld(WorldDef(ground=False))
     world.set_static_tets([arch])
     assert world.raycast((0.0, 1.0, -3.0, 0.0), (0, 0, 1, 0), 10.0) is None  # through the doorway
     who, t, _, normal = world.raycast((-1.1, 1.0, -3.0, 0.2), (0, 0, 1, 0), 10.0)
@@ -195,15 +179,7 @@ def test_rays_hit_the_arch_where_it_is_and_pass_its_doorway(arch):
 
 
 def test_a_box_on_a_turning_arch_goes_down_with_it_or_falls_and_is_never_inside_it(tmp_path):
-    crate = """
-[[object]]
-name = "crate"
-shape = "tesseract"
-position = [0.5, 2.86, 0.0, 0.0]
-scale = 0.5
-body = "hypercube"
-"""
-    game = _game(tmp_path, crate)
+    game = _game(tmp_path, crate=[0.5, 2.86, 0.0, 0.0])
     arch = game.entities.named("arch")
     body = game.entities.named("crate").motion.body
     world = game.physics
@@ -223,7 +199,7 @@ def test_a_ball_bounces_off_the_arch_as_high_as_off_the_same_box(arch):
     """Restitution 0.5: the rebound reaches e^2 = 1/4 of the drop, as on the lintel given as a solid box."""
     rebounds = []
     for as_tets in (True, False):
-        world = PhysicsWorld(world_restitution=0.5)
+        world = PhysicsWorld(WorldDef(world_restitution=0.5))
         if as_tets:
             world.set_static_tets([arch])
         else:
@@ -268,62 +244,29 @@ def test_the_bench_line_times_both_floors_in_the_same_run():
     assert r["tet_contacts"] > 0 and r["box_contacts"] > 0  # the bodies rest on both floors
 
 
-def _test_level(name: str, w_range: str, rest: str) -> str:
-    """A level file: a 30 m floor, the spawn and a goal far away, then ``rest``."""
-    return (
-        f"""
-[level]
-format = 2
-name = "{name}"
-w_range = {w_range}
-
-[spawn]
-position = [0.0, 0.0, -8.0, 0.0]
-
-[goal]
-center = [0.0, 1.0, 9.0]
-size = [1.0, 1.0, 1.0]
-
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [30.0, 1.0, 30.0]
-"""
-        + rest
+def _test_level(name: str, w_range=(-1.0, 1.0)) -> LevelBuilder:
+    """A level: a 30 m floor, the spawn and a goal far away."""
+    return LevelBuilder(
+        name,
+        w_range=w_range,
+        spawn=(0.0, 0.0, -8.0, 0.0),
+        goal=(0.0, 1.0, 9.0),
+        goal_size=(1.0, 1.0, 1.0),
+        floor=(30.0, 1.0, 30.0),
     )
 
 
-ARCH_LEVEL = _test_level(
-    "Arch test",
-    "[-1.0, 1.0]",
-    """
-[[mesh]]   # x from -1.5 to 1.5, y from 0 to 3.5, z from -0.25 to 0.25, a doorway in the middle
-asset = "meshes/arch.obj"
-position = [0.0, 0.0, 0.0]
-
-[[object]]
-name = "through"
-shape = "hypersphere"
-scale = 0.25
-body = "hypersphere"
-position = [0.0, 0.6, -3.0, 0.0]
-velocity = [0.0, 0.0, 6.0, 0.0]
-
-[[object]]
-name = "blocked"
-shape = "hypersphere"
-scale = 0.25
-body = "hypersphere"
-position = [1.25, 0.6, -3.0, 0.0]
-velocity = [0.0, 0.0, 6.0, 0.0]
-
-[[object]]
-name = "top"
-shape = "tesseract"
-scale = 0.4
-body = "hypercube"
-position = [0.0, 5.0, 0.0, 0.0]
-""",
-)
+def arch_level() -> LevelBuilder:
+    """An arch asset at every w (x from -1.5 to 1.5, y from 0 to 3.5, z from -0.25 to 0.25, a doorway
+    in the middle), two balls rolling at it and a box falling on its top."""
+    ball = dict(scale=0.25, body="hypersphere", velocity=[0.0, 0.0, 6.0, 0.0])
+    return (
+        _test_level("Arch test")
+        .mesh("meshes/arch.obj", position=(0.0, 0.0, 0.0))
+        .object([0.0, 0.6, -3.0, 0.0], "hypersphere", name="through", **ball)
+        .object([1.25, 0.6, -3.0, 0.0], "hypersphere", name="blocked", **ball)
+        .object([0.0, 5.0, 0.0, 0.0], name="top", scale=0.4, body="hypercube")
+    )
 
 
 def test_bodies_meet_a_mesh_part_by_its_true_surface_not_its_box(tmp_path):
@@ -331,11 +274,8 @@ def test_bodies_meet_a_mesh_part_by_its_true_surface_not_its_box(tmp_path):
     bounding box would close; one aimed at a leg bounces back; a box lands on its top."""
     from across_dimensions.game.actions import Actions
     from across_dimensions.game.sim import Game
-    from across_dimensions.world.level import load_level
 
-    path = tmp_path / "arch.toml"
-    path.write_text(ARCH_LEVEL, encoding="utf-8")
-    game = Game(load_level(path))
+    game = Game(arch_level().load(tmp_path, "arch.toml"))
     for _ in range(150):
         game.step(Actions())
     at = {n: game.entities.named(n).center(game) for n in ("through", "blocked", "top")}
@@ -360,35 +300,15 @@ def test_prism_tets_point_out_of_the_solid():
     assert np.all(np.einsum("ij,ij->i", n[:, :3], centre[:, :3] - 0.5) > 0.0)  # outward
 
 
-WORLD_LEVEL = _test_level(
-    "World test",
-    "[-2.0, 2.0]",
-    """
-[[world]]   # a table 1 m high that exists from w = -0.6 to 0.6
-name = "table"
-w = 0.0
-depth = 1.2
-profile = "prism"
-
-  [[world.box]]
-  center = [0.0, 0.5, 0.0]
-  size = [2.0, 1.0, 2.0]
-
-[[object]]
-name = "on"
-shape = "tesseract"
-scale = 0.4
-body = "hypercube"
-position = [0.0, 3.0, 0.0, 0.0]
-
-[[object]]
-name = "beside"
-shape = "tesseract"
-scale = 0.4
-body = "hypercube"
-position = [0.0, 3.0, 0.0, 1.2]
-""",
-)
+def world_level() -> LevelBuilder:
+    """A table 1 m high that exists from w = -0.6 to 0.6, a crate over it and one at w = 1.2."""
+    table = {"center": [0.0, 0.5, 0.0], "size": [2.0, 1.0, 2.0]}
+    return (
+        _test_level("World test", (-2.0, 2.0))
+        .world(0.0, 1.2, name="table", profile="prism", boxes=[table])
+        .object([0.0, 3.0, 0.0, 0.0], name="on", scale=0.4, body="hypercube")
+        .object([0.0, 3.0, 0.0, 1.2], name="beside", scale=0.4, body="hypercube")
+    )
 
 
 def test_bodies_meet_an_extended_world_where_it_exists_along_w(tmp_path):
@@ -396,11 +316,8 @@ def test_bodies_meet_an_extended_world_where_it_exists_along_w(tmp_path):
     one at a w where the table is absent falls to the floor through where it would be."""
     from across_dimensions.game.actions import Actions
     from across_dimensions.game.sim import Game
-    from across_dimensions.world.level import load_level
 
-    path = tmp_path / "world.toml"
-    path.write_text(WORLD_LEVEL, encoding="utf-8")
-    game = Game(load_level(path))
+    game = Game(world_level().load(tmp_path, "world.toml"))
     for _ in range(150):
         game.step(Actions())
     on, beside = (game.entities.named(n).center(game) for n in ("on", "beside"))
@@ -408,38 +325,16 @@ def test_bodies_meet_an_extended_world_where_it_exists_along_w(tmp_path):
     assert beside[1] == pytest.approx(0.2, abs=0.01)
 
 
-MANIPULABLE_LEVEL = _test_level(
-    "Manipulable test",
-    "[-1.0, 1.0]",
-    """
-[[object]]
-name = "pink"
-shape = "24-cell"
-position = [0.0, 1.0, 0.0, 0.0]
-solid = true
-
-[[object]]
-name = "slab"
-shape = "tesseract"
-position = [4.0, 0.5, 0.0, 0.0]
-solid = true
-
-[[object]]
-name = "ball"
-shape = "hypersphere"
-scale = 0.25
-body = "hypersphere"
-position = [0.0, 3.5, 0.0, 0.0]
-
-[[manipulable]]
-object = "pink"
-max = { xw = 90.0 }
-
-[[manipulable]]
-object = "slab"
-max = { xw = 90.0 }
-""",
-)
+def manipulable_level(ball=(0.0, 3.5, 0.0, 0.0)) -> LevelBuilder:
+    """A 24-cell and a slab the player may turn, and a ball dropped at ``ball``."""
+    return (
+        _test_level("Manipulable test")
+        .object([0.0, 1.0, 0.0, 0.0], "24-cell", name="pink", solid=True)
+        .object([4.0, 0.5, 0.0, 0.0], name="slab", solid=True)
+        .object(ball, "hypersphere", name="ball", scale=0.25, body="hypersphere")
+        .add("manipulable", object="pink", max={"xw": 90.0})
+        .add("manipulable", object="slab", max={"xw": 90.0})
+    )
 
 
 def test_a_manipulable_that_is_not_a_box_is_met_by_its_true_shape(tmp_path):
@@ -449,11 +344,8 @@ def test_a_manipulable_that_is_not_a_box_is_met_by_its_true_shape(tmp_path):
     inside the 24-cell."""
     from across_dimensions.game.actions import Actions
     from across_dimensions.game.sim import Game
-    from across_dimensions.world.level import load_level
 
-    path = tmp_path / "manip.toml"
-    path.write_text(MANIPULABLE_LEVEL.replace("[0.0, 3.5, 0.0, 0.0]", "[0.6, 3.5, 0.6, 0.0]"), encoding="utf-8")
-    game = Game(load_level(path))
+    game = Game(manipulable_level(ball=(0.6, 3.5, 0.6, 0.0)).load(tmp_path, "manip.toml"))
     pink, slab = game.entities.named("pink"), game.entities.named("slab")
     assert pink.data.body is None and slab.data.body is not None
     assert any(len(t) for t in tet_colliders(game))

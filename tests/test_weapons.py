@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from levels_builder import LevelBuilder
 
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.events import BulletHit, WeaponRefused
@@ -21,49 +22,35 @@ REPO = Path(__file__).resolve().parents[1]
 ARMORY = REPO / "levels" / "04_armory.toml"
 BLAST_FIELD = REPO / "levels" / "05_blast_and_field.toml"  # the gun, the blast and the field
 
-HALL = """
-[level]
-format = 2
-name = "range"
-w_range = [-1.0, 1.0]
-
-[spawn]
-position = [0.0, 0.0, -8.0, 0.0]
-
-[goal]
-center = [0.0, 1.0, 30.0]
-size = [2.0, 2.0, 2.0]
-
-[physics]
-gravity = {gravity}
-
-[[box]]
-center = [0.0, -0.5, 0.0]
-size = [20.0, 1.0, 80.0]
-
-{extra}
-"""
-
-GUN = """
-[[weapon]]
-kind = "gun"
-cost = 0.0
-cooldown = {cooldown}
-speed = 10.0
-amplitude = {amplitude}
-period = {period}
-size = 0.15
-mass = 0.5
-lifetime = {lifetime}
-max_live = {max_live}
-"""
+GRAVITY = (0.0, -9.81, 0.0, 0.0)
 
 
-def level(tmp_path, extra="", gravity="[0.0, -9.81, 0.0, 0.0]", name="range.toml", **gun):
-    g = dict(cooldown=0.0, amplitude=0.6, period=2.0, lifetime=6.0, max_live=8) | gun
-    path = tmp_path / name
-    path.write_text(HALL.format(gravity=gravity, extra=GUN.format(**g) + extra))
-    return load_level(path)
+def hall(gravity=GRAVITY) -> LevelBuilder:
+    """A range 80 m long, the player 8 m behind the middle."""
+    return LevelBuilder(
+        "range", spawn=(0.0, 0.0, -8.0, 0.0), goal=(0.0, 1.0, 30.0), goal_size=(2.0, 2.0, 2.0), floor=(20.0, 1.0, 80.0)
+    ).table("physics", gravity=list(gravity))
+
+
+def gun(cooldown=0.0, amplitude=0.6, period=2.0, lifetime=6.0, max_live=8, cost=0.0, **more) -> dict:
+    """The fields of a ``[[weapon]]`` gun."""
+    return dict(
+        cost=cost,
+        cooldown=cooldown,
+        speed=10.0,
+        amplitude=amplitude,
+        period=period,
+        size=0.15,
+        mass=0.5,
+        lifetime=lifetime,
+        max_live=max_live,
+        **more,
+    )
+
+
+def level(tmp_path, extra="", gravity=GRAVITY, name="range.toml", **fields):
+    """The range with a gun of ``fields`` and ``extra`` (entries as TOML), loaded."""
+    return hall(gravity).weapon("gun", **gun(**fields)).load(tmp_path, name, extra=extra)
 
 
 FIRE = Actions(presses=(("fire", 1),))
@@ -147,7 +134,7 @@ scale = 0.8
 body = "hypercube"
 mass = 2.0
 """
-    game = Game(level(tmp_path, cube, gravity="[0.0, 0.0, 0.0, 0.0]", amplitude=0.1, period=3.0))
+    game = Game(level(tmp_path, cube, gravity=(0.0, 0.0, 0.0, 0.0), amplitude=0.1, period=3.0))
     game.step(Actions())
     game.step(FIRE)
     e = bullet_of(game)
@@ -295,9 +282,7 @@ body = "hypercube"
 
 def scatter(tmp_path):
     # No gun: the physics world is the level's own (two bodies).
-    path = tmp_path / "scatter.toml"
-    path.write_text(HALL.format(gravity="[0.0, -9.81, 0.0, 0.0]", extra=SCATTER.format()))
-    return Game(load_level(path))
+    return Game(hall().load(tmp_path, "scatter.toml", extra=SCATTER.format()))
 
 
 def test_blast_brings_everything_in_its_radius_to_the_players_w_and_nothing_else(tmp_path):
@@ -326,6 +311,27 @@ def test_blast_brings_everything_in_its_radius_to_the_players_w_and_nothing_else
     body = game.entities.named("near body")
     assert game.physics.body_kind(body.motion.body) == "dynamic"
     assert game.physics.body_position(body.motion.body)[1] == pytest.approx(0.35, abs=0.03)
+
+
+def test_what_the_blast_brings_is_drawn_as_soon_as_it_reaches_the_slice():
+    """Blast and Field: the kata switch pulled to the player's w shows at once, before anything
+    else comes or goes (nothing is fired at it yet)."""
+    game = Game(load_level(BLAST_FIELD))
+    for _ in range(120):
+        game.step(Actions(forward=1.0))  # to the blue door; the switch is 1.5 m behind
+    switch = game.entities.named("kata switch")
+
+    def drawn() -> bool:
+        return any(f"entity:{switch.id}" in b.members for b in game.frame().batches)
+
+    assert not drawn()  # far kata
+    game.step(Actions(presses=(("weapon_2", 1),)))
+    game.step(Actions(presses=(("fire", 1),)))
+    version = game.entities.version
+    for _ in range(60):
+        game.step(Actions())
+    assert switch.center(game)[3] == pytest.approx(0.0, abs=0.01)
+    assert game.entities.version == version and drawn()
 
 
 def test_field_turns_exactly_the_objects_in_its_radius_to_wireframe_and_back(tmp_path):
@@ -408,8 +414,7 @@ BAD = [
 
 @pytest.mark.parametrize(("entry", "message"), BAD)
 def test_bad_weapon_and_target_entries_are_one_line_each(tmp_path, entry, message):
-    path = tmp_path / "bad.toml"
-    path.write_text(HALL.format(gravity="[0.0, -9.81, 0.0, 0.0]", extra=entry))
+    path = hall().write(tmp_path, "bad.toml", extra=entry)
     with pytest.raises(LevelError) as err:
         load_level(path)
     assert len(err.value.problems) == 1
@@ -418,8 +423,7 @@ def test_bad_weapon_and_target_entries_are_one_line_each(tmp_path, entry, messag
 
 
 def test_check_level_reports_a_bad_weapon(tmp_path):
-    path = tmp_path / "bad.toml"
-    path.write_text(HALL.format(gravity="[0.0, -9.81, 0.0, 0.0]", extra=BAD[1][0] + BAD[0][0]))
+    path = hall().write(tmp_path, "bad.toml", extra=BAD[1][0] + BAD[0][0])
     out = subprocess.run(
         [sys.executable, "-m", "across_dimensions", "check-level", str(path)], capture_output=True, text=True
     )
@@ -455,20 +459,9 @@ def test_removed_bodies_free_their_slots_lowest_first_without_stale_warm_starts(
 
 
 def test_a_gun_with_ammunition_fires_rounds_and_crystals_refill_them(tmp_path):
-    crystal = """
-[energy]
-start = 5.0
-
-[[crystal]]
-name = "refill"
-position = [0.0, 1.0, -6.0, 0.0]
-energy = 1.0
-"""
-    path = tmp_path / "ammo.toml"
-    gun = GUN.format(cooldown=0.0, amplitude=0.5, period=2.0, lifetime=1.0, max_live=8)
-    gun = gun.replace("cost = 0.0", "cost = 1.0") + "ammo = 2\nmax_ammo = 4\nrefill = 3\n"
-    path.write_text(HALL.format(gravity="[0.0, -9.81, 0.0, 0.0]", extra=gun + crystal))
-    game = Game(load_level(path))
+    ammo = gun(amplitude=0.5, lifetime=1.0, cost=1.0, ammo=2, max_ammo=4, refill=3)
+    level = hall().weapon("gun", **ammo).table("energy", start=5.0)
+    game = Game(level.crystal([0.0, 1.0, -6.0, 0.0], name="refill", energy=1.0).load(tmp_path, "ammo.toml"))
     seen = []
     for _ in range(3):
         game.step(FIRE)

@@ -47,7 +47,13 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--debug", action="store_true", help="show tracebacks for errors")
     p.set_defaults(func=None)
     sub = p.add_subparsers(dest="command", parser_class=_Parser)
+    for add in (_add_play_commands, _add_level_commands, _add_mesh_commands, _add_bench_command, _add_edit_command):
+        add(sub)
+    return p
 
+
+def _add_play_commands(sub) -> None:
+    """``play``, ``demo`` and ``replay``: the commands that run the game."""
     play = sub.add_parser("play", help="play a level in a window (the default)")
     _add_play_args(play)
     play.set_defaults(func=_play)
@@ -80,6 +86,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     rp.set_defaults(func=_replay(rp))
 
+
+def _add_level_commands(sub) -> None:
+    """``check-level``, ``probe`` and ``level-schema``: the tools for level authors."""
     ck = sub.add_parser("check-level", help="check level files and list every problem")
     ck.add_argument("files", nargs="+", metavar="FILE")
     ck.set_defaults(func=commands.check_level)
@@ -98,6 +107,9 @@ def _parser() -> argparse.ArgumentParser:
     sc.add_argument("-o", "--output", metavar="FILE.json", help="write it to FILE.json (default: print it)")
     sc.set_defaults(func=commands.level_schema)
 
+
+def _add_mesh_commands(sub) -> None:
+    """``slice``, ``shape`` and ``lift``: the 4D projection core on meshes, without the game."""
     sl = sub.add_parser("slice", help="project a 4D shape or .npz mesh to a 3D mesh file")
     sl.add_argument("source", metavar="SHAPE|FILE", help="a shape name (see 'shape --list') or a .npz 4D mesh")
     sl.add_argument("--rotate", action="append", default=[], metavar="PLANE=DEG", help="rotate the object, e.g. xw=30")
@@ -122,6 +134,8 @@ def _parser() -> argparse.ArgumentParser:
     lf.add_argument("-o", "--output", required=True, metavar="OUT.npz")
     lf.set_defaults(func=commands.lift)
 
+
+def _add_bench_command(sub) -> None:
     bn = sub.add_parser("bench", help="measure projection (and physics) speed")
     bn.add_argument(
         "what",
@@ -134,6 +148,8 @@ def _parser() -> argparse.ArgumentParser:
     _add_bench_scene_args(bn)
     bn.set_defaults(func=commands.bench)
 
+
+def _add_edit_command(sub) -> None:
     ed = sub.add_parser("edit", help="open a level in the level editor (needs the optional extra 'editor')")
     ed.add_argument("level", help="level file or shipped level name")
     ed.add_argument("--seed", type=int, default=0, help="seed of the games played from the editor")
@@ -141,7 +157,6 @@ def _parser() -> argparse.ArgumentParser:
     ed.add_argument("--screenshot-after", type=positive_float, metavar="SECONDS", help=argparse.SUPPRESS)
     ed.add_argument("--quit-after", type=positive_float, metavar="SECONDS", help="close the window after SECONDS")
     ed.set_defaults(func=_edit, record=None, fullscreen=None)
-    return p
 
 
 def _replay(parser: argparse.ArgumentParser):

@@ -99,17 +99,18 @@ def probe(args) -> int:
     import time
 
     from ..probe.runner import probe as run_probe
+    from ..world.flat_level import load_flat_level
     from ..world.level import load_level
-    from ..world.resources import level_files, resolve_level
+    from ..world.resources import is_prologue_file, level_files, prologue_files, resolve_level
 
     paths = []
-    for name in args.levels or [str(p) for p in level_files()]:
+    for name in args.levels or [str(p) for p in prologue_files() + level_files()]:
         try:
             paths.append(resolve_level(name))
         except FileNotFoundError as e:
             raise UserError(str(e)) from None
-    for p in paths:
-        load_level(p)  # a bad level is refused before any strategy runs
+    for p in paths:  # a bad level is refused before any strategy runs
+        load_flat_level(p) if is_prologue_file(p) else load_level(p)
     workers = args.workers or os.cpu_count() or 1
     t0 = time.perf_counter()
     rows = run_probe(paths, workers=min(workers, 64))

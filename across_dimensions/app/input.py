@@ -9,6 +9,9 @@ between two ticks and turns it into the next tick's :class:`~across_dimensions.g
   for that one tick: a tap shorter than a frame still jumps, steps or grabs, even at 5 FPS;
 - one-shot actions (:data:`~across_dimensions.game.actions.PRESSES`) are counted, so two taps
   between two ticks are two;
+- an action the player set to toggle (settings ``toggle_actions``: w moves, manipulation, the
+  orbit, the slice turns) is held from one press to the next instead of while its key is down;
+- the player's "reduce motion" setting is a flag of every tick's actions (replays record it);
 - the mouse's motion since the last tick is that tick's look.
 """
 
@@ -19,7 +22,8 @@ import functools
 import pyglet
 
 from ..game.actions import CAMERA_BUTTONS, MAX_PRESSES, PRESSES, Actions
-from .keymap import KEY_NAMES
+from ..game.frame import ScreenLabel
+from .keymap import KEY_NAMES, TOGGLE_PAIRS, TOGGLEABLE_ACTIONS
 from .settings import Settings
 
 _MOUSE = {
@@ -32,6 +36,9 @@ _MOUSE = {
 #: One-shot actions read only as counts: a tap of one reaches the game as its press, never as
 #: held. ``manipulate`` is not among them: it is counted, and held it grabs, so a tap grabs for a tick.
 COUNTED_ONLY = frozenset(PRESSES) - {"manipulate"}
+#: Each action a press may toggle instead of holding (settings ``toggle_actions``) with
+#: its opposite, which switching it on lets go of.
+OPPOSITE = {a: b for a, b in TOGGLE_PAIRS} | {b: a for a, b in TOGGLE_PAIRS}
 
 
 def key_name(kind: str, code) -> str | None:
@@ -117,28 +124,48 @@ class PlayInput:
         The window's keyboard state (which keys are down now).
     """
 
-    def __init__(self, bindings: Bindings, keys):
+    def __init__(self, bindings: Bindings, keys, settings: Settings | None = None):
         self.bindings = bindings
         self.keys = keys
         self.mouse_buttons: set = set()
         self.presses: dict[str, int] = {}  # one-shot actions pressed since the last tick, and how often
         self.tapped: set[str] = set()  # held actions pressed since the last tick (a key, button or wheel notch)
         self.look = [0.0, 0.0]  # radians of yaw and pitch since the last tick
+        self.latched: set[str] = set()  # toggle actions switched on
+        self.reduce_motion = False
+        self.toggle_actions: frozenset[str] = frozenset()
+        if settings is not None:
+            self.use(settings)
 
-    def press(self, kind: str, code, times: int = 1, reduce_motion: bool = False) -> None:
+    def use(self, settings: Settings) -> None:
+        """Take the settings that change what a tick reads: reduce motion, and the actions a press
+        toggles instead of holding (an action no longer toggled lets go)."""
+        self.reduce_motion = settings.reduce_motion
+        self.toggle_actions = frozenset(settings.toggle_actions)
+        self.latched &= self.toggle_actions
+
+    def press(self, kind: str, code, times: int = 1) -> None:
         """A key, mouse button or wheel notch went down: count it for the one-shot actions bound to
-        it, and hold the others for at least the next tick."""
+        it, and hold the others for at least the next tick (or, for a toggled action, switch it
+        on or off; switching one on lets go of its opposite)."""
         for action in self.bindings.actions_of(kind, code):
-            if action == "seek" and reduce_motion:
-                action = "seek_jump"  # a press of its own, so replays land the same way
             if action in PRESSES:
                 self.presses[action] = min(self.presses.get(action, 0) + times, MAX_PRESSES)
-            if action not in COUNTED_ONLY:
+            if action in self.toggle_actions:
+                if times % 2:
+                    self.latched ^= {action}
+                    self.latched.discard(OPPOSITE.get(action))
+            elif action not in COUNTED_ONLY:
                 self.tapped.add(action)
 
-    def mouse_down(self, button, reduce_motion: bool = False) -> None:
+    def latched_label(self) -> ScreenLabel:
+        """A label at the left of the view naming the toggled actions that are on, and their keys."""
+        names = ", ".join(f"{{{a}}} {a.replace('_', ' ')}" for a in TOGGLEABLE_ACTIONS if a in self.latched)
+        return ScreenLabel(f"ON: {names}", -10.0, 0.45)
+
+    def mouse_down(self, button) -> None:
         self.mouse_buttons.add(button)
-        self.press("mouse", button, reduce_motion=reduce_motion)
+        self.press("mouse", button)
 
     def mouse_up(self, button) -> None:
         self.mouse_buttons.discard(button)
@@ -149,7 +176,9 @@ class PlayInput:
         self.look[1] += dpitch
 
     def held(self, action: str) -> bool:
-        """Down now, or pressed since the last tick."""
+        """Down now, or pressed since the last tick; for a toggled action, switched on."""
+        if action in self.toggle_actions:
+            return action in self.latched
         if action in self.tapped:
             return True
         for kind, code in self.bindings.codes.get(action, ()):
@@ -175,6 +204,7 @@ class PlayInput:
             manipulate=self.held("manipulate"),
             next_weapon=self.held("next_weapon"),
             **{b: self.held(b) for b in CAMERA_BUTTONS},
+            reduced_motion=self.reduce_motion,
             presses=Actions.count_presses(self.presses),
         ).clamped()
         self.drop_pending()
@@ -187,6 +217,8 @@ class PlayInput:
         self.look = [0.0, 0.0]
 
     def forget(self) -> None:
-        """Forget everything, the buttons down too (play resumes, or another view had the input)."""
+        """Forget everything, the buttons down and the toggles on too (play resumes, or another
+        view had the input)."""
         self.drop_pending()
         self.mouse_buttons.clear()
+        self.latched.clear()

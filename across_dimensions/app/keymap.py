@@ -66,6 +66,18 @@ ACTION_DESCRIPTIONS: dict[str, str] = {
 
 #: The bindable action names, in menu order.
 ACTIONS: tuple[str, ...] = tuple(ACTION_DESCRIPTIONS)
+#: Held actions that pairs of opposites (one on lets go of the other when they toggle).
+TOGGLE_PAIRS: tuple[tuple[str, str], ...] = (
+    ("w_ana", "w_kata"),
+    ("turn_xw_pos", "turn_xw_neg"),
+    ("turn_yw_pos", "turn_yw_neg"),
+    ("turn_zw_pos", "turn_zw_neg"),
+    ("orbit_left", "orbit_right"),
+)
+#: The held actions a press may toggle instead (the settings' ``toggle_actions``), in menu order.
+TOGGLEABLE_ACTIONS: tuple[str, ...] = tuple(
+    a for a in ACTIONS if a == "manipulate" or any(a in pair for pair in TOGGLE_PAIRS)
+)
 
 #: Mouse buttons and the wheel, named like keys so one binding can mix both. A
 #: wheel notch is a press of a one-shot action (next weapon), or holds any

@@ -15,10 +15,12 @@ Screens:
 * ``levels``: the campaign, each level unlocked or locked, finished with its best
   time and crystals found.
 * ``settings``: Controls, mouse sensitivity, invert X and Y, field of view,
-  render scale, volume, colour-blind-safe palette, reduce motion. Every change
-  is applied at once (``on_change``) and the window saves the file.
+  render scale, volume, colour-blind-safe and high-contrast palettes, reduce motion,
+  text size, captions. Every change is applied at once (``on_change``) and the
+  window saves the file.
 * ``controls``: the keyboard layout preset (QWERTY, AZERTY) and one row per
-  action. Selecting a row waits for the next key or mouse button; a key that
+  action; Left/Right on a held action's row (w moves, manipulation, orbit, slice
+  turns) switches it between hold and toggle. Selecting a row waits for the next key or mouse button; a key that
   another action uses opens ``conflict``: swap the two actions' keys, bind it to
   both (the rows stay marked until resolved), or cancel.
 
@@ -34,7 +36,7 @@ from dataclasses import dataclass
 
 from ..render.scale import SOFTWARE_SCALE
 from ..world.campaign import CampaignEntry
-from .keymap import ACTION_DESCRIPTIONS, ACTIONS, PRESETS
+from .keymap import ACTION_DESCRIPTIONS, ACTIONS, PRESETS, TOGGLEABLE_ACTIONS
 from .saves import Progress
 from .settings import Settings
 
@@ -95,6 +97,7 @@ SLIDERS: dict[str, Slider] = {
     "fov_deg": Slider("Field of view", 50.0, 120.0, 5.0, lambda v: f"{v:.0f} deg"),
     "render_scale": Slider("Render scale", 0.5, 1.0, 0.05, lambda v: f"{v * 100:.0f}%"),
     "volume": Slider("Volume", 0.0, 1.0, 0.05, lambda v: f"{v * 100:.0f}%"),
+    "text_size": Slider("Text size", 1.0, 1.5, 0.25, lambda v: f"{v * 100:.0f}%"),
 }
 #: What a slider shows for a setting left to the game's choice ("auto"): the render scale
 #: picked for a software rasterizer, the case where a player looks for this slider.
@@ -104,7 +107,9 @@ TOGGLES: dict[str, str] = {
     "invert_x": "Invert mouse X",
     "invert_y": "Invert mouse Y",
     "colour_blind": "Colour-blind-safe palette",
+    "high_contrast": "High-contrast palette",
     "reduce_motion": "Reduce motion (snap, don't glide)",
+    "captions": "Captions for sounds",
 }
 _SETTINGS_ORDER = (
     "mouse_sensitivity",
@@ -114,7 +119,10 @@ _SETTINGS_ORDER = (
     "render_scale",
     "volume",
     "colour_blind",
+    "high_contrast",
     "reduce_motion",
+    "text_size",
+    "captions",
 )
 
 
@@ -229,6 +237,8 @@ class Menu:
         self.message = ""
         self.skippable = False  # the paused level may be skipped (the prologue): the pause menu says so
         self.optional = frozenset(e.stem for e in campaign if e.optional)
+        #: Rows shown at once: the window lowers it when larger text leaves room for fewer.
+        self.rows = VISIBLE_ROWS
 
     # ------------------------------------------------------------------ screens
     @property
@@ -336,6 +346,8 @@ class Menu:
             others = sorted({a for k in keys for a in conflicts.get(k, ()) if a != action}, key=ACTIONS.index)
             note = ("also bound to: " + ", ".join(ACTION_DESCRIPTIONS[a] for a in others)) if others else ""
             value = " / ".join(key_label(k) for k in keys) or "(unbound)"
+            if action in TOGGLEABLE_ACTIONS:  # Left/Right switches hold and toggle
+                value += "  [toggle]" if action in self.settings.toggle_actions else "  [hold]"
             rows.append(Item(f"bind:{action}", ACTION_DESCRIPTIONS[action], value, note=note, warn=bool(others)))
         return rows + [Item("back", "Back")]
 
@@ -396,17 +408,25 @@ class Menu:
         i, first = self.selected.get(self.screen, 0), self.first.get(self.screen, 0)
         if i < first:
             first = i
-        elif i >= first + VISIBLE_ROWS:
-            first = i - VISIBLE_ROWS + 1
-        self.first[self.screen] = max(0, min(first, max(0, len(self.items()) - VISIBLE_ROWS)))
+        elif i >= first + self.rows:
+            first = i - self.rows + 1
+        self.first[self.screen] = max(0, min(first, max(0, len(self.items()) - self.rows)))
+
+    def fit_rows(self, rows: int) -> None:
+        """Show at most ``rows`` rows at once (up to :data:`VISIBLE_ROWS`), the selection kept in view."""
+        rows = max(1, min(VISIBLE_ROWS, int(rows)))
+        if rows != self.rows:
+            self.rows = rows
+            if self.screen:
+                self._scroll_to_selected()
 
     def scroll(self, rows: int) -> None:
         """Scroll the list by ``rows`` (the mouse wheel) without moving the selection off screen."""
         n = len(self.items())
-        first = max(0, min(self.first.get(self.screen, 0) + rows, max(0, n - VISIBLE_ROWS)))
+        first = max(0, min(self.first.get(self.screen, 0) + rows, max(0, n - self.rows)))
         self.first[self.screen] = first
         i = self.selected.get(self.screen, 0)
-        self.selected[self.screen] = min(max(i, first), first + VISIBLE_ROWS - 1, n - 1)
+        self.selected[self.screen] = min(max(i, first), first + self.rows - 1, n - 1)
 
     def point(self, index: int) -> None:
         """The pointer is over row ``index`` (of :meth:`items`): select it if it is enabled."""
@@ -464,6 +484,11 @@ class Menu:
             self.settings.preset = preset
             self.settings.bindings = {a: tuple(PRESETS[preset].get(a, ())) for a in ACTIONS}
             self.on_change("bindings")
+        elif key.startswith("bind:") and key[5:] in TOGGLEABLE_ACTIONS:
+            action, on = key[5:], set(self.settings.toggle_actions)
+            on ^= {action}
+            self.settings.toggle_actions = tuple(a for a in TOGGLEABLE_ACTIONS if a in on)
+            self.on_change("toggle_actions")
         elif key.startswith("set:"):
             name = key[4:]
             if name in TOGGLES:
@@ -551,14 +576,14 @@ class Menu:
         if screen in ("settings", "controls"):
             footer = "Left/Right: change    Enter: select    Esc: back    changes are saved at once"
         if screen == "controls":
-            footer = "Enter: press a new key    Backspace: unbind    Left/Right on layout: preset    Esc: back"
+            footer = "Enter: new key    Backspace: unbind    Left/Right: preset, or hold/toggle    Esc: back"
         return MenuView(
             screen=screen,
             title=_TITLES[screen],
             items=items,
             selected=self.selected.get(screen, 0),
             first=self.first.get(screen, 0),
-            rows=VISIBLE_ROWS,
+            rows=self.rows,
             footer=footer,
             prompt=prompt,
             message=self.message,

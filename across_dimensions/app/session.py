@@ -17,16 +17,19 @@ from pathlib import Path
 
 from ..core.errors import InputError
 from ..core.fileio import FileProblem
-from ..game.systems.ghosts import GhostView
 from ..render.menu import MenuRenderer
+from ..render.palette import settings_palette
 from ..render.renderer import Renderer
 from ..render.scale import ScaledTarget, resolve_render_scale
+from ..render.text_layout import set_text_size
 from ..world.campaign import CampaignEntry, CampaignError, load_campaign, next_in_campaign
 from ..world.resources import is_prologue_file, level_files
+from .captions import CaptionBoard
 from .editor import missing_message
 from .input import Bindings
 from .menu import Menu
 from .onboarding import Onboarding
+from .play_options import play_options
 from .recording import Recording
 from .saves import load_progress, save_progress
 from .settings import Settings, save_settings
@@ -76,17 +79,6 @@ class Start:
     edit: bool = False
 
 
-@dataclass
-class PlayOptions:
-    """The play view's toggles, kept from level to level: the FPS counter, the
-    picture-in-picture inset (render/pip.py), the ghosts and the physics debug overlay."""
-
-    show_fps: bool
-    pip: bool
-    ghosts: GhostView
-    debug_draw: bool = False
-
-
 class Session:
     """The shared state of one window's views.
 
@@ -107,8 +99,7 @@ class Session:
         self.menu_renderer = MenuRenderer(self.renderer.hud)
         self.sound = SoundOut(settings.volume, settings.mute)
         self.sound_director = SoundDirector()
-        ghosts = GhostView(settings.ghosts, settings.ghost_distance, settings.ghost_strength, settings.ghost_layers)
-        self.options = PlayOptions(settings.show_fps, settings.pip, ghosts)
+        self.options = play_options(settings)
         self.debug_overlay = None  # the physics overlay's GL objects (render/debug_draw.py), made on first use
         self.flat_renderer = None  # the prologue's renderer (render/flatland.py), made on first use
         self.notice = ("", 0.0)  # (text, seconds left)
@@ -132,14 +123,19 @@ class Session:
             self.warm = BackgroundWarmUp()
             self.warm.start()
         self.editor = None  # the level editor's view (app/editor), made on first use
-        if settings.colour_blind:
+        if settings.colour_blind or settings.high_contrast:
             self.apply_palette()
+        set_text_size(settings.text_size)
+        self.captions = CaptionBoard()  # sounds made visible, shown when the setting is on
 
     # ---------------------------------------------------------------- moves
     def first_view(self, start: Start) -> None:
         """Show the title screen, or the level named on the command line (in the editor with ``edit``)."""
         if start.level_path is None:
             self.window.show_view(TitleView(self))
+            return
+        if start.edit and self.warm is not None and not self.warm.ready:  # the window shows the compile
+            self.window.show_view(StartupView(self, Path(start.level_path), edit=True))
             return
         self.start_level(start.level_path)
         if start.edit:
@@ -239,8 +235,10 @@ class Session:
         s = self.settings
         if name == "bindings":
             self.bindings.update(s)
-        if name == "colour_blind":
+        if name in ("colour_blind", "high_contrast"):
             self.apply_palette()
+        if name == "text_size":
+            set_text_size(s.text_size)
         if name == "render_scale":
             self.scaled.scale = resolve_render_scale(s.render_scale, self.window.ctx)
         try:
@@ -252,7 +250,7 @@ class Session:
         """Switch the renderer's palette, through its hook when it has one (``set_palette(name)``)."""
         set_palette = getattr(self.renderer, "set_palette", None)
         if set_palette is not None:
-            set_palette("colour_blind" if self.settings.colour_blind else "default")
+            set_palette(settings_palette(self.settings.colour_blind, self.settings.high_contrast))
 
 
 def _campaign() -> list[CampaignEntry]:

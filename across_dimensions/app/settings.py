@@ -20,10 +20,14 @@ Settings live in one TOML file, ``settings.toml`` in the per-user config folder
     ghost_distance = 1.0         # times the level's ghost distance
     ghost_strength = 1.0         # times the ghosts' opacity
     ghost_layers = 1             # 1 or 2 per side
-    reduce_motion = false        # seek jumps instead of gliding
+    reduce_motion = false        # what glides snaps; held turns turn in jumps (see the README)
     volume = 0.8                 # sound effects, 0 (silent) to 1
     mute = false                 # the mute key toggles it while playing
     colour_blind = false         # a palette that never tells things apart by red and green alone
+    high_contrast = false        # a palette of strong, light-or-dark colours (colour-blind-safe too)
+    text_size = 1.0              # 1.0, 1.25 or 1.5 times the text of hints, menus and HUD
+    captions = false             # sounds made visible: captions and w-side edge indicators
+    toggle_actions = []          # held actions a press switches on and off instead
     render_scale = "auto"        # 0.5 to 1.0: draw at this fraction of the window, upscaled; "auto" from the GPU
     pip = false                  # the inset with the other projection (a key toggles it)
     pip_size = 0.3               # its height, a fraction of the window's
@@ -49,10 +53,8 @@ one line, with every detail in a log file (:mod:`.settings_log`).
 from __future__ import annotations
 
 import difflib
-import math
 import os
 import tomllib
-from collections.abc import Callable
 from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from typing import Any
@@ -71,6 +73,7 @@ from .keymap import (
     normalise_key,
     parse_keys,
 )
+from .settings_rules import RULES
 
 #: Largest settings file read, in bytes: a real one is about 1 kB.
 SETTINGS_MAX_BYTES = 64 * 1024
@@ -95,106 +98,6 @@ CONFIG_DIR_ENV = "ACROSS_DIMENSIONS_CONFIG_DIR"
 
 APP_NAME = "across-dimensions"
 _FILE_NAME = "settings.toml"
-
-# --------------------------------------------------------------------------
-# Validation rules for the scalar settings
-# --------------------------------------------------------------------------
-
-
-class _Rule:
-    """How one scalar setting is checked: ``convert`` returns the normalised
-    value or raises ``TypeError``/``ValueError``; ``expected`` says in words
-    what is accepted, for messages."""
-
-    def __init__(self, expected: str, convert: Callable[[Any], Any]):
-        self.expected = expected
-        self.convert = convert
-
-
-def _boolean(value: Any) -> bool:
-    # TOML has real booleans; 0/1 or "yes" are rejected rather than guessed.
-    if not isinstance(value, bool):
-        raise TypeError("not a boolean")
-    return value
-
-
-def _number(lo: float, hi: float, *, open_lo: bool = False, open_hi: bool = False) -> Callable[[Any], float]:
-    def convert(value: Any) -> float:
-        # bool is an int subclass in Python; ``fov_deg = true`` must not mean 1.
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise TypeError("not a number")
-        x = float(value)
-        above = x > lo if open_lo else x >= lo
-        below = x < hi if open_hi else x <= hi
-        if not (math.isfinite(x) and above and below):  # NaN fails both comparisons
-            raise ValueError("out of range")
-        return x
-
-    return convert
-
-
-def _integer(lo: int, hi: int) -> Callable[[Any], int]:
-    def convert(value: Any) -> int:
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise TypeError("not an integer")
-        if not lo <= value <= hi:
-            raise ValueError("out of range")
-        return value
-
-    return convert
-
-
-def _preset(value: Any) -> str:
-    if not isinstance(value, str):
-        raise TypeError("not a string")
-    name = value.strip().lower()
-    if name not in PRESETS:
-        raise ValueError("unknown preset")
-    return name
-
-
-# Window sizes: at least 320x240 so the HUD fits; the upper bound only stops
-# absurd values (a typo like 12800000) from reaching the GL driver.
-_MAX_SIZE = 16384
-
-_RULES: dict[str, _Rule] = {
-    "preset": _Rule(" or ".join(repr(p) for p in PRESETS), _preset),
-    "mouse_sensitivity": _Rule(
-        "a number of radians per pixel, > 0 and < 0.1", _number(0.0, 0.1, open_lo=True, open_hi=True)
-    ),
-    "invert_x": _Rule("true or false", _boolean),
-    "invert_y": _Rule("true or false", _boolean),
-    "fov_deg": _Rule("a number of degrees from 50 to 120", _number(50.0, 120.0)),
-    "fullscreen": _Rule("true or false", _boolean),
-    "vsync": _Rule("true or false", _boolean),
-    "show_fps": _Rule("true or false", _boolean),
-    "ghosts": _Rule("true or false", _boolean),
-    "width": _Rule(f"a whole number of pixels from 320 to {_MAX_SIZE}", _integer(320, _MAX_SIZE)),
-    "height": _Rule(f"a whole number of pixels from 240 to {_MAX_SIZE}", _integer(240, _MAX_SIZE)),
-    "radar": _Rule("true or false", _boolean),
-    "radar_range_scale": _Rule("a number from 0.25 to 4", _number(0.25, 4.0)),
-    "radar_height_scale": _Rule("a number from 0.25 to 4", _number(0.25, 4.0)),
-    "ghost_distance": _Rule("a factor of the level's ghost distance from 0.25 to 4", _number(0.25, 4.0)),
-    "ghost_strength": _Rule("a factor of the ghosts' opacity from 0 to 3", _number(0.0, 3.0)),
-    "ghost_layers": _Rule("1 or 2 (ghost layers on each side)", _integer(1, 2)),
-    "reduce_motion": _Rule("true or false", _boolean),
-    "volume": _Rule("a number from 0 (silent) to 1", _number(0.0, 1.0)),
-    "mute": _Rule("true or false", _boolean),
-    "colour_blind": _Rule("true or false", _boolean),
-    "render_scale": _Rule('"auto" or a number from 0.5 to 1.0 (fraction of the window drawn, then upscaled)', None),
-    "pip": _Rule("true or false", _boolean),
-    "pip_size": _Rule("a fraction of the window's height from 0.1 to 0.5", _number(0.1, 0.5)),
-}
-
-
-def _render_scale(value: Any) -> float | str:
-    if isinstance(value, str) and value.strip().lower() == "auto":
-        return "auto"
-    return _number(0.5, 1.0)(value)
-
-
-_RULES["render_scale"].convert = _render_scale
-
 
 # --------------------------------------------------------------------------
 # Settings
@@ -239,13 +142,24 @@ class Settings:
     ghost_layers : int
         Ghost layers on each side of the slice, 1 or 2.
     reduce_motion : bool
-        Seek jumps to its w instead of gliding there.
+        What glides snaps (slice steps and snap, seek, the camera's return) and what turns
+        while held turns in jumps (:mod:`across_dimensions.game.motion`).
     volume : float
         Loudness of the sound effects, 0 (silent) to 1.
     mute : bool
         No sound at all (the ``toggle_mute`` key flips it while playing).
     colour_blind : bool
-        A colour-blind-safe palette.
+        A colour-blind-safe palette, for the scene and every w cue (ghosts, HUD, radar).
+    high_contrast : bool
+        A high-contrast palette (also colour-blind-safe); wins over ``colour_blind``.
+    text_size : float
+        Factor on the size of the text of hints, menus and the HUD, 1.0 to 1.5.
+    captions : bool
+        Sounds made visible: a caption for each important sound with its direction and w side,
+        and a mark at the screen's edge for what is heard along w.
+    toggle_actions : tuple of str
+        Held actions (w moves, manipulation, orbit, slice turns) that a press switches on and
+        the next press off, instead of acting while the key is down.
     render_scale : float or "auto"
         Fraction of the window's width and height the scene is drawn at (0.5 to
         1.0), then upscaled: a software rasterizer trades resolution for frame
@@ -289,9 +203,13 @@ class Settings:
     render_scale: float | str = "auto"
     pip: bool = False
     pip_size: float = 0.3
+    high_contrast: bool = False
+    text_size: float = 1.0
+    captions: bool = False
+    toggle_actions: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
-        for name, rule in _RULES.items():
+        for name, rule in RULES.items():
             value = getattr(self, name)
             try:
                 setattr(self, name, rule.convert(value))
@@ -396,6 +314,16 @@ def look_delta(settings: Settings, dx_pixels: float, dy_pixels: float) -> tuple[
     return dyaw, dpitch
 
 
+def window_options(settings: Settings) -> dict:
+    """What the window takes from the settings: its size, vsync and fullscreen."""
+    return {
+        "width": settings.width,
+        "height": settings.height,
+        "vsync": settings.vsync,
+        "fullscreen": settings.fullscreen,
+    }
+
+
 # --------------------------------------------------------------------------
 # File
 # --------------------------------------------------------------------------
@@ -438,7 +366,6 @@ def load_settings(path: str | os.PathLike | None = None) -> tuple[Settings, list
         are kept. Keys bound to more than one action are reported too.
     """
     path = Path(path) if path is not None else settings_path()
-    defaults = _defaults()
     try:
         # Regular files of at most SETTINGS_MAX_BYTES only: a FIFO or a link to
         # /dev/zero must not hang or exhaust memory. A byte-order mark is skipped.
@@ -451,38 +378,53 @@ def load_settings(path: str | os.PathLike | None = None) -> tuple[Settings, list
         return default_settings(), [f"{path}: not valid TOML (nested too deeply); using the default settings"]
     except (tomllib.TOMLDecodeError, ValueError) as exc:  # ValueError: an integer of over 4300 digits
         return default_settings(), [f"{path}: not valid TOML ({exc}); using the default settings"]
-
     warnings: list[str] = []
+    values = _read_values(path, data, warnings)
+    preset = PRESETS[values.get("preset", _defaults()["preset"])]
+    overrides = _read_bindings(path, data.get("bindings", {}), preset, warnings)
+    # Every value was checked above, so construction cannot fail.
+    settings = Settings(bindings=overrides, **values)
+    warnings.extend(f"{path}: [bindings] {problem}" for problem in settings.problems())
+    return settings, warnings
 
-    def bad(entry: str, value: Any, expected: str, default: Any, why: str = "") -> None:
-        shown = list(default) if isinstance(default, tuple) else default
-        detail = f" ({why})" if why else ""
-        warnings.append(f"{path}: {entry} = {value!r}{detail}: expected {expected}; using the default {shown!r}")
 
+def _bad(path: Path, entry: str, value: Any, expected: str, default: Any, why: str = "") -> str:
+    """The warning for an entry whose value is refused, naming the default used instead."""
+    shown = list(default) if isinstance(default, tuple) else default
+    detail = f" ({why})" if why else ""
+    return f"{path}: {entry} = {value!r}{detail}: expected {expected}; using the default {shown!r}"
+
+
+def _read_values(path: Path, data: dict, warnings: list[str]) -> dict[str, Any]:
+    """The valid settings of ``data`` (all but ``[bindings]``), by name; a warning for each bad or
+    unknown one."""
+    defaults = _defaults()
     values: dict[str, Any] = {}
-    for name, rule in _RULES.items():
+    for name, rule in RULES.items():
         if name in data:
             try:
                 values[name] = rule.convert(data[name])
             except (TypeError, ValueError):
-                bad(name, data[name], rule.expected, defaults[name])
-
+                warnings.append(_bad(path, name, data[name], rule.expected, defaults[name]))
     for name in data:
-        if name not in _RULES and name != "bindings":
+        if name not in RULES and name != "bindings":
             # Ignored rather than fatal: it may come from a newer version.
             warnings.append(
-                f"{path}: unknown setting {name!r}, ignored; expected one of {', '.join(list(_RULES) + ['[bindings]'])}"
+                f"{path}: unknown setting {name!r}, ignored; expected one of {', '.join(list(RULES) + ['[bindings]'])}"
             )
+    return values
 
-    preset = PRESETS[values.get("preset", defaults["preset"])]
-    overrides: dict[str, tuple[str, ...]] = {}
-    raw_bindings = data.get("bindings", {})
+
+def _read_bindings(path: Path, raw_bindings, preset: dict, warnings: list[str]) -> dict[str, tuple[str, ...]]:
+    """The valid key bindings of the ``[bindings]`` table, by action; a warning for each bad one
+    (that action keeps the preset's keys)."""
     if not isinstance(raw_bindings, dict):
         warnings.append(
             f"{path}: bindings = {raw_bindings!r}: expected a [bindings] table of "
             f'action = ["KEY", ...]; using the preset\'s bindings'
         )
-        raw_bindings = {}
+        return {}
+    overrides: dict[str, tuple[str, ...]] = {}
     for action, raw in raw_bindings.items():
         if action not in ACTION_DESCRIPTIONS:
             close = difflib.get_close_matches(action, ACTIONS, n=1)
@@ -494,16 +436,13 @@ def load_settings(path: str | os.PathLike | None = None) -> tuple[Settings, list
         try:
             overrides[action] = parse_keys(raw)
         except (TypeError, ValueError) as exc:
-            bad(f"[bindings] {action}", raw, KEYS_EXPECTED, preset.get(action, ()), str(exc))
-
-    # Every value was checked above, so construction cannot fail.
-    settings = Settings(bindings=overrides, **values)
-    warnings.extend(f"{path}: [bindings] {problem}" for problem in settings.problems())
-    return settings, warnings
+            warnings.append(_bad(path, f"[bindings] {action}", raw, KEYS_EXPECTED, preset.get(action, ()), str(exc)))
+    return overrides
 
 
 def _to_toml(settings: Settings) -> dict[str, Any]:
-    doc: dict[str, Any] = {name: getattr(settings, name) for name in _RULES}
+    doc: dict[str, Any] = {name: getattr(settings, name) for name in RULES}
+    doc["toggle_actions"] = list(settings.toggle_actions)
     # Only the differences from the preset, so the file stays short and a
     # changed ``preset`` line still moves every action the player left alone.
     base = PRESETS[settings.preset]

@@ -72,6 +72,7 @@ EVENT_SOUNDS: dict[str, str | None] = {
     "checkpoint_reached": "arrive",
     "camera_switched": "field",
     "slice_aligned": "arrive",
+    "slice_turn_refused": "refused",
 }
 
 
@@ -109,12 +110,16 @@ class Cue:
         The source's w minus the player's (0 for the player's own sounds).
     pan : float
         -1 left to +1 right.
+    kind : str
+        The event it sounds (``"slice_aligned"``), or "" for the player's motion and the hums:
+        captions (:mod:`.captions`) tell apart events that share an effect.
     """
 
     name: str
     gain: float = 1.0
     dw: float = 0.0
     pan: float = 0.0
+    kind: str = ""
 
 
 class SoundDirector:
@@ -158,13 +163,13 @@ class SoundDirector:
                 if ev.impulse < IMPACT_MIN:
                     continue
                 dw, gain, pan = self._where(game, ev.entity)
-                out.append(Cue(name, gain * min(1.0, ev.impulse / 6.0), dw, pan))
+                out.append(Cue(name, gain * min(1.0, ev.impulse / 6.0), dw, pan, ev.kind))
                 continue
             entity = getattr(ev, "entity", None)
             if ev.kind in ("shot_fired", "crystal_collected", "seek_started", "seek_arrived"):
                 entity = None  # the player's own doing, at the player
             dw, gain, pan = self._where(game, entity)
-            out.append(Cue(name, gain, dw, pan))
+            out.append(Cue(name, gain, dw, pan, ev.kind))
         out += self._motion(game, dt)
         out += self._hums(game, dt)
         return out

@@ -10,9 +10,15 @@ The w filter (:func:`w_filter`) is what makes sound four-dimensional: a sound wh
   :data:`MUFFLED_HZ` at :data:`W_AUDIBLE` away (geometric in between, as pitch is heard);
 * **detuned**: resampled up to :data:`DETUNE_SEMITONES` semitones, *up* for a source ana (+w)
   and *down* for one kata (-w), so the ear tells the two sides apart;
-* **quieter**, and silent beyond :data:`W_AUDIBLE`.
+* **quieter**: the gain falls smoothly (``1 - smoothstep``, flat at both ends) from 1 on the slice
+  to exactly 0 at :data:`W_AUDIBLE`, so a source drifting away along w fades out instead of
+  stopping.
 
 On the slice (``dw = 0``) a sound is left exactly as synthesized.
+
+No effect clicks: every note starts and ends with a short raised-cosine fade (:data:`FADE_IN`,
+:data:`FADE_OUT`), so each effect starts and ends at zero and no note of a sequence is cut
+above a few percent of its peak.
 """
 
 from __future__ import annotations
@@ -31,8 +37,10 @@ CLEAR_HZ = 9000.0
 MUFFLED_HZ = 300.0
 #: Detune at W_AUDIBLE, semitones (a minor third: clearly "off", still the same sound).
 DETUNE_SEMITONES = 3.0
-#: Loudness left at W_AUDIBLE (a faraway sound along w is faint, not gone, until past it).
-W_FAR_GAIN = 0.35
+#: Fades at the start and the end of every note and effect, seconds: short enough not to
+#: soften an attack, long enough that nothing clicks.
+FADE_IN = 0.002
+FADE_OUT = 0.012
 
 
 def _t(seconds: float) -> np.ndarray:
@@ -88,21 +96,31 @@ def _tone(freqs, seconds, decay, attack=0.004, partial_decay=1.0) -> np.ndarray:
     return out * _env(len(t), attack, 10.0)
 
 
+def faded(x: np.ndarray, fade_in: float = FADE_IN, fade_out: float = FADE_OUT) -> np.ndarray:
+    """``x`` (a copy, float64) with raised-cosine fades: its first and last samples are 0."""
+    y = np.array(x, dtype=np.float64)
+    for seconds, ends in ((fade_in, slice(None)), (fade_out, slice(None, None, -1))):
+        n = min(len(y), max(2, int(seconds * RATE)))
+        if len(y):
+            ramp = np.sin(0.5 * np.pi * np.arange(n) / (n - 1)) ** 2 if n > 1 else np.zeros(1)
+            y[ends][:n] *= ramp
+    return y
+
+
 def _seq(*parts, gap: float = 0.0) -> np.ndarray:
+    """The notes one after the other (``gap`` seconds apart), each faded in and out: a note
+    that has not decayed by its end fades rather than being cut."""
     pad = np.zeros(int(RATE * gap))
     out = []
     for p in parts:
-        out += [p, pad]
+        out += [faded(p), pad]
     return np.concatenate(out[:-1]) if out else np.zeros(0)
 
 
 def _norm(x: np.ndarray, peak: float = 0.8) -> np.ndarray:
     m = float(np.max(np.abs(x))) if len(x) else 0.0
     y = x * (peak / m) if m > 0 else x
-    fade = min(len(y), int(0.004 * RATE))  # no click at the end
-    if fade:
-        y[-fade:] *= np.linspace(1.0, 0.0, fade)
-    return y.astype(np.float32)
+    return faded(y).astype(np.float32)  # no click at either end
 
 
 def _step(seed: int) -> np.ndarray:
@@ -247,20 +265,27 @@ def w_filter(x: np.ndarray, dw: float) -> np.ndarray:
     Returns
     -------
     (m,) float32
-        ``x`` itself when ``dw == 0``; silence (zeros) beyond :data:`W_AUDIBLE`. Detuning
+        ``x`` itself when ``dw == 0``; silence (zeros) from :data:`W_AUDIBLE` on. Detuning
         resamples, so the length changes by the pitch ratio.
     """
     if dw == 0.0:
         return x
-    if abs(dw) > W_AUDIBLE:
+    if abs(dw) >= W_AUDIBLE:
         return np.zeros_like(x)
     k = w_amount(dw)
     ratio = 2.0 ** (np.sign(dw) * DETUNE_SEMITONES * k / 12.0)  # > 1 plays faster: higher
     m = max(1, int(round(len(x) / ratio)))
     detuned = np.interp(np.arange(m) * ratio, np.arange(len(x)), x).astype(np.float32)
     cutoff = CLEAR_HZ * (MUFFLED_HZ / CLEAR_HZ) ** k
-    gain = 1.0 + (W_FAR_GAIN - 1.0) * k
-    return (lowpass(detuned, cutoff) * gain).astype(np.float32)
+    # The zero-phase low-pass rings a little before the start: fade again so it starts at 0.
+    return (faded(lowpass(detuned, cutoff)) * w_gain(dw)).astype(np.float32)
+
+
+def w_gain(dw: float) -> float:
+    """Loudness of a source ``dw`` away along w: 1 on the slice, falling smoothly (flat at both
+    ends) to exactly 0 at :data:`W_AUDIBLE`, so a sound drifting out of hearing fades away."""
+    k = w_amount(dw)
+    return 1.0 - k * k * (3.0 - 2.0 * k)
 
 
 def to_pcm16_stereo(x: np.ndarray, gain: float, pan: float) -> bytes:

@@ -53,9 +53,9 @@ def _frustum() -> None:
 
 
 def _physics_world():
-    from ..physics import BodyDef, PhysicsWorld
+    from ..physics import BodyDef, PhysicsWorld, WorldDef
 
-    world = PhysicsWorld(ground=False)
+    world = PhysicsWorld(WorldDef(ground=False))
     world.set_static_boxes([((0.0, -0.5, 0.0), (5.0, 0.5, 5.0))])
     world.add_body(BodyDef("hypersphere", radius=0.5, position=(0.0, 0.5, 0.0, 0.0)))
     world.add_body(BodyDef("hypercube", size=1.0, position=(0.2, 1.6, 0.0, 0.0)))

@@ -30,10 +30,10 @@ from ..world.resources import is_prologue_file, level_files, resolve_level
 from . import pyglet_options  # noqa: F401  (before pyglet.window or pyglet.gl load)
 from .screenshots import save_screenshot
 from .session import Session, Start, timing
-from .settings import Settings, load_settings, save_settings, settings_path
+from .settings import Settings, load_settings, save_settings, settings_path, window_options
 from .settings_log import report_warnings, warning_screen_line
 from .views.base import View
-from .warmup import BackgroundWarmUp, warm_up
+from .warmup import BackgroundWarmUp
 
 #: Seconds between redraws of a still view that has not changed (a menu): a software
 #: rasterizer would otherwise redraw a still screen 120 times a second, taking the CPU the
@@ -57,15 +57,7 @@ class GameWindow(pyglet.window.Window):
         config = pyglet.gl.Config(
             major_version=3, minor_version=3, forward_compatible=True, depth_size=24, double_buffer=True
         )
-        super().__init__(
-            settings.width,
-            settings.height,
-            caption="Across Dimensions",
-            resizable=True,
-            vsync=settings.vsync,
-            config=config,
-            fullscreen=settings.fullscreen,
-        )
+        super().__init__(caption="Across Dimensions", resizable=True, config=config, **window_options(settings))
         self.ctx = wrap_current_context()
         self.keys = pyglet.window.key.KeyStateHandler()  # which keys are down
         self.push_handlers(self.keys)
@@ -254,12 +246,8 @@ def run_window(args) -> int:
         path = resolve_level(args.level) if args.level else level_files()[0]
         # A broken level is reported before a window opens.
         (load_flat_level if is_prologue_file(path) else load_level)(path)
-    warm = None
-    if editing:  # the editor builds games of its own from its first frame: compile before it opens
-        warm_up()
-    else:  # started first, so loading the kernels overlaps with opening the window
-        warm = BackgroundWarmUp()
-        warm.start()
+    warm = BackgroundWarmUp()  # started first, so loading the kernels overlaps with opening the window
+    warm.start()
     start = Start(
         level_path=path,
         seed=args.seed,
@@ -267,7 +255,7 @@ def run_window(args) -> int:
         warnings=[warning_screen_line(warnings, args.settings)] if line else [],
         screenshot_after=args.screenshot_after,
         quit_after=args.quit_after,
-        warm_first=path is not None and not editing,
+        warm_first=path is not None,
         settings_file=args.settings,
         warm=warm,
         edit=editing,

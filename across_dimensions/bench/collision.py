@@ -18,7 +18,7 @@ from ..core.shapes import make_shape
 from ..core.transform import pose
 from ..game.actions import Actions
 from ..game.entities import Placed, reach
-from ..game.player import step_player
+from ..game.player import Surroundings, step_player
 from ..game.sim import Game
 from ..game.systems import manipulation
 from ..world.level import load_level
@@ -77,6 +77,10 @@ def bench_collision(ticks: int = 300) -> dict:
         cpu = np.empty(ticks)
         tris = np.empty(ticks)
         g = float(game.level.gravity[1])
+        if mode == "section":  # the solids' true sections, as the game walks
+            around = Surroundings(game.level.w_range, game.colliders_at, sections_at=game.sections_at)
+        else:  # the sections' bounding boxes, as boxes
+            around = Surroundings(game.level.w_range, boxes)
         _turn_solids(game, movers, 0)
         game.sections_at(0.0)  # warm-up: the slicing kernels' first call
         for k in range(ticks):
@@ -85,11 +89,7 @@ def bench_collision(ticks: int = 300) -> dict:
             a = Actions(right=1.0 if (k // 60) % 2 == 0 else -1.0, forward=0.3)
             c0 = time.process_time()
             t0 = time.perf_counter()
-            if mode == "section":
-                step_player(game.player, a, game.dt, g, game.level.w_range, game.colliders_at, None, np.inf,
-                            game.sections_at)  # fmt: skip
-            else:
-                step_player(game.player, a, game.dt, g, game.level.w_range, boxes)
+            step_player(game.player, a, game.dt, g, around)
             times[k] = time.perf_counter() - t0
             cpu[k] = time.process_time() - c0
             tris[k] = sum(len(t) for t in game.sections_at(float(game.player.position[3])))

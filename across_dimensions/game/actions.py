@@ -35,9 +35,10 @@ BUTTONS = (
     "turn_zw_neg",
     "orbit_left",
     "orbit_right",
+    "reduced_motion",
 )
 #: The held buttons that turn the slice (xw, yw, zw; positive then negative) and move the orbit.
-CAMERA_BUTTONS = BUTTONS[6:]
+CAMERA_BUTTONS = BUTTONS[6:14]
 #: Largest look change in one tick, radians, for yaw and for pitch alike. Half a
 #: turn per tick is far beyond any mouse (a flick of 180 degrees in 1/60 s), and
 #: a bound keeps a hand-edited replay from feeding the simulation 1e300 radians.
@@ -92,6 +93,11 @@ class Actions:
         Held: turn the slice in that plane (the paper's t, u, v), one way or the other.
     orbit_left, orbit_right : bool
         Held: move the detached 4D camera along its orbit round the focus point.
+    reduced_motion : bool
+        The player's "reduce motion" setting, on every tick it is on: what glides (slice
+        steps and snap, seek, the camera's return, held turns and the orbit) snaps instead
+        (:mod:`.motion`). A flag of the frame rather than of the game, so a replay records
+        it and plays back the same way whatever the settings of whoever watches it.
     presses : tuple of (str, int)
         One-shot actions pressed since the last tick and how often, in
         :data:`PRESSES` order (build it with :meth:`count_presses`; read it
@@ -121,6 +127,7 @@ class Actions:
     turn_zw_neg: bool = False
     orbit_left: bool = False
     orbit_right: bool = False
+    reduced_motion: bool = False
     presses: tuple = ()
 
     def pressed(self, action: str) -> int:

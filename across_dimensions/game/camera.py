@@ -158,6 +158,8 @@ class CameraRig:
     detached_ticks: int = 0
     paid_milli: int = 0
     fov_deg: float = fixed(default=60.0)
+    #: The tick a turn towards w was last refused (the HUD's notice); display only, not state.
+    refused_tick: int = derived(default=-(10**9))
     version: int = derived(default=0)
     _aligned: bool = derived(default=True)
     #: The projection stage's frustum meshes (``game.projection.FrustumCache``); not state.
@@ -222,6 +224,32 @@ class CameraRig:
             # ulps from 0, which would keep the game off its plain slice for nothing.
             self.anchor = np.where(np.abs(self.anchor) < ANCHOR_ROUNDING, 0.0, self.anchor)
         self._moved()
+
+    def pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """The slice's rotation and anchor (copies), for :meth:`restore`."""
+        return self.rotation.copy(), self.anchor.copy()
+
+    def restore(self, pose: tuple[np.ndarray, np.ndarray]) -> None:
+        """Put back a pose from :meth:`pose` exactly (a refused turn leaves no rounding behind)."""
+        self.rotation, self.anchor = pose[0].copy(), pose[1].copy()
+        self._moved()
+
+    def fold_offset(self) -> float:
+        """On a slice whose normal is the world's w axis (either way), move the anchor's part
+        along the normal into the slice offset: returns what to add to the player's ``s``
+        (0 on any other slice). Nothing moves in the world, but afterwards the player's ``s``
+        is their world w (up to its sign), so the level's w range bounds the real w again,
+        however the slice was turned and walked before it came back."""
+        n = self.rotation[:, 3]
+        if abs(n[3]) != 1.0:
+            return 0.0
+        shift = float(self.anchor @ n)
+        if shift == 0.0:
+            return 0.0
+        self.anchor = self.anchor - shift * n
+        self.anchor[3] = 0.0  # exactly: n is +-e_w
+        self._moved()
+        return shift
 
     def turn(self, rates: tuple[float, float, float], dt: float, pivot_u: np.ndarray) -> None:
         """Turn by ``rates`` (radians/s in the camera's own xw, yw, zw planes) for ``dt``."""

@@ -56,7 +56,7 @@ import numpy as np
 from ..core.mesh import concatenate
 from ..core.shapes import hypersphere, make_shape
 from ..core.transform import pose, scaling, translation
-from ..world.gameplay import EnemySpec, KeySpec
+from ..world.enemy_tables import EnemySpec, KeySpec
 from .poses import angle_rows, poses, scalings, translations
 from .system import fixed
 

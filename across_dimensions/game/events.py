@@ -441,6 +441,26 @@ class CheckpointReached(Event):
 
 
 @dataclass(frozen=True)
+class SliceTurnRefused(Event):
+    """A turn of the slice towards the world's w axis was refused: the player's eye stands at a
+    world w outside the level's w range (walked there along a turned slice). Fires on the first
+    tick of a refused turn, not on every tick it is held.
+
+    Attributes
+    ----------
+    w : float
+        The eye's world w.
+    low, high : float
+        The level's w range.
+    """
+
+    kind: ClassVar[str] = "slice_turn_refused"
+    w: float
+    low: float
+    high: float
+
+
+@dataclass(frozen=True)
 class SliceAligned(Event):
     """A 90-degree step or a snap of the slice landed exactly on the axes.
 

@@ -172,6 +172,7 @@ class Hud:
     labels: list = field(default_factory=list)  # ScreenLabel: text placed next to a thing on screen
     slice: SliceGauges | None = None  # the 4D camera's gauges, in levels with a [camera] table
     w_blocked: tuple = ()  # +1 and/or -1: a ghost layer ana / kata holds something solid where the player stands
+    captions: list = field(default_factory=list)  # Caption: sounds made visible (a setting, off by default)
 
 
 @dataclass(frozen=True)
@@ -358,6 +359,28 @@ class HealthGauge:
     maximum: float
     flash: float = 0.0
     safe: bool = False
+
+
+@dataclass
+class Caption:
+    """A sound made visible: what was heard, from where, and along w.
+
+    Parameters
+    ----------
+    text : str
+        The caption as shown, e.g. ``"crystal hum, ana, left"``.
+    side : int
+        +1 heard ana (+w), -1 kata (-w), 0 on the slice: a mark at the screen's edge shows it.
+    pan : float
+        -1 left to +1 right, where the mark goes.
+    fade : float
+        1 when new, falling to 0 as it goes.
+    """
+
+    text: str
+    side: int = 0
+    pan: float = 0.0
+    fade: float = 1.0
 
 
 @dataclass

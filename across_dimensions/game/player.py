@@ -23,6 +23,7 @@ refused (you cannot phase into a wall).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -186,16 +187,38 @@ def _seek_w(pos: np.ndarray, v: np.ndarray, dt: float, goal: float, jump: bool) 
     return float(goal)
 
 
+@dataclass(frozen=True)
+class Surroundings:
+    """What the walker moves through, by w.
+
+    Parameters
+    ----------
+    w_range : (float, float)
+        Allowed w interval.
+    colliders_at : callable
+        ``colliders_at(w) -> (k, 2, 3) float64`` boxes solid in the slice at w.
+    blocked_w : callable, optional
+        ``blocked_w(position, w) -> bool``: something other than those boxes
+        (a rigid body) would overlap the player moved to ``w``.
+    sections_at : callable, optional
+        ``sections_at(w) -> list of (t, 3, 3) float64``: the closed triangle
+        surfaces of solid 4D objects' sections in the slice at w, one array per
+        object (see :mod:`.section_collision`). None: boxes only.
+    """
+
+    w_range: tuple[float, float]
+    colliders_at: Callable
+    blocked_w: Callable | None = None
+    sections_at: Callable | None = None
+
+
 def step_player(
     player: Player,
     actions: Actions,
     dt: float,
     gravity_y: float,
-    w_range: tuple[float, float],
-    colliders_at,
-    blocked_w=None,
+    around: Surroundings,
     w_budget: float = np.inf,
-    sections_at=None,
     w_goal: tuple[float, bool] | None = None,
 ) -> str | None:
     """Advance the player one tick.
@@ -209,22 +232,11 @@ def step_player(
         Tick length, seconds.
     gravity_y : float
         Vertical gravity (negative is down).
-    w_range : (float, float)
-        Allowed w interval.
-    colliders_at : callable
-        ``colliders_at(w) -> (k, 2, 3) float64`` boxes solid in the slice at w.
-    blocked_w : callable, optional
-        ``blocked_w(position, w) -> bool``: something other than those boxes
-        (a rigid body) would overlap the player moved to ``w``.
+    around : Surroundings
+        The boxes, solids and bodies in the way.
     w_budget : float
         The farthest the player may move along w this tick (what the energy
         bar can pay for); unlimited by default.
-    sections_at : callable, optional
-        ``sections_at(w) -> list of (t, 3, 3) float64``: the closed triangle
-        surfaces of solid 4D objects' sections in the slice at w, one array per
-        object (see :mod:`.section_collision`). None: boxes only.
-
-
     w_goal : (float, bool), optional
         Seek: glide towards this w (or, when the flag is true, jump to it in one
         tick) instead of following ``actions.w``. The move lands exactly on the
@@ -241,8 +253,23 @@ def step_player(
     """
     player.yaw = float((player.yaw + actions.yaw + np.pi) % (2 * np.pi) - np.pi)
     player.pitch = float(np.clip(player.pitch + actions.pitch, -MAX_PITCH, MAX_PITCH))
+    _steer(player, actions, dt, gravity_y)
+    pos, v = player.position, player.velocity
+    w_target = _w_target(pos, v, actions, dt, w_goal)
+    w_new, cut = _clip_w(pos, w_target, around.w_range, w_budget)
+    if w_new != pos[3]:
+        blocked = _w_blocked(pos, w_new, around)
+        if blocked is not None:
+            w_new, cut = float(pos[3]), blocked
+    if w_new != w_target:  # stopped by the range's end, the energy or a wall appearing
+        v[3] = 0.0
+    pos[3] = w_new
+    _move_in_slice(player, dt, around.colliders_at(pos[3]), around.sections_at)
+    return cut
 
-    # Walking: steer horizontal velocity towards the wanted one.
+
+def _steer(player: Player, actions: Actions, dt: float, gravity_y: float) -> None:
+    """Walking: steer the horizontal velocity towards the wanted one; jumping and falling."""
     fwd = np.array([np.sin(player.yaw), np.cos(player.yaw)])
     right = np.array([np.cos(player.yaw), -np.sin(player.yaw)])
     wish = actions.forward * fwd + actions.right * right
@@ -262,39 +289,51 @@ def step_player(
         v[1] = JUMP_SPEED
     v[1] += gravity_y * dt
 
-    pos = player.position
-    if w_goal is None:
-        # Along w: smooth acceleration to the wanted speed, inside the level's range.
-        dw = np.clip(actions.w * W_SPEED - v[3], -W_ACCEL * dt, W_ACCEL * dt)
-        v[3] += dw
-        w_target = pos[3] + v[3] * dt
-    else:
-        w_target = _seek_w(pos, v, dt, *w_goal)
+
+def _w_target(pos: np.ndarray, v: np.ndarray, actions: Actions, dt: float, w_goal) -> float:
+    """Where the player would be along w after this tick, nothing in the way; sets ``v[3]``."""
+    if w_goal is not None:
+        return _seek_w(pos, v, dt, *w_goal)
+    # Smooth acceleration to the wanted speed.
+    dw = np.clip(actions.w * W_SPEED - v[3], -W_ACCEL * dt, W_ACCEL * dt)
+    v[3] += dw
+    return pos[3] + v[3] * dt
+
+
+def _clip_w(pos: np.ndarray, w_target: float, w_range, w_budget: float) -> tuple[float, str | None]:
+    """``w_target`` kept inside the level's w range and the energy budget, and which cut it."""
     w_new = float(np.clip(w_target, *w_range))
     cut = "range" if w_new != w_target else None
     if abs(w_new - pos[3]) > w_budget:
         w_new = float(pos[3] + np.copysign(w_budget, w_new - pos[3]))
         cut = "energy"
-    if w_new != pos[3]:
-        lo, hi = player_box(pos)
-        if (overlapping(lo, hi, colliders_at(w_new)) & ~overlapping(lo, hi, colliders_at(pos[3]))).any():
-            w_new, cut = float(pos[3]), "wall"
-        elif sections_at is not None and _enters_section(lo, hi, sections_at(pos[3]), sections_at(w_new)):
-            w_new, cut = float(pos[3]), "wall"
-        elif blocked_w is not None and blocked_w(pos, w_new):
-            w_new, cut = float(pos[3]), "body"
-    if w_new != w_target:  # stopped by the range's end, the energy or a wall appearing
-        v[3] = 0.0
-    pos[3] = w_new
+    return w_new, cut
 
-    boxes = colliders_at(pos[3])
+
+def _w_blocked(pos: np.ndarray, w_new: float, around: Surroundings) -> str | None:
+    """``"wall"`` when a box or a solid's section would appear around the player at ``w_new``,
+    ``"body"`` when a rigid body is there, else None."""
+    lo, hi = player_box(pos)
+    boxes_at, sections_at = around.colliders_at, around.sections_at
+    if (overlapping(lo, hi, boxes_at(w_new)) & ~overlapping(lo, hi, boxes_at(pos[3]))).any():
+        return "wall"
+    if sections_at is not None and _enters_section(lo, hi, sections_at(pos[3]), sections_at(w_new)):
+        return "wall"
+    if around.blocked_w is not None and around.blocked_w(pos, w_new):
+        return "body"
+    return None
+
+
+def _move_in_slice(player: Player, dt: float, boxes: np.ndarray, sections_at) -> None:
+    """Move the player by its velocity in the slice at its w, against ``boxes (k, 2, 3)`` and the
+    solids' sections; velocity along an axis it was stopped on is gone."""
+    pos, v = player.position, player.velocity
     tris = None
     if sections_at is not None:
         found = [t for t in sections_at(pos[3]) if len(t)]
         tris = section_collision.Soup(np.concatenate(found)) if found else None  # prepared once for every move
     pos_new = _move_horizontal(pos, v[0] * dt, v[2] * dt, boxes, player.on_ground, tris)
     pos_new, hit_y = move_axis(pos_new, 1, v[1] * dt, boxes, tris)
-    # Velocity along an axis we were stopped on is gone.
     for axis in (0, 2):
         if abs(pos_new[axis] - (pos[axis] + v[axis] * dt)) > 1e-9:
             v[axis] = 0.0
@@ -302,4 +341,3 @@ def step_player(
     if hit_y:
         v[1] = 0.0
     player.position = pos_new
-    return cut

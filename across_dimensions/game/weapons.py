@@ -259,6 +259,10 @@ def blast(game, spec: WeaponSpec) -> list[int]:
     for e in in_reach(game, spec.radius):
         if isinstance(e.motion, Scripted):
             e.motion = Shifted(e.motion)
+            # Caches of the entity list tell scripted things (posed by time alone) from the
+            # rest by their motion: this one is no longer scripted, so they must take it again
+            # (else the pulled thing is drawn where it was until something comes or goes).
+            game.entities.version += 1
         if not isinstance(e.motion, (Shifted, Rigid)):
             continue
         if e.id in busy:  # a second blast retargets the pull from where it is now

@@ -3,8 +3,8 @@
 Depends on numpy, numba and :mod:`across_dimensions.core` only; no wall clock
 and no global random state, so a replay of the same calls is bit-identical.
 
->>> from across_dimensions.physics import BodyDef, PhysicsWorld
->>> world = PhysicsWorld(gravity=(0, -9.81, 0, 0), inverse_cube_G=0.0)
+>>> from across_dimensions.physics import BodyDef, PhysicsWorld, WorldDef
+>>> world = PhysicsWorld(WorldDef(gravity=(0, -9.81, 0, 0), inverse_cube_G=0.0))
 >>> world.set_static_boxes([((0, 0.5, 3), (1, 0.5, 1))])   # 3D boxes, all of w
 >>> ball = world.add_body(BodyDef("hypersphere", radius=0.3, position=(0, 2, 0, 0.2)))
 >>> cube = world.add_body(BodyDef("hypercube", size=0.8, position=(1, 1, 0, 0),
@@ -28,14 +28,19 @@ Game-facing API of :class:`PhysicsWorld`:
 * queries: ``push_box_out`` (the player's collider), ``raycast``, ``events``
   (:class:`ContactEvent`), ``debug_draw`` (see :mod:`.debug_draw`);
 * determinism: ``state_bytes``, ``state_hash``;
-* level settings: ``gravity``, ``inverse_cube_G``, ``allow_sleep``.
+* settings: a :class:`WorldDef` when the world is made (every tuning value,
+  with Box2D-like defaults); ``gravity``, ``inverse_cube_G`` and ``allow_sleep``
+  may change per level afterwards.
 
 Modules: :mod:`.bivector` (rotation maths on bivectors), :mod:`.mass`
-(hypervolumes and inertia), :mod:`.collide` (narrowphase), :mod:`.reuse`
-(box manifolds kept while a pair barely moves), :mod:`.solver` (contact impulses),
-:mod:`.state` (the named bundles a tick works on), :mod:`.pipeline` (one compiled tick),
-:mod:`.queries` (ray casts, box push-out), :mod:`.body_def`, :mod:`.events`,
-:mod:`.debug_draw`, :mod:`.world`, :mod:`.bench`.
+(hypervolumes and inertia), :mod:`.state` (the named bundles a tick works on),
+:mod:`.pipeline` (one compiled tick) and its stages in order: :mod:`.broadphase`,
+:mod:`.narrowphase` (shape pairs in :mod:`.collide` and :mod:`.tet_mesh`, kept box
+manifolds in :mod:`.reuse`), :mod:`.prepare` (contact preparation), :mod:`.solver`
+(contact impulses, with :mod:`.scalars`), :mod:`.integration` and :mod:`.islands`
+(waking and sleeping); :mod:`.queries` (ray casts, box push-out), :mod:`.body_def`,
+:mod:`.world_def`, :mod:`.events`, :mod:`.debug_draw`, :mod:`.world` (with
+:mod:`.world_bodies` and :mod:`.world_static`), :mod:`.bench`.
 """
 
 from ._cache import drop_stale_kernels
@@ -47,5 +52,6 @@ from .body_def import BodyDef  # noqa: E402
 from .debug_draw import DebugDrawer, DebugDrawOptions  # noqa: E402
 from .events import ContactEvent  # noqa: E402
 from .world import PhysicsWorld  # noqa: E402
+from .world_def import WorldDef  # noqa: E402
 
-__all__ = ["BodyDef", "ContactEvent", "DebugDrawer", "DebugDrawOptions", "PhysicsWorld"]
+__all__ = ["BodyDef", "ContactEvent", "DebugDrawer", "DebugDrawOptions", "PhysicsWorld", "WorldDef"]

@@ -19,6 +19,7 @@ import numpy as np
 
 from .body_def import BodyDef
 from .world import PhysicsWorld
+from .world_def import WorldDef
 
 
 def build_pile(n_bodies: int = 200, seed: int = 0, allow_sleep: bool = False, arena: float = 1.5) -> PhysicsWorld:
@@ -29,7 +30,7 @@ def build_pile(n_bodies: int = 200, seed: int = 0, allow_sleep: bool = False, ar
     layers deep.
     """
     rng = np.random.default_rng(seed)
-    world = PhysicsWorld(allow_sleep=allow_sleep)
+    world = PhysicsWorld(WorldDef(allow_sleep=allow_sleep))
     t = 0.5
     a = arena
     world.set_static_boxes(
@@ -166,7 +167,7 @@ def bench_tet_mesh(n_bodies: int = 50, tiles: int = 8, ticks: int = 60, dt: floa
     floor = np.concatenate(tets)
     out = {"tets": len(floor), "n_bodies": n_bodies}
     for kind in ("tet", "box"):
-        world = PhysicsWorld(ground=False, allow_sleep=False)
+        world = PhysicsWorld(WorldDef(ground=False, allow_sleep=False))
         if kind == "tet":
             world.set_static_tets([floor])
         else:

@@ -12,8 +12,8 @@ tick runs: the caller holds them all.
 ``meminfo`` is null, as for a view of a global constant), so every count
 update on it, and on views taken from it, is a null check instead of an atomic
 operation. :func:`~across_dimensions.physics.pipeline.tick` borrows the arrays
-of its bundles once, on entry; the kernels it calls see the same types and the
-same data.
+of its bundles once, on entry (:func:`borrow_bodies` and the others below); the
+kernels it calls see the same types and the same data.
 
 The rule that makes this safe: a borrowed view lives no longer than the array it
 came from. Never return one, store one in an array or bundle that outlives the
@@ -25,6 +25,10 @@ from __future__ import annotations
 from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
+
+from across_dimensions.core._jit import njit
+
+from .state import Bodies, Contacts, Manifolds, Scratch, SolverRows, SpinRows, StaticWorld, WarmStart
 
 
 @intrinsic
@@ -74,3 +78,125 @@ def keep(typingctx, arr):
         return context.get_dummy_value()
 
     return types.none(arr), codegen
+
+
+@njit(cache=True)
+def borrow_bodies(b):
+    """``b`` (:class:`~.state.Bodies`) with every array borrowed; the caller keeps the originals alive."""
+    return Bodies(
+        b.count,
+        borrowed(b.alive),
+        borrowed(b.kind),
+        borrowed(b.shape),
+        borrowed(b.half_extents),
+        borrowed(b.bound),
+        borrowed(b.position),
+        borrowed(b.rotation),
+        borrowed(b.velocity),
+        borrowed(b.angular_velocity),
+        borrowed(b.mass),
+        borrowed(b.inv_mass),
+        borrowed(b.inv_inertia),
+        borrowed(b.friction),
+        borrowed(b.restitution),
+        borrowed(b.awake),
+        borrowed(b.sleep_timer),
+        borrowed(b.island),
+    )
+
+
+@njit(cache=True)
+def borrow_static(s):
+    """``s`` (:class:`~.state.StaticWorld`) with every array borrowed."""
+    return StaticWorld(
+        borrowed(s.half_spaces),
+        borrowed(s.boxes),
+        borrowed(s.solids),
+        borrowed(s.convex_planes),
+        borrowed(s.convex_ranges),
+        borrowed(s.convex_bounds),
+        borrowed(s.tets),
+        borrowed(s.tet_planes),
+        borrowed(s.tet_bary),
+        borrowed(s.tet_bounds),
+        borrowed(s.tet_ranges),
+        borrowed(s.tet_mesh_bounds),
+        borrowed(s.tet_sweep),
+        borrowed(s.tet_motion),
+    )
+
+
+@njit(cache=True)
+def borrow_contacts(c):
+    """``c`` (:class:`~.state.Contacts`) with every array borrowed."""
+    return Contacts(
+        borrowed(c.body_a),
+        borrowed(c.body_b),
+        borrowed(c.key),
+        borrowed(c.point),
+        borrowed(c.normal),
+        borrowed(c.depth),
+        borrowed(c.normal_impulse),
+        borrowed(c.surface_velocity),
+    )
+
+
+@njit(cache=True)
+def borrow_warm(w):
+    """``w`` (:class:`~.state.WarmStart`) with every array borrowed."""
+    return WarmStart(
+        borrowed(w.key),
+        borrowed(w.local_point),
+        borrowed(w.normal_impulse),
+        borrowed(w.friction_impulse),
+        borrowed(w.count),
+    )
+
+
+@njit(cache=True)
+def borrow_rows(r):
+    """``r`` (:class:`~.state.SolverRows`) with every array borrowed."""
+    return SolverRows(
+        borrowed(r.direction),
+        borrowed(r.anchor_a),
+        borrowed(r.anchor_b),
+        borrowed(r.normal_response),
+        borrowed(r.eff_mass),
+        borrowed(r.impulse),
+        borrowed(r.local_point),
+        borrowed(r.approach_speed),
+        borrowed(r.max_normal_impulse),
+        borrowed(r.friction),
+        borrowed(r.restitution),
+        borrowed(r.separation),
+        SpinRows(borrowed(r.spin.limits), borrowed(r.spin.planes), borrowed(r.spin.eff_mass), borrowed(r.spin.impulse)),
+    )
+
+
+@njit(cache=True)
+def borrow_scratch(x):
+    """``x`` (:class:`~.state.Scratch`) with every array borrowed."""
+    return Scratch(
+        borrowed(x.pairs),
+        borrowed(x.margin),
+        borrowed(x.points),
+        borrowed(x.point_depths),
+        borrowed(x.needed),
+        borrowed(x.tet_points),
+        borrowed(x.tet_normals),
+        borrowed(x.tet_depths),
+    )
+
+
+@njit(cache=True)
+def borrow_manifolds(k):
+    """``k`` (:class:`~.state.Manifolds`) with every array borrowed."""
+    return Manifolds(
+        borrowed(k.key),
+        borrowed(k.first),
+        borrowed(k.count),
+        borrowed(k.axis),
+        borrowed(k.pose),
+        borrowed(k.local),
+        borrowed(k.pairs),
+    )

@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 
 from .collide import SPHERE
-from .pipeline import DYNAMIC, KINEMATIC
+from .state import DYNAMIC, KINEMATIC
 
 if TYPE_CHECKING:  # pragma: no cover
     from .world import PhysicsWorld

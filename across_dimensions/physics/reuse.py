@@ -63,16 +63,20 @@ def pose_close(pose, old, j, distance, angle):
 
 
 @njit(cache=True)
-def emit_kept(local, first, count, xa, ra, xb, rb, margin, out_p, out_n, out_d, k):
+def emit_kept(local, first, count, frame_a, frame_b, margin, out, k):
     """Write the kept points ``local[first : first + count]`` at the bodies' current poses.
 
-    Points further apart than ``margin`` are left out (they stay kept).
+    ``frame_a``, ``frame_b`` are each ``(centre (4,), rotation (4, 4))``. Points
+    further apart than ``margin`` are left out (they stay kept).
 
     Returns
     -------
     int
-        Points written from row ``k`` of ``out_p``, ``out_n``, ``out_d``.
+        Points written to ``out`` (:class:`~.state.Points`) from row ``k``.
     """
+    xa, ra = frame_a
+    xb, rb = frame_b
+    out_p, out_n, out_d = out
     got = 0
     for j in range(first, first + count):
         depth = 0.0
@@ -94,12 +98,16 @@ def emit_kept(local, first, count, xa, ra, xb, rb, margin, out_p, out_n, out_d, 
 
 
 @njit(cache=True)
-def keep_points(cp, cn, cd, k, got, xa, ra, xb, rb, local, row):
-    """Store points ``k .. k + got`` in the bodies' frames from row ``row`` of ``local``.
+def keep_points(found, k, got, frame_a, frame_b, local, row):
+    """Store points ``k .. k + got`` of ``found`` (:class:`~.state.Points`) in the bodies' frames
+    (``frame_a``, ``frame_b``: ``(centre, rotation)`` each) from row ``row`` of ``local``.
 
     A point ``p`` with normal ``n`` and depth ``d`` lies half-way between the
     surfaces: a's surface point is ``p + d n / 2`` and b's ``p - d n / 2``.
     """
+    cp, cn, cd = found
+    xa, ra = frame_a
+    xb, rb = frame_b
     for q in range(got):
         c = k + q
         for i in range(4):

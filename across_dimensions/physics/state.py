@@ -14,6 +14,11 @@ receives
 * :class:`Scratch` - buffers the broadphase and narrowphase reuse;
 * :class:`Manifolds` - the last tick's box manifolds in the bodies' frames.
 
+The stages of a tick hand each other smaller bundles: :class:`Points` (what a
+narrowphase routine writes), :class:`Inertia` (the bodies' world-frame inverse
+inertias, from the contact preparation) and :class:`Softness` (the soft
+push-out of one substep, Box2D's ``b2Softness``).
+
 All arrays are indexed by body id (``N`` slots) or contact index (``C``
 capacity); only the first ``Bodies.count`` bodies and the first ``n`` contacts
 a tick reports are meaningful. A contact's second body ``b`` is ``-1 - s`` for
@@ -30,6 +35,14 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
+
+#: Body kinds (``Bodies.kind``).
+STATIC = 0
+KINEMATIC = 1
+DYNAMIC = 2
+
+#: Pair-key offset for static world colliders (body indices stay below it).
+STATIC_KEY = 1 << 30
 
 #: Tuning values of a world, one record. The field order and the float64 type
 #: of every field (even the counts) are part of the saved state: the bytes of
@@ -73,7 +86,7 @@ class Bodies(NamedTuple):
         Slots in use (the arrays may be longer).
     alive : (N,) bool
     kind : (N,) int8
-        ``STATIC``, ``KINEMATIC`` or ``DYNAMIC`` (see :mod:`.pipeline`).
+        :data:`STATIC`, :data:`KINEMATIC` or :data:`DYNAMIC`.
     shape : (N,) int8
         ``SPHERE`` or ``BOX`` (see :mod:`.collide`).
     half_extents : (N, 4) float64
@@ -360,6 +373,59 @@ class Scratch(NamedTuple):
     tet_points: np.ndarray
     tet_normals: np.ndarray
     tet_depths: np.ndarray
+
+
+class Points(NamedTuple):
+    """Contact points a narrowphase routine writes, from a row it is given (see :mod:`.collide`).
+
+    Attributes
+    ----------
+    point : (C, 4) float64
+    normal : (C, 4) float64
+        Unit normal from the first shape to the second.
+    depth : (C,) float64
+        Overlap (negative: a speculative gap).
+    """
+
+    point: np.ndarray
+    normal: np.ndarray
+    depth: np.ndarray
+
+
+class Inertia(NamedTuple):
+    """The bodies' world-frame inverse inertias for one tick (see :mod:`.prepare`).
+
+    Attributes
+    ----------
+    iso : (N,) float64
+        The scalar inverse inertia where the operator is a multiple of the
+        identity (balls, hypercubes, and 0 for bodies that do not move), else -1.
+    full : (N, 6, 6) float64
+        The operator on bivectors (read where ``iso`` is -1).
+    """
+
+    iso: np.ndarray
+    full: np.ndarray
+
+
+class Softness(NamedTuple):
+    """The soft push-out of overlaps in one substep (Box2D's ``b2Softness``).
+
+    Attributes
+    ----------
+    bias_rate, mass_scale, impulse_scale : float
+        From :func:`.solver.soft_params`.
+    max_push : float
+        m/s, the top speed of the push-out.
+    inv_h : float
+        One over the substep, s^-1.
+    """
+
+    bias_rate: float
+    mass_scale: float
+    impulse_scale: float
+    max_push: float
+    inv_h: float
 
 
 def new_params() -> np.ndarray:

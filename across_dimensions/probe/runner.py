@@ -19,8 +19,10 @@ import numpy as np
 
 from ..game.sim import Game
 from ..world.level import load_level
+from ..world.resources import is_prologue_file
 from ..world.scene import build_scene
 from . import read
+from .flat import flat_library, plan_flat, run_flat
 from .pilot import Ctx
 from .proofs import softlocks
 from .route import load_route
@@ -69,6 +71,8 @@ def _progress(game, seen: set) -> tuple:
 
 def run_one(path: str, name: str, seed: int = 0) -> dict:
     """Run the strategy ``name`` on the level at ``path``; a dict of what happened."""
+    if is_prologue_file(path):
+        return run_flat(path, name)
     t0 = time.perf_counter()
     level, scene, route = _prepared(path)
     strategy = next(s for s in library() if s.name == name)
@@ -102,6 +106,8 @@ def run_one(path: str, name: str, seed: int = 0) -> dict:
 
 def _plan(path: str) -> dict:
     """The strategies that apply to a level, and what it needs (worker side)."""
+    if is_prologue_file(path):
+        return plan_flat(path)
     t0 = time.perf_counter()
     level, _, route = _prepared(path)
     names = [s.name for s in strategies_for(level, route)]
@@ -110,7 +116,7 @@ def _plan(path: str) -> dict:
 
 def _row(plan: dict, runs: list[dict]) -> dict:
     """One level's row: its bypasses and soft-locks, each naming the strategy."""
-    by_name = {s.name: s for s in library()}
+    by_name = {s.name: s for s in (flat_library() if is_prologue_file(plan["level"]) else library())}
     needs = set(plan["needs"])
     bypasses, locks = [], []
     for r in sorted(runs, key=lambda r: plan["strategies"].index(r["strategy"])):
@@ -156,5 +162,7 @@ def probe(paths: list, workers: int = 2) -> list[dict]:
 
 def _weight(path: str) -> float:
     """A guess at how long a level's runs take: enemies and bodies cost the most."""
+    if is_prologue_file(path):
+        return 1.0
     level = load_level(path)
     return 3.0 * len(level.enemies) + level.bodies + len(level.targets)

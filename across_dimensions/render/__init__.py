@@ -16,10 +16,11 @@ On screen, the app wraps its window's context with :func:`wrap_current_context`,
 calls ``ctx.screen.use()`` and then ``renderer.draw(frame)`` every frame.
 """
 
+from ..core.edges import feature_edges
 from .context import Offscreen, RenderError, create_offscreen_context, wrap_current_context
 from .hud import HudRenderer, hud_quads
 from .png import read_png, write_png
-from .renderer import STYLES, Renderer, RenderStats, feature_edges
+from .renderer import STYLES, Renderer, RenderStats
 
 __all__ = [
     "Offscreen",

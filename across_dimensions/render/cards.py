@@ -20,7 +20,7 @@ import math
 
 from ..game.frame import Card
 from .font import GLYPH_H, text_width
-from .text_layout import wrap
+from .text_layout import scaled, wrap
 
 #: Seconds for the ball to go from above the plane to below it and back.
 PERIOD = 6.0
@@ -73,22 +73,33 @@ def draw_card(q, card: Card, width: int, height: int) -> None:
     if card.kind != "flatland":
         return
     W, H = int(width), int(height)
-    s = max(1, H // 300)
-    q.rect(0, 0, W, H, DIM)
     pw, ph = int(W * 0.84), int(H * 0.84)
     px, py = (W - pw) // 2, (H - ph) // 2
-    q.rect(px - s, py - s, pw + 2 * s, ph + 2 * s, FRAME)
-    q.rect(px, py, pw, ph, PANEL)
     pad = max(4, W // 80)
     lines = list(card.lines) or [""]
-    title_scale = 2 * s if H >= 200 else s
+    art_w = (pw - 3 * pad) // 2
+    body = lines[3:-1] if len(lines) > 4 else lines[3:]
+    # The player's text size, made smaller again where the words would leave the drawings
+    # less than a quarter of the panel (a large text size on a small window).
+    base = max(1, H // 300)
+    for s in range(scaled(base), base - 1, -1):
+        title_scale = min(2 * s if H >= 200 else s, max(1, (pw - 2 * pad) * s // max(1, text_width(lines[0], s))))
+        caps = [wrap(cap, art_w, s) for cap in lines[1:3]]
+        cap_h = max((len(c) for c in caps), default=1) * (GLYPH_H + 6) * s
+        prompt_h = GLYPH_H * s + pad if len(lines) > 4 else 0
+        words_h = (GLYPH_H + 5) * title_scale + cap_h + prompt_h
+        words_h += sum(len(wrap(para, pw - 2 * pad, s)) * (GLYPH_H + 4) * s + 2 * s for para in body)
+        art_h = min(int(ph * 0.5), ph - 2 * pad - pad // 2 - words_h)
+        if art_h >= ph // 4:
+            break
+    q.rect(0, 0, W, H, DIM)
+    q.rect(px - s, py - s, pw + 2 * s, ph + 2 * s, FRAME)
+    q.rect(px, py, pw, ph, PANEL)
     y = py + pad
     q.text(lines[0], (W - text_width(lines[0], title_scale)) // 2, y, title_scale, TITLE)
     y += (GLYPH_H + 5) * title_scale
 
     # Two drawings side by side, in the upper part of the panel.
-    art_h = int(ph * 0.5)
-    art_w = (pw - 3 * pad) // 2
     left = (px + pad, y, art_w, art_h)
     right = (px + 2 * pad + art_w, y, art_w, art_h)
     r = min(art_w, art_h) * 0.16  # the ball's radius, pixels
@@ -98,11 +109,11 @@ def draw_card(q, card: Card, width: int, height: int) -> None:
     _flat_view(q, right, r, cut, s)
     y += art_h + pad // 2
     # Captions under the drawings.
-    for (ax, _, aw, _), cap in zip((left, right), lines[1:3]):
-        q.text(cap, ax + (aw - text_width(cap, s)) // 2, y, s, CAPTION)
-    y += (GLYPH_H + 6) * s
+    for (ax, _, aw, _), cap in zip((left, right), caps):
+        for i, ln in enumerate(cap):
+            q.text(ln, ax + (aw - text_width(ln, s)) // 2, y + i * (GLYPH_H + 6) * s, s, CAPTION)
+    y += cap_h
     # The body text and, last, the prompt.
-    body = lines[3:-1] if len(lines) > 4 else lines[3:]
     for para in body:
         for ln in wrap(para, pw - 2 * pad, s):
             q.text(ln, px + pad, y, s, TEXT)

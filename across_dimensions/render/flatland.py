@@ -34,6 +34,7 @@ from ..game.frame import Camera3, Drawable, Frame, Hud
 from .font import GLYPH_H, text_width
 from .hud import _QuadList, hud_quads
 from .renderer import Renderer
+from .text_layout import scaled
 
 BEING = (0.98, 0.92, 0.35, 1.0)
 EYE = (0.05, 0.05, 0.1, 1.0)
@@ -335,7 +336,7 @@ class FlatRenderer:
     def _bar_quads(self, frame: FlatFrame, width: int, height: int, alpha: float) -> np.ndarray:
         """The z bar beside the view: ``(n, 12) float32`` HUD quads."""
         q = _QuadList()
-        s = max(1, height // 300)
+        s = scaled(max(1, height // 300))
         bar_w = max(6, width // 110)
         x0 = width - max(4, width // 64) - bar_w
         y0, y1 = int(height * 0.22), int(height * 0.8)

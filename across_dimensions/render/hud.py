@@ -56,29 +56,33 @@ import moderngl
 import numpy as np
 
 from ..game.frame import EnergyGauge, HealthGauge, Hud, Radar, SliceGauges, WeaponPanel
+from .captions import draw_captions
 from .cards import draw_card
 from .font import CELL_W, GLYPH_H, GLYPH_W, default_font, font_px, solid_uv
 from .font import text_width as text_width
-from .text_layout import ellipsized, wrap
+from .palette import cue
+from .text_layout import ellipsized, scaled, wrap
 
+#: Colours; the w cues among them are drawn in the palette in use (:mod:`.palette`), these
+#: names are their default-palette values.
 CROSSHAIR_COLOR = (0.95, 0.95, 0.95, 1.0)
 OUTLINE_COLOR = (0.0, 0.0, 0.0, 0.55)
 TRACK_COLOR = (1.0, 1.0, 1.0, 0.16)
 TICK_COLOR = (1.0, 1.0, 1.0, 0.75)
-MARKER_COLOR = (1.0, 0.75, 0.15, 1.0)
-MARKER_OUT_OF_RANGE_COLOR = (1.0, 0.25, 0.2, 1.0)
-FILL_POS_COLOR = (1.0, 0.55, 0.25, 0.45)
-FILL_NEG_COLOR = (0.3, 0.6, 1.0, 0.45)
-BLOCKED_ANA_COLOR = (1.0, 0.55, 0.2, 0.95)  # the ana ghosts' warm hue, the kata ghosts' cool one
-BLOCKED_KATA_COLOR = (0.35, 0.7, 1.0, 0.95)
+MARKER_COLOR = cue("marker", "default")
+MARKER_OUT_OF_RANGE_COLOR = cue("marker_out", "default")
+FILL_POS_COLOR = cue("gauge_ana", "default")
+FILL_NEG_COLOR = cue("gauge_kata", "default")
+BLOCKED_ANA_COLOR = cue("blocked_ana", "default")
+BLOCKED_KATA_COLOR = cue("blocked_kata", "default")
 TEXT_COLOR = (0.92, 0.94, 1.0, 1.0)
 FPS_COLOR = (0.7, 1.0, 0.7, 0.9)
 PAUSE_DIM_COLOR = (0.0, 0.0, 0.0, 0.55)
 BAND_COLOR = (0.0, 0.0, 0.0, 0.45)
 ENERGY_TRACK_COLOR = (0.55, 0.85, 1.0, 0.16)
-ENERGY_FILL_COLOR = (0.25, 0.9, 1.0, 0.9)
-ENERGY_FLASH_COLOR = (0.85, 1.0, 1.0, 1.0)
-ENERGY_EMPTY_COLOR = (1.0, 0.18, 0.15, 1.0)
+ENERGY_FILL_COLOR = cue("energy", "default")
+ENERGY_FLASH_COLOR = cue("energy_flash", "default")
+ENERGY_EMPTY_COLOR = cue("energy_empty", "default")
 ENERGY_EMPTY_TRACK_COLOR = (1.0, 0.15, 0.1, 0.28)
 ENERGY_LABEL_COLOR = (0.75, 0.95, 1.0, 1.0)
 RADAR_LABEL_COLOR = (0.6, 0.9, 1.0, 0.85)
@@ -86,8 +90,8 @@ WEAPON_COLOR = (1.0, 0.9, 0.6, 1.0)
 WEAPON_READY_COLOR = (0.5, 1.0, 0.6, 0.9)
 WEAPON_COOL_COLOR = (1.0, 0.6, 0.2, 0.9)
 HIT_COLOR = (1.0, 0.35, 0.25, 1.0)
-HINT_BAND_COLOR = (0.02, 0.04, 0.08, 0.72)
-HINT_ACCENT_COLOR = (0.3, 0.85, 1.0, 0.95)
+HINT_BAND_COLOR = cue("hint_band", "default")
+HINT_ACCENT_COLOR = cue("hint_accent", "default")
 HINT_TEXT_COLOR = (0.95, 0.97, 1.0, 1.0)
 HINT_LABEL_COLOR = (0.6, 0.8, 0.95, 0.8)
 WARNING_COLOR = (1.0, 0.8, 0.35, 0.95)
@@ -117,7 +121,7 @@ class HudMetrics:
 
     @property
     def text_scale(self) -> int:
-        return max(1, self.height // 300)
+        return scaled(max(1, self.height // 300))
 
     @property
     def margin(self) -> int:
@@ -290,8 +294,8 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
     # --- radar labels
     if radar is not None:
         rx, ry, rw, rh = m.radar_rect()
-        q.text("+w", rx + s, ry + s, s, RADAR_LABEL_COLOR)
-        q.text("-w", rx + s, ry + rh - GLYPH_H * s - s, s, RADAR_LABEL_COLOR)
+        q.text("+w", rx + s, ry + s, s, cue("label_ana"))
+        q.text("-w", rx + s, ry + rh - GLYPH_H * s - s, s, cue("label_kata"))
         rng = f"{radar.range:.0f} m"
         q.text(rng, rx + rw - text_width(rng, s) - s, ry + rh - GLYPH_H * s - s, s, RADAR_LABEL_COLOR)
 
@@ -348,6 +352,7 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
     if not hud.paused:
         for label in hud.labels:
             _screen_label(q, label, m)
+        draw_captions(q, hud.captions, m)  # sounds made visible (a setting)
     # --- teaching card (over everything)
     if hud.card is not None:
         draw_card(q, hud.card, W, H)
@@ -381,19 +386,19 @@ def _w_indicator(q: _QuadList, hud: Hud, m: HudMetrics) -> None:
     if span > 0 and hud.w_min <= 0.0 <= hud.w_max:
         zy = int(round(y0 + (hud.w_max / span) * th))
         top, bot = sorted((zy, my))
-        q.rect(x0, top, bw, bot - top, FILL_POS_COLOR if hud.w >= 0 else FILL_NEG_COLOR)
+        q.rect(x0, top, bw, bot - top, cue("gauge_ana" if hud.w >= 0 else "gauge_kata"))
         ext = max(2, bw // 2)
         q.rect(x0 - ext, zy - m.thickness // 2, bw + 2 * ext, m.thickness, TICK_COLOR)
     mh = max(2, H // 120)
     mext = max(2, bw // 2 + 1)
     q.rect(x0 - mext - 1, my - mh // 2 - 1, bw + 2 * mext + 2, mh + 2, OUTLINE_COLOR)
-    q.rect(x0 - mext, my - mh // 2, bw + 2 * mext, mh, MARKER_COLOR if in_range else MARKER_OUT_OF_RANGE_COLOR)
+    q.rect(x0 - mext, my - mh // 2, bw + 2 * mext, mh, cue("marker" if in_range else "marker_out"))
     # Something solid where the player stands at the next ghost layer ana (top) or kata
     # (bottom): a cap on that end of the track and a word beside it, in the side's colour.
     for side in hud.w_blocked:
         cap_h = 2 * m.thickness
         cap_y = y0 if side > 0 else y0 + th - cap_h
-        color = BLOCKED_ANA_COLOR if side > 0 else BLOCKED_KATA_COLOR
+        color = cue("blocked_ana" if side > 0 else "blocked_kata")
         q.rect(x0, cap_y, bw, cap_h, color)
         word = "solid +w" if side > 0 else "solid -w"
         ty = y0 + 2 * s if side > 0 else y0 + th - GLYPH_H * s - 2 * s
@@ -438,8 +443,8 @@ def _hint_panel(q: _QuadList, hud: Hud, m: HudMetrics) -> None:
     x, y, w, h = hint_rect(hud, m.width, m.height)
     lines, scale, _ = _hint_lines(hud.hint, m)
     pad = 3 * s
-    q.rect(x, y, w, h, HINT_BAND_COLOR)
-    q.rect(x, y, max(2, s), h, HINT_ACCENT_COLOR)  # the accent: a hint, not a notice
+    q.rect(x, y, w, h, cue("hint_band"))
+    q.rect(x, y, max(2, s), h, cue("hint_accent"))  # the accent: a hint, not a notice
     line_h = (GLYPH_H + 4) * scale
     for i, ln in enumerate(lines):
         q.text(ln, x + pad + 2 * s, y + pad + i * line_h, scale, HINT_TEXT_COLOR)
@@ -548,15 +553,24 @@ def _weapon_panel(q: _QuadList, panel: WeaponPanel, m: HudMetrics) -> None:
     s = m.text_scale
     x, y, w, h = m.energy_bar()
     line_h = (GLYPH_H + 3) * s
-    top = y - 2 * line_h - 3 * h
+    # Wrapped short of the middle, where the slice gauges are (larger text takes two lines).
+    limit = max(w, m.width // 2 - 5 * m.margin - x)
+    lines: list[str] = []
+    for part in weapon_text(panel).split("  "):  # break between its parts (name, cost, bullets)
+        if lines and text_width(f"{lines[-1]}  {part}", s) <= limit:
+            lines[-1] = f"{lines[-1]}  {part}"
+        else:
+            lines += wrap(part, limit, s)
+    top = y - (len(lines) + 1) * line_h - 3 * h
     flash = min(max(float(panel.flash), 0.0), 1.0)
-    q.text(weapon_text(panel), x, top, s, _mix(WEAPON_COLOR, (1.0, 1.0, 1.0, 1.0), flash))
-    by = top + line_h
+    for i, line in enumerate(lines):
+        q.text(line, x, top + i * line_h, s, _mix(WEAPON_COLOR, (1.0, 1.0, 1.0, 1.0), flash))
+    by = top + len(lines) * line_h
     q.rect(x - 1, by - 1, w + 2, h // 2 + 2, OUTLINE_COLOR)
     ready = 1.0 - min(max(float(panel.cooldown), 0.0), 1.0)
     q.rect(x, by, int(round(w * ready)), h // 2, WEAPON_READY_COLOR if ready >= 1.0 else WEAPON_COOL_COLOR)
     if panel.refused:
-        q.text(panel.refused, x, top - line_h, s, ENERGY_EMPTY_COLOR)
+        q.text(panel.refused, x, top - line_h, s, cue("energy_empty"))
 
 
 def energy_text(gauge: EnergyGauge) -> str:
@@ -583,20 +597,20 @@ def _energy_bar(q: _QuadList, gauge: EnergyGauge, m: HudMetrics) -> None:
     if flash > 0:
         # A glow round the bar that fades with the flash.
         g = max(2, h // 3)
-        q.rect(x - g, y - g, w + 2 * g, h + 2 * g, ENERGY_FLASH_COLOR[:3] + (0.55 * flash,))
-    outline = (ENERGY_EMPTY_COLOR[:3] + (0.9,)) if gauge.empty else _mix(OUTLINE_COLOR, ENERGY_FLASH_COLOR, flash)
+        q.rect(x - g, y - g, w + 2 * g, h + 2 * g, cue("energy_flash")[:3] + (0.55 * flash,))
+    outline = (cue("energy_empty")[:3] + (0.9,)) if gauge.empty else _mix(OUTLINE_COLOR, cue("energy_flash"), flash)
     q.rect(x - 1, y - 1, w + 2, h + 2, outline)
     q.rect(x, y, w, h, OUTLINE_COLOR)  # a dark backing inside the (possibly bright) outline keeps the fill readable
     q.rect(x, y, w, h, ENERGY_EMPTY_TRACK_COLOR if gauge.empty else ENERGY_TRACK_COLOR)
     pad = max(1, h // 6)
     inner_w = w - 2 * pad
-    fill = ENERGY_EMPTY_COLOR if gauge.empty else _mix(ENERGY_FILL_COLOR, ENERGY_FLASH_COLOR, 0.8 * flash)
+    fill = cue("energy_empty") if gauge.empty else _mix(cue("energy"), cue("energy_flash"), 0.8 * flash)
     q.rect(x + pad, y + pad, energy_fill_width(gauge, inner_w), h - 2 * pad, fill)
     label_y = y - GLYPH_H * s - 3 * s - 1
-    label, color = ("NO ENERGY", ENERGY_EMPTY_COLOR) if gauge.empty else ("ENERGY", ENERGY_LABEL_COLOR)
+    label, color = ("NO ENERGY", cue("energy_empty")) if gauge.empty else ("ENERGY", ENERGY_LABEL_COLOR)
     q.text(label, x, label_y, s, color)
     val = energy_text(gauge)
-    q.text(val, x + w - text_width(val, s), label_y, s, _mix(TEXT_COLOR, ENERGY_FLASH_COLOR, flash))
+    q.text(val, x + w - text_width(val, s), label_y, s, _mix(TEXT_COLOR, cue("energy_flash"), flash))
     if gauge.costs:  # what each 4D action costs, over the label (under the weapon panel)
         q.text(gauge.costs, x, label_y - (GLYPH_H + 3) * s, s, ENERGY_LABEL_COLOR)
 

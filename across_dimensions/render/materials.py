@@ -69,6 +69,15 @@ PALETTES: dict[str, dict[str, tuple[float, float, float]]] = {
         "kata": (0.10, 0.45, 0.95),  # a darker sky blue: also apart in lightness
         "hyper_rim": (0.95, 0.95, 1.0),
     },
+    # Strong, light-or-dark pairs (yellow ana, deep blue kata), brighter trims and lines.
+    "high_contrast": {
+        **DEFAULT,
+        "trim": (1.0, 1.0, 1.0),
+        "floor_line": (0.55, 0.75, 1.0),
+        "ana": (1.0, 0.85, 0.0),
+        "kata": (0.05, 0.25, 1.0),
+        "hyper_rim": (1.0, 1.0, 1.0),
+    },
 }
 
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from .font import CELL_H, CELL_W
 from .hud import QUAD_FLOATS, HudRenderer, _QuadList, text_width
-from .text_layout import ellipsized
+from .text_layout import ellipsized, scaled
 
 BACKDROP_TOP = (0.015, 0.02, 0.05, 1.0)
 BACKDROP_BOTTOM = (0.04, 0.07, 0.13, 1.0)
@@ -55,10 +55,20 @@ class RowBox:
 
 
 def _scales(view, height: int) -> tuple[int, int, int]:
-    """Text scales: title, rows, small print (footer, notes)."""
-    small = max(1, height // 360)
+    """Text scales: title, rows, small print (footer, notes), at the player's text size."""
+    small = scaled(max(1, height // 360))
     big_rows = view.screen in ("title", "pause", "conflict")
     return small * 3, small + (1 if big_rows else 0), small
+
+
+def rows_that_fit(view, height: int) -> int:
+    """How many of ``view``'s rows fit in its panel in a viewport ``height`` pixels high (at
+    least 3): larger text shows fewer rows at once, and the list scrolls."""
+    _, s_row, s_small = _scales(view, height)
+    pad = CELL_W * s_row
+    room = height - 3 * CELL_H * s_small - int(height * 0.22) - 2 * pad
+    room -= (3 * CELL_H * s_row if view.progress is not None else 0) + (6 * CELL_H * s_row if view.prompt else 0)
+    return max(3, room // _row_height(view, height))
 
 
 def _panel(view, width: int, height: int) -> tuple[int, int, int, int]:

@@ -97,22 +97,7 @@ def decode_png(data: bytes) -> np.ndarray:
     """
     if not data.startswith(_SIGNATURE):
         raise PngError("not a PNG file (bad signature)")
-    pos = len(_SIGNATURE)
-    header = None
-    idat = []
-    while pos + 8 <= len(data):
-        (length,) = struct.unpack(">I", data[pos : pos + 4])
-        kind = data[pos + 4 : pos + 8]
-        body = data[pos + 8 : pos + 8 + length]
-        if len(body) != length:
-            raise PngError(f"truncated {kind!r} chunk")
-        pos += 12 + length
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", body)
-        elif kind == b"IDAT":
-            idat.append(body)
-        elif kind == b"IEND":
-            break
+    header, idat = _chunks(data)
     if header is None:
         raise PngError("no IHDR chunk")
     w, h, depth, ctype, _, _, interlace = header
@@ -133,7 +118,34 @@ def decode_png(data: bytes) -> np.ndarray:
     stride = w * c
     if raw.size != h * (stride + 1):
         raise PngError(f"image data has {raw.size} bytes, expected {h * (stride + 1)} for {w}x{h}x{c}")
-    rows = raw.reshape(h, stride + 1)
+    return _unfilter(raw.reshape(h, stride + 1), c).reshape(h, w, c)
+
+
+def _chunks(data: bytes) -> tuple[tuple | None, list[bytes]]:
+    """The unpacked IHDR fields (None if there is none) and the IDAT chunks' bodies, in order."""
+    pos = len(_SIGNATURE)
+    header = None
+    idat = []
+    while pos + 8 <= len(data):
+        (length,) = struct.unpack(">I", data[pos : pos + 4])
+        kind = data[pos + 4 : pos + 8]
+        body = data[pos + 8 : pos + 8 + length]
+        if len(body) != length:
+            raise PngError(f"truncated {kind!r} chunk")
+        pos += 12 + length
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat.append(body)
+        elif kind == b"IEND":
+            break
+    return header, idat
+
+
+def _unfilter(rows: np.ndarray, c: int) -> np.ndarray:
+    """Undo the PNG row filters: ``rows (h, 1 + stride) uint8`` (each row's filter type first) to
+    the ``(h, stride) uint8`` pixel bytes; ``c`` bytes a pixel."""
+    h, stride = rows.shape[0], rows.shape[1] - 1
     out = np.zeros((h, stride), np.uint8)
     prev = np.zeros(stride, np.int32)
     for y in range(h):
@@ -152,20 +164,27 @@ def decode_png(data: bytes) -> np.ndarray:
                 left = cur[x - c] if x >= c else 0
                 cur[x] = (cur[x] + ((left + prev[x]) >> 1)) & 0xFF
         elif f == 4:  # Paeth
-            cur = line.copy()
-            for x in range(stride):
-                a = cur[x - c] if x >= c else 0
-                b = prev[x]
-                cc = prev[x - c] if x >= c else 0
-                p = a + b - cc
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - cc)
-                pred = a if (pa <= pb and pa <= pc) else (b if pb <= pc else cc)
-                cur[x] = (cur[x] + pred) & 0xFF
+            cur = _paeth(line, prev, c)
         else:
             raise PngError(f"bad filter type {int(f)} on row {y}")
         out[y] = cur
         prev = cur
-    return out.reshape(h, w, c)
+    return out
+
+
+def _paeth(line: np.ndarray, prev: np.ndarray, c: int) -> np.ndarray:
+    """A row under the Paeth filter, reconstructed left to right: ``line`` and ``prev`` (the row
+    above, already reconstructed) are ``(stride,) int32``."""
+    cur = line.copy()
+    for x in range(len(cur)):
+        a = cur[x - c] if x >= c else 0
+        b = prev[x]
+        cc = prev[x - c] if x >= c else 0
+        p = a + b - cc
+        pa, pb, pc = abs(p - a), abs(p - b), abs(p - cc)
+        pred = a if (pa <= pb and pa <= pc) else (b if pb <= pc else cc)
+        cur[x] = (cur[x] + pred) & 0xFF
+    return cur
 
 
 def read_png(path) -> np.ndarray:

@@ -39,6 +39,7 @@ without OpenGL.
 
 from __future__ import annotations
 
+import functools
 import time
 from dataclasses import dataclass, field
 
@@ -48,6 +49,7 @@ import numpy as np
 from ..game.frame import RADAR_KINDS, Camera3, Radar
 from .context import RenderError
 from .hud import HudMetrics
+from .palette import current, pin
 from .shaders import FLAT_FRAGMENT, FLAT_VERTEX
 
 #: The disc's radius in radar space; pin heights and positions are in these units.
@@ -77,26 +79,24 @@ HEAD_SHAPES = {
 }
 #: Relative head size per kind.
 KIND_SIZE = {"bullet": 0.6, "crystal": 1.1}
-#: Display-space RGB per kind.
-KIND_COLORS = {
-    "crystal": (0.25, 0.95, 1.0),
-    "body": (1.0, 0.58, 0.18),
-    "enemy": (1.0, 0.18, 0.22),
-    "bullet": (1.0, 0.95, 0.3),
-    "target": (1.0, 0.35, 0.9),
-    "camera_focus": (0.5, 1.0, 0.35),
-    "camera_eye": (0.55, 0.6, 1.0),
-    "object": (0.86, 0.86, 0.92),
-}
+#: Display-space RGB per kind in the default palette (the palette in use: :func:`.palette.pin`).
+KIND_COLORS = {k: pin(k, "default") for k in RADAR_KINDS}
 #: Instanced pieces that are not heads.
 PIECES = ("stem", "foot", "seen_ring", "arrow")
 #: Every instanced mesh, in draw order.
 SHAPES = tuple(dict.fromkeys(HEAD_SHAPES.values())) + PIECES
 _HEAD_SHAPE_NAMES = tuple(dict.fromkeys(HEAD_SHAPES.values()))
 _KIND_CODE = {k: i for i, k in enumerate(RADAR_KINDS)}
-_KIND_RGB = np.array([KIND_COLORS[k] for k in RADAR_KINDS], np.float64)
 _KIND_SCALE = np.array([KIND_SIZE.get(k, 1.0) for k in RADAR_KINDS], np.float64)
 _KIND_SHAPE = np.array([SHAPES.index(HEAD_SHAPES[k]) for k in RADAR_KINDS], np.intp)
+
+
+@functools.cache
+def _kind_rgb(palette: str) -> np.ndarray:
+    """Pin colours ``(len(RADAR_KINDS), 3) float64`` of ``palette``, by kind code."""
+    return np.array([pin(k, palette) for k in RADAR_KINDS], np.float64)
+
+
 #: Floats per instance: position xyz | scale xyz | colour rgb, emission.
 INSTANCE_FLOATS = 10
 
@@ -177,7 +177,7 @@ def radar_geometry(radar: Radar, px_per_radius: float = 120.0) -> RadarGeometry:
     y = np.clip(h, -HEIGHT_CLAMP, HEIGHT_CLAMP) * RADIUS
     px = 1.0 / max(float(px_per_radius), 1e-6)  # disc radii per pixel
 
-    color = _KIND_RGB[code]
+    color = _kind_rgb(current())[code]
     size = _KIND_SCALE[code] * max(HEAD_SIZE, HEAD_MIN_PX * px)
     emission = np.where(seen, 0.8, 0.0)
     ones = np.ones(n)

@@ -49,13 +49,13 @@ from dataclasses import dataclass, field
 import moderngl
 import numpy as np
 
-from ..core.edges import feature_edges
-from ..core.mesh import TriMesh3
 from ..game.frame import Drawable, Frame
 from . import materials
+from . import palette as w_cues
 from .batch import DEPTH_FRAGMENT, DEPTH_VERTEX, BatchBuffers
 from .context import RenderError
 from .hud import HudRenderer
+from .mesh_cache import GpuMesh, MeshCache
 from .radar import RadarRenderer
 from .shaders import PROGRAMS, program_source
 from .sky import SkyRenderer
@@ -64,9 +64,6 @@ STYLES = ("solid", "floor", "wire", "ghost", "glow")
 #: Ghost patterns by name, as the shader's ``u_pattern`` codes.
 GHOST_PATTERNS = {"": 0, "stripes": 1, "dots": 2}
 _NO_TINT = (0.0, 0.0, 0.0, 0.0)
-#: Bytes per vertex in the interleaved buffer: position 3f, normal 3f, colour 4f.
-_STRIDE = 40
-_ATTRS = (("in_pos", "3f", 12), ("in_normal", "3f", 12), ("in_color", "4f", 16))
 #: A batch with more triangles than this is left out of the depth pre-pass (see
 #: :meth:`Renderer._depth_prepass`): many small triangles draw faster without it, a
 #: level's 4D things (hundreds) in front of its scenery faster with it.
@@ -94,78 +91,6 @@ class RenderStats:
     upload_bytes: int = 0  #: bytes sent by the last frame's uploads
     batch_sync_cpu_ms: float = 0.0  #: CPU time of the last frame's batch uploads (this thread)
     by_key: dict = field(default_factory=dict)  #: uploads per key (lifetime)
-
-
-class _GpuMesh:
-    """GPU buffers for one drawable key."""
-
-    def __init__(self, key: str):
-        self.key = key
-        self.revision = None
-        self.vbo: moderngl.Buffer | None = None
-        self.ibo: moderngl.Buffer | None = None
-        self.ebo: moderngl.Buffer | None = None  # wire edges
-        self.vaos: dict[str, moderngl.VertexArray] = {}
-        self.n_vertices = 0
-        self.n_indices = 0
-        self.n_edge_indices = -1  # -1: edges not derived for this revision
-        self.center = np.zeros(3)  # bounding sphere in mesh space, for culling and ghost sorting
-        self.radius = 0.0
-        self.vertices: np.ndarray | None = None  # kept only until edges are derived
-        self.faces: np.ndarray | None = None
-
-    def release(self) -> None:
-        for vao in self.vaos.values():
-            vao.release()
-        self.vaos.clear()
-        for name in ("vbo", "ibo", "ebo"):
-            buf = getattr(self, name)
-            if buf is not None:
-                buf.release()
-                setattr(self, name, None)
-
-
-def _write(ctx: moderngl.Context, buf: moderngl.Buffer | None, data: bytes) -> tuple[moderngl.Buffer, bool]:
-    """Write ``data`` into ``buf``, growing it if needed; returns ``(buffer, created)``.
-
-    Growing uses ``orphan`` on the same buffer object so vertex arrays that refer
-    to it stay valid; capacity grows by 1.5x to avoid reallocating every frame
-    for a cross-section that gains a few triangles at a time.
-    """
-    if buf is None:
-        return ctx.buffer(data, dynamic=True), True
-    if len(data) > buf.size:
-        buf.orphan(int(len(data) * 1.5))
-    buf.write(data)
-    return buf, False
-
-
-def _check_mesh(key: str, mesh: TriMesh3) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Validate and convert a mesh to ``(vertices, faces, normals, colors)`` float32/uint32 arrays."""
-    v = np.asarray(mesh.vertices, np.float32).reshape(-1, 3)
-    k = len(v)
-    f = np.asarray(mesh.faces)
-    if f.size and f.min() < 0:
-        raise RenderError(f"drawable {key!r}: negative vertex index {int(f.min())} in faces")
-    f = np.ascontiguousarray(f, np.uint32).reshape(-1, 3)
-    if f.size and int(f.max()) >= k:
-        # An out-of-range index makes the GPU read past the buffer: refuse it.
-        raise RenderError(f"drawable {key!r}: face index {int(f.max())} out of range for {k} vertices")
-    n = mesh.normals
-    if n is None:
-        n = np.zeros((k, 3), np.float32)  # shader falls back to facing the eye
-    n = np.asarray(n, np.float32)
-    if n.shape != (k, 3):
-        raise RenderError(f"drawable {key!r}: normals must be ({k}, 3), got {n.shape}")
-    c = mesh.colors
-    if c is None:
-        c = np.full((k, 4), 0.7, np.float32)
-    c = np.asarray(c, np.float32)
-    if c.ndim == 2 and c.shape[1] == 3:
-        c = np.concatenate([c, np.ones((len(c), 1), np.float32)], axis=1)
-    if c.shape != (k, 4):
-        raise RenderError(f"drawable {key!r}: colors must be ({k}, 4) or ({k}, 3), got {c.shape}")
-    return v, f, n, c
 
 
 def _frustum_planes(view_proj: np.ndarray) -> np.ndarray:
@@ -237,7 +162,7 @@ class Renderer:
         self.fog_density = float(fog_density)
         self.ghost_alpha = float(ghost_alpha)
         self.stats = RenderStats()
-        self._meshes: dict[str, _GpuMesh] = {}
+        self.meshes = MeshCache(ctx, self.stats)
         self._all_programs: dict[str, dict[str, moderngl.Program]] = {}  # look -> program name -> program
         self.palette = materials.palette()
         self.look = look
@@ -255,9 +180,11 @@ class Renderer:
         self._constants: dict[int, tuple] = {}  # program -> the rarely changing uniforms it holds
 
     def set_palette(self, name: str) -> None:
-        """Switch the named colours: ``"default"``, or ``"colour_blind"`` (ana and kata, crystals
-        and trims told apart by lightness too, never by red and green alone)."""
+        """Switch the named colours: ``"default"``, ``"colour_blind"`` (ana and kata, crystals
+        and trims told apart by lightness too, never by red and green alone) or
+        ``"high_contrast"``; the overlays' w cues (:mod:`.palette`) follow."""
         self.palette = materials.palette("colorblind" if name in ("colour_blind", "colorblind") else name)
+        w_cues.use("colour_blind" if name == "colorblind" else name)  # the overlays' w cues follow
 
     def _look_programs(self, look: str) -> dict[str, moderngl.Program]:
         """The programs of ``look``, built on first use (a look not used costs nothing)."""
@@ -277,87 +204,15 @@ class Renderer:
     # ----------------------------------------------------------------- caching
     def cached_keys(self) -> list[str]:
         """Keys that currently hold GPU buffers."""
-        return sorted(self._meshes)
+        return self.meshes.keys()
 
     def gpu_bytes(self) -> int:
         """Bytes of every vertex, index and edge buffer this renderer holds for meshes and batches."""
-        total = self.batches.bytes
-        for gm in self._meshes.values():
-            total += sum(b.size for b in (gm.vbo, gm.ibo, gm.ebo) if b is not None)
-        return total
-
-    def _sync(self, d: Drawable) -> _GpuMesh:
-        gm = self._meshes.get(d.key)
-        if gm is None:
-            gm = self._meshes[d.key] = _GpuMesh(d.key)
-        if gm.revision == d.revision and gm.revision is not None:
-            return gm
-        v, f, n, c = _check_mesh(d.key, d.mesh)
-        gm.revision = d.revision
-        gm.n_vertices, gm.n_indices = len(v), f.size
-        gm.n_edge_indices = -1
-        self.stats.uploads += 1
-        self.stats.by_key[d.key] = self.stats.by_key.get(d.key, 0) + 1
-        if f.size == 0:
-            # Nothing to draw; keep any old buffers for when the mesh comes back.
-            gm.vertices = gm.faces = None
-            return gm
-        inter = np.empty((len(v), 10), np.float32)
-        inter[:, 0:3] = v
-        inter[:, 3:6] = n
-        inter[:, 6:10] = c
-        data, idx = inter.tobytes(), f.tobytes()
-        gm.vbo, new_v = _write(self.ctx, gm.vbo, data)
-        gm.ibo, new_i = _write(self.ctx, gm.ibo, idx)
-        self.stats.upload_bytes += len(data) + len(idx)
-        if new_v or new_i:
-            for vao in gm.vaos.values():
-                vao.release()
-            gm.vaos.clear()
-        lo, hi = v.min(axis=0), v.max(axis=0)
-        gm.center = 0.5 * (lo.astype(np.float64) + hi)
-        gm.radius = float(np.sqrt(((v - gm.center) ** 2).sum(axis=1).max()))
-        # Edges are derived lazily (only wire drawables need them); keep the
-        # arrays until then.
-        gm.vertices, gm.faces = v, f
-        return gm
-
-    def _edges(self, gm: _GpuMesh) -> int:
-        if gm.n_edge_indices < 0:
-            e = feature_edges(gm.vertices, gm.faces) if gm.faces is not None else np.zeros((0, 2), np.uint32)
-            self.stats.edge_builds += 1
-            gm.n_edge_indices = e.size
-            gm.vertices = gm.faces = None  # only needed to derive the edges
-            if e.size:
-                gm.ebo, created = _write(self.ctx, gm.ebo, e.tobytes())
-                if created:
-                    for k in [k for k in gm.vaos if k[1] == "wire"]:
-                        gm.vaos.pop(k).release()
-        return gm.n_edge_indices
-
-    def _vao(self, gm: _GpuMesh, style: str) -> moderngl.VertexArray:
-        vao = gm.vaos.get((self.look, style))
-        if vao is None:
-            prog = self._programs[style]
-            # Attributes a program doesn't use are optimised away by the GLSL
-            # compiler; skip their bytes instead of binding them.
-            fmt, names = [], []
-            for name, f, size in _ATTRS:
-                if name in prog:
-                    fmt.append(f)
-                    names.append(name)
-                else:
-                    fmt.append(f"{size}x")
-            ibo = gm.ebo if style == "wire" else gm.ibo
-            vao = self.ctx.vertex_array(prog, [(gm.vbo, " ".join(fmt), *names)], index_buffer=ibo, index_element_size=4)
-            gm.vaos[(self.look, style)] = vao
-        return vao
+        return self.batches.bytes + self.meshes.bytes
 
     def release(self) -> None:
         """Free every GPU object this renderer made."""
-        for gm in self._meshes.values():
-            gm.release()
-        self._meshes.clear()
+        self.meshes.release()
         for progs in self._all_programs.values():
             for p in progs.values():
                 p.release()
@@ -380,9 +235,7 @@ class Renderer:
         new game): its keys and revisions start again (``static``, revision 0),
         so a cached mesh of the old world would stand in for the new one.
         """
-        for gm in self._meshes.values():
-            gm.release()
-        self._meshes.clear()
+        self.meshes.release()
         self._views.clear()
         self.batches.sync([])
         self._batch_views.clear()
@@ -415,8 +268,7 @@ class Renderer:
             No framebuffer is bound, a drawable has an unknown style, a
             duplicate key, or a malformed mesh.
         """
-        ctx = self.ctx
-        fbo = ctx.fbo
+        fbo = self.ctx.fbo
         if fbo is None:
             raise RenderError("no framebuffer bound: call Offscreen.use() (or ctx.screen.use()) before Renderer.draw")
         if viewport is None:
@@ -427,15 +279,14 @@ class Renderer:
             return
         self._programs = self._look_programs(self.look)
         scifi = self.look == "scifi"
-        dome = scifi and frame.sky == "dome"
         st = self.stats
         st.frames += 1
         st.draw_calls = st.depth_calls = st.triangles = st.lines = st.upload_bytes = st.culled = 0
 
-        ctx.viewport = viewport
+        self.ctx.viewport = viewport
         fbo.depth_mask = True  # glClear honours the depth mask
         sky = tuple(float(x) for x in frame.sky_color)
-        ctx.clear(sky[0], sky[1], sky[2], 1.0, depth=1.0, viewport=viewport)
+        self.ctx.clear(sky[0], sky[1], sky[2], 1.0, depth=1.0, viewport=viewport)
 
         cam = frame.camera
         view_mat = cam.view_matrix()
@@ -443,9 +294,32 @@ class Renderer:
         eye = np.asarray(cam.position, np.float64)
         light = np.asarray(frame.light_dir, np.float64)
         light = light / max(np.linalg.norm(light), 1e-12)
-        planes = _frustum_planes(view_proj)
 
-        # Upload what changed, and bucket drawables by pass.
+        seen, opaque, wires, ghosts = self._bucket(frame, _frustum_planes(view_proj), eye)
+        self._keep_views_meshes(view, seen)
+        self._sync_batches(frame, view)
+
+        # Outer faces are counter-clockwise seen from outside; on screen they stay so unless
+        # the view (the camera's is a mirror: x right, z forward) and a model mirror space.
+        self._view_mirrored = bool(np.linalg.det(view_mat[:3, :3]) < 0.0)
+        vp_bytes = _mat4_bytes(view_proj)
+        dome = scifi and frame.sky == "dome"
+        self._set_frame_uniforms(frame, vp_bytes, eye, light, sky, dome)
+
+        self._draw_opaque(frame, opaque, wires, vp_bytes)
+        if dome:
+            # After the opaque scene: the sky shades only the pixels nothing covered.
+            if self._sky is None:
+                self._sky = SkyRenderer(self.ctx)
+            st.draw_calls += self._sky.draw(view_proj, eye, light, self.palette, self._set)
+        self._draw_ghosts(frame, ghosts, vp_bytes)
+        if hud:
+            self.draw_overlay(frame, viewport)
+
+    def _bucket(self, frame: Frame, planes: np.ndarray, eye: np.ndarray) -> tuple[set, list, list, list]:
+        """Upload what changed, cull what is outside the view's ``planes (6, 4)``, and bucket the
+        rest by pass: the keys seen, then ``(distance², drawable, GpuMesh, model)`` lists of the
+        opaque, wire and ghost drawables."""
         seen: set[str] = set()
         opaque, wires, ghosts = [], [], []
         for d in frame.drawables:
@@ -456,7 +330,7 @@ class Renderer:
             if d.key in seen:
                 raise RenderError(f"two drawables share the key {d.key!r}; keys must be unique within a frame")
             seen.add(d.key)
-            gm = self._sync(d)
+            gm = self.meshes.sync(d)
             if gm.n_indices == 0:
                 continue
             model = np.asarray(d.model, np.float64)
@@ -466,29 +340,28 @@ class Renderer:
             # up, even off-screen ones. The radius scales by the largest axis stretch.
             radius = gm.radius * float(np.linalg.norm(lin, axis=0).max())
             if (planes[:, :3] @ center + planes[:, 3] < -radius).any():
-                st.culled += 1
+                self.stats.culled += 1
                 continue
             dist2 = float(np.sum((center - eye) ** 2))
             if d.w_offset is not None:
                 # The w cue: which side of the slice and how far, and the drawable's size for band spacing.
                 d = _Cued(d, "hyper" if d.style == "solid" else d.style, materials.band_scale(radius))
-            if d.style == "ghost":
-                ghosts.append((dist2, d, gm, model))
-            elif d.style == "wire":
-                wires.append((dist2, d, gm, model))
-            else:
-                opaque.append((dist2, d, gm, model))
+            bucket = ghosts if d.style == "ghost" else wires if d.style == "wire" else opaque
+            bucket.append((dist2, d, gm, model))
+        return seen, opaque, wires, ghosts
 
-        # Release meshes whose key left every view.
+    def _keep_views_meshes(self, view: str, seen: set[str]) -> None:
+        """Note the keys ``view`` drew; release the meshes whose key left every view."""
+        st = self.stats
         self._views[view] = (st.frames, seen)
         for name in [v for v, (n, _) in self._views.items() if st.frames - n > self.VIEW_TTL]:
             del self._views[name]
-        used = set().union(*(keys for _, keys in self._views.values()))
-        for key in [k for k in self._meshes if k not in used]:
-            self._meshes.pop(key).release()
-            st.releases += 1
-        st.cached = len(self._meshes)
+        self.meshes.keep_only(set().union(*(keys for _, keys in self._views.values())))
+        st.cached = len(self.meshes.meshes)
 
+    def _sync_batches(self, frame: Frame, view: str) -> None:
+        """Check the frame's batches and upload them, keeping those other views still draw."""
+        st = self.stats
         for tb in frame.batches:
             if tb.style not in STYLES or tb.style == "wire":
                 raise RenderError(
@@ -504,12 +377,11 @@ class Renderer:
         st.batch_sync_cpu_ms = 1e3 * (time.thread_time() - t0)
         st.upload_bytes += self.batches.upload_bytes
 
-        # Outer faces are counter-clockwise seen from outside; on screen they stay so unless
-        # the view (the camera's is a mirror: x right, z forward) and a model mirror space.
-        self._view_mirrored = bool(np.linalg.det(view_mat[:3, :3]) < 0.0)
-        vp_bytes = _mat4_bytes(view_proj)
-        # What rarely changes (palette, fog, sky) is set only when it did: a hundred uniform
-        # writes a frame are a tenth of a millisecond of the main thread's time.
+    def _set_frame_uniforms(self, frame: Frame, vp_bytes: bytes, eye, light, sky: tuple, dome: bool) -> None:
+        """Set every program's per-frame uniforms, and the rarely changing ones (palette, fog,
+        sky) only when they did: a hundred uniform writes a frame are a tenth of a millisecond
+        of the main thread's time."""
+        scifi = self.look == "scifi"
         constants = (sky, dome, self.fog_density, self.ghost_alpha, tuple(self.palette.items()))
         for prog in self._programs.values():
             self._set(prog, "u_view_proj", vp_bytes)
@@ -532,6 +404,10 @@ class Renderer:
                     for name in ("sky_zenith", "sky_horizon", "sky_ground"):
                         self._set(prog, f"u_{name}", sky)
 
+    def _draw_opaque(self, frame: Frame, opaque: list, wires: list, vp_bytes: bytes) -> None:
+        """The opaque drawables (front to back), the frame's solid batches and the wires."""
+        ctx = self.ctx
+        scifi = self.look == "scifi"
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
         ctx.depth_func = "<"
@@ -554,40 +430,35 @@ class Renderer:
         if prepass:
             ctx.depth_func = "<"
         for _, _d, gm, model in wires:
-            n = self._edges(gm)
+            n = self.meshes.edges(gm)
             if n:
                 self._draw_mesh("wire", gm, model, moderngl.LINES, n)
-        if dome:
-            # After the opaque scene: the sky shades only the pixels nothing covered.
-            if self._sky is None:
-                self._sky = SkyRenderer(ctx)
-            st.draw_calls += self._sky.draw(view_proj, eye, light, self.palette, self._set)
 
+    def _draw_ghosts(self, frame: Frame, ghosts: list, vp_bytes: bytes) -> None:
+        """The ghost drawables and batches, back to front per drawable; depth test on (solids
+        hide ghosts) but no depth writes (ghosts don't hide each other or what follows)."""
         ghost_batches = [tb for tb in frame.batches if tb.style == "ghost"]
-        if ghosts or ghost_batches:
-            # Back to front per drawable; depth test on (solids hide ghosts) but
-            # no depth writes (ghosts don't hide each other or what follows).
-            ghosts.sort(key=lambda g: -g[0])
-            ctx.enable(moderngl.BLEND)
-            # Keep destination alpha at 1 so screenshots stay opaque.
-            ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
-            fbo.depth_mask = False
-            prog = self._programs["ghost"]
-            for _, d, gm, model in ghosts:
-                self._set(prog, "u_tint", tuple(float(x) for x in (d.tint or _NO_TINT)))
-                self._set(prog, "u_pattern", GHOST_PATTERNS[d.pattern])
-                self._set(prog, "u_opacity", max(0.0, float(d.opacity)))
-                self._draw_mesh("ghost", gm, model, moderngl.TRIANGLES, gm.n_indices, d)
-            for tb in ghost_batches:
-                self._set(prog, "u_tint", tuple(float(x) for x in (tb.tint or _NO_TINT)))
-                self._set(prog, "u_pattern", GHOST_PATTERNS[tb.pattern])
-                self._set(prog, "u_opacity", max(0.0, float(tb.opacity)))
-                self._draw_batch(tb, vp_bytes, scifi)
-            fbo.depth_mask = True
-            ctx.disable(moderngl.BLEND)
-
-        if hud:
-            self.draw_overlay(frame, viewport)
+        if not (ghosts or ghost_batches):
+            return
+        ctx, fbo = self.ctx, self.ctx.fbo
+        ghosts.sort(key=lambda g: -g[0])
+        ctx.enable(moderngl.BLEND)
+        # Keep destination alpha at 1 so screenshots stay opaque.
+        ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
+        fbo.depth_mask = False
+        prog = self._programs["ghost"]
+        for _, d, gm, model in ghosts:
+            self._set(prog, "u_tint", tuple(float(x) for x in (w_cues.ghost_tint(d.tint, d.pattern) or _NO_TINT)))
+            self._set(prog, "u_pattern", GHOST_PATTERNS[d.pattern])
+            self._set(prog, "u_opacity", max(0.0, float(d.opacity)))
+            self._draw_mesh("ghost", gm, model, moderngl.TRIANGLES, gm.n_indices, d)
+        for tb in ghost_batches:
+            self._set(prog, "u_tint", tuple(float(x) for x in (w_cues.ghost_tint(tb.tint, tb.pattern) or _NO_TINT)))
+            self._set(prog, "u_pattern", GHOST_PATTERNS[tb.pattern])
+            self._set(prog, "u_opacity", max(0.0, float(tb.opacity)))
+            self._draw_batch(tb, vp_bytes, self.look == "scifi")
+        fbo.depth_mask = True
+        ctx.disable(moderngl.BLEND)
 
     def draw_overlay(self, frame: Frame, viewport: tuple[int, int, int, int], radar: bool = True) -> None:
         """Draw ``frame``'s radar (when not None and ``radar``) and HUD over the bound framebuffer.
@@ -673,7 +544,7 @@ class Renderer:
         self.stats.triangles += tris
         self.stats.lines += lines
 
-    def _draw_mesh(self, style: str, gm: _GpuMesh, model: np.ndarray, mode: int, count: int, d=None) -> None:
+    def _draw_mesh(self, style: str, gm: GpuMesh, model: np.ndarray, mode: int, count: int, d=None) -> None:
         prog = self._programs[style]
         self._set(prog, "u_model", _mat4_bytes(model))
         if isinstance(d, _Cued):
@@ -689,7 +560,7 @@ class Renderer:
         culled = d is not None and d.outside_only and mode == moderngl.TRIANGLES
         if culled:
             self._cull_inner(True, model)
-        self._vao(gm, style).render(mode, vertices=count)
+        self.meshes.vao(gm, prog, self.look, style).render(mode, vertices=count)
         if culled:
             self._cull_inner(False)
         if isinstance(d, _Cued):

@@ -3,6 +3,10 @@
 Shared by everything that draws words with the bitmap font (:mod:`.hud`, :mod:`.cards`,
 :mod:`.menu`), so a panel's text is broken the same way wherever it is drawn. Widths are
 pixels at a font ``scale`` (see :func:`~.font.text_width`).
+
+The player's text size (settings ``text_size``, 1 to 1.5) is applied here too: each of those
+picks its scale from the viewport and passes it through :func:`scaled`, so hints, menus, cards
+and the HUD grow together (the font is drawn at whole scales: 125 % of 2 is 3, of 4 is 5).
 """
 
 from __future__ import annotations
@@ -54,3 +58,17 @@ def ellipsized(text: str, max_width: int, scale: int, mark: str = "\u2026") -> s
     while text and text_width(text + mark, scale) > max_width:
         text = text[:-1]
     return text.rstrip() + mark
+
+
+_text_size = [1.0]
+
+
+def set_text_size(factor: float) -> None:
+    """Draw text ``factor`` times its own size from now on (the settings' ``text_size``)."""
+    _text_size[0] = float(factor)
+
+
+def scaled(scale: int) -> int:
+    """A text scale chosen for the viewport, times the player's text size, rounded half up to a
+    whole scale and never below ``scale``."""
+    return max(int(scale), int(scale * _text_size[0] + 0.5))

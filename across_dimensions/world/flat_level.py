@@ -3,7 +3,7 @@
 The prologue teaches the w step one dimension down: the player is a flat being in a side view
 ``(x, y)``, and the w keys move its plane along a z it cannot see. Its level file is TOML like
 every level (``levels/README.md``, *The Flatland prologue*), recognised by ``format = "flatland"``
-in ``[level]``, and read by the 4D loader's own reader (:class:`~.level._Reader`), so its
+in ``[level]``, and read by the 4D loader's own reader (:class:`~.level_reader.TableReader`), so its
 messages name the file, the table, the entry's index and the field the same way, and every
 problem is reported at once (:class:`~.level.LevelError`).
 
@@ -24,8 +24,9 @@ import numpy as np
 
 from ..core.flat_section import Solid3, signed_area
 from ..core.flat_solids import box_solid, prism_solid, staircase_profile
+from .design import DESIGN_TABLE, read_design
 from .fields import Field
-from .level import LevelError, _hint_problem, _parse, _Reader
+from .level_reader import LevelError, TableReader, hint_problem, parse_level
 from .limits import MAX_NAME_CHARS, MAX_TEXT_CHARS, Range
 from .resources import FLAT_FORMAT as FORMAT
 
@@ -199,9 +200,10 @@ class FlatLevel:
     items: list[ItemSpec] = field(default_factory=list)
     hints: list[HintSpec] = field(default_factory=list)
     checkpoints: list[tuple[str, np.ndarray]] = field(default_factory=list)
+    needs: tuple[str, ...] = ()  # [design]: the mechanics the prologue is built to demand (world.design)
 
 
-class _FlatReader(_Reader):
+class _FlatReader(TableReader):
     """The level reader, with the two field kinds only this format has."""
 
     def _points(self, data, key, where, f: Field, default):
@@ -255,7 +257,7 @@ def _self_crossing(p: np.ndarray) -> bool:
     return False
 
 
-def _entries(r: _Reader, data: dict, key: str) -> list[tuple[str, dict]]:
+def _entries(r: TableReader, data: dict, key: str) -> list[tuple[str, dict]]:
     """``[[key]]`` tables with their labels (``[[box]] #3``), the unknown fields of each reported."""
     items = r.array_of_tables(data, key, "top level")
     if len(items) > MAX_ENTRIES:
@@ -270,7 +272,7 @@ def _entries(r: _Reader, data: dict, key: str) -> list[tuple[str, dict]]:
     return out
 
 
-def _range_pair(r: _Reader, v, where: str, key: str) -> tuple[float, float] | None:
+def _range_pair(r: TableReader, v, where: str, key: str) -> tuple[float, float] | None:
     if v is None:
         return None
     if v[0] >= v[1]:
@@ -278,7 +280,7 @@ def _range_pair(r: _Reader, v, where: str, key: str) -> tuple[float, float] | No
     return float(v[0]), float(v[1])
 
 
-def _solids(r: _Reader, data: dict) -> list[SolidSpec]:
+def _solids(r: TableReader, data: dict) -> list[SolidSpec]:
     out = []
     for where, t in _entries(r, data, "box"):
         v = r.read(t, BOX, where)
@@ -317,7 +319,7 @@ def _stairs(v: dict) -> Solid3:
     return prism_solid((profile + (z, y))[::-1, ::-1], x - width / 2, x + width / 2, axis="x")
 
 
-def _movers(r: _Reader, data: dict, lvl: dict) -> None:
+def _movers(r: TableReader, data: dict, lvl: dict) -> None:
     for where, t in _entries(r, data, "ball"):
         v = r.read(t, BALL, where)
         roll = _range_pair(r, v["roll"], where, "roll")
@@ -331,7 +333,7 @@ def _movers(r: _Reader, data: dict, lvl: dict) -> None:
         lvl["crates"].append(CrateSpec(name, v["center"], v["size"], v["mass"], v["color"]))
 
 
-def _items(r: _Reader, data: dict, solids: list[SolidSpec]) -> list[ItemSpec]:
+def _items(r: TableReader, data: dict, solids: list[SolidSpec]) -> list[ItemSpec]:
     out, names = [], {s.name for s in solids}
     for where, t in _entries(r, data, "item"):
         v = r.read(t, ITEM, where)
@@ -342,18 +344,18 @@ def _items(r: _Reader, data: dict, solids: list[SolidSpec]) -> list[ItemSpec]:
     return out
 
 
-def _hints(r: _Reader, data: dict) -> list[HintSpec]:
+def _hints(r: TableReader, data: dict) -> list[HintSpec]:
     out = []
     for where, t in _entries(r, data, "hint"):
         v = r.read(t, HINT, where)
-        why = _hint_problem(v["text"])
+        why = hint_problem(v["text"])
         if why:
             r.problem(where, f"field 'text': {why}")
         out.append(HintSpec(v["text"], v["until"]))
     return out
 
 
-def _in_range(r: _Reader, where: str, z: float, z_range, what: str) -> None:
+def _in_range(r: TableReader, where: str, z: float, z_range, what: str) -> None:
     if z_range is not None and not z_range[0] <= z <= z_range[1]:
         r.problem(where, f"{what}: z = {z:g} is outside the level's z_range {list(z_range)}")
 
@@ -368,9 +370,9 @@ def load_flat_level(path, source: bytes | None = None) -> FlatLevel:
         ``[[...]]`` tables) and the field.
     """
     path = Path(path)
-    data, raw = _parse(path, source)
+    data, raw = parse_level(path, source)
     r = _FlatReader(path)
-    r.unknown(data, {**TABLES, **ARRAYS}, "top level")
+    r.unknown(data, {**TABLES, **ARRAYS, "design": DESIGN_TABLE}, "top level")
     t = {name: r.table(data, name, f"[{name}]", required=name in ("level", "spawn", "goal")) for name in TABLES}
     for name, model in TABLES.items():
         r.unknown(t[name], model, f"[{name}]")
@@ -390,6 +392,7 @@ def load_flat_level(path, source: bytes | None = None) -> FlatLevel:
     _movers(r, data, lvl)
     items = _items(r, data, solids)
     hints = _hints(r, data)
+    needs = read_design(r, data)
     checkpoints = []
     for where, ct in _entries(r, data, "checkpoint"):
         v = r.read(ct, CHECKPOINT, where)
@@ -419,4 +422,5 @@ def load_flat_level(path, source: bytes | None = None) -> FlatLevel:
         items=items,
         hints=hints,
         checkpoints=checkpoints,
+        needs=needs,
     )

@@ -18,6 +18,7 @@ dicts of plane = degrees).
 from __future__ import annotations
 
 import copy
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -25,7 +26,7 @@ import tomlkit
 
 from ..core import fileio
 from ..core.errors import InputError
-from . import gameplay
+from . import gameplay, level_style
 from .fields import REQUIRED, Field
 from .level import MODELS, Level, LevelError, load_level
 
@@ -101,22 +102,56 @@ class LevelEditor:
         (the problems are listed, and it can be fixed in the editor).
     """
 
-    def __init__(self, path):
+    def __init__(self, path, text: str | None = None):
         self.path = Path(path)
-        raw = fileio.read_bytes(self.path, limit=_max_bytes(), what="level")
-        try:
-            self.saved_text = raw.decode("utf-8-sig")
-        except UnicodeDecodeError as e:
-            raise LevelEditError(
-                f"{self.path}: not a text file (byte {e.start} is not UTF-8; expected a level)"
-            ) from None
-        self.doc = _parse(self.path, self.saved_text)
+        if text is None:
+            raw = fileio.read_bytes(self.path, limit=_max_bytes(), what="level")
+            try:
+                self.saved_text = raw.decode("utf-8-sig")
+            except UnicodeDecodeError as e:
+                raise LevelEditError(
+                    f"{self.path}: not a text file (byte {e.start} is not UTF-8; expected a level)"
+                ) from None
+        else:  # a new level, not yet on disk: everything in it is unsaved
+            self.saved_text = ""
+        self.doc = _parse(self.path, self.saved_text if text is None else text)
         self.undo_stack: list[Command] = []
         self.redo_stack: list[Command] = []
-        self.selection: Ref | None = None
+        self.selected: list[Ref] = []  # the selection, its primary (last clicked) entry last
         self._checked: tuple[str, Level | None, list[str]] | None = None
+        self._batch: list | None = None
+
+    @classmethod
+    def new(cls, path, text: str) -> LevelEditor:
+        """A new level to be saved at ``path``, starting as ``text`` (a template or a copy of a level)."""
+        return cls(path, text=text)
+
+    # -------------------------------------------------------- selection
+    @property
+    def selection(self) -> Ref | None:
+        """The primary selected entry (the inspector's), or None."""
+        return self.selected[-1] if self.selected else None
+
+    @selection.setter
+    def selection(self, ref: Ref | None) -> None:
+        self.selected = [] if ref is None else [tuple(ref)]
+
+    def select(self, ref: Ref, toggle: bool = False) -> None:
+        """Select ``ref`` alone, or (``toggle``: shift-click) add it to the selection or take it out."""
+        ref = tuple(ref)
+        if not toggle:
+            self.selected = [ref]
+        elif ref in self.selected:
+            self.selected.remove(ref)
+        else:
+            self.selected.append(ref)
 
     # ------------------------------------------------------------- text
+    @property
+    def spaced(self) -> bool:
+        """Inline tables written ``{ xy = 20.0 }`` (the file's own style)."""
+        return level_style.inline_spaced(self.saved_text)
+
     def text(self) -> str:
         """The document as it would be saved."""
         return tomlkit.dumps(self.doc)
@@ -196,6 +231,9 @@ class LevelEditor:
 
     # ----------------------------------------------------------- editing
     def _do(self, label: str, change, key: tuple | None = None, merge: bool = False) -> None:
+        if self._batch is not None:  # inside batch(): one step for all its changes
+            change()
+            return
         before = self.text()
         change()
         after = self.text()
@@ -207,6 +245,28 @@ class LevelEditor:
         else:
             self.undo_stack.append(Command(label, before, after, key))
         self.redo_stack.clear()
+        self._checked = None
+
+    @contextmanager
+    def batch(self, label: str, key: tuple | None = None, merge: bool = False):
+        """Changes made inside the ``with`` block are one undo step (a group move, a paste)."""
+        if self._batch is not None:
+            yield
+            return
+        self._batch = []
+        before = self.text()
+        try:
+            yield
+        finally:
+            self._batch = None
+            after = self.text()
+            self.restore_text(before)
+            self._do(label, lambda: self.restore_text(after), key=key, merge=merge)
+
+    def restore_text(self, text: str) -> None:
+        """Put the document back to ``text`` with no undo step: a drag redoes its whole change from
+        where it began (so snapping works on the total), and the step is recorded by that change."""
+        self.doc = tomlkit.parse(text)
         self._checked = None
 
     def set(self, ref: Ref, key: str, value, merge: bool = False) -> None:
@@ -221,14 +281,16 @@ class LevelEditor:
             if value is None:
                 if key in table:
                     del table[key]
-            elif key in table and isinstance(_plain(table[key]), dict) and isinstance(value, dict):
+            elif key in table and _same_keys(table[key], value):
                 inner = table[key]  # an inline table { xy = 20.0 }: keep its style and order
                 for k in [k for k in inner if k not in value]:
                     del inner[k]
                 for k, v in value.items():
                     inner[k] = v
+            elif key in table:
+                table[key] = level_style.styled_item(value, self.spaced)  # tomlkit keeps its comment
             else:
-                table[key] = _toml_value(value)
+                level_style.set_new_key(table, key, level_style.styled_item(value, self.spaced))
 
         self._do(f"set {self.where(ref)} {key}", change, key=(ref, key), merge=merge)
 
@@ -238,40 +300,27 @@ class LevelEditor:
             self.undo_stack[-1].key = None
 
     def add(self, kind: str, values: dict | None = None, parent: Ref | None = None) -> Ref:
-        """Append a new ``[[kind]]`` (inside the world ``parent`` for ``box`` or ``mesh``) and select it.
+        """Add a new ``[[kind]]`` (inside the world ``parent`` for ``box`` or ``mesh``) after the last
+        one, in the file's style (:func:`.level_style.insert_entry`), and select it.
 
         Required fields get :data:`TEMPLATES` values or placeholders; ``values`` override them.
         """
-        model = MODELS[kind]
-        new = tomlkit.table()
         fields = dict(TEMPLATES.get(kind, {}))
-        for k, f in model.items():
+        for k, f in MODELS[kind].items():
             if f.default is REQUIRED and k not in fields:
                 fields[k] = _required_value(f)
         fields.update(values or {})
-        for k, v in fields.items():
-            if v is not None:
-                new[k] = _toml_value(v)
         if kind == "world" and "box" not in fields:
-            box = tomlkit.table()
-            for k, v in TEMPLATES["box"].items():
-                box[k] = v
-            new["box"] = tomlkit.aot()
-            new["box"].append(box)
+            fields["box"] = [dict(TEMPLATES["box"])]
         holder = self.doc if parent is None else self.table(parent)
-        prefix = () if parent is None else tuple(parent)
         index = len(holder[kind]) if kind in holder else 0
+        world = None if parent is None else parent[1]
 
         def change():
-            if kind in holder:
-                holder[kind].append(new)
-            else:
-                arr = tomlkit.aot()
-                arr.append(new)
-                holder.append(kind, arr)
+            self.doc = tomlkit.parse(level_style.insert_entry(self.text(), kind, fields, world))
 
         self._do(f"add {kind}", change)
-        self.selection = prefix + (kind, index)
+        self.selection = (() if parent is None else tuple(parent)) + (kind, index)
         return self.selection
 
     def delete(self, ref: Ref) -> None:
@@ -292,39 +341,15 @@ class LevelEditor:
         self.selection = None
 
     def duplicate(self, ref: Ref) -> Ref:
-        """Append a copy of the entry at ``ref`` to its array and select it."""
+        """Add a copy of the entry at ``ref`` (a world with its parts) after its kind's last and select it."""
         values = copy.deepcopy(_plain(self.table(ref)))
         if isinstance(values.get("name"), str):
             values["name"] += " copy"
-        kind = ref[-2]
-        if kind == "world":
-            children = {c: values.pop(c) for c in WORLD_CHILDREN if c in values}
-            new = self.add(kind, values)
-            self._replace_children(new, children)
-            return new
-        return self.add(kind, values, parent=ref[:-2] or None)
-
-    def _replace_children(self, ref: Ref, children: dict) -> None:
-        top = self.undo_stack[-1]
-        world = self.table(ref)
-        for c in WORLD_CHILDREN:
-            if c in world:
-                del world[c]
-        for c, items in children.items():
-            arr = tomlkit.aot()
-            for item in items:
-                t = tomlkit.table()
-                for k, v in item.items():
-                    t[k] = _toml_value(v)
-                arr.append(t)
-            world[c] = arr
-        top.after = self.text()
+        return self.add(ref[-2], values, parent=ref[:-2] or None)
 
     def _restore(self, text: str) -> None:
-        self.doc = tomlkit.parse(text)
-        self._checked = None
-        if self.selection is not None and not self.exists(self.selection):
-            self.selection = None
+        self.restore_text(text)
+        self.selected = [r for r in self.selected if self.exists(r)]
 
     def undo(self) -> str | None:
         """Undo the last change; returns its label, or None when there is nothing to undo."""
@@ -395,6 +420,17 @@ class LevelEditor:
             self.saved_text = text
         return target
 
+    def save_as(self, path) -> Path:
+        """Save to ``path`` (checked as :meth:`save`) and go on editing that file."""
+        old = self.path
+        self.path = Path(path)
+        self._checked = None  # the loader's messages name the file
+        try:
+            return self.save()
+        except Exception:
+            self.path, self._checked = old, None
+            raise
+
 
 def _parse(path: Path, text: str) -> tomlkit.TOMLDocument:
     """``text`` as a tomlkit document, or one line naming ``path`` and where the TOML breaks.
@@ -413,16 +449,9 @@ def _parse(path: Path, text: str) -> tomlkit.TOMLDocument:
         raise LevelEditError(f"{path}: not valid TOML: arrays or tables nested too deeply") from None
 
 
-def _toml_value(value):
-    """Plain Python to a tomlkit item; lists of numbers stay on one line, tables stay inline."""
-    if isinstance(value, dict):
-        t = tomlkit.inline_table()
-        for k, v in value.items():
-            t[k] = v
-        return t
-    if isinstance(value, tuple):
-        value = list(value)
-    return tomlkit.item(value)
+def _same_keys(item, value) -> bool:
+    """Is ``value`` a dict with no key the inline table ``item`` lacks (so it is edited in place)?"""
+    return isinstance(_plain(item), dict) and isinstance(value, dict) and set(value) <= set(item)
 
 
 def _max_bytes() -> int:

@@ -108,6 +108,7 @@ INVERSE_CUBE_G = Range(0.0, 10.0)
 ROLLING_RESISTANCE = Range(0.0, 1.0)
 COLOR = Range(0.0, 1.0)
 ENERGY = Range(0.0, 1e6)  # energy amounts: bar maximum, start, crystal energy, cost per unit of w
+MILLI = 1000  # energy is counted in thousandths, exactly (see game.energy)
 RADAR_RANGE = Range(1.0, 1e3, "m")
 RADAR_W_SCALE = Range(0.01, 100.0)  # disc radii per unit of w
 CRYSTAL_SIZE = Range(0.05, 5.0, "m")

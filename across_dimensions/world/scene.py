@@ -330,15 +330,17 @@ def build_physics(scene: Scene, tick_dt: float):
     if not movers and not guns:
         return None, {}
     from ..core.transform import PLANES
-    from ..physics import BodyDef, PhysicsWorld
+    from ..physics import BodyDef, PhysicsWorld, WorldDef
 
     level = scene.level
     world = PhysicsWorld(
-        gravity=level.gravity,
-        inverse_cube_G=level.inverse_cube_g,
-        ground=False,
-        tick_dt=tick_dt,
-        rolling_resistance=level.rolling_resistance,
+        WorldDef(
+            gravity=level.gravity,
+            inverse_cube_G=level.inverse_cube_g,
+            ground=False,
+            tick_dt=tick_dt,
+            rolling_resistance=level.rolling_resistance,
+        )
     )
     # Walls at both ends of the level's w range: the player cannot leave it, so
     # a body that rolled out along w would never be seen again (and, rolling

@@ -14,9 +14,10 @@ from __future__ import annotations
 
 import importlib.util
 
-#: What ``pip install 'across-dimensions[editor]'`` brings, by import name.
+#: What the optional extra ``editor`` brings, by import name.
 EXTRA_MODULES = {"imgui_bundle": "imgui-bundle", "tomlkit": "tomlkit", "OpenGL": "PyOpenGL"}
-INSTALL_HINT = "pip install 'across-dimensions[editor]'"
+#: The install line for the game's source folder, as the README gives it.
+INSTALL_HINT = 'pip install -e ".[editor]" (in the source folder)'
 
 
 def missing() -> list[str]:

@@ -30,10 +30,14 @@ from imgui_bundle.python_backends import pyglet_backend
 
 from ...core.errors import InputError
 from ...game.sim import Game
+from ...world import level_group as group
 from ...world.level_edit import LevelEditor
 from ...world.scene import SectionCache
 from ..views.base import View
 from . import view
+from .checks import Checks
+from .files import Files
+from .handles import OPERATIONS, Handles
 from .panels import PANEL_LEFT, PANEL_W, Panels
 
 FLY_SPEED = 6.0  # metres per second
@@ -61,6 +65,10 @@ class EditorView(View):
         self.impl = pyglet_backend.create_renderer(window, attach_callbacks=False)
         self.impl._window = window  # noqa: SLF001 - what attaching would have set; resizing and cursors need it
         self.panels = Panels(self)
+        self.handles = Handles(self)
+        self.files = Files(self)
+        self.checks = Checks(self)
+        self.box_select = None  # (start x, y, shift) of a box being drawn with the mouse, top-left origin
         self.sections = SectionCache()  # the preview strip's slices
         self.frustum = False
         self.animate = False
@@ -71,17 +79,20 @@ class EditorView(View):
         self.held: set = set()
         self.looking = False
         self.dragging = None
-        self.close_warned = False
         self._built_at = 0.0
         self.open(path)
 
     # ------------------------------------------------------------ level
-    def open(self, path) -> None:
-        self.model = LevelEditor(path)
-        level, problems = self.model.check()
+    def open(self, path, text: str | None = None) -> None:
+        """Edit the level file at ``path``, or (with ``text``) a new level to be saved there."""
+        model = LevelEditor(path) if text is None else LevelEditor.new(path, text)
+        level, problems = model.check()
         if level is None:
             raise InputError("\n".join(problems))
+        self.model = model
         self.preview = Game(level)
+        self.drop_gpu_meshes()
+        self.sections = SectionCache()
         self._preview_text = self.model.text()
         self._game_text = self._preview_text
         self.cam = view.EditorCamera.at_spawn(level)
@@ -159,17 +170,31 @@ class EditorView(View):
             self.leave()
 
     def _start(self, game, notice: str) -> None:
-        self.play.play_game(game, notice)
+        self.play.play_game(game, notice, self.model.path)
+        self.leave()
+
+    def play_and_record(self) -> None:
+        """Save the level and play it from its spawn, recording a replay (the record key stops it)."""
+        if not self.save():
+            return
+        self._game_text = self.model.text()
+        self.play.play_game(view.game_at(self.preview.level), "", self.model.path)
+        self.play.start_recording()
+        self.play.from_editor = True  # the level's end comes back here, with the replay saved
+        self.session.say(f"Recording a replay of {self.model.path.name} - {self.key_name('record')} stops it", 6.0)
         self.leave()
 
     # ------------------------------------------------------------ commands
-    def save(self) -> None:
+    def save(self) -> bool:
+        """Save the level where it is; True when it was (a level with problems is not)."""
         try:
             path = self.model.save()
-        except InputError as e:
+        except (InputError, OSError) as e:
             self.message = f"not saved: {len(getattr(e, 'problems', [1]))} problem(s)"
-            return
+            return False
+        self.files.remember(path)
         self.message = f"saved {path.name}"
+        return True
 
     def revert(self) -> None:
         self.open(self.model.path)
@@ -202,15 +227,35 @@ class EditorView(View):
             return
         self.model.add(kind, values, parent=parent)
 
+    def entries_selected(self) -> list:
+        """The selected entries that can be deleted, copied and duplicated (not ``[spawn]`` and the like)."""
+        return [r for r in self.model.selected if len(r) >= 2 and self.model.exists(r)]
+
     def delete(self) -> None:
-        sel = self.model.selection
-        if sel is not None and len(sel) >= 2:
-            self.model.delete(sel)
+        if self.entries_selected():
+            group.delete(self.model, self.entries_selected())
 
     def duplicate(self) -> None:
+        if self.entries_selected():
+            group.duplicate(self.model, self.entries_selected())
+
+    def copy(self) -> None:
+        """The selected entries to the system clipboard, as TOML (another level can paste them)."""
+        refs = self.entries_selected()
+        if refs:
+            self.window.set_clipboard_text(group.copy_text(self.model, refs))
+            self.message = f"copied {len(refs)} entr{'y' if len(refs) == 1 else 'ies'}"
+
+    def paste(self) -> None:
+        """The clipboard's entries, added to this level (boxes and meshes into the selected world)."""
         sel = self.model.selection
-        if sel is not None and len(sel) >= 2:
-            self.model.duplicate(sel)
+        world = sel[:2] if sel is not None and sel[0] == "world" else None
+        try:
+            new = group.paste(self.model, self.window.get_clipboard_text() or "", world=world)
+        except ValueError as e:
+            new, self.message = [], str(e)
+        if new:
+            self.message = f"pasted {len(new)} entr{'y' if len(new) == 1 else 'ies'}"
 
     def focus(self) -> None:
         """Put the camera in front of the selection, looking at it, at its w."""
@@ -239,20 +284,6 @@ class EditorView(View):
                 return np.array([*spec.boxes[0].center, spec.w]), float(np.linalg.norm(spec.boxes[0].size) / 2)
         return None, 0.0
 
-    def move_target(self):
-        """``(ref, key, value, centre (3,))`` of the selection when it can be moved (a position or a
-        centre), else None."""
-        sel = self.model.selection
-        if sel is None or not self.model.exists(sel):
-            return None
-        table = self.model.table(sel)
-        key = "center" if "center" in table else "position" if "position" in table else None
-        value = self.model.get(sel, key) if key else None
-        if not isinstance(value, list):
-            return None
-        c, _ = self._selection_center()
-        return None if c is None else (sel, key, value, np.asarray(c[:3], float))
-
     # ------------------------------------------------------------ events
     def _ndc(self, x, y):
         ww, wh = self.window.get_size()
@@ -263,18 +294,12 @@ class EditorView(View):
         key = pyglet.window.key
         ctrl = modifiers & (key.MOD_CTRL | key.MOD_COMMAND)
         io = imgui.get_io()
-        if io.want_text_input and not ctrl:
-            return
+        if io.want_text_input and not (ctrl and symbol == key.S):
+            return  # typing in a field: its keys (Ctrl+C, Ctrl+V, letters) are the field's
         action = self.session.bindings.action_of("key", symbol)
         self.held.add(symbol)
-        if ctrl and symbol == key.Z:
-            self.redo() if modifiers & key.MOD_SHIFT else self.undo()
-        elif ctrl and symbol == key.Y:
-            self.redo()
-        elif ctrl and symbol == key.S:
-            self.save()
-        elif ctrl and symbol == key.D:
-            self.duplicate()
+        if ctrl and self._ctrl_key(symbol, modifiers & key.MOD_SHIFT):
+            pass
         elif action == "editor":
             self.back_to_game()
         elif action == "editor_play_here":
@@ -283,10 +308,33 @@ class EditorView(View):
             pass
         elif symbol == key.DELETE:
             self.delete()
-        elif symbol == key.F and not io.want_capture_keyboard:
+        elif symbol == key.F:
             self.focus()
-        elif symbol == key.P and not io.want_capture_keyboard:
+        elif symbol == key.P:
             self.frustum = not self.frustum
+        elif symbol == key.G:
+            self.handles.snapping = not self.handles.snapping
+            self.message = f"snapping {'on' if self.handles.snapping else 'off'}"
+        elif symbol in (key._1, key._2, key._3):
+            self.handles.operation = OPERATIONS[symbol - key._1]
+
+    def _ctrl_key(self, symbol, shift) -> bool:
+        """The Ctrl shortcuts (Undo, Save, Copy...); True when ``symbol`` was one."""
+        key = pyglet.window.key
+        do = {
+            key.Z: self.redo if shift else self.undo,
+            key.Y: self.redo,
+            key.S: self.files.save_as if shift else self.save,
+            key.D: self.duplicate,
+            key.C: self.copy,
+            key.V: self.paste,
+            key.N: self.files.ask_new,
+            key.O: self.files.ask_open,
+        }.get(symbol)
+        if do is None:
+            return False
+        do()
+        return True
 
     def on_key_release(self, symbol, modifiers):
         self.impl.on_key_release(symbol, modifiers)
@@ -300,29 +348,69 @@ class EditorView(View):
 
     def on_mouse_press(self, x, y, button, modifiers):
         self.impl.on_mouse_press(x, y, button, modifiers)
+        top = self.window.get_size()[1] - y  # ImGui counts from the top
+        if self.panels.covers(x, top) or (button == pyglet.window.mouse.LEFT and self.handles.grab(x, top)):
+            return  # a panel has it (also a quick click the panels had no frame to see), or a w handle
         if imgui.get_io().want_capture_mouse or imguizmo.im_guizmo.is_over():
-            return  # a panel or the move gizmo has it
+            return  # ImGuizmo's handles
         if button == pyglet.window.mouse.RIGHT:
             self.looking = True
         elif button == pyglet.window.mouse.LEFT:
+            shift = bool(modifiers & pyglet.window.key.MOD_SHIFT)
             nx, ny, aspect = self._ndc(x, y)
             hit = view.pick(self.preview, self.cam, nx, ny, aspect, self.model.entries())
-            if hit is not None and hit == self.model.selection:
-                self._start_drag(hit, nx, ny, aspect)
-            self.model.selection = hit
+            if hit is None:
+                self.box_select = (x, top, shift)
+                if not shift:
+                    self.model.selection = None
+            elif shift:
+                self.model.select(hit, toggle=True)
+            else:
+                if hit in self.model.selected:
+                    self._start_drag(hit, nx, ny, aspect)
+                else:
+                    self.model.select(hit)
 
     def on_mouse_release(self, x, y, button, modifiers):
         self.impl.on_mouse_release(x, y, button, modifiers)
         if button == pyglet.window.mouse.RIGHT:
             self.looking = False
-        if button == pyglet.window.mouse.LEFT and self.dragging is not None:
+        if button == pyglet.window.mouse.LEFT and self.box_select is not None:
+            x0, y0, shift = self.box_select
+            self.box_select = None
+            top = self.window.get_size()[1] - y
+            if abs(x - x0) > 3 and abs(top - y0) > 3:
+                self._select_in_box(x0, y0, x, top, shift)
+        if button == pyglet.window.mouse.LEFT and (self.dragging is not None or self.handles.release()):
             self.dragging = None
             self.model.seal()
+
+    def _select_in_box(self, x0, y0, x1, y1, add: bool) -> None:
+        """Select every entry whose place is inside the box drawn (pixels, top-left origin)."""
+        ww, wh = self.window.get_size()
+        cam = self.cam.camera3()
+        m = cam.projection_matrix(ww / max(wh, 1)) @ cam.view_matrix()
+        lo, hi = np.minimum([x0, y0], [x1, y1]), np.maximum([x0, y0], [x1, y1])
+        found = [] if not add else list(self.model.selected)
+        for ref in self.model.entries():
+            p = group.place_of(self.model, ref)
+            if p is None or ref in found:
+                continue
+            c = m @ np.array([*p[:3], 1.0])
+            if c[3] <= 0:
+                continue
+            s = np.array([(c[0] / c[3] + 1) * ww / 2, (1 - c[1] / c[3]) * wh / 2])
+            if np.all(s >= lo) and np.all(s <= hi):
+                found.append(ref)
+        self.model.selected = found
+        self.message = f"{len(found)} selected"
 
     def on_mouse_drag(self, x, y, dx, dy, buttons, modifiers):
         self.impl.on_mouse_drag(x, y, dx, dy, buttons, modifiers)
         if self.looking:
             self.cam.look(dx * LOOK_RATE, dy * LOOK_RATE)
+        elif self.handles.busy:
+            self.handles.drag(x, self.window.get_size()[1] - y)
         elif self.dragging is not None:
             self._drag(*self._ndc(x, y))
 
@@ -335,41 +423,39 @@ class EditorView(View):
         self.impl.on_resize(width, height)  # and the window's own handler runs too
 
     def on_close(self) -> bool:
-        if self.model.dirty and not self.close_warned:
-            self.close_warned = True
-            self.message = "unsaved changes: Ctrl+S saves them; close again to discard them"
-            return True
-        return False
+        """Closing the window with unsaved changes asks first (Save, Discard or Cancel)."""
+        keep_open = self.files.confirm_close()
+        if not keep_open:
+            self.checks.stop()  # no check-level or probe left running after the window
+        return keep_open
 
     # ------------------------------------------------------------ dragging (the move gizmo)
     def _start_drag(self, ref, nx, ny, aspect) -> None:
-        key = "center" if "center" in self.model.table(ref) else "position"
-        value = self.model.get(ref, key)
-        if not isinstance(value, list):
-            return
-        c, _ = self._selection_center()
+        """Dragging the selection itself moves it in the plane facing the camera."""
+        refs = list(self.model.selected)
+        c = group.pivot(self.model, refs)
         if c is None:
             return
         o, d = view.ray(self.cam, nx, ny, aspect)
         normal = self.cam.camera3().forward()
         hit = _plane_hit(o, d, c[:3], normal)
         if hit is not None:
-            self.dragging = (ref, key, list(value), c[:3].copy(), normal, hit)
+            self.dragging = (refs, self.model.text(), c[:3].copy(), normal, hit)
 
     def _drag(self, nx, ny, aspect) -> None:
-        ref, key, start, point, normal, start_hit = self.dragging
+        refs, before, point, normal, start_hit = self.dragging
         o, d = view.ray(self.cam, nx, ny, aspect)
         hit = _plane_hit(o, d, point, normal)
         if hit is None:
             return
-        delta = hit - start_hit
-        new = [round(float(start[i] + delta[i]), 3) for i in range(3)] + start[3:]
-        self.model.set(ref, key, new, merge=True)
+        self.model.restore_text(before)  # the whole drag is redone from its start (snapping)
+        grid = self.handles.steps()[0]
+        group.move(self.model, refs, [*(hit - start_hit), 0.0], grid=grid, merge=True)
 
     # ------------------------------------------------------------ drawing
     def _fly(self, dt: float) -> None:
         k = pyglet.window.key
-        if imgui.get_io().want_capture_keyboard:
+        if imgui.get_io().want_text_input:  # typing in a field, not flying
             return
         axis = lambda pos, neg: float(pos in self.held) - float(neg in self.held)  # noqa: E731
         f, r, u = axis(k.W, k.S), axis(k.D, k.A), axis(k.SPACE, k.C)
@@ -385,7 +471,7 @@ class EditorView(View):
         """The level from the editor camera, and the strip of previews of the selection along w."""
         r = self.session.renderer
         frame = view.editor_frame(self.preview, self.cam, self.model.selection, self.frustum, self.time)
-        r.draw(frame, viewport, view="main")
+        r.draw(frame, viewport, hud=False, view="main")  # the game's HUD would sit under the panels
         self.preview_rects = []
         sel = self.model.selection
         if not self.panels.show_previews or sel is None:
@@ -407,6 +493,11 @@ class EditorView(View):
         imgui.new_frame()
         ww, wh = self.window.get_size()
         self.panels.draw(ww, wh)
+        if self.box_select is not None:
+            x0, y0, _ = self.box_select
+            mx, my = imgui.get_mouse_pos()
+            color = imgui.color_convert_float4_to_u32(imgui.ImVec4(1.0, 0.85, 0.1, 1.0))
+            imgui.get_foreground_draw_list().add_rect(imgui.ImVec2(x0, y0), imgui.ImVec2(mx, my), color)
         imgui.render()
         self.impl.render(imgui.get_draw_data())
 

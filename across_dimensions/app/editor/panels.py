@@ -15,13 +15,13 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-from imgui_bundle import imgui, imguizmo
+from imgui_bundle import imgui
 
 from ...core.transform import PLANES
 from ...world.fields import REQUIRED
 from ...world.level import MODELS
 from ...world.level_edit import SINGLE_TABLES, WORLD_CHILDREN, model_of
+from .handles import OPERATIONS
 
 RED = imgui.ImVec4(1.0, 0.4, 0.35, 1.0)
 GREY = imgui.ImVec4(0.6, 0.6, 0.65, 1.0)
@@ -30,6 +30,7 @@ YELLOW = imgui.ImVec4(1.0, 0.85, 0.3, 1.0)
 ADDABLE = tuple(k for k in MODELS if k not in SINGLE_TABLES)
 PANEL_W = 330  # the inspector's width
 PANEL_LEFT = 250  # the outline's width
+MENU_BAR = 20  # pixels: ImGui's main menu bar with its default font
 
 
 def _short(problem: str, ref_where: str) -> str:
@@ -44,7 +45,8 @@ class Panels:
     def __init__(self, mode):
         self.mode = mode
         self.show_previews = True
-        self._gizmo_start = None  # (ref, value, centre) when a gizmo drag began
+        self.search = ""
+        self.rects: list = []  # (x, y, w, h) of every panel drawn last frame, top-left origin
 
     @property
     def model(self):
@@ -52,12 +54,26 @@ class Panels:
 
     # ------------------------------------------------------------ frame
     def draw(self, width: int, height: int) -> None:
-        self.gizmo(width, height)
+        self.mode.handles.draw(width, height)
+        self.rects = [(0.0, 0.0, float(width), float(MENU_BAR))]
         self.menu_bar()
         self.outline(height)
         self.inspector(width, height)
         self.scrubber(width, height)
+        self.mode.checks.panel(width, height)
+        self.mode.files.draw()
         self.status(width, height)
+
+    def track(self) -> None:
+        """Keep the current panel's rectangle (call before ``imgui.end``): a click there is the panel's."""
+        p, z = imgui.get_window_pos(), imgui.get_window_size()
+        self.rects.append((p.x, p.y, z.x, z.y))
+
+    def covers(self, x: float, y: float) -> bool:
+        """Is ``(x, y)`` (pixels, top-left origin) on a panel, a menu or a dialog of the last frame?"""
+        if imgui.is_popup_open("", imgui.PopupFlags_.any_popup_id | imgui.PopupFlags_.any_popup_level):
+            return True
+        return any(rx <= x <= rx + rw and ry <= y <= ry + rh for rx, ry, rw, rh in self.rects)
 
     def _edited(self, ref, key, value) -> None:
         """A widget changed ``key``: one step per drag (sealed when the widget is released)."""
@@ -67,48 +83,13 @@ class Panels:
         if imgui.is_item_deactivated_after_edit():
             self.model.seal()
 
-    # ------------------------------------------------------------ move gizmo
-    def gizmo(self, width: int, height: int) -> None:
-        """ImGuizmo's translate arrows on the selection (drawn under the panels); one drag, one undo step."""
-        g = imguizmo.im_guizmo
-        g.begin_frame()
-        m, mode = self.model, self.mode
-        target = mode.move_target()
-        if target is None:
-            self._gizmo_start = None
-            return
-        ref, key, value, center = target
-        g.set_drawlist(imgui.get_background_draw_list())
-        g.allow_axis_flip(False)  # +x +y +z always point their true way (ImGuizmo flips them to face you)
-        g.set_rect(0.0, 0.0, float(width), float(height))
-        cam = mode.cam.camera3()
-        # ImGuizmo takes OpenGL's column-major matrices: the transpose of ours, flattened.
-        view_m = g.Matrix16(list(cam.view_matrix().T.ravel()))
-        proj_m = g.Matrix16(list(cam.projection_matrix(width / max(height, 1)).T.ravel()))
-        obj = np.eye(4)
-        obj[:3, 3] = center
-        obj_m = g.Matrix16(list(obj.T.ravel()))
-        if g.manipulate(view_m, proj_m, g.OPERATION.translate, g.MODE.world, obj_m):
-            if self._gizmo_start is None:
-                self._gizmo_start = (ref, list(value), np.array(center))
-            _, start, start_center = self._gizmo_start
-            moved = np.asarray(obj_m.values[12:15], float) - start_center
-            new = [_tidy(start[i] + moved[i], 3) for i in range(3)] + start[3:]
-            m.set(ref, key, new, merge=True)
-        if not g.is_using() and self._gizmo_start is not None:
-            self._gizmo_start = None
-            m.seal()
-
     # ------------------------------------------------------------ menus
     def menu_bar(self) -> None:
         m, mode = self.model, self.mode
         if not imgui.begin_main_menu_bar():
             return
         if imgui.begin_menu("File"):
-            if imgui.menu_item("Save", "Ctrl+S", False, m.dirty)[0]:
-                mode.save()
-            if imgui.menu_item("Revert to saved", "", False, m.dirty)[0]:
-                mode.revert()
+            mode.files.menu()
             imgui.end_menu()
         if imgui.begin_menu("Edit"):
             if imgui.menu_item(
@@ -119,10 +100,14 @@ class Panels:
                 "Redo " + (m.redo_stack[-1].label if m.redo_stack else ""), "Ctrl+Y", False, bool(m.redo_stack)
             )[0]:
                 mode.redo()
-            sel = m.selection
-            if imgui.menu_item("Duplicate", "Ctrl+D", False, sel is not None and len(sel) >= 2)[0]:
+            sel, some = m.selection, bool(mode.entries_selected())
+            if imgui.menu_item("Copy", "Ctrl+C", False, some)[0]:
+                mode.copy()
+            if imgui.menu_item("Paste", "Ctrl+V", False)[0]:
+                mode.paste()
+            if imgui.menu_item("Duplicate", "Ctrl+D", False, some)[0]:
                 mode.duplicate()
-            if imgui.menu_item("Delete", "Delete", False, sel is not None and len(sel) >= 2)[0]:
+            if imgui.menu_item("Delete", "Delete", False, some)[0]:
                 mode.delete()
             if imgui.menu_item("Frame selected", "F", False, sel is not None)[0]:
                 mode.focus()
@@ -144,10 +129,25 @@ class Panels:
         if imgui.begin_menu("Play"):
             if imgui.menu_item("Play from here", mode.key_name("editor_play_here"), False)[0]:
                 mode.play_from_here()
+            if imgui.menu_item("Save, play from the spawn and record a replay", "", False)[0]:
+                mode.play_and_record()
             if imgui.menu_item("Back to the game", mode.key_name("editor"), False)[0]:
                 mode.back_to_game()
             imgui.end_menu()
+        self.tools()
         imgui.end_main_menu_bar()
+
+    def tools(self) -> None:
+        """The handle in use (1 2 3) and snapping (G), in the menu bar."""
+        h = self.mode.handles
+        imgui.separator()
+        for k, op in enumerate(OPERATIONS):
+            if imgui.radio_button(f"{op} ({k + 1})", h.operation == op):
+                h.operation = op
+        imgui.separator()
+        _, h.snapping = imgui.checkbox("snap (G)", h.snapping)
+        if imgui.is_item_hovered():
+            imgui.set_tooltip(f"grid {h.grid} m, {h.angle_step:g} degrees, w {h.w_step}")
 
     # ------------------------------------------------------------ outline
     def outline(self, height: int) -> None:
@@ -155,18 +155,28 @@ class Panels:
         imgui.set_next_window_pos(imgui.ImVec2(0, 20), imgui.Cond_.first_use_ever)
         imgui.set_next_window_size(imgui.ImVec2(PANEL_LEFT, min(height - 150, 520)), imgui.Cond_.first_use_ever)
         imgui.begin("Level")
+        imgui.push_item_width(-1)
+        _, self.search = imgui.input_text_with_hint("##search", "search / filter", self.search)
+        imgui.pop_item_width()
         bad = {tuple(r) for r in m.entries() if m.problems_for(r)} if m.problems else set()
+        flagged = self.mode.checks.flagged()
         for ref in m.entries():
             label = m.label(ref)
-            if ref in bad:
+            if self.search and self.search.lower() not in label.lower():
+                continue
+            bad_here = ref in bad or ref in flagged
+            if bad_here:
                 imgui.push_style_color(imgui.Col_.text, RED)
-            clicked, _ = imgui.selectable(f"{label}##{ref}", m.selection == ref)
-            if ref in bad:
+            clicked, _ = imgui.selectable(f"{_fit(label)}##{ref}", ref in m.selected)
+            if bad_here:
                 imgui.pop_style_color()
             if clicked:
-                m.selection = ref
-            if imgui.is_item_hovered() and imgui.is_mouse_double_clicked(0):
-                self.mode.focus()
+                m.select(ref, toggle=imgui.get_io().key_shift)
+            if imgui.is_item_hovered():
+                imgui.set_tooltip(label.strip())
+                if imgui.is_mouse_double_clicked(0):
+                    self.mode.focus()
+        self.track()
         imgui.end()
 
     # ------------------------------------------------------------ inspector
@@ -178,10 +188,16 @@ class Panels:
         ref = m.selection
         if ref is None or not m.exists(ref):
             imgui.text_wrapped("Click something in the view, or pick an entry in the Level list.")
+            self.track()
             imgui.end()
             return
         imgui.text_colored(YELLOW, m.label(ref).strip())
-        imgui.push_item_width(-110)
+        if len(m.selected) > 1:
+            imgui.text_colored(GREY, f"and {len(m.selected) - 1} more selected (the handles move them all)")
+        # Room for the longest label ("position w", "rotation xw", "params radius"...) inside the panel.
+        names = [f"{k} xw" for k in model_of(ref)] + ["hyper-depth"]
+        longest = max(imgui.calc_text_size(n).x for n in names) + imgui.get_frame_height()  # and its "x"
+        imgui.push_item_width(-min(longest + 12, PANEL_W / 2))
         table = m.table(ref)
         for key, f in model_of(ref).items():
             if f.kind == "tables":
@@ -203,6 +219,7 @@ class Panels:
             imgui.push_text_wrap_pos(0.0)
             imgui.text_colored(RED, _short(p, m.where(ref)))
             imgui.pop_text_wrap_pos()
+        self.track()
         imgui.end()
 
     def field(self, ref, key: str, f) -> None:
@@ -374,7 +391,7 @@ class Panels:
         imgui.set_next_window_size(imgui.ImVec2(width - PANEL_LEFT - PANEL_W, 128), imgui.Cond_.first_use_ever)
         imgui.begin("w", None, imgui.WindowFlags_.no_collapse)
         lo, hi = mode.w_limits()
-        imgui.push_item_width(-60)
+        imgui.push_item_width(-imgui.calc_text_size("preview dw").x - 12)  # the longest label stays inside
         _, mode.cam.w = imgui.slider_float("slice w", float(mode.cam.w), lo, hi, "w = %.3f")
         _, mode.time = imgui.slider_float("time", float(mode.time), 0.0, 60.0, "t = %.2f s")
         _, mode.preview_step = imgui.slider_float("preview dw", float(mode.preview_step), 0.02, 1.0, "%.2f")
@@ -384,10 +401,11 @@ class Panels:
         _, mode.animate = imgui.checkbox("animate", mode.animate)
         imgui.same_line()
         _, self.show_previews = imgui.checkbox("previews", self.show_previews)
+        self.track()
         imgui.end()
         # Labels of the preview strip the view draws under the scrubber window.
         for (x, y, _, h), pw in mode.preview_rects:
-            imgui.get_foreground_draw_list().add_text(
+            imgui.get_background_draw_list().add_text(
                 imgui.ImVec2(x + 4, height - (y + h) + 2), imgui.color_convert_float4_to_u32(YELLOW), f"w = {pw:+.2f}"
             )
 
@@ -401,7 +419,18 @@ class Panels:
         name = m.path.name + (" *" if m.dirty else "")
         text = f"{name}   {len(problems)} problem(s)" if problems else f"{name}   ok"
         imgui.text_colored(RED if problems else GREY, f"{text}   {mode.message}")
+        self.track()
         imgui.end()
+
+
+def _fit(label: str) -> str:
+    """``label`` cut to the width left in the panel, ending in "..." when cut (the tooltip shows it whole)."""
+    room = imgui.get_content_region_avail().x
+    if imgui.calc_text_size(label).x <= room:
+        return label
+    while label and imgui.calc_text_size(label + "...").x > room:
+        label = label[:-1]
+    return label + "..."
 
 
 def _tidy(x: float, digits: int = 4) -> float:

@@ -53,7 +53,10 @@ class LevelCompleteView(View):
             self.window.pop_view()
             return
         self.finished_for += self.play.run(dt) * DT
-        if self.finished_for >= self.play.finish_seconds:
+        if self.finished_for >= self.play.finish_seconds and self.play.from_editor:  # back to the level's editor
+            self.window.pop_view()
+            self.session.open_editor(self.play, from_play=False)
+        elif self.finished_for >= self.play.finish_seconds:
             self.session.next_level(self.play.level_path)
             if self.play.farewell:
                 self.session.say(self.play.farewell, 6.0)

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import pyglet
 
-from ...render.menu import hit
+from ...render.menu import hit, rows_that_fit
 from ..input import key_name
 from ..menu import menu_verb
 from .base import View
@@ -54,6 +54,7 @@ class MenuScreen(View):
             target.use()
             self.window.ctx.clear(*BACKDROP)
         target.use()
+        self.menu.fit_rows(rows_that_fit(self.menu.view(), viewport[3]))  # larger text: fewer rows
         self.session.menu_renderer.draw(self.menu.view(), viewport)
 
     def still_frame(self):

@@ -52,10 +52,12 @@ class PlayView(View):
     finish_seconds = NEXT_LEVEL_DELAY
     #: Said as the next level starts ("": nothing).
     farewell = ""
+    #: The game was started by the level editor: finishing it goes back there, not to the next level.
+    from_editor = False
 
     def __init__(self, session, path: Path, checkpoint: int | None = None):
         super().__init__(session)
-        self.input = PlayInput(session.bindings, self.window.keys)
+        self.input = PlayInput(session.bindings, self.window.keys, session.settings)
         self.load(path, checkpoint)
         if session.recording.path_given:  # --record FILE: the first level played
             self.start_recording()
@@ -65,6 +67,7 @@ class PlayView(View):
         """Start the level at ``path`` (at ``checkpoint``), from scratch."""
         s = self.session
         self._path = Path(path)
+        self.from_editor = False
         self.game = Game(load_level(path), seed=s.seed)
         self.accumulator = 0.0
         self.crystals_found = 0
@@ -82,6 +85,7 @@ class PlayView(View):
         s.onboarding.level_started(self.game.level.hints)
         heap.settle()  # no collector stalls mid-level (see core/heap.py)
         s.sound_director.reset()
+        s.captions.clear()
 
     @property
     def level_path(self) -> Path:
@@ -93,9 +97,11 @@ class PlayView(View):
         p = self.game.player
         return p.eye().copy(), float(p.yaw), float(p.pitch), float(p.position[3])
 
-    def play_game(self, game: Game, notice: str) -> None:
-        """Play ``game`` (of this level, edited) in place of the one running, without the level's
-        hints (they were read when it started), saying ``notice``."""
+    def play_game(self, game: Game, notice: str, path: Path | None = None) -> None:
+        """Play ``game`` (of this level, edited, or of the level file ``path`` the editor made) in place
+        of the one running, without the level's hints (they were read when it started), saying ``notice``."""
+        self._path = Path(path) if path is not None else self._path
+        self.from_editor = True
         self.game = game
         self.hints = False
         self.accumulator = 0.0
@@ -123,6 +129,7 @@ class PlayView(View):
         self.window.set_exclusive_mouse(True)
         self.window.set_caption(f"Across Dimensions - {self.game.level.name}")
         self.input.forget()  # presses and buttons from before a pause or the editor are not this tick's
+        self.input.use(self.session.settings)  # changed in the pause menu's settings, maybe
 
     def on_update(self, dt: float) -> None:
         self.run(dt)
@@ -141,6 +148,7 @@ class PlayView(View):
         input_ = self.input
         if self.session.onboarding.before_tick(input_.held("w_ana") or input_.held("w_kata")):
             input_.drop_pending()  # the card is open: the mouse and keys do not reach the game
+            input_.latched.clear()  # nor a toggle switched on by the key that opened it
             return 0
         self.accumulator += dt
         steps = 0
@@ -158,7 +166,9 @@ class PlayView(View):
         actions = self.read_actions()
         self.game.step(actions)
         s.onboarding.ticked(actions, DT)
-        s.sound.play(s.sound_director.cues(self.game, DT))
+        cues = s.sound_director.cues(self.game, DT)
+        s.sound.play(cues)
+        s.captions.heard(cues, DT)
         self.crystals_found += sum(e.kind == "crystal_collected" for e in self.game.events)
         s.recording.record(actions)
 
@@ -217,6 +227,11 @@ class PlayView(View):
         for label in hud.labels:  # and so do the labels beside things (the manipulation keys)
             label.text = with_keys(label.text, s.settings)
         hud.fps = self.window.fps if s.options.show_fps else None
+        hud.captions = s.captions.shown(s.settings.captions)
+        if self.input.latched:  # toggled actions stay on until pressed again: say which
+            label = self.input.latched_label()
+            label.text = with_keys(label.text, s.settings)
+            hud.labels.append(label)
         hud.paused = False  # the pause menu dims the view and says so
         if s.notice_text:
             hud.message = s.notice_text
@@ -232,7 +247,7 @@ class PlayView(View):
         action = s.bindings.action_of("key", symbol)
         if s.onboarding.key(action, pyglet.window.key.symbol_string(symbol)):
             return  # the card took it, or the hints key
-        self.input.press("key", symbol, reduce_motion=s.settings.reduce_motion)
+        self.input.press("key", symbol)
         if self.window_key(action):
             return
         if action == "pause":
@@ -268,7 +283,7 @@ class PlayView(View):
     def on_mouse_press(self, x, y, button, modifiers) -> None:
         if self.session.onboarding.click():
             return
-        self.input.mouse_down(button, reduce_motion=self.session.settings.reduce_motion)
+        self.input.mouse_down(button)
 
     def on_mouse_release(self, x, y, button, modifiers) -> None:
         self.input.mouse_up(button)
@@ -276,4 +291,4 @@ class PlayView(View):
     def on_mouse_scroll(self, x, y, scroll_x, scroll_y) -> None:
         if scroll_y:
             notches = max(1, round(abs(scroll_y)))
-            self.input.press("wheel", 1 if scroll_y > 0 else -1, notches, self.session.settings.reduce_motion)
+            self.input.press("wheel", 1 if scroll_y > 0 else -1, notches)

@@ -88,7 +88,7 @@ class FlatPlayView(View):
 
     def __init__(self, session, path: Path):
         super().__init__(session)
-        self.input = PlayInput(session.bindings, self.window.keys)
+        self.input = PlayInput(session.bindings, self.window.keys, session.settings)
         if session.flat_renderer is None:
             session.flat_renderer = FlatRenderer(self.window.ctx, session.renderer)
         self.load(path)

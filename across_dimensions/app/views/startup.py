@@ -19,11 +19,13 @@ class StartupView(View):
         The level waiting.
     checkpoint : int or None
         Where in it to start.
+    edit : bool
+        Open it in the level editor (``edit LEVEL``), which builds games from its first frame.
     """
 
-    def __init__(self, session, path: Path, checkpoint: int | None = None):
+    def __init__(self, session, path: Path, checkpoint: int | None = None, edit: bool = False):
         super().__init__(session)
-        self.path, self.checkpoint = path, checkpoint
+        self.path, self.checkpoint, self.edit = path, checkpoint, edit
 
     def on_show(self) -> None:
         self.window.set_exclusive_mouse(True)
@@ -36,11 +38,14 @@ class StartupView(View):
         warm = self.session.warm
         if warm is None or warm.ready:
             self.session.start_level(self.path, self.checkpoint)
+            if self.edit:
+                self.session.open_editor(self.window.current_view, from_play=False)
 
     def on_draw(self, target, viewport) -> None:
         target.use()
         self.window.ctx.clear(*BACKDROP)
-        view = MenuView("title", "ACROSS DIMENSIONS", [], 0, 0, 0, "Starting...", progress=self._progress())
+        title = "Starting the editor..." if self.edit else "Starting..."
+        view = MenuView("title", "ACROSS DIMENSIONS", [], 0, 0, 0, title, progress=self._progress())
         self.session.menu_renderer.draw(view, viewport)
 
     def still_frame(self):

@@ -25,10 +25,11 @@ import numpy as np
 
 from ...core.mesh import TriMesh3
 from ...world.geometry import box_trimesh
-from ..camera import GLIDE_FACTOR, TURN_PLANES, CameraRig
+from ..camera import GLIDE_FACTOR, GLIDE_SHARE, TURN_PLANES, CameraRig
 from ..entities import Placed
-from ..events import CameraSwitched, SliceAligned
+from ..events import CameraSwitched, SliceAligned, SliceTurnRefused
 from ..frame import Drawable, SliceGauges
+from ..motion import JUMP_DEG, jump_now
 from ..system import System, encode
 
 FOCUS_COLOR = (1.0, 0.85, 0.2, 1.0)
@@ -36,6 +37,11 @@ EYE_COLOR = (0.4, 0.9, 1.0, 1.0)
 #: Size of the indicators, metres: big enough to see across a room, small enough
 #: not to hide what the camera looks at.
 INDICATOR_SIZE = 0.2
+#: Metres of rounding allowed at the ends of the w range when a turn towards w is checked.
+W_SLACK = 1e-9
+#: Ticks the notice of a refused turn stays on screen.
+REFUSED_NOTICE_TICKS = 90
+
 #: The camera's indicator is not drawn closer than this to the player's eye (metres):
 #: at the switch it is exactly there, and a box round the eye would fill the screen.
 EYE_CLEARANCE = 0.6
@@ -62,22 +68,54 @@ def _return_ticks(game) -> int:
 
 def _turn(game, rig, spec, actions) -> None:
     pivot = _pivot(game)
+    before, glide = rig.pose(), rig.glide
     speed = np.radians(spec.turn_speed)
     rates = tuple(
         speed * (float(getattr(actions, f"turn_{pl}_pos")) - float(getattr(actions, f"turn_{pl}_neg")))
         for pl in TURN_PLANES
     )
+    if actions.reduced_motion:  # jumps of JUMP_DEG instead of a smooth turn
+        jumps = [jump_now(game, f"turn_{pl}", rate != 0.0) for pl, rate in zip(TURN_PLANES, rates)]
+        rates = tuple(np.sign(r) * np.radians(JUMP_DEG) / game.dt if j else 0.0 for r, j in zip(rates, jumps))
+    landed = False
     if any(rates):
         rig.turn(rates, game.dt, pivot)
+    else:
+        for pl in TURN_PLANES:
+            for sign, name in ((1, f"step_{pl}_pos"), (-1, f"step_{pl}_neg")):
+                for _ in range(actions.pressed(name)):
+                    rig.step(pl, sign)
+        if actions.pressed("snap_slice"):
+            rig.snap()
+        glide_speed = np.inf if actions.reduced_motion else speed * GLIDE_FACTOR  # reduced: lands this tick
+        landed = rig.advance_glide(glide_speed, game.dt, pivot)
+    if _leaves_the_w_range(game, rig, before[0], pivot):
+        rig.restore(before)
+        rig.glide = None if glide is None or _turns_towards_w(glide, before[0]) else glide
+        if game.tick - rig.refused_tick > 1:  # the first tick of a refused turn, not every one held
+            game.emit(SliceTurnRefused(float(rig.to_world(pivot)[3]), *game.level.w_range))
+        rig.refused_tick = game.tick
         return
-    for pl in TURN_PLANES:
-        for sign, name in ((1, f"step_{pl}_pos"), (-1, f"step_{pl}_neg")):
-            for _ in range(actions.pressed(name)):
-                rig.step(pl, sign)
-    if actions.pressed("snap_slice"):
-        rig.snap()
-    if rig.advance_glide(speed * GLIDE_FACTOR, game.dt, pivot):
+    if landed:
+        game.player.position[3] += rig.fold_offset()
         game.emit(SliceAligned(tuple(round(a) for a in rig.angles_deg())))
+
+
+def _turns_towards_w(rot: np.ndarray, before: np.ndarray) -> bool:
+    """Does the slice with rotation ``rot`` face the world's w axis more than ``before`` did?"""
+    return abs(rot[3, 3]) > abs(before[3, 3]) + 1e-12
+
+
+def _leaves_the_w_range(game, rig, before: np.ndarray, pivot: np.ndarray) -> bool:
+    """Would this tick's turn bring the slice towards the world's w while the eye stands at a
+    world w outside the level's range? Turned, the player walks along w far beyond the range
+    (the turned slice's "ahead"); turning back there would leave them in the plain slice at a
+    w the level never allows, so the turn waits until they walk back into the range."""
+    if not _turns_towards_w(rig.rotation, before):
+        return False
+    lo, hi = game.level.w_range
+    w = float(rig.to_world(pivot)[3])
+    return not lo - W_SLACK <= w <= hi + W_SLACK
 
 
 def _indicators(game, rig) -> None:
@@ -131,12 +169,17 @@ def step(game, actions):
             _indicators(game, rig)
     elif rig.mode == "frustum":
         turn = float(actions.orbit_right) - float(actions.orbit_left)
-        if turn:
-            rig.orbit += turn * np.radians(spec.orbit_speed) * game.dt
+        stride = np.radians(spec.orbit_speed) * game.dt
+        if actions.reduced_motion:  # jumps of JUMP_DEG instead of a smooth orbit
+            stride = np.radians(JUMP_DEG) if jump_now(game, "orbit", turn != 0.0) else 0.0
+        if turn and stride:
+            rig.orbit += turn * stride
             rig.version += 1
         paid_up = _pay(game, rig, spec)
         if switch or not paid_up:
             rig.start_return()
+            if actions.reduced_motion:  # no glide back: the frustum view only fades out
+                rig.return_ticks = int(np.ceil(GLIDE_SHARE * _return_ticks(game)))
             game.emit(CameraSwitched("returning", "key" if switch else "energy"))
         _indicators(game, rig)
     else:  # returning
@@ -206,6 +249,10 @@ def draw(game, frame, alpha) -> None:
         return
     rig = game.camera
     frame.hud.slice = SliceGauges(rig.angles_deg(), rig.mode, float(np.degrees(rig.orbit)))
+    if game.tick - rig.refused_tick < REFUSED_NOTICE_TICKS and not frame.hud.message:
+        lo, hi = game.level.w_range
+        w = float(rig.to_world(_pivot(game))[3])
+        frame.hud.message = f"Turn back only at w {lo:+.1f} to {hi:+.1f} (you: w {w:+.1f}). Walk back first"
     if not rig.detached:
         return
     eye = frame.camera

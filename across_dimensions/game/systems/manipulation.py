@@ -65,6 +65,7 @@ from .. import section_collision
 from ..entities import Placed, Scripted
 from ..events import Manipulated, ManipulationEnded, ManipulationStarted
 from ..frame import Drawable, ScreenLabel
+from ..motion import JUMP_DEG, JUMP_SECONDS, jump_now
 from ..player import player_box
 from ..system import System, encode, fixed
 
@@ -337,6 +338,19 @@ def _snap_target(d: Manipulable, plane: str) -> int | None:
     return min(max(target, lo), hi)
 
 
+def _jump(game, e, d: Manipulable, plane: str, pushed: bool) -> int:
+    """Under reduce motion, how far ``plane`` may turn this tick (millidegrees, or slide units):
+    a whole jump on the ticks :func:`..motion.jump_now` says, else nothing; a plane left
+    between steps (by the bar running dry) settles at once."""
+    if plane == "w":
+        jump = int(round(SLIDE_SPEED * JUMP_SECONDS * SLIDE_UNIT))
+    else:
+        jump = int(round((d.spec.step or JUMP_DEG) * 1000))
+    if jump_now(game, f"manipulate:{e.id}:{plane}", pushed):
+        return jump
+    return 0 if pushed else jump
+
+
 def step(game, actions):
     """Grab, turn, snap and let go; returns the actions the later systems see (walking keys taken while held)."""
     tool = game.states.manipulation
@@ -361,6 +375,8 @@ def step(game, actions):
             if e is held and i < len(AXES):
                 push = getattr(actions, AXES[i][0])
             rate = int(round((SLIDE_SPEED * SLIDE_UNIT if plane == "w" else d.spec.speed * 1000) * game.dt))
+            if actions.reduced_motion:  # jumps (a step, or JUMP_DEG) instead of a smooth turn
+                rate = _jump(game, e, d, plane, abs(push) > DEAD_ZONE)
             turned = 0
             if abs(push) > DEAD_ZONE:
                 d.direction[plane] = 1 if push > 0 else -1

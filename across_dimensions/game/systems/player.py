@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..events import Respawned, WBlocked
-from ..player import step_player
+from ..player import Surroundings, step_player
 from ..system import System, encode
 from . import seek
 
@@ -55,11 +55,13 @@ def step(game, actions) -> None:
         actions,
         game.dt,
         float(game.level.gravity[1]),
-        game.level.w_range,
-        game.colliders_at,
-        game.bodies_block_w if game.physics is not None else None,
+        Surroundings(
+            game.level.w_range,
+            game.colliders_at,
+            game.bodies_block_w if game.physics is not None else None,
+            game.sections_at,
+        ),
         _w_budget(game),
-        game.sections_at,
         seek.w_goal(game),  # a seek glides through the same w motion, checks and payment
     )
     seek.moved(game, cut)

@@ -11,8 +11,8 @@ The glide goes through the walker's own w motion (``step_player``'s
 range, the energy bar, walls and bodies stop it exactly as they stop walking.
 When it is stopped short the player stays at the nearest reachable w and the
 HUD says why (a :class:`~..events.SeekBlocked` event). A held w key takes over
-and ends the seek. ``seek_jump`` (what the seek key sends when the player's
-"reduce motion" setting is on) lands in one tick instead of gliding; when the
+and ends the seek. ``seek_jump``, and ``seek`` with the player's "reduce motion"
+setting on (:mod:`..motion`), land in one tick instead of gliding; when the
 jump is refused it falls back to gliding, which stops at the nearest reachable w.
 
 A level can turn seek off with ``[seek] enabled = false``.
@@ -173,7 +173,7 @@ def step(game, actions) -> None:
     if actions.w != 0.0 and s.active:
         s.active = False  # the player's own w key takes over
     for _ in range(presses):
-        _press(game, s, jump=actions.pressed("seek_jump") > 0)
+        _press(game, s, jump=actions.pressed("seek_jump") > 0 or actions.reduced_motion)
 
 
 def w_goal(game) -> tuple[float, bool] | None:
