@@ -147,7 +147,8 @@ def test_interpolated_camera_lies_between_ticks(level1):
 def test_the_frame_carries_the_interpolated_4d_eye():
     """Between ticks the eye's w lies between the two ticks' w, like its x, y and z; the HUD's w
     gauge, the radar and the slice drawn all read it from the frame."""
-    game = Game(load_level(levels_dir() / "03_tumbling_hall.toml"))  # bodies on the radar, w free
+    game = Game(load_level(levels_dir() / "03_tumbling_hall.toml"))  # bodies on the radar
+    game.energy.gain(5000)  # steps along w cost energy here
     for _ in range(20):
         game.step(Actions(w=1.0))
     w0 = float(game.player.position[3])

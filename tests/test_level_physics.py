@@ -52,16 +52,16 @@ def test_bodies_enter_and_leave_the_slice_during_the_replay(level2):
     play(replay, game, on_tick=record)
     changes = {name: int(np.sum(np.diff(np.array(v, int)) != 0)) for name, v in seen.items()}
     # Something leaves the slice and something arrives (the drifter, the
-    # visitor, the stack and the hidden one as the player steps along w).
+    # visitor, the stack and the block as the player steps along w).
     assert sum(changes.values()) >= 4, changes
-    assert changes["hidden"] >= 1 and changes["stack-1"] >= 1, changes
+    assert changes["block"] >= 1 and changes["stack-1"] >= 1, changes
 
 
 def test_bodies_settle_on_the_floor(level2):
     game = Game(level2)
     for _ in range(6 * TICK_RATE):
         game.step(Actions())
-    for name, rest_height in (("drifter", 0.45), ("visitor", 0.4), ("hidden", 0.5)):
+    for name, rest_height in (("drifter", 0.45), ("visitor", 0.4), ("block", 0.55)):
         _, b = body(game, name)
         p = game.physics.body_position(b)
         v, _ = game.physics.body_velocity(b)
@@ -99,6 +99,7 @@ def test_player_is_blocked_by_bodies_in_the_slice_and_pushes_them(level2):
 
 def test_player_passes_where_the_bodies_are_not_in_the_slice(level2):
     game = Game(level2)
+    game.energy.gain(5000)  # steps along w cost energy here
     walk(game, 2 * TICK_RATE)
     walk(game, TICK_RATE, w=1.0)  # the stack spans w in [-0.35, 0.35]
     assert game.player.position[3] > 0.9
@@ -111,6 +112,7 @@ def test_player_passes_where_the_bodies_are_not_in_the_slice(level2):
 
 def test_cannot_step_along_w_into_a_body(level2):
     game = Game(level2)
+    game.energy.gain(5000)  # steps along w cost energy here
     walk(game, 2 * TICK_RATE, w=1.0)  # at w ~ 1.2, away from the stack
     # Stand where the stack is (x = 0, z = 3) but at another w, then try to go back to w = 0.
     game.player.position[:3] = [0.0, 0.0, 3.0]
