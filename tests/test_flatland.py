@@ -233,11 +233,12 @@ def test_the_pit_needs_the_ball(tmp_path):
     path = tmp_path / "no_ball.toml"
     path.write_text(text, encoding="utf-8")
     game = FlatGame(load_flat_level(path))
-    while game.position[0] < 35.5:  # full speed by the edge
+    while game.grounded or game.air_ticks < COYOTE_TICKS - 1:  # full speed off the edge, the latest jump there is
         game.step(Actions(right=1.0))
     run(game, Actions(right=1.0, jump=True), 3)
+    assert game.jumped
     run(game, Actions(right=1.0), 120)
-    assert game.position[1] < -2.5 and game.position[0] < 41.4  # in the pit, short of the far side
+    assert game.position[1] < -2.5 and game.position[0] < 43.0  # in the pit, short of the far side
 
 
 @pytest.mark.parametrize("late, jumps", [(3, True), (COYOTE_TICKS + 3, False)])

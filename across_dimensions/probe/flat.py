@@ -23,6 +23,7 @@ the route, and the strategy that found it is named so a designer can replay what
 
 from __future__ import annotations
 
+import copy
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -82,14 +83,16 @@ def _standing_on_ball(game: FlatGame) -> bool:
     return False
 
 
-def flat_route(level: FlatLevel) -> FlatRoute | None:
-    """Play ``level``'s shipped replay headless; None when it has none (or one of another file)."""
-    path = replay_for(level.path)
+def flat_route(level: FlatLevel, replay_path=None) -> FlatRoute | None:
+    """Play ``level``'s shipped replay headless; None when it has none (or one of another file).
+    ``replay_path`` plays that replay instead, whatever file it was recorded on (for a variant
+    of a level whose route is the same up to the part that changed)."""
+    path = replay_path or replay_for(level.path)
     try:
         rep = Replay.load(path) if path is not None else None
     except ReplayError:
         rep = None
-    if rep is None or rep.level_hash != level.source_hash:
+    if rep is None or (replay_path is None and rep.level_hash != level.source_hash):
         return None
     game = FlatGame(level, seed=rep.seed)
     rows, events, actions = [], [], []
@@ -228,13 +231,24 @@ def no_bodies(game: FlatGame, route: FlatRoute) -> Bot:
             break  # across
         yield from back_to(game, edge, float(route.y[rest]))
         yield from _walk_to(game, edge - 5.0)
-        for _ in range(3600):  # until no ball is in the plane, or about to be
-            if all(game.world.ball_radius(i, game.z) == 0.0 for i in range(len(game.level.balls))):
+        for _ in range(3600):  # until no ball will be in the plane during the run and the jump
+            if _clear_for(game, 240):
                 break
             yield Actions()
         for _ in range(240):  # the latest jump there is: off the edge, in the last tick of grace
             yield Actions(right=1.0, jump=game.position[0] > edge and game.air_ticks == COYOTE_TICKS - 1)
     yield from straight(game, route)
+
+
+def _clear_for(game: FlatGame, ticks: int) -> bool:
+    """Whether no ball cuts the plane for the next ``ticks`` ticks (the balls' own roll, forecast)."""
+    world = copy.copy(game.world)
+    world.ball_z, world.ball_dir = game.world.ball_z.copy(), game.world.ball_dir.copy()
+    for _ in range(ticks):
+        if any(world.ball_radius(i, game.z) > 0.0 for i in range(len(game.level.balls))):
+            return False
+        world.advance(game.dt)
+    return True
 
 
 def back_to(game: FlatGame, x: float, y: float) -> Bot:
