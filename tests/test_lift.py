@@ -284,7 +284,7 @@ def test_cache_hit_is_silent_and_skips_tetrahedralization(tmp_path, fake_tetwild
     assert len(fake_tetwild) == 1
     np.testing.assert_array_equal(first.tets, second.tets)
     # Depth, position and profile do not need a new bake; resolution does.
-    lift_asset(asset, 5.0, w_center=2.0, profile="round", cache_dir=tmp_path, progress=False)
+    lift_asset(asset, HyperDepth(2.0, 5.0, "round"), cache_dir=tmp_path, progress=False)
     assert len(fake_tetwild) == 1
     lift_asset(asset, 2.0, cache_dir=tmp_path, edge_length_fac=0.3, progress=False)
     assert len(fake_tetwild) == 2
@@ -333,9 +333,7 @@ def pillar_bake(tmp_path_factory):
     t0 = time.perf_counter()
     mesh = lift_asset(
         ASSETS / "pillar.obj",
-        2.0,
-        w_center=1.0,
-        profile="prism",
+        HyperDepth(1.0, 2.0, "prism"),
         cache_dir=cache,
         edge_length_fac=COARSE,
         progress=False,
@@ -367,7 +365,7 @@ def test_lifted_pillar_cache_hit(pillar_bake, monkeypatch):
     monkeypatch.setattr(bake, "tetrahedralize", no_tetwild)
     t0 = time.perf_counter()
     again = lift_asset(
-        ASSETS / "pillar.obj", 2.0, w_center=1.0, cache_dir=cache, edge_length_fac=COARSE, progress=False
+        ASSETS / "pillar.obj", HyperDepth(1.0, 2.0, "prism"), cache_dir=cache, edge_length_fac=COARSE, progress=False
     )
     hit_seconds = time.perf_counter() - t0
     np.testing.assert_array_equal(again.tets, mesh.tets)

@@ -427,11 +427,12 @@ def slice(args) -> int:
 
 
 def lift(args) -> int:
+    from ..core.lift import HyperDepth
     from ..core.mesh import TetMesh4
     from ..world.bake import lift_to_file
 
     out = _output(args.output, (".npz",), "lift")
-    written = lift_to_file(args.mesh, args.depth, out, profile=args.profile)
+    written = lift_to_file(args.mesh, HyperDepth(0.0, args.depth, args.profile), out)
     mesh = TetMesh4.load(written, validate=False)  # for the summary; lift_to_file validated it
     _out(f"{args.output}: {len(mesh.vertices)} vertices, {len(mesh.tets)} tets")
     return 0

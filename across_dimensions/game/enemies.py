@@ -53,6 +53,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core.lift import HyperDepth
 from ..core.mesh import concatenate
 from ..core.shapes import hypersphere, make_shape
 from ..core.transform import pose, scaling, translation
@@ -192,7 +193,8 @@ def build_body(spec: EnemySpec, cache: dict) -> Body:
     else:
         from ..world.bake import lift_asset  # the bake (and its mesh library) only when a level lifts assets
 
-        mesh = lift_asset(spec.asset, spec.depth, profile="round", color=spec.color[:3], progress=False, layers=5)
+        extent = HyperDepth(0.0, spec.depth, "round", layers=5)
+        mesh = lift_asset(spec.asset, extent, color=spec.color[:3], progress=False)
         v = mesh.vertices.astype(np.float64)
         lo, hi = v.min(axis=0), v.max(axis=0)
         pivot = 0.5 * (lo + hi)

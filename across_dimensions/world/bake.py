@@ -162,13 +162,10 @@ def bake_solid(
 
 def lift_asset(
     path,
-    depth: float,
-    w_center: float = 0.0,
-    profile: str = "prism",
+    extent: HyperDepth | float,
+    *,
     cache_dir=None,
     progress: bool = True,
-    *,
-    layers: int = 9,
     edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC,
     color=None,
     center=None,
@@ -179,19 +176,15 @@ def lift_asset(
     ----------
     path : str or Path
         ``.obj``, ``.glb``, ``.gltf`` or ``.stl``; must be (repairably) watertight.
-    depth : float
-        Full extent along ``w`` (> 0).
-    w_center : float
-    profile : {"prism", "round", "taper"}
-        How the cross-section scales along ``w`` (see
-        :func:`~across_dimensions.core.lift.profile_scales`).
+    extent : HyperDepth or float
+        How far along ``w`` and with which profile (see
+        :func:`~across_dimensions.core.lift.profile_scales`); a number is the full depth of
+        a prism centred on ``w = 0``.
     cache_dir : str or Path, optional
         Where baked 3D tets are kept; default :func:`default_cache_dir`.
     progress : bool
         A status line while a bake runs, when stderr is a terminal (a cache
         hit prints nothing).
-    layers : int
-        Copies along ``w`` for the ``round`` and ``taper`` profiles.
     edge_length_fac : float
         Tetrahedralization resolution (see :func:`tetrahedralize`).
     color : (3,) or (4,) array_like float, optional
@@ -209,16 +202,17 @@ def lift_asset(
     AssetError
     """
     path = Path(path)
+    if not isinstance(extent, HyperDepth):
+        extent = HyperDepth(0.0, float(extent), "prism")
     v, t = bake_solid(path, edge_length_fac, cache_dir, progress)
     try:
-        extent = HyperDepth(w_center, depth, profile, layers)
         mesh = extend_solid(v, t, extent, colors=color, center=center, name=path.stem)
         return mesh.validate()
     except (MeshError, ValueError) as e:
         raise AssetError(f"{path}: cannot lift to 4D: {e}") from None
 
 
-def lift_to_file(mesh_path, depth: float, out_path, **kw) -> Path:
+def lift_to_file(mesh_path, extent: HyperDepth | float, out_path, **kw) -> Path:
     """Bake ``mesh_path`` with :func:`lift_asset` and write it as ``.npz`` (:meth:`TetMesh4.save`).
 
     The output's folder must exist: a typo must not create folders.
@@ -236,6 +230,6 @@ def lift_to_file(mesh_path, depth: float, out_path, **kw) -> Path:
         The output's folder is missing.
     """
     out = check_folder(out_path)
-    mesh = lift_asset(mesh_path, depth, **kw)
+    mesh = lift_asset(mesh_path, extent, **kw)
     mesh.save(out)
     return out
