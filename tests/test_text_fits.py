@@ -199,6 +199,7 @@ def test_the_card_and_seek_messages_name_things_in_words():
 
     game = Game(load_level(Path(__file__).resolve().parents[1] / "levels" / "03_tumbling_hall.toml"))
     assert game.level.seek.enabled
+    game.energy.gain(5000)  # the hall starts with an empty bar: seek along w costs energy
     game.step(Actions(presses=Actions.count_presses({"seek": 1})))
     msg = game.frame().hud.message
     assert msg.startswith("Seeking the ") and "body '" not in msg and "(" in msg, msg

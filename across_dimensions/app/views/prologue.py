@@ -81,6 +81,7 @@ class FlatPlayView(View):
     """
 
     shows_level = True
+    from_editor = False  # the editor plays 4D levels only
     #: Seconds of play after the goal before the next level: the turn to 3D, then the closing line.
     finish_seconds = REVEAL_SECONDS + 2.5
     #: Said as the next level starts.
