@@ -10,6 +10,7 @@ condemns is a soft-lock.
 
 from __future__ import annotations
 
+import importlib
 import multiprocessing
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -145,6 +146,10 @@ def probe(paths: list, workers: int = 2) -> list[dict]:
     ``seconds`` is the processor time spent on the level (its runs added up).
     """
     paths = [str(p) for p in paths]
+    try:  # worker processes need named semaphores, which some Python builds lack
+        importlib.import_module("multiprocessing.synchronize")
+    except (ImportError, NotImplementedError):
+        workers = 1
     if workers <= 1:
         plans = [_plan(p) for p in paths]
         runs = [run_one(p["level"], n) for p in plans for n in p["strategies"]]
