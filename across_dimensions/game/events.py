@@ -405,12 +405,40 @@ class PlayerDied(Event):
 @dataclass(frozen=True)
 class LootReleased(Event):
     """A crystal hidden in an enemy came out: ``crystal`` is the new crystal's entity id and
-    ``reason`` is ``"defeated"`` or ``"forced"`` (a blast moved the enemy so the crystal's w crossed the slice)."""
+    ``reason`` is ``"defeated"``, ``"forced"`` (a blast moved the enemy so the crystal's w crossed the
+    slice) or ``"camera"`` (the switch to the frustum view held the enemy, ahead of the player and
+    within 12 m, and dragged it so the crystal's w crossed the slice: see
+    :func:`..systems.enemies._frustum_holds` for the rule)."""
 
     kind: ClassVar[str] = "loot_released"
     entity: int
     crystal: int
     reason: str
+
+
+@dataclass(frozen=True)
+class SlabKnocked(Event):
+    """A bullet knocked a hidden slab so that it turns through the slice (the paper's physics
+    figure): a box-shaped rigid body whose w extent did not reach the player's slice when the
+    bullet first touched it, left turning in the xw, yw or zw plane faster than
+    :data:`..systems.bullets.KNOCK_SPIN`. From then on the bullet is an ordinary body: it falls
+    and rolls away.
+
+    Attributes
+    ----------
+    entity : int
+        The slab's entity id.
+    bullet : int
+        The bullet's entity id.
+    spin : tuple of float
+        The slab's angular velocity in the t, u, v planes (``xw``, ``yw``, ``zw``), rad/s,
+        after the impact.
+    """
+
+    kind: ClassVar[str] = "slab_knocked"
+    entity: int
+    bullet: int
+    spin: tuple
 
 
 @dataclass(frozen=True)
