@@ -442,6 +442,41 @@ class SlabKnocked(Event):
 
 
 @dataclass(frozen=True)
+class EnteredFrustumObject(Event):
+    """While the frustum view holds, the player's box came to touch the bounds of the image of an
+    object the level marks ``walkable_in_frustum`` (stepped onto or into it, :mod:`..frustum_walk`).
+    Fires once per entry: again only after the player left its bounds or the view ended.
+
+    Attributes
+    ----------
+    entity : int
+        The object's entity id.
+    name : str
+        Its name in the level.
+    """
+
+    kind: ClassVar[str] = "entered_frustum_object"
+    entity: int
+    name: str
+
+
+@dataclass(frozen=True)
+class MovedToSafety(Event):
+    """The frustum view ended with the player inside geometry (they stood in an image where the
+    cross-section has a wall): they were put at the nearest free spot (:func:`..frustum_walk.safe_spot`),
+    or back at their last checkpoint when none was free.
+
+    Attributes
+    ----------
+    position : tuple of float
+        Where they stand now, ``(x, y, z, w)``.
+    """
+
+    kind: ClassVar[str] = "moved_to_safety"
+    position: tuple
+
+
+@dataclass(frozen=True)
 class CameraSwitched(Event):
     """The 4D camera changed mode.
 
