@@ -123,3 +123,24 @@ def test_the_level_reader_checks_the_field(tmp_path):
     path = LevelBuilder("walk").table("camera", frustum=True).object([0.0, 1.0, 3.0, 0.0], walkable_in_frustum=1).write(tmp_path)
     with pytest.raises(LevelError, match="walkable_in_frustum"):
         load_level(path)
+
+
+def test_the_folded_stairs_replay_climbs_the_image_and_frees_the_loot_with_the_camera():
+    """Level 12's shipped replay, through the command a player types: the stair is walked as an
+    image and the crystal for the climb came out for the camera."""
+    import json
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    levels = Path(__file__).resolve().parents[1] / "levels"
+    r = subprocess.run(
+        [sys.executable, "-m", "across_dimensions", "replay", str(levels / "12_folded_stair.toml"),
+         str(levels / "replays" / "12_folded_stair.json"), "--json"],
+        capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    out = json.loads(r.stdout)
+    assert out["outcome"] == "complete" and out["divergence"] is None
+    assert out["events"]["entered_frustum_object"] >= 1
+    assert out["causes"] == {"loot_released:camera": 1}
+    assert out["events"]["crystal_collected"] == 1

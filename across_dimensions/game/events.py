@@ -20,9 +20,11 @@ from typing import ClassVar
 
 @dataclass(frozen=True)
 class Event:
-    """Base class of every game event."""
+    """Base class of every game event. ``causes`` names a field whose value is counted beside
+    the kind, as ``"kind:value"`` in ``game.cause_counts`` (the replay summary's ``causes``)."""
 
     kind: ClassVar[str] = "event"
+    causes: ClassVar[str | None] = None
 
 
 def event_kinds() -> list[str]:
@@ -411,6 +413,7 @@ class LootReleased(Event):
     :func:`..systems.enemies._frustum_holds` for the rule)."""
 
     kind: ClassVar[str] = "loot_released"
+    causes: ClassVar[str | None] = "reason"
     entity: int
     crystal: int
     reason: str

@@ -136,6 +136,7 @@ class Game:
         self.show_ghosts = True
         self.events: list[Event] = []
         self.event_counts: Counter = Counter()
+        self.cause_counts: Counter = Counter()  # "kind:cause" -> count (Event.causes)
         self.tick = 0
         self.outcome: str | None = None  # "complete" once the goal is reached
         self.completed_tick: int | None = None
@@ -202,6 +203,8 @@ class Game:
         """Record an event of this tick (systems call this)."""
         self.events.append(event)
         self.event_counts[event.kind] += 1
+        if event.causes is not None:  # for the replay summary only: nothing in play reads it
+            self.cause_counts[f"{event.kind}:{getattr(event, event.causes)}"] += 1
 
     def remove(self, entity_id: int) -> None:
         """Remove an entity and free what it holds (its rigid body, its cached sections)."""
