@@ -16,6 +16,7 @@ from across_dimensions.game.sim import Game
 from across_dimensions.world.level import LevelError, load_level
 
 SWITCH = Actions(presses=(("switch_camera", 1),))
+IDLE = Actions()
 
 
 def _barrier_level(tmp_path, walkable=True, frustum=True):
@@ -35,7 +36,7 @@ def _barrier_level(tmp_path, walkable=True, frustum=True):
     )
 
 
-def _run(game, ticks, actions=Actions()):
+def _run(game, ticks, actions=IDLE):
     seen = []
     for _ in range(ticks):
         game.step(actions)
@@ -120,7 +121,12 @@ def test_the_level_reader_checks_the_field(tmp_path):
     )
     with pytest.raises(LevelError, match="crate.*walkable_in_frustum.*body = 'none'"):
         load_level(path)
-    path = LevelBuilder("walk").table("camera", frustum=True).object([0.0, 1.0, 3.0, 0.0], walkable_in_frustum=1).write(tmp_path)
+    path = (
+        LevelBuilder("walk")
+        .table("camera", frustum=True)
+        .object([0.0, 1.0, 3.0, 0.0], walkable_in_frustum=1)
+        .write(tmp_path)
+    )
     with pytest.raises(LevelError, match="walkable_in_frustum"):
         load_level(path)
 

@@ -182,3 +182,20 @@ def test_probe_command_refuses_bad_input_in_one_line(env, args, says):
 def test_probe_command_refuses_a_bad_level(env, tmp_path):
     r = run(env, "probe", corridor(["teleport"]).write(tmp_path))
     assert r.returncode == 2 and "got 'teleport'" in r.stderr
+
+
+@pytest.mark.slow
+def test_the_folded_stair_is_climbed_only_on_the_image_with_the_cameras_loot():
+    """The full bot follows level 12's route (the camera's loot, then the stair's image) and
+    wins; taking away the walk on the image, the loot or the orbit loses."""
+    from across_dimensions.probe.route import load_route
+    from across_dimensions.probe.runner import run_one
+    from across_dimensions.world.level import load_level
+
+    path = str(REPO / "levels" / "12_folded_stair.toml")
+    route = load_route(load_level(path))
+    assert [s.kind for s in route.steps if s.kind in ("camera_loot", "frustum_walk")] == ["camera_loot", "frustum_walk"]
+    assert run_one(path, "no_enemies")["won"]  # no enemy to fight here: the full bot
+    for name in ("no_frustum_walk", "no_camera_loot", "frustum_no_orbit"):
+        r = run_one(path, name)
+        assert not r["won"] and r["softlocks"] == [], name

@@ -387,7 +387,8 @@ class Game:
             h.update(encode(e))
         h.update(repr(self.rng.bit_generator.state).encode())
         for system in SYSTEMS:
-            if system.state_bytes is not None:
+            absent = not system.hashed_when_absent and getattr(self.states, system.name) is None
+            if system.state_bytes is not None and not absent:
                 h.update(encode(system.name) + system.state_bytes(self))
         return h.hexdigest()[:16]
 

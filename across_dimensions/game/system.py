@@ -74,6 +74,10 @@ class System:
         Where its state lives (``game.states.<name>``); the module's name.
     setup, step, draw, state_bytes : callable or None
         The hooks it has.
+    hashed_when_absent : bool
+        False: a level where the system keeps no state (None) leaves the state hash as it was
+        without the system, so shipped replays of levels that do not use a system added later
+        keep their hashes.
     """
 
     name: str
@@ -81,6 +85,7 @@ class System:
     step: Callable[[Any, Any], Any] | None = None
     draw: Callable[[Any, Any, float], None] | None = None
     state_bytes: Callable[[Any], bytes] | None = None
+    hashed_when_absent: bool = True
 
 
 class States:

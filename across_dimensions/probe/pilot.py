@@ -37,7 +37,9 @@ class Allow:
     slice) or ``"none"``; ``weapons``: the kinds it may use; ``aim``: aim at what it knows
     (False: fire straight ahead only); ``manipulation``: ``"full"``, ``"partial"`` (a step
     short of the intended angle) or ``"none"``; ``frustum``: ``"orbit"``, ``"fixed"`` (no
-    orbit) or ``"none"``; ``slice_turn``: ``"full"`` or ``"none"``.
+    orbit) or ``"none"``; ``slice_turn``: ``"full"`` or ``"none"``; ``frustum_walk``: walk on a
+    ``walkable_in_frustum`` image the route walks on; ``camera_loot``: free and take an enemy's
+    crystal with the frustum switch as the route does.
     """
 
     w: bool = True
@@ -50,6 +52,8 @@ class Allow:
     manipulation: str = "full"
     frustum: str = "orbit"
     slice_turn: str = "full"
+    frustum_walk: bool = True
+    camera_loot: bool = True
 
     def but(self, **changes) -> Allow:
         return replace(self, **changes)

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..game.replay import Replay, ReplayError
+from ..game.replay_level import same_file
 from ..game.sim import Game
 from ..world.resources import levels_dir
 from . import read
@@ -26,7 +27,10 @@ class Step:
     """One thing the route does.
 
     ``kind``: ``crystal``, ``target``, ``blast``, ``field``, ``manipulate``, ``body``,
-    ``turn``, ``frustum`` or ``enemy``; ``name`` what it acts on; ``at`` the player's feet
+    ``turn``, ``frustum``, ``enemy``, ``camera_loot`` (an enemy's crystal freed by the frustum
+    switch: ``at``/``yaw`` are the switch's) or ``frustum_walk`` (the player stepped onto a
+    ``walkable_in_frustum`` image: ``at``/``yaw`` the switch's, ``info["orbit"]`` the orbit then);
+    ``name`` what it acts on; ``at`` the player's feet
     ``(4,)`` when it happened (None in a plan made from the level alone); ``yaw``/``pitch``
     the view then; ``info`` the rest (a target's door and how the shot got there, angles, a
     body's resting place, ...).
@@ -80,6 +84,7 @@ class _Recorder:
         self.first_touch: dict[int, int] = {}  # body entity id -> tick of the first touch
         self.spent: dict[str, float] = {}
         self.orbit = 0.0
+        self.switch: tuple = (None, 0.0, 0.0)  # feet, yaw and pitch at the last frustum switch
 
     def before(self) -> None:
         self.names = read.names(self.game)
@@ -121,6 +126,11 @@ class _Recorder:
             self._step(k, k)
         elif k == "camera_switched" and ev.mode == "frustum":
             self._step("frustum", "camera")
+            self.switch = (read.feet(g), *read.view(g))
+        elif k == "loot_released" and ev.reason == "camera":
+            self.steps.append(Step("camera_loot", self.names.get(ev.entity, ""), g.tick, *self.switch))
+        elif k == "entered_frustum_object":
+            self.steps.append(Step("frustum_walk", ev.name, g.tick, *self.switch, {"orbit": self.orbit}))
         elif k == "enemy_defeated":
             self._step("enemy", ev.name, opens=ev.opened)
         elif k == "energy_spent":
@@ -161,7 +171,7 @@ def load_route(level, replay_path: Path | None = None, scene=None) -> Route:
         rep = Replay.load(path)
     except ReplayError:
         return planned_route(level)
-    if rep.level_hash != level.source_hash:
+    if not same_file(rep, level):  # the file and, for a level with assets, their bakes folded in
         return planned_route(level)
     game = Game(level, seed=rep.seed, scene=scene)
     rec = _Recorder(game)

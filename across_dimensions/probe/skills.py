@@ -228,6 +228,49 @@ def frustum_shot(ctx: Ctx, name: str, step=None):
     yield from wait(ctx, 70)
 
 
+def _switch_from(ctx: Ctx, step):
+    """Stand where the route switched the frustum camera on, face as it did, and switch."""
+    yield from goto(ctx, step.at[[0, 2]], tol=0.05, ticks=900)
+    yield from turn_to(ctx, step.yaw, step.pitch)
+    yield Actions(presses=(("switch_camera", 1),))
+
+
+def orbit_to(ctx: Ctx, deg: float, ticks: int = 1200):
+    """Hold the orbit keys until the detached camera stands within one tick's stride of ``deg``."""
+    game = ctx.game
+    stride = game.level.camera.orbit_speed / 60.0
+    for _ in range(ticks):
+        gap = deg - read.orbit_deg(game)
+        if abs(gap) <= stride / 2 or read.camera_mode(game) != "frustum":
+            return
+        yield Actions(orbit_right=gap > 0, orbit_left=gap < 0)
+
+
+def camera_loot(ctx: Ctx, step):
+    """Free an enemy's crystal as the route did (the frustum switch from the route's spot, which
+    holds the enemy in the slice), switch back and take it."""
+    game = ctx.game
+    before = read.count(game, "loot_released")
+    yield from _switch_from(ctx, step)
+    for _ in range(120):
+        if read.count(game, "loot_released") > before or read.camera_mode(game) != "frustum":
+            break
+        yield idle(game)
+    if read.camera_mode(game) == "frustum":
+        yield Actions(presses=(("switch_camera", 1),))
+    for c in [c for c in read.crystals(game) if c.name == f"{step.name} loot"]:
+        yield from collect(ctx, c)
+
+
+def frustum_walk(ctx: Ctx, step):
+    """Walk on a frustum image as the route did: switch from its spot, orbit as it had (not with
+    the orbit forbidden), then walk to the goal while the view holds."""
+    yield from _switch_from(ctx, step)
+    if ctx.allow.frustum == "orbit":
+        yield from orbit_to(ctx, step.info.get("orbit", 0.0))
+    yield from walk_to_goal(ctx)
+
+
 # ------------------------------------------------------------------ crystals
 def collect(ctx: Ctx, thing):
     """Walk into a crystal (at its w, when the strategy moves along w)."""

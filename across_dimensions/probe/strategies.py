@@ -27,7 +27,9 @@ from ..world.design import NEEDS
 from . import read
 from .pilot import Allow, Ctx, Progress, distance_xz, drive, goto, idle, look, move_w, wait, yaw_to
 from .skills import (
+    camera_loot,
     fight,
+    frustum_walk,
     gather,
     hit_target,
     push_body,
@@ -83,6 +85,10 @@ def play(ctx: Ctx):
             yield from push_body(ctx, step.name, step.info["rest"][[0, 2]])
         elif step.kind == "turn" and allow.slice_turn != "none":
             yield from turn_slice(ctx, step)
+        elif step.kind == "camera_loot" and allow.frustum != "none" and allow.camera_loot:
+            yield from camera_loot(ctx, step)
+        elif step.kind == "frustum_walk" and allow.frustum != "none" and allow.frustum_walk:
+            yield from frustum_walk(ctx, step)
     yield from walk_to_goal(ctx)
 
 
@@ -331,7 +337,7 @@ def _without_tools() -> list[Strategy]:
         ),
         Strategy(
             "no_frustum",
-            frozenset({"frustum", "orbit"}),
+            frozenset({"frustum", "orbit", "frustum_walk", "camera_loot"}),
             lambda lv, r: lv.camera.frustum,
             play,
             full.but(frustum="none"),
@@ -339,9 +345,21 @@ def _without_tools() -> list[Strategy]:
         Strategy(
             "frustum_no_orbit",
             frozenset({"orbit"}),
-            lambda lv, r: lv.camera.frustum and bool(lv.targets),
+            lambda lv, r: lv.camera.frustum and (bool(lv.targets) or r.uses("frustum_walk")),
             play,
             full.but(frustum="fixed"),
+        ),
+        # Walking to the goal without stepping onto the image the route climbs.
+        Strategy(
+            "no_frustum_walk",
+            frozenset({"frustum_walk"}),
+            _route_has("frustum_walk"),
+            play,
+            full.but(frustum_walk=False),
+        ),
+        # Leaving the enemy's crystal to the kill or the blast: never freeing it with the camera's hold.
+        Strategy(
+            "no_camera_loot", frozenset({"camera_loot"}), _route_has("camera_loot"), play, full.but(camera_loot=False)
         ),
     ]
 

@@ -90,4 +90,4 @@ def step(game, actions) -> None:
         _to_safety(game, walk)
 
 
-SYSTEM = System("frustum_walk", setup, step, state_bytes=state_bytes)
+SYSTEM = System("frustum_walk", setup, step, state_bytes=state_bytes, hashed_when_absent=False)
