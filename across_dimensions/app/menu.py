@@ -292,6 +292,9 @@ class Menu:
                 value = f"done  {format_time(best)}"
             if open_ and found and found[1]:
                 value += f"  crystals {found[0]}/{found[1]}"
+            secrets = self.progress.secrets.get(entry.stem)
+            if open_ and secrets and secrets[1]:
+                value += f"  secrets {len(secrets[0])}/{secrets[1]}"
             rows.append(Item(f"level:{entry.stem}", f"{i + 1}. {entry.title}", value, open_, entry.teaches))
         trial = Item("trial_mode", "Time trial", "on" if self.trial else "off", note="race the ghost of your best run")
         return rows + [trial, Item("back", "Back")]

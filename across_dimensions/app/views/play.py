@@ -89,6 +89,8 @@ class PlayView(View):
         # A level is where Continue resumes only when it is open in the campaign.
         stems = [e.stem for e in s.campaign]
         self.continues = s.progress.play(self._path.stem, checkpoint_of(self.game), stems, s.optional)
+        if self.game.level.secrets:  # the level select can say how many there are to find
+            s.progress.found_secrets(self._path.stem, (), len(self.game.level.secrets))
         s.save_progress()
         s.renderer.forget_meshes()  # a new world: its meshes reuse the old one's keys and revisions
         st = s.settings
@@ -184,6 +186,7 @@ class PlayView(View):
         s.sound.play(cues)
         s.captions.heard(cues, DT)
         self.crystals_found += sum(e.kind == "crystal_collected" for e in self.game.events)
+        self._keep_secrets()
         if any(e.kind == "respawned" for e in self.game.events):  # a fall is never silent
             where = "the last checkpoint" if checkpoint_of(self.game) is not None else "the start"
             s.say(f"You fell out of the level: back at {where}.", 3.0)
@@ -191,6 +194,13 @@ class PlayView(View):
         reached = self.run_log.record(self.game, actions) if self.run_log is not None else None
         if reached is not None and self.race is not None:
             s.say(self.race.split(reached, self.game.tick, self.game.level.checkpoints[reached].name), 3.0)
+
+    def _keep_secrets(self) -> None:
+        """Save each secret as it is found (not at the level's end): leaving the level keeps it."""
+        found = [e for e in self.game.events if e.kind == "secret_found"]
+        if found and not self.from_editor:
+            self.session.progress.found_secrets(self._path.stem, [e.name for e in found], found[0].total)
+            self.session.save_progress()
 
     def read_actions(self):
         """This tick's actions (see :class:`~across_dimensions.app.input.PlayInput`)."""
