@@ -194,6 +194,11 @@ w.on_key_press(key.ESCAPE, 0)
 print("back:", view(), s.menu.screen)
 click("Continue")
 print("next:", view(), w.current_view.level_path.stem)
+from across_dimensions.app.ghost_saves import ghost_path
+ghost_path("01_first_steps").write_text("{ not a ghost")           # a corrupt ghost: a warning, a race without it
+s.start_level(levels_dir() / "01_first_steps.toml", trial=True)
+w.update(DT)
+print("corrupt:", view(), w.current_view.race.ghost, "|", s.notice_text)
 """
 
 
@@ -215,7 +220,11 @@ def test_window_flow_results_time_trial_and_continue(tmp_path):
     assert "ghost line: [('Ghost', '0:09.7  +0.5 s', False)]" in out  # half a second behind
     assert "levels: LevelSelectView levels" in out and "back: LevelCompleteView complete" in out
     assert "next: PlayView 01_first_steps" in out
-    assert sorted(p.name for p in (tmp_path / "ghosts").iterdir()) == ["00_arrival.json", "00_arrival.replay.json"]
+    assert "corrupt: PlayView None | Time trial: your ghost could not be read (kept aside)" in out
+    warning = "01_first_steps.json: not a ghost this game can read"
+    assert warning in r.stderr and "kept as 01_first_steps.corrupt-1.json" in r.stderr
+    kept = ["00_arrival.json", "00_arrival.replay.json", "01_first_steps.corrupt-1.json"]
+    assert sorted(p.name for p in (tmp_path / "ghosts").iterdir()) == kept
 
 
 # ---- the game in a real window, played with xdotool -------------------------------------------------
