@@ -21,6 +21,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from conftest import shots_in, xvfb_display
+from levels_builder import LevelBuilder
 
 from across_dimensions.app.menu import Menu
 from across_dimensions.app.saves import Progress
@@ -194,6 +195,23 @@ w.on_key_press(key.ESCAPE, 0)
 print("back:", view(), s.menu.screen)
 click("Continue")
 print("next:", view(), w.current_view.level_path.stem)
+import os
+from pathlib import Path
+course = Path(os.environ["CHECKPOINT_LEVEL"])                    # a level with a checkpoint: the split said
+s.start_level(course)
+run = w.current_view
+run.read_actions = lambda: Actions(forward=1.0)
+while run.game.outcome != "complete":
+    w.update(DT)
+for _ in range(int(2 / DT)):
+    w.update(DT * 1.0001)
+s.start_level(course, trial=True)
+race = w.current_view
+frames = iter([Actions()] * 30)
+race.read_actions = lambda: next(frames, Actions(forward=1.0))
+while race.game.checkpoint is None:
+    w.update(DT)
+print("split:", s.notice_text, "| ghost at", race.race.ghost.splits[0], "live at", race.game.tick)
 from across_dimensions.app.ghost_saves import ghost_path
 ghost_path("01_first_steps").write_text("{ not a ghost")           # a corrupt ghost: a warning, a race without it
 s.start_level(levels_dir() / "01_first_steps.toml", trial=True)
@@ -203,7 +221,14 @@ print("corrupt:", view(), w.current_view.race.ghost, "|", s.notice_text)
 
 
 def test_window_flow_results_time_trial_and_continue(tmp_path):
+    course = (
+        LevelBuilder("Split test", spawn=(0.0, 0.0, -5.0, 0.0), goal=(0.0, 1.0, 5.0))
+        .table("health", max=100.0)
+        .add("checkpoint", name="middle", position=[0.0, 0.0, 0.0, 0.0], size=[6.0, 3.0, 1.0])
+        .write(tmp_path, "course.toml")
+    )
     env = dict(os.environ, ACROSS_DIMENSIONS_DATA_DIR=str(tmp_path), ACROSS_DIMENSIONS_CONFIG_DIR=str(tmp_path))
+    env["CHECKPOINT_LEVEL"] = str(course)
     env.pop("DISPLAY", None)
     env["PYGLET_HEADLESS"] = "1"
     r = subprocess.run([sys.executable, "-c", _FLOW], env=env, capture_output=True, text=True, timeout=900)
@@ -220,10 +245,16 @@ def test_window_flow_results_time_trial_and_continue(tmp_path):
     assert "ghost line: [('Ghost', '0:09.7  +0.5 s', False)]" in out  # half a second behind
     assert "levels: LevelSelectView levels" in out and "back: LevelCompleteView complete" in out
     assert "next: PlayView 01_first_steps" in out
+    split = out.split("split: ")[1].splitlines()[0]
+    ghost_tick, live_tick = int(split.split("ghost at ")[1].split()[0]), int(split.split("live at ")[1])
+    behind = (live_tick - ghost_tick) / 60  # half a second, give or take the tick the idle start settles in
+    assert abs(behind - 0.5) < 0.05
+    assert split.startswith(f"Checkpoint middle: 0:{live_tick / 60:04.1f}   +{behind:.1f} s")
     assert "corrupt: PlayView None | Time trial: your ghost could not be read (kept aside)" in out
     warning = "01_first_steps.json: not a ghost this game can read"
     assert warning in r.stderr and "kept as 01_first_steps.corrupt-1.json" in r.stderr
     kept = ["00_arrival.json", "00_arrival.replay.json", "01_first_steps.corrupt-1.json"]
+    kept += ["course.json", "course.replay.json"]
     assert sorted(p.name for p in (tmp_path / "ghosts").iterdir()) == kept
 
 
