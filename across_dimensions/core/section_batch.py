@@ -37,7 +37,7 @@ import numpy as np
 from .cells import Cells, mesh_cells
 from .layout import layout_colors, layout_normals, mesh_clusters
 from .mesh import TetMesh4
-from .section_batch_kernels import ROW, BatchScratch, Instances, Pool, Rows, _slice_batch
+from .section_batch_kernels import ROW, BatchScratch, Instances, Pool, Rows, _instances_in_view, _slice_batch, _w_ranges
 from .transform import inverse
 
 #: Updates the output must have fitted half its capacity before it shrinks.
@@ -190,6 +190,8 @@ class SectionBatch:
         self._last = None  # (keys, mesh numbers, visible, model-views) of the last update
         self._start = np.zeros(1, np.int64)
         self._count = np.zeros(0, np.int64)
+        self._w_range = np.zeros((0, 2))
+        self._mesh_ids: tuple = (None, None)  # (id of each mesh, its number in the pool) of the last update
         self._scratch = None  # the kernel's BatchScratch, grown with the pool
         self._tag = 0  # marks camera-space vertices (see _slice_batch); never reused
         self._min_rows = int(capacity_rows)
@@ -213,6 +215,18 @@ class SectionBatch:
         """``(first row, row count)`` of an instance's triangles in :attr:`vertices`."""
         i = self._pos[key]
         return int(self._start[i]), int(self._count[i])
+
+    def instances(self) -> tuple[list, np.ndarray, np.ndarray, np.ndarray]:
+        """Every instance in the output's order, as arrays: ``(keys, start (k + 1,) int64,
+        count (k,) int64, w_range (k, 2) float64)``: its rows ``start[i]`` to ``start[i] + count[i]``,
+        and the least and greatest camera-space w of its posed vertices (how far it reaches
+        either side of the slice). Valid until the next :meth:`update`."""
+        return self._keys, self._start, self._count, self._w_range
+
+    @property
+    def view_culled(self) -> set:
+        """The keys :meth:`culled_by_view` says yes to."""
+        return self._view_culled
 
     def culled_by_view(self, key) -> bool:
         """Was the instance skipped only because it is out of view (its sphere reaches the slice)?"""
@@ -241,13 +255,17 @@ class SectionBatch:
         models = np.asarray(models, np.float64).reshape(n, 5, 5)
         mvs = np.ascontiguousarray(np.matmul(view, models))
         meshes = list(meshes)
-        if len(self._pool.meshes) > max(16, 2 * len({id(m) for m in meshes})):
+        by_id = list(map(id, meshes))
+        if len(self._pool.meshes) > max(16, 2 * len(set(by_id))):
             # Mostly meshes no longer drawn: start the pool again (and slice everything anew),
             # so a long game spawning objects of new shapes does not grow it forever.
             self._pool = _Pool(self._by_cells)
             self._last, self._keys, self._pos = None, [], {}
+            self._mesh_ids = (None, None)
             self._start = np.zeros(1, np.int64)
-        mesh_ids = np.array([self._pool.add(m) for m in meshes], np.int64)
+        if by_id != self._mesh_ids[0]:  # the same meshes as last time (most frames): the same numbers
+            self._mesh_ids = (by_id, np.array([self._pool.add(m) for m in meshes], np.int64))
+        mesh_ids = self._mesh_ids[1]
         in_slice, visible = self._visible(mvs, mesh_ids, planes)
         self._view_culled = {keys[i] for i in np.flatnonzero(in_slice & ~visible)}
         self.culled = int(n - visible.sum())
@@ -311,6 +329,9 @@ class SectionBatch:
         count = np.zeros(n, np.int64)
         start[: first + 1] = self._start[: first + 1]
         count[:first] = self._count[:first]
+        w_range = np.empty((n, 2))
+        w_range[:first] = self._w_range[:first]
+        _w_ranges(self._pool.arrays, inst, first, w_range)
         while True:
             rows = _slice_batch(
                 self._pool.arrays, inst, first, start_row, Rows(self._out, start, count), self._scratch, self._tag
@@ -324,7 +345,7 @@ class SectionBatch:
             self._out = grown
         self._rows = int(rows)
         self._shrink_if_settled()
-        self._start, self._count = start, count
+        self._start, self._count, self._w_range = start, count, w_range
         self.changed_from = start_row
 
     def _shrink_if_settled(self) -> None:
@@ -350,22 +371,7 @@ class SectionBatch:
         Returns two ``(k,) bool`` arrays.
         """
         pool = self._pool
-        if len(mvs) == 0:
-            return np.zeros(0, bool), np.zeros(0, bool)
-        a = mvs[:, :4, :4]
-        # Stretch bound: sqrt of a Gershgorin bound on A^T A (exact for a
-        # rotation times a uniform scale, an upper bound otherwise).
-        ata = np.matmul(a.transpose(0, 2, 1), a)
-        stretch = np.sqrt(np.abs(ata).sum(axis=2).max(axis=1))
-        c = np.einsum("kij,kj->ki", a, pool.center[mesh_ids]) + mvs[:, :4, 4]
-        # Margin: vertices are float32, spheres float64.
-        r = pool.radius[mesh_ids] * stretch * (1.0 + 1e-6) + 1e-6
-        in_slice = np.abs(c[:, 3]) <= r
-        visible = in_slice.copy()
-        if planes is not None and len(planes):
-            pl = np.asarray(planes, np.float64).reshape(-1, 4)
-            # The slice of a 4D ball at w distance d is a 3D ball of radius sqrt(r^2 - d^2).
-            r3 = np.sqrt(np.maximum(r * r - c[:, 3] ** 2, 0.0))
-            dist = c[:, :3] @ pl[:, :3].T + pl[:, 3]
-            visible &= (dist >= -r3[:, None] * np.linalg.norm(pl[:, :3], axis=1)).all(axis=1)
+        pl = np.zeros((0, 4)) if planes is None else np.ascontiguousarray(planes, np.float64).reshape(-1, 4)
+        in_slice, visible = np.empty(len(mvs), np.bool_), np.empty(len(mvs), np.bool_)
+        _instances_in_view(mvs, pool.center[mesh_ids], pool.radius[mesh_ids], pl, in_slice, visible)
         return in_slice, visible
