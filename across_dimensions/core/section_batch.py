@@ -49,6 +49,21 @@ def _capacity(rows: int, minimum: int) -> int:
     return max(int(minimum), 1 << max(int(rows) - 1, 0).bit_length())
 
 
+def _view_of(camera_pose) -> np.ndarray:
+    """World-to-camera ``(5, 5)`` of a camera-to-world pose (None: the identity)."""
+    if camera_pose is None:
+        return np.eye(5)
+    pose = np.asarray(camera_pose, np.float64)
+    if (pose[:4, :4] == _EYE4).all():  # a plain slice (ghost layers, an unturned slice): no solve needed
+        view = np.eye(5)
+        view[:4, 4] = -pose[:4, 4]  # what inverse() gives, up to the sign of a zero
+        return view
+    return inverse(pose)
+
+
+_EYE4 = np.eye(4)
+
+
 class _Pool:
     """Every distinct mesh's slicing layout, concatenated: :attr:`arrays` is the kernels'
     :class:`~.section_batch_kernels.Pool`."""
@@ -185,7 +200,8 @@ class SectionBatch:
         self._pool = _Pool(by_cells)
         self._out = np.empty((_capacity(0, capacity_rows), ROW), np.float32)
         self._keys: list = []  # instance order (changed ones drift to the back)
-        self._pos: dict = {}  # key -> its place in that order
+        self._pos: dict | None = {}  # key -> its place in that order (None: not made yet)
+        self._order = np.zeros(0, np.int64)  # that order as places in the last update's keys
         self._view_culled: set = set()
         self._last = None  # (keys, mesh numbers, visible, model-views) of the last update
         self._start = np.zeros(1, np.int64)
@@ -213,6 +229,8 @@ class SectionBatch:
 
     def instance_rows(self, key) -> tuple[int, int]:
         """``(first row, row count)`` of an instance's triangles in :attr:`vertices`."""
+        if self._pos is None:
+            self._pos = {k: i for i, k in enumerate(self._keys)}
         i = self._pos[key]
         return int(self._start[i]), int(self._count[i])
 
@@ -251,7 +269,7 @@ class SectionBatch:
         """
         keys = list(keys)
         n = len(keys)
-        view = np.eye(5) if camera_pose is None else inverse(camera_pose)
+        view = _view_of(camera_pose)
         models = np.asarray(models, np.float64).reshape(n, 5, 5)
         mvs = np.ascontiguousarray(np.matmul(view, models))
         meshes = list(meshes)
@@ -269,39 +287,44 @@ class SectionBatch:
         in_slice, visible = self._visible(mvs, mesh_ids, planes)
         self._view_culled = {keys[i] for i in np.flatnonzero(in_slice & ~visible)}
         self.culled = int(n - visible.sum())
-        changed = self._changed(keys, mesh_ids, visible, mvs)
-        inputs = set(keys)
-        if not changed and len(inputs) == len(self._keys) and all(k in inputs for k in self._keys):
+        old = self._old_order(keys)
+        diff = self._changed(keys, mesh_ids, visible, mvs)
+        if not diff.any() and len(old) == n and (old >= 0).all():
             self.changed_from = self._rows
             self.sliced = 0
             self._shrink_if_settled()
             return False
         # New order: unchanged instances in their old order, then the changed ones,
         # so the static ones settle into a prefix that is never touched again.
-        stay = [k for k in self._keys if k in inputs and k not in changed]
-        first = 0
-        while first < len(stay) and self._keys[first] == stay[first]:
-            first += 1
-        order = stay + [k for k in keys if k in changed]
-        pos = {k: i for i, k in enumerate(keys)}
-        idx = np.array([pos[k] for k in order], np.int64)
+        kept = old[old >= 0]
+        stay = kept[~diff[kept]]
+        first = int(np.argmin(np.append(old[: len(stay)] == stay, False)))
+        order = np.concatenate([stay, np.flatnonzero(diff)])
         # The winding rule needs each transform's orientation.
         flips = np.where(np.linalg.det(mvs[:, :4, :4]) > 0, 1.0, -1.0)
         inst = Instances(
-            mesh_ids[idx],
-            np.ascontiguousarray(mvs[idx]),
-            np.ascontiguousarray(flips[idx]),
-            visible[idx].astype(np.uint8),
+            mesh_ids[order],
+            np.ascontiguousarray(mvs[order]),
+            np.ascontiguousarray(flips[order]),
+            visible[order].astype(np.uint8),
         )
         self._slice(inst, first)
-        self._keys = order
-        self._pos = {k: i for i, k in enumerate(order)}
+        self._keys = list(map(keys.__getitem__, order.tolist()))
+        self._order = order
+        self._pos = None
         self.sliced = n - first
         self.revision += 1
         return True
 
-    def _changed(self, keys: list, mesh_ids: np.ndarray, visible: np.ndarray, mvs: np.ndarray) -> set:
-        """The keys of the instances that are new, moved, or entered or left the view.
+    def _old_order(self, keys: list) -> np.ndarray:
+        """The last update's order as places in ``keys``, ``(k,) int64``, -1 for keys gone."""
+        if self._last is not None and self._last[0] == keys:
+            return self._order  # the same keys as last time (most frames)
+        where = {k: i for i, k in enumerate(keys)}
+        return np.array([where.get(k, -1) for k in self._keys], np.int64)
+
+    def _changed(self, keys: list, mesh_ids: np.ndarray, visible: np.ndarray, mvs: np.ndarray) -> np.ndarray:
+        """``(n,) bool`` by place in ``keys``: the instances that are new, moved, or entered or left the view.
 
         Compared as arrays: per-key Python work is what the batch is here to avoid.
         """
@@ -318,7 +341,7 @@ class SectionBatch:
                     if j is not None:
                         diff[i] = last[1][j] != mesh_ids[i] or last[2][j] != visible[i] or (last[3][j] != mvs[i]).any()
         self._last = (keys, mesh_ids, visible, mvs)
-        return {keys[i] for i in np.flatnonzero(diff)}
+        return diff
 
     def _slice(self, inst: Instances, first: int) -> None:
         """Slice the instances from ``first`` on (those before keep their rows), growing the output if needed."""

@@ -165,20 +165,22 @@ def same_as_slice(mesh, model: np.ndarray, w: float, wg: float) -> bool:
     return lo < min(w, wg) and max(w, wg) < hi
 
 
-def same_as_slice_all(caps: np.ndarray, models: np.ndarray, w: float, wg: float) -> np.ndarray:
-    """:func:`same_as_slice` of many things at once, ``(n,) bool``, the same arithmetic.
+def slice_spans(caps: np.ndarray, models: np.ndarray) -> np.ndarray:
+    """Where each thing is a prism along w that nothing turns out of w, the span ``(lo, hi)``
+    of w between its caps, NaN elsewhere: ``(n, 2) float64``. :func:`same_as_slice` of thing
+    ``i`` is ``lo < min(w, wg) and max(w, wg) < hi``, with the same arithmetic.
 
     Parameters
     ----------
     caps : (n, 2) float64
         Each mesh's :func:`_w_caps`, NaN where it has none.
     models : (n, 5, 5) float64
-    w, wg : float
     """
-    fixed = ~np.isnan(caps[:, 0]) & ~(models[:, 3, :3] != 0.0).any(axis=1) & ~(models[:, :3, 3] != 0.0).any(axis=1)
+    fixed = ~(models[:, 3, :3] != 0.0).any(axis=1) & ~(models[:, :3, 3] != 0.0).any(axis=1)
     a = models[:, 3, 3, None] * caps + models[:, 3, 4, None]
-    lo, hi = a.min(axis=1), a.max(axis=1)
-    return fixed & (lo < min(w, wg)) & (max(w, wg) < hi)
+    spans = np.sort(a, axis=1)
+    spans[~fixed] = np.nan
+    return spans
 
 
 def _caps(mesh) -> tuple[float, float]:
@@ -212,14 +214,16 @@ def draw(game, frame, alpha) -> None:
     blocked: list[int] = []
     w = frame.camera.w
     layers = layers_of(game, w)
-    caps = table.column("ghost_w_caps", lambda e: _caps(e.mesh)).reshape(-1, 2) if layers else None
+    if layers:
+        spans = slice_spans(table.column("ghost_w_caps", lambda e: _caps(e.mesh)).reshape(-1, 2), models)
     for layer in layers:
         tag = layer.tag
         # Solid things are drawn one by one (the ghost of one that would block the player is
         # stronger); the rest of the entities are cut together, one batch per layer. A ghost
         # that would be the section itself, drawn over it, is left out.
         near = np.abs(table.centers[:, 3] - layer.w) <= table.radii
-        shown = np.flatnonzero(near & ~same_as_slice_all(caps, models, w, layer.w))
+        same = (spans[:, 0] < min(w, layer.w)) & (max(w, layer.w) < spans[:, 1])
+        shown = np.flatnonzero(near & ~same)
         things = []
         for i in shown[solids[shown]]:
             e = table.entities[i]
