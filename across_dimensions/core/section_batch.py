@@ -94,6 +94,7 @@ class _Pool:
         self.radius = np.zeros(0)
         # The largest mesh's vertices, tets (or cells), and cell corners (at least a tet's 4).
         self.max_vertices, self.max_tets, self.max_corners = 0, 0, 4
+        self.max_clusters = 1
 
     def add(self, mesh: TetMesh4) -> int:
         k = self.index.get(id(mesh))
@@ -120,6 +121,7 @@ class _Pool:
         self.radius = np.append(self.radius, float(np.sqrt(((v - ctr) ** 2).sum(axis=1).max())))
         self.max_vertices = max(self.max_vertices, len(layout.vertices))
         self.max_tets = max(self.max_tets, len(layout.tets) + 1)
+        self.max_clusters = max(self.max_clusters, len(layout.lo))
         self._add_cells(mesh_cells(mesh) if self.by_cells else None, layout, v0)
         k = self.index[id(mesh)] = len(self.meshes)
         self.meshes.append(mesh)
@@ -146,7 +148,7 @@ class _Pool:
     def scratch(self, ws: BatchScratch | None) -> BatchScratch:
         """``ws`` if it is large enough for every mesh of the pool, else a new one."""
         if ws is not None and len(ws.stamp) >= self.max_vertices and len(ws.cut) >= self.max_tets:
-            if len(ws.q) >= self.max_corners:
+            if len(ws.q) >= self.max_corners and len(ws.keep) >= self.max_clusters:
                 return ws
         v, t, c = self.max_vertices, self.max_tets, self.max_corners
         return BatchScratch(
@@ -160,6 +162,7 @@ class _Pool:
             ang=np.empty(c),
             order=np.empty(c, np.int64),
             p=np.empty((4, 4)),
+            keep=np.empty(self.max_clusters, np.int64),
         )
 
 

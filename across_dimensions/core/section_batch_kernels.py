@@ -132,6 +132,8 @@ class BatchScratch(NamedTuple):
         A cell polygon's corners' angles and their order.
     p : (4, 4) float64
         A tet's corners in camera space.
+    keep : (c,) int64
+        The clusters of the instance its slice meets.
     """
 
     cam: np.ndarray
@@ -144,6 +146,7 @@ class BatchScratch(NamedTuple):
     ang: np.ndarray
     order: np.ndarray
     p: np.ndarray
+    keep: np.ndarray
 
 
 @njit(cache=True)
@@ -239,23 +242,34 @@ def _cut_tets(pool, inst, k, stamp_of, ws):
     ``stamp_of`` where ``ws.cam`` has it), with the per-object slicer's sums.
     """
     verts, tets, clo, chi, ccenter, cradius = pool.vertices, pool.tets, pool.clo, pool.chi, pool.ccenter, pool.cradius
-    cam, stamp, cut, cmask = ws.cam, ws.stamp, ws.cut, ws.cmask
+    cam, stamp, cut, cmask, keep = ws.cam, ws.stamp, ws.cut, ws.cmask, ws.keep
     m = inst.mesh[k]
     mv = inst.mvs[k]
     v_lo = pool.mesh_v[m, 0]
     w_gain = np.sqrt(mv[3, 0] ** 2 + mv[3, 1] ** 2 + mv[3, 2] ** 2 + mv[3, 3] ** 2)
-    ncut = 0
+    # Clusters the slice meets, and their tets: when those use about every vertex, move every
+    # vertex into camera space in one loop without marks (vectorized), as the per-object slicer does.
+    nkeep = 0
+    visit = 0
     for cl in range(pool.mesh_c[m, 0], pool.mesh_c[m, 1]):
         cc = ccenter[cl]
         dc = mv[3, 0] * cc[0] + mv[3, 1] * cc[1] + mv[3, 2] * cc[2] + mv[3, 3] * cc[3] + mv[3, 4]
-        if abs(dc) > cradius[cl] * w_gain:
-            continue
+        if abs(dc) <= cradius[cl] * w_gain:
+            keep[nkeep] = cl
+            nkeep += 1
+            visit += chi[cl] - clo[cl]
+    every = 4 * visit >= pool.mesh_v[m, 1] - v_lo
+    if every:
+        _cells_to_camera(pool, inst, k, ws)
+    ncut = 0
+    for kc in range(nkeep):
+        cl = keep[kc]
         for t in range(clo[cl], chi[cl]):
             mask = 0
             for j in range(4):
                 vi = tets[t, j]
                 li = vi - v_lo
-                if stamp[li] != stamp_of:
+                if not every and stamp[li] != stamp_of:
                     stamp[li] = stamp_of
                     for r in range(4):
                         cam[li, r] = (
@@ -265,13 +279,11 @@ def _cut_tets(pool, inst, k, stamp_of, ws):
                             + mv[r, 3] * verts[vi, 3]
                             + mv[r, 4]
                         )
-                if cam[li, 3] > 0.0:
-                    mask |= 1 << j
-            if mask == 0 or mask == 15:
-                continue
+                mask |= (cam[li, 3] > 0.0) << j
+            # Compacted without a branch: near the slice whether a tet is cut is a coin toss.
             cut[ncut] = t
             cmask[ncut] = mask
-            ncut += 1
+            ncut += (mask != 0) & (mask != 15)
     return ncut
 
 
