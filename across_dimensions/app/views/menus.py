@@ -151,12 +151,14 @@ class TitleView(MenuScreen):
 
 
 class LevelSelectView(MenuScreen):
-    """The campaign's levels, locked or open, with best times and crystals; a click plays one."""
+    """The campaign's levels, locked or open, with best times and crystals; a click plays one
+    (as a time trial when the screen's time-trial row is on)."""
 
     def run(self, command: str) -> None:
-        if command.startswith("play:"):
+        kind, _, stem = command.partition(":")
+        if kind in ("play", "trial"):
             s = self.session
-            s.start_level(next(e.path for e in s.campaign if e.stem == command[5:]))
+            s.start_level(next(e.path for e in s.campaign if e.stem == stem), trial=kind == "trial")
 
 
 class PauseView(MenuScreen):

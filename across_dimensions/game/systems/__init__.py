@@ -32,6 +32,7 @@ from . import (
     radar,
     rigid_bodies,
     scenery,
+    secrets,
     sections,
     seek,
     solid_bodies,
@@ -44,7 +45,8 @@ from . import (
 #: the walking keys while one is held); the player moves, pushes bodies; weapons fire and
 #: steer bullets, and the beacons bring back bodies out of range, before physics runs; bullets
 #: read its contacts after; enemies (the blast, bullet
-#: hits, their moves and shots) and the player's health after the bullets; pickups; the outcome.
+#: hits, their moves and shots) and the player's health after the bullets; pickups; the outcome;
+#: the secrets (a secret exit finishes the level only when the goal did not this tick).
 #: Frame order: manipulation (its ghost previews, HUD line), scenery, entities, radar, HUD,
 #: then the ghosts along w, after everything solid. Setup runs in the same order, so the
 #: entities systems spawn get their ids in it: targets, then enemies, then the level's crystals.
@@ -64,6 +66,7 @@ SYSTEMS = (
     health.SYSTEM,
     crystals.SYSTEM,
     outcome.SYSTEM,
+    secrets.SYSTEM,
     scenery.SYSTEM,
     sections.SYSTEM,
     radar.SYSTEM,
