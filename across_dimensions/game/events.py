@@ -552,3 +552,21 @@ class ObjectReset(Event):
 
     kind: ClassVar[str] = "object_reset"
     name: str
+
+
+@dataclass(frozen=True)
+class SecretFound(Event):
+    """The player stepped into a ``[[secret]]``'s volume for the first time.
+
+    Attributes
+    ----------
+    name : str
+        The secret's name in the level.
+    found, total : int
+        How many of the level's secrets are found now (this one included), and how many it has.
+    """
+
+    kind: ClassVar[str] = "secret_found"
+    name: str
+    found: int
+    total: int

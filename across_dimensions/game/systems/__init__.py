@@ -33,6 +33,7 @@ from . import (
     radar,
     rigid_bodies,
     scenery,
+    secrets,
     sections,
     seek,
     solid_bodies,
@@ -46,7 +47,8 @@ from . import (
 #: somewhere safe when the view ends inside geometry), pushes bodies; weapons fire and
 #: steer bullets, and the beacons bring back bodies out of range, before physics runs; bullets
 #: read its contacts after; enemies (the blast, bullet
-#: hits, their moves and shots) and the player's health after the bullets; pickups; the outcome.
+#: hits, their moves and shots) and the player's health after the bullets; pickups; the outcome;
+#: the secrets (a secret exit finishes the level only when the goal did not this tick).
 #: Frame order: manipulation (its ghost previews, HUD line), scenery, entities, radar, HUD,
 #: then the ghosts along w, after everything solid. Setup runs in the same order, so the
 #: entities systems spawn get their ids in it: targets, then enemies, then the level's crystals.
@@ -67,6 +69,7 @@ SYSTEMS = (
     health.SYSTEM,
     crystals.SYSTEM,
     outcome.SYSTEM,
+    secrets.SYSTEM,
     scenery.SYSTEM,
     sections.SYSTEM,
     radar.SYSTEM,
