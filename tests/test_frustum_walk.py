@@ -120,7 +120,12 @@ def test_the_level_reader_checks_the_field(tmp_path):
     )
     with pytest.raises(LevelError, match="crate.*walkable_in_frustum.*body = 'none'"):
         load_level(path)
-    path = LevelBuilder("walk").table("camera", frustum=True).object([0.0, 1.0, 3.0, 0.0], walkable_in_frustum=1).write(tmp_path)
+    path = (
+        LevelBuilder("walk")
+        .table("camera", frustum=True)
+        .object([0.0, 1.0, 3.0, 0.0], walkable_in_frustum=1)
+        .write(tmp_path)
+    )
     with pytest.raises(LevelError, match="walkable_in_frustum"):
         load_level(path)
 

@@ -17,7 +17,17 @@ FIRE = Actions(presses=(("fire", 1),))
 
 
 def _level(tmp_path, slab_w: float, gravity=(0.0, -9.81, 0.0, 0.0), amplitude=0.6):
-    gun = dict(cost=0.0, cooldown=0.0, speed=10.0, amplitude=amplitude, period=2.0, size=0.15, mass=0.5, lifetime=6.0, max_live=4)
+    gun = dict(
+        cost=0.0,
+        cooldown=0.0,
+        speed=10.0,
+        amplitude=amplitude,
+        period=2.0,
+        size=0.15,
+        mass=0.5,
+        lifetime=6.0,
+        max_live=4,
+    )
     slab = f"""
 [[object]]
 name = "slab"
@@ -58,7 +68,9 @@ def _fire_until_contact(game):
         b = bullet.data
         k = game.tick - b.born + 1
         v_cmd = (b.planned(k, game.dt) - phys.body_position(bullet.motion.body)) / game.dt  # what steering sets
-        before = _momentum(phys, [(bullet.motion.body, v_cmd), (slab.motion.body, phys.body_velocity(slab.motion.body)[0])])
+        before = _momentum(
+            phys, [(bullet.motion.body, v_cmd), (slab.motion.body, phys.body_velocity(slab.motion.body)[0])]
+        )
         game.step(Actions())
         seen += game.events
         if b.contacted:

@@ -109,7 +109,10 @@ def read_object(r: TableReader, ot: dict, i: int) -> ObjectSpec:
     if v["body"] != "none":
         _check_body(r, where, v, (shape, params) if params_ok else None, asset)
         if v["walkable_in_frustum"]:
-            r.problem(where, "field 'walkable_in_frustum': a rigid body cannot be walked on as its image (expected body = 'none')")
+            r.problem(
+                where,
+                "field 'walkable_in_frustum': a rigid body cannot be walked on as its image (expected body = 'none')",
+            )
     return ObjectSpec(
         name,
         shape,

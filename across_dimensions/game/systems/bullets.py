@@ -21,7 +21,6 @@ from ..events import BulletHit, SlabKnocked, TargetHit
 from ..system import System
 from . import camera
 
-
 #: The slowest turn in a w plane (rad/s, the norm of the t, u, v parts) that counts as a knock:
 #: a turn of about a degree a second, far above the solver's rounding on a body at rest
 #: (which stays below 1e-9) and below any hit a player would notice.
