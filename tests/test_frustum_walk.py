@@ -35,7 +35,8 @@ def _barrier_level(tmp_path, walkable=True, frustum=True):
     )
 
 
-def _run(game, ticks, actions=Actions()):
+def _run(game, ticks, actions=None):
+    actions = Actions() if actions is None else actions
     seen = []
     for _ in range(ticks):
         game.step(actions)
