@@ -16,7 +16,6 @@ from across_dimensions.game.sim import Game
 from across_dimensions.world.level import LevelError, load_level
 
 SWITCH = Actions(presses=(("switch_camera", 1),))
-IDLE = Actions()
 
 
 def _barrier_level(tmp_path, walkable=True, frustum=True):
@@ -36,7 +35,8 @@ def _barrier_level(tmp_path, walkable=True, frustum=True):
     )
 
 
-def _run(game, ticks, actions=IDLE):
+def _run(game, ticks, actions=None):
+    actions = Actions() if actions is None else actions
     seen = []
     for _ in range(ticks):
         game.step(actions)
