@@ -271,6 +271,17 @@ def _aside(path: Path) -> Path:
         n += 1
 
 
+def set_aside(path: Path) -> str:
+    """Move a file that cannot be read out of the way (:func:`_aside`), never raising; says where
+    it went, or that it could not be moved and will be overwritten."""
+    try:
+        kept = _aside(path)
+        os.replace(path, kept)
+        return f"kept as {kept.name}"
+    except OSError as move:
+        return f"could not be moved aside ({move.strerror or move}) and will be overwritten"
+
+
 def load_progress(path: Path | None = None) -> tuple[Progress, list[str]]:
     """Read the progress file, never raising.
 
@@ -290,13 +301,8 @@ def load_progress(path: Path | None = None) -> tuple[Progress, list[str]]:
         return Progress.from_json(read_text(path, limit=PROGRESS_MAX_BYTES, what="progress")), []
     except (FileProblem, ValueError, RecursionError) as e:  # json.JSONDecodeError is a ValueError
         why = str(e).replace(f"{path}: ", "").splitlines()[0]
-        try:
-            kept = _aside(path)
-            os.replace(path, kept)
-            where = f"kept as {kept.name}"
-        except OSError as move:
-            where = f"could not be moved aside ({move.strerror or move}) and will be overwritten"
-        return Progress(), [f"{path}: not a progress file this game can read ({why}); {where}; starting fresh"]
+        kept = set_aside(path)
+        return Progress(), [f"{path}: not a progress file this game can read ({why}); {kept}; starting fresh"]
 
 
 def save_progress(progress: Progress, path: Path | None = None) -> Path:
