@@ -1,5 +1,6 @@
 """Secrets: ``[[secret]]`` read and checked, ``secret_found`` fired once on entering, kept in the progress."""
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -138,3 +139,82 @@ def test_progress_keeps_every_secret_found_across_runs_and_games(tmp_path):
     fresh, warnings = load_progress(path)
     assert fresh.secrets == {} and "secrets.10_x" in warnings[0] and "kept as progress.corrupt-1.json" in warnings[0]
     assert not Path(path).exists() and (tmp_path / "progress.corrupt-1.json").exists()
+
+
+# ---- the window, headless (fresh processes, as tests/test_menus.py does) ----------------
+_PLAY = r"""
+import sys
+import pyglet
+pyglet.options["headless"] = True
+try:
+    from across_dimensions.app.settings import Settings
+    from across_dimensions.app.window import GameWindow
+    w = GameWindow(Settings())
+except Exception as e:
+    print(f"no headless pyglet window: {e}")
+    sys.exit(77)
+from across_dimensions.game.actions import Actions
+from across_dimensions.game.replay import Replay
+from across_dimensions.game.sim import DT
+from across_dimensions.world.resources import levels_dir
+s = w.session
+s.warm.join()
+w.update(DT)
+frames = iter(Replay.load(levels_dir() / "replays" / "10_cloister.json").actions)
+s.start_level(levels_dir() / "10_cloister.toml")
+play = w.current_view
+play.read_actions = lambda: next(frames, Actions())
+print("started", s.progress.secrets)
+for _ in range(100000):
+    if play.game.event_counts["secret_found"]:
+        break
+    w.update(DT)
+print("found", play.game.event_counts["secret_found"], "saved", s.progress.secrets)
+w.on_close()  # the player leaves mid-level: the secret is kept
+"""
+
+_SELECT = r"""
+import sys
+import pyglet
+pyglet.options["headless"] = True
+try:
+    from across_dimensions.app.settings import Settings
+    from across_dimensions.app.window import GameWindow
+    from pyglet.window import key
+    w = GameWindow(Settings())
+except Exception as e:
+    print(f"no headless pyglet window: {e}")
+    sys.exit(77)
+from across_dimensions.game.sim import DT
+s = w.session
+s.warm.join()
+w.update(DT)
+w.on_key_press(key.DOWN, 0); w.on_key_press(key.RETURN, 0)      # Level select
+assert type(w.current_view).__name__ == "LevelSelectView"
+shown = {i.key: i.value for i in s.menu.view().items}
+print("cloister", repr(shown["level:10_cloister"]))
+print("hive", repr(shown["level:09_hive"]))
+"""
+
+
+def _window(code, env) -> subprocess.CompletedProcess:
+    r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=900)
+    if r.returncode == 77:
+        pytest.skip(r.stdout.strip())
+    assert r.returncode == 0, r.stdout + r.stderr
+    return r
+
+
+def test_a_secret_found_in_the_window_is_saved_and_counted_on_the_level_select(tmp_path):
+    env = dict(os.environ, ACROSS_DIMENSIONS_DATA_DIR=str(tmp_path), ACROSS_DIMENSIONS_CONFIG_DIR=str(tmp_path))
+    env.pop("DISPLAY", None)
+    env["PYGLET_HEADLESS"] = "1"
+    p = Progress()
+    p.finish("09_hive", 90.0)  # level 10 is open
+    save_progress(p, tmp_path / "progress.json")
+    r = _window(_PLAY, env)
+    assert "started {'10_cloister': ((), 2)}" in r.stdout  # starting the level tells how many there are
+    assert "found 1 saved {'10_cloister': (('the kata garden',), 2)}" in r.stdout
+    r = _window(_SELECT, env)
+    assert "secrets 1/2" in r.stdout.split("cloister", 1)[1].splitlines()[0]
+    assert "secrets" not in r.stdout.split("hive", 1)[1]  # a level without secrets says nothing of them
