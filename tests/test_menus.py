@@ -83,7 +83,7 @@ def test_check_level_checks_the_campaign_file_as_a_campaign(tmp_path):
     # `check-level levels/*.toml` takes the campaign file in too: it is checked as the campaign.
     r = check(*level_files(), levels_dir() / "campaign.toml")
     assert r.returncode == 0, r.stderr
-    count = len(load_campaign())
+    count = len(load_campaign())  # the shipped levels it names
     assert f"campaign.toml: ok - the campaign, {count} levels: prologue, 00_arrival, 01_first_steps" in r.stdout
     bad = tmp_path / "campaign.toml"
     bad.write_text('[[level]]\nfile = "../outside"\ntitle = "Out"\n', encoding="utf-8")

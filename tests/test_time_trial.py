@@ -216,6 +216,10 @@ def test_the_figure_is_player_sized_closed_and_fades_along_w():
     assert on.key == KEY and on.style == "ghost" and on.opacity == 1.0 and np.allclose(on.model[:3, 3], feet[:3])
     assert abs(ghost_drawable(feet, 0.0, 0.3 + W_REACH / 2).opacity - 0.5) < 1e-9
     assert ghost_drawable(feet, 0.0, 0.3 - W_REACH) is None  # out of the slice: not drawn
+    eye = np.array([1.0, 1.6, 2.0])  # the ghost runs through the player: not drawn over the view
+    assert ghost_drawable(feet, 0.0, 0.3, eye) is None
+    assert ghost_drawable(feet, 0.0, 0.3, eye + [0.0, 0.0, 0.9]).opacity == pytest.approx(0.5)  # fading in
+    assert ghost_drawable(feet, 0.0, 0.3, eye + [3.0, 0.0, 0.0]).opacity == 1.0
     turned = ghost_drawable(feet, np.pi / 2, 0.3)  # yaw 90 degrees looks along +x: the visor's +z goes there
     assert np.allclose(turned.model[:3, :3] @ [0.0, 0.0, 1.0], [1.0, 0.0, 0.0])
 

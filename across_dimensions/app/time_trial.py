@@ -134,7 +134,7 @@ class Race:
             return
         feet, yaw = self.ghost.pose_at(game.tick - 1 + alpha)
         feet = game.camera.to_slice(feet) if game.camera is not None else feet
-        drawable = ghost_drawable(feet, yaw, frame.camera.w)
+        drawable = ghost_drawable(feet, yaw, frame.camera.w, frame.camera.position)
         if drawable is not None:
             frame.drawables.append(drawable)
 

@@ -5,7 +5,8 @@ twice :data:`~..game.player.HALF_WIDTH` wide) with a visor on the side it looks 
 ``"ghost"`` drawable (translucent, no depth writes: it never hides what stands behind it). It
 stands at the ghost's feet in the slice's 3D space and is seen only while its w is near the
 slice's: fully on the slice, fading to nothing :data:`W_REACH` away along w, as a 4D figure
-cut by the slice would.
+cut by the slice would. Within a step of the player's eye it fades out (:data:`NEAR`): a ghost
+passing through the player never fills the view.
 """
 
 from __future__ import annotations
@@ -21,6 +22,9 @@ from ..game.player import HALF_WIDTH, HEIGHT
 KEY = "time_trial_ghost"
 #: Along w, how far from the slice the figure is still seen (fading linearly to it).
 W_REACH = 0.5
+#: Metres (across the ground) from the eye within which the figure is not drawn, and from which
+#: on it is drawn whole: between them it fades in.
+NEAR = (0.6, 1.2)
 #: The figure's colour and the tint its ghost shading is pulled towards (a pale gold, unlike the
 #: blue and orange of the w ghosts).
 COLOR = (1.0, 0.85, 0.45, 1.0)
@@ -56,7 +60,7 @@ def figure_mesh() -> TriMesh3:
             v00, v01, v10, v11 = i * _SIDES + j, i * _SIDES + k, (i + 1) * _SIDES + j, (i + 1) * _SIDES + k
             faces += [(v00, v01, v10), (v01, v11, v10)]
     body = (verts, np.array(faces))
-    visor = _box(np.array([0.0, 0.9 * HEIGHT, 0.55 * HALF_WIDTH]), np.array([0.55, 0.05, 0.2]) * HALF_WIDTH * 2)
+    visor = _box(np.array([0.0, 0.9 * HEIGHT, 0.5 * HALF_WIDTH]), np.array([0.55, 0.12, 0.2]) * HALF_WIDTH)
     return _mesh([body, visor])
 
 
@@ -84,16 +88,19 @@ def _mesh(parts) -> TriMesh3:
     )
 
 
-def ghost_drawable(feet: np.ndarray, yaw: float, slice_w: float) -> Drawable | None:
+def ghost_drawable(feet: np.ndarray, yaw: float, slice_w: float, eye: np.ndarray | None = None) -> Drawable | None:
     """The figure standing at ``feet`` ``(4,)`` (slice space: x, y, z and w) looking along ``yaw``,
-    for a slice at ``slice_w``; None when it is :data:`W_REACH` or more away along w."""
-    away = abs(float(feet[3]) - float(slice_w))
-    if away >= W_REACH:
+    for a slice at ``slice_w`` seen from ``eye`` ``(3,)``; None when it is :data:`W_REACH` or more
+    away along w, or so close to the eye that it would veil the view (a ghost running through
+    the player fades out within :data:`NEAR` metres)."""
+    opacity = 1.0 - abs(float(feet[3]) - float(slice_w)) / W_REACH
+    if eye is not None:
+        across = float(np.hypot(feet[0] - eye[0], feet[2] - eye[2]))
+        opacity *= min(1.0, max(0.0, (across - NEAR[0]) / (NEAR[1] - NEAR[0])))
+    if opacity <= 0.0:
         return None
     c, s = np.cos(yaw), np.sin(yaw)
     model = np.eye(4)
     model[:3, :3] = ((c, 0.0, s), (0.0, 1.0, 0.0), (-s, 0.0, c))
     model[:3, 3] = feet[:3]
-    return Drawable(
-        KEY, 0, figure_mesh(), model, style="ghost", tint=TINT, opacity=1.0 - away / W_REACH, outside_only=True
-    )
+    return Drawable(KEY, 0, figure_mesh(), model, style="ghost", tint=TINT, opacity=opacity, outside_only=True)
