@@ -109,6 +109,8 @@ class Race:
         ghost, warnings = load_ghost(level)
         for w in warnings:
             warn(w)
+        if warnings:
+            return cls(None), "Time trial: your ghost could not be read (kept aside), no ghost to race"
         if ghost is not None and ghost.level_hash != level_hash:
             return cls(None), "Time trial: your best run was on an older version of this level, no ghost to race"
         if ghost is None:

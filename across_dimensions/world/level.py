@@ -342,6 +342,10 @@ def _system_tables(r: TableReader, data: dict, w_range, objects: list[ObjectSpec
     out["checkpoints"] = enemy_tables.read_checkpoints(r, data, w_range)
     out["health"] = enemy_tables.read_health(r, data, bool(out["enemies"]))
     out["camera"] = gameplay.read_camera(r, data)
+    for o in objects:
+        if o.walkable_in_frustum and not out["camera"].frustum:
+            # Its image is met only while the frustum view holds: without one it is never walked on.
+            r.problem(f"[[object]] '{o.name}'", "field 'walkable_in_frustum': needs [camera] with frustum = true")
     out["needs"] = design.read_design(r, data)
     out["beacons"] = beacons.read_beacons(r, data, objects)
     out["secrets"] = secrets.read_secrets(r, data, w_range)

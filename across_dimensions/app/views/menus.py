@@ -190,7 +190,7 @@ class PauseView(MenuScreen):
             self.window.pop_view()
         elif command == "restart":
             s.recording.stop()
-            s.start_level(self.backdrop.level_path)
+            s.start_level(self.backdrop.level_path, trial=getattr(self.backdrop, "trial", False))
         elif command == "skip":  # the prologue: on to the level after it
             s.recording.stop()
             s.next_level(self.backdrop.level_path)

@@ -23,6 +23,7 @@ from . import (
     crystals,
     enemies,
     energy,
+    frustum_walk,
     ghosts,
     health,
     manipulation,
@@ -42,7 +43,8 @@ from . import (
 #: Tick order: energy first (new tick); the 4D camera (turning the slice, the frustum
 #: switch; it holds the w keys while detached); seek reads its presses before the player moves
 #: (the glide starts on the tick of the press); manipulation (it turns objects and takes
-#: the walking keys while one is held); the player moves, pushes bodies; weapons fire and
+#: the walking keys while one is held); the player moves (walking into frustum images, and put
+#: somewhere safe when the view ends inside geometry), pushes bodies; weapons fire and
 #: steer bullets, and the beacons bring back bodies out of range, before physics runs; bullets
 #: read its contacts after; enemies (the blast, bullet
 #: hits, their moves and shots) and the player's health after the bullets; pickups; the outcome;
@@ -56,6 +58,7 @@ SYSTEMS = (
     seek.SYSTEM,
     manipulation.SYSTEM,
     player.SYSTEM,
+    frustum_walk.SYSTEM,
     push.SYSTEM,
     weapons.SYSTEM,
     solid_bodies.SYSTEM,
