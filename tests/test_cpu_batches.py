@@ -16,7 +16,7 @@ from across_dimensions.core.section_batch import SectionBatch
 from across_dimensions.core.section_batch_kernels import _instances_in_view
 from across_dimensions.core.shapes import make_shape, tesseract
 from across_dimensions.core.transform import PLANES, pose, rotation, scaling, translation
-from across_dimensions.game.entity_sections import w_offset, w_offsets
+from across_dimensions.game.entity_sections import ALPHA, w_offset
 from across_dimensions.game.systems import ghosts
 
 
@@ -60,18 +60,29 @@ def test_instances_meet_the_slice_and_the_view_as_tested_one_by_one():
     assert 0 < visible.sum() < in_slice.sum() < 400  # every outcome occurs
 
 
-def test_w_cue_of_each_instance_is_the_one_made_per_entity(meshes):
+def test_w_cue_in_each_instances_rows_is_the_one_made_per_entity(meshes):
     rng = np.random.default_rng(5)
     models = random_models(rng, 30)
     picks = [meshes[i % 3] for i in range(30)]
     camera = pose((0.3, 0.0, -1.0, 0.2), {"xw": 0.4, "yz": 0.1})
-    batch = SectionBatch()
-    batch.update(range(30), picks, models, camera)
-    keys, start, count, w_range = batch.instances()
-    cue = w_offsets(w_range)
+    batch, plain = SectionBatch(), SectionBatch()
+    batch.update(range(30), picks, models, camera, w_cue=True)
+    plain.update(range(30), picks, models, camera)
+    keys, start, count, _ = batch.instances()
+    cues = []
     for i, k in enumerate(keys):
-        assert cue[i] == pytest.approx(w_offset(picks[k], models[k], camera), abs=1e-5)
-    assert (count > 0).sum() > 5 and np.abs(cue).max() > 0.3
+        rows = batch.vertices[start[i] : start[i] + count[i]]
+        cue = w_offset(picks[k], models[k], camera)
+        np.testing.assert_allclose(rows[:, ALPHA], cue, atol=1e-5)
+        np.testing.assert_array_equal(rows[:, :ALPHA], plain.vertices[slice(*_span(plain, k))][:, :ALPHA])
+        cues += [cue] if count[i] else []
+    assert len(cues) > 5 and max(map(abs, cues)) > 0.3
+    assert (plain.vertices[:, ALPHA] == 1.0).all()  # without the cue: the colours' own alpha
+
+
+def _span(batch, key):
+    start, count = batch.instance_rows(key)
+    return start, start + count
 
 
 def test_changed_instances_move_back_and_the_rest_keep_their_triangles(meshes):

@@ -253,7 +253,7 @@ class SectionBatch:
         """Was the instance skipped only because it is out of view (its sphere reaches the slice)?"""
         return key in self._view_culled
 
-    def update(self, keys, meshes, models, camera_pose=None, planes=None) -> bool:
+    def update(self, keys, meshes, models, camera_pose=None, planes=None, w_cue: bool = False) -> bool:
         """Slice every instance that changed; returns True if the output changed.
 
         Parameters
@@ -269,6 +269,9 @@ class SectionBatch:
         planes : (p, 4) float64, optional
             View planes ``(n, d)`` in the output frame, inside where
             ``n . x + d >= 0`` (any ``|n|``); instances entirely outside one are culled.
+        w_cue : bool
+            The alpha of each instance's rows says where the slice cuts it along its extent
+            that way (0 mid-way, -1 or 1 at its ends), instead of its colours' alpha.
         """
         keys = list(keys)
         n = len(keys)
@@ -310,8 +313,9 @@ class SectionBatch:
             np.ascontiguousarray(mvs[order]),
             np.ascontiguousarray(flips[order]),
             visible[order].astype(np.uint8),
+            np.empty(n),
         )
-        self._slice(inst, first)
+        self._slice(inst, first, w_cue)
         self._keys = list(map(keys.__getitem__, order.tolist()))
         self._order = order
         self._pos = None
@@ -346,7 +350,7 @@ class SectionBatch:
         self._last = (keys, mesh_ids, visible, mvs)
         return diff
 
-    def _slice(self, inst: Instances, first: int) -> None:
+    def _slice(self, inst: Instances, first: int, w_cue: bool) -> None:
         """Slice the instances from ``first`` on (those before keep their rows), growing the output if needed."""
         n = len(inst.mesh)
         start_row = int(self._start[first]) if first else 0
@@ -357,7 +361,7 @@ class SectionBatch:
         count[:first] = self._count[:first]
         w_range = np.empty((n, 2))
         w_range[:first] = self._w_range[:first]
-        _w_ranges(self._pool.arrays, inst, first, w_range)
+        _w_ranges(self._pool.arrays, inst, first, w_range, w_cue)
         while True:
             rows = _slice_batch(
                 self._pool.arrays, inst, first, start_row, Rows(self._out, start, count), self._scratch, self._tag

@@ -83,12 +83,15 @@ class Instances(NamedTuple):
         ``1.0`` where ``det(mv[:4, :4]) > 0``, else ``-1.0``.
     visible : (k,) uint8
         0 for an instance culled whole.
+    alpha : (k,) float64
+        What its rows' alpha is: NaN for its colours' own, else this value (see :func:`_w_ranges`).
     """
 
     mesh: np.ndarray
     mvs: np.ndarray
     flips: np.ndarray
     visible: np.ndarray
+    alpha: np.ndarray
 
 
 class Rows(NamedTuple):
@@ -215,9 +218,14 @@ def _instances_in_view(mvs, center, radius, planes, in_slice, visible):
 
 
 @njit(cache=True)
-def _w_ranges(pool, inst, first, out):
+def _w_ranges(pool, inst, first, out, w_cue):
     """Per instance ``k >= first``: the least and greatest camera-space w of its vertices, into
-    ``out[k]`` (``(k, 2) float64``): how far the posed mesh reaches either side of the slice."""
+    ``out[k]`` (``(k, 2) float64``): how far the posed mesh reaches either side of the slice.
+
+    With ``w_cue``, also where the slice cuts it along that extent into ``inst.alpha[k]``, the
+    alpha of its rows: 0 mid-way, -1 or 1 at its ends (the renderer's w cue, as
+    :func:`~across_dimensions.game.entity_sections.w_offset` gives it); else NaN (its colours' own).
+    """
     verts = pool.vertices
     for k in range(first, inst.mesh.shape[0]):
         m = inst.mesh[k]
@@ -230,6 +238,8 @@ def _w_ranges(pool, inst, first, out):
             hi = max(hi, w)
         out[k, 0] = lo
         out[k, 1] = hi
+        half = 0.5 * (hi - lo)
+        inst.alpha[k] = (0.5 * (lo + hi) / half if half > 0.0 else 0.0) if w_cue else np.nan
 
 
 @njit(inline="always")
@@ -303,6 +313,8 @@ def _tet_rows(pool, inst, k, ncut, out, o, ws):
     g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
     g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
     reverse = CASE_REVERSED[1 if inst.flips[k] < 0.0 else 0]
+    alpha = inst.alpha[k]
+    keep_alpha = np.isnan(alpha)
     for i in range(ncut):
         t = cut[i]
         mask = cmask[i]
@@ -348,7 +360,7 @@ def _tet_rows(pool, inst, k, ncut, out, o, ws):
                 out[o, 6] = qc[src, 0]
                 out[o, 7] = qc[src, 1]
                 out[o, 8] = qc[src, 2]
-                out[o, 9] = qc[src, 3]
+                out[o, 9] = qc[src, 3] if keep_alpha else alpha if keep_alpha else alpha
                 o += 1
     return o
 
@@ -441,6 +453,8 @@ def _cell_rows(pool, inst, k, npoly, out, o, ws):
     )
     cap = out.shape[0]
     flip = inst.flips[k]
+    alpha = inst.alpha[k]
+    keep_alpha = np.isnan(alpha)
     v_lo = pool.mesh_v[inst.mesh[k], 0]
     for i in range(npoly):
         c = cut[i]
@@ -488,7 +502,7 @@ def _cell_rows(pool, inst, k, npoly, out, o, ws):
             out[o, 6] = qc[src, 0]
             out[o, 7] = qc[src, 1]
             out[o, 8] = qc[src, 2]
-            out[o, 9] = qc[src, 3]
+            out[o, 9] = qc[src, 3] if keep_alpha else alpha
             o += 1
     return o
 

@@ -34,21 +34,16 @@ ALPHA = 9
 
 def w_offset(mesh, model: np.ndarray, camera: np.ndarray) -> float:
     """Where the slice cuts a thing along the slice's normal: 0 mid-way through its extent
-    that way, -1 or 1 at its ends (the renderer's w cue; + when the thing lies ana).
+    that way, -1 or 1 at its ends (the renderer's w cue; + when the thing lies ana). A batch
+    writes the same into its rows' alpha itself (``SectionBatch.update(..., w_cue=True)``).
 
     ``camera`` is the slice's camera-to-world pose ``(5, 5)`` (its ``w = 0`` hyperplane is the
     slice). The extent is the posed mesh's, so a turning thing's changes."""
     row = np.linalg.solve(np.asarray(camera, np.float64), np.asarray(model, np.float64))[3]  # camera space
     ws = mesh.vertices @ row[:4].astype(np.float32) + np.float32(row[4])
-    return float(w_offsets(np.array([[ws.min(), ws.max()]], np.float64))[0])
-
-
-def w_offsets(w_range: np.ndarray) -> np.ndarray:
-    """:func:`w_offset` of each thing from its extent along the slice's normal, ``(k, 2)``
-    (least and greatest camera-space w) to ``(k,) float64``."""
-    lo, hi = w_range[:, 0], w_range[:, 1]
+    lo, hi = float(ws.min()), float(ws.max())
     half = 0.5 * (hi - lo)
-    return np.divide(0.5 * (lo + hi), half, out=np.zeros(len(half)), where=half > 0.0)
+    return 0.5 * (lo + hi) / half if half > 0.0 else 0.0
 
 
 def view_planes(camera, aspect: float = CULL_ASPECT) -> np.ndarray:
@@ -93,8 +88,8 @@ class EntitySections:
             if batch is None:
                 batch = self.batches[style] = SectionBatch()
             ids = [entities[i].id for i in rows]
-            batch.update(ids, [entities[i].mesh for i in rows], models[rows], camera, planes)
-            self._note_sliced(batch, style in W_CUED)
+            batch.update(ids, [entities[i].mesh for i in rows], models[rows], camera, planes, w_cue=style in W_CUED)
+            self._note_sliced(batch)
             frame.batches.append(
                 TriangleBatch(
                     f"entities:{style}",
@@ -113,15 +108,12 @@ class EntitySections:
             frame.drawables.append(Drawable(f"entity:{e.id}", rev, tri, style="wire"))
             self._sliced[e.id] = not tri.is_empty
 
-    def _note_sliced(self, batch: SectionBatch, w_cued: bool) -> None:
-        """Record which of the batch's entities have a section; write the w cue into the alpha
-        of the rows sliced anew (all at once: per-entity Python is what the batch avoids)."""
-        keys, start, count, w_range = batch.instances()
+    def _note_sliced(self, batch: SectionBatch) -> None:
+        """Record which of the batch's entities have a section (all at once: per-entity Python is
+        what the batch avoids)."""
+        keys, _, count, _ = batch.instances()
         self._sliced.update(zip(keys, (count > 0).tolist()))
         self._sliced.update(dict.fromkeys(batch.view_culled, True))
-        if w_cued and batch.changed_from < len(batch.vertices):
-            i0 = int(np.searchsorted(start[:-1], batch.changed_from))
-            batch.vertices[start[i0] :, ALPHA] = np.repeat(w_offsets(w_range[i0:]), count[i0:])
 
     def view_planes(self, camera) -> np.ndarray:
         """:func:`view_planes` of ``camera``, made once for the systems that draw one frame."""
