@@ -340,6 +340,8 @@ def _system_tables(r: TableReader, data: dict, w_range, objects: list[ObjectSpec
     out["checkpoints"] = enemy_tables.read_checkpoints(r, data, w_range)
     out["health"] = enemy_tables.read_health(r, data, bool(out["enemies"]))
     out["camera"] = gameplay.read_camera(r, data)
+    if out["energy"].slice_cost > 0 and not out["camera"].turn:
+        r.problem("[energy]", "field 'slice_cost': the slice cannot turn in this level (it needs [camera] turn = true)")
     out["needs"] = design.read_design(r, data)
     out["beacons"] = beacons.read_beacons(r, data, objects)
     return out
