@@ -15,6 +15,7 @@ from across_dimensions.game.actions import Actions
 from across_dimensions.game.events import EnergySpent, SliceTurnUnpaid
 from across_dimensions.game.sim import Game
 from across_dimensions.game.slice_pay import step_price
+from across_dimensions.game.systems.energy import cost_line
 from across_dimensions.game.systems.player import W_GRACE
 from across_dimensions.world.level import LevelError, load_level
 
@@ -159,3 +160,9 @@ def test_slice_cost_needs_a_turning_slice(tmp_path):
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
     assert done.returncode != 0 and "slice_cost" in done.stdout + done.stderr
     assert "Traceback" not in done.stdout + done.stderr
+
+
+def test_the_hud_prices_the_slice_turn_in_orthogonal_worlds():
+    level = load_level(ROOT / "levels" / "07_orthogonal_worlds.toml")
+    assert "SLICE 4.5/90DEG" in cost_line(level) and "W 2/UNIT" in cost_line(level)
+    assert Game(level).frame().hud.energy.costs == cost_line(level)
