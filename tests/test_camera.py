@@ -141,6 +141,7 @@ def test_turning_the_slice_carries_the_player_into_the_orthogonal_world():
     assert plain.outcome is None and plain.respawns >= 1
     # With the turn the glass bridge is under the player's feet.
     game = Game(level)
+    game.energy.gain(game.energy.maximum_milli)  # the turn costs energy: as if the crystals were taken
     _run(game, 40, forward=1.0)
     _run(game, 20)
     game.step(Actions(presses=(("step_zw_pos", 1),)))
@@ -160,6 +161,7 @@ def _eye_w(game: Game) -> float:
 def _turned_at_the_edge() -> Game:
     """Orthogonal Worlds: the slice turned 90 degrees in zw on the start platform."""
     game = Game(load_level(LEVELS / "07_orthogonal_worlds.toml"))
+    game.energy.gain(game.energy.maximum_milli)  # the turn costs energy: as if the crystals were taken
     _run(game, 30, forward=1.0)
     game.step(Actions(presses=(("step_zw_pos", 1),)))
     _run(game, 60)
@@ -172,7 +174,8 @@ def test_the_slice_never_turns_back_at_a_w_outside_the_level():
     _run(game, 140, forward=1.0)  # half way along the glass bridge: walking ahead is walking ana
     assert _eye_w(game) > 9.0
     rotation, anchor = game.camera.rotation.copy(), game.camera.anchor.copy()
-    # A step back and a held turn back are refused there: the slice stays as it was.
+    # A step back and a held turn back are refused there, paid for or not: the slice stays as it was.
+    game.energy.gain(game.energy.maximum_milli)
     game.step(Actions(presses=(("step_zw_neg", 1),)))
     _run(game, 60)
     _run(game, 60, turn_zw_neg=True)
@@ -186,11 +189,13 @@ def test_the_slice_never_turns_back_at_a_w_outside_the_level():
     # and the player's w (the gauge, the range's clamp) is their world w again.
     while _eye_w(game) > 0.0:
         game.step(Actions(forward=-1.0))
+    game.energy.gain(game.energy.maximum_milli)  # turning back is a turn too: it costs a step's price
     game.step(Actions(presses=(("step_zw_neg", 1),)))
     _run(game, 60)
     assert game.event_counts["slice_aligned"] == 2
     assert game.camera.angles_deg() == pytest.approx((0.0, 0.0, 0.0))
     assert game.camera.anchor[3] == 0.0 and game.player.position[3] == pytest.approx(_eye_w(game))
+    game.energy.gain(game.energy.maximum_milli)  # moving along w costs energy too
     _run(game, 120, w=1.0)
     assert _eye_w(game) == pytest.approx(hi)
     _run(game, 240, w=-1.0)

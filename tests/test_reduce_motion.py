@@ -36,7 +36,9 @@ def _ticks_until(game, reduced: bool, done, limit: int = 600, **held) -> int:
 
 @pytest.fixture(scope="module")
 def orthogonal():
-    return load_level(LEVELS / "07_orthogonal_worlds.toml")
+    """Orthogonal Worlds with its slice turns free (what they cost is tests/test_slice_cost.py's)."""
+    level = load_level(LEVELS / "07_orthogonal_worlds.toml")
+    return replace(level, energy=replace(level.energy, slice_cost=0.0))
 
 
 @pytest.fixture(scope="module")

@@ -25,6 +25,7 @@ EVENT_WORDS = {
     "loot_released": "loot released",
     "object_reset": "object put back",
     "slice_turn_refused": "slice turn refused",
+    "slice_turn_unpaid": "no energy to turn the slice",
 }
 #: Words for each captioned effect (effects not here are not captioned).
 WORDS = {

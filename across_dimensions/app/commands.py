@@ -62,7 +62,8 @@ def check_level(args) -> int:
             extra += f", {len(level.crystals)} crystals"
         if level.energy.enabled:
             extra += (
-                f", energy {level.energy.start:g}/{level.energy.maximum:g} (w costs {level.energy.w_cost:g} a unit)"
+                f", energy {level.energy.start:g}/{level.energy.maximum:g} (w costs {level.energy.w_cost:g} a unit"
+                + (f", the slice {level.energy.slice_cost:g} a degree)" if level.energy.slice_cost > 0 else ")")
             )
         if level.radar is not None:
             extra += f", radar {level.radar.range:g} m"

@@ -74,6 +74,7 @@ EVENT_SOUNDS: dict[str, str | None] = {
     "slice_aligned": "arrive",
     "object_reset": "respawn",
     "slice_turn_refused": "refused",
+    "slice_turn_unpaid": "refused",
 }
 
 

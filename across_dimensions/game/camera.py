@@ -140,6 +140,9 @@ class CameraRig:
         Ticks the return glide has run; ``return_from`` the orbit angle it started at.
     detached_ticks : int
         Ticks in frustum mode since the switch; ``paid_milli`` what they have cost.
+    rest : (4, 4) float64
+        The 90-degree orientation the slice last landed on (where turning is measured from);
+        ``turn_paid_milli`` what turning away from it has cost since (see ``game/slice_pay.py``).
     version : int
         Bumps whenever the 4D pose changes (caches compare it).
     """
@@ -157,9 +160,14 @@ class CameraRig:
     return_ticks: int = 0
     detached_ticks: int = 0
     paid_milli: int = 0
+    rest: np.ndarray = field(default_factory=lambda: np.eye(4))
+    turn_paid_milli: int = 0
     fov_deg: float = fixed(default=60.0)
     #: The tick a turn towards w was last refused (the HUD's notice); display only, not state.
     refused_tick: int = derived(default=-(10**9))
+    #: The tick a turn was last cut short by the energy bar, and what a full step would have cost.
+    unpaid_tick: int = derived(default=-(10**9))
+    unpaid_milli: int = derived(default=0)
     version: int = derived(default=0)
     _aligned: bool = derived(default=True)
     #: The projection stage's frustum meshes (``game.projection.FrustumCache``); not state.

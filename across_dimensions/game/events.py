@@ -527,6 +527,24 @@ class SliceTurnRefused(Event):
 
 
 @dataclass(frozen=True)
+class SliceTurnUnpaid(Event):
+    """A turn of the slice was refused or stopped short because the energy bar could not pay
+    for it (``[energy] slice_cost``). Fires on the first tick of a cut turn, not on every tick.
+
+    Attributes
+    ----------
+    need : int
+        What a 90-degree step costs, thousandths.
+    have : int
+        What the bar held, thousandths.
+    """
+
+    kind: ClassVar[str] = "slice_turn_unpaid"
+    need: int
+    have: int
+
+
+@dataclass(frozen=True)
 class SliceAligned(Event):
     """A 90-degree step or a snap of the slice landed exactly on the axes.
 

@@ -218,7 +218,7 @@ def step_player(
     dt: float,
     gravity_y: float,
     around: Surroundings,
-    w_budget: float = np.inf,
+    w_budget: float | tuple[float, float] = np.inf,
     w_goal: tuple[float, bool] | None = None,
 ) -> str | None:
     """Advance the player one tick.
@@ -234,9 +234,10 @@ def step_player(
         Vertical gravity (negative is down).
     around : Surroundings
         The boxes, solids and bodies in the way.
-    w_budget : float
+    w_budget : float or (float, float)
         The farthest the player may move along w this tick (what the energy
-        bar can pay for); unlimited by default.
+        bar can pay for): one distance either way, or ``(down, up)``, how far
+        towards -w and towards +w; unlimited by default.
     w_goal : (float, bool), optional
         Seek: glide towards this w (or, when the flag is true, jump to it in one
         tick) instead of following ``actions.w``. The move lands exactly on the
@@ -300,12 +301,14 @@ def _w_target(pos: np.ndarray, v: np.ndarray, actions: Actions, dt: float, w_goa
     return pos[3] + v[3] * dt
 
 
-def _clip_w(pos: np.ndarray, w_target: float, w_range, w_budget: float) -> tuple[float, str | None]:
+def _clip_w(pos: np.ndarray, w_target: float, w_range, w_budget) -> tuple[float, str | None]:
     """``w_target`` kept inside the level's w range and the energy budget, and which cut it."""
     w_new = float(np.clip(w_target, *w_range))
     cut = "range" if w_new != w_target else None
-    if abs(w_new - pos[3]) > w_budget:
-        w_new = float(pos[3] + np.copysign(w_budget, w_new - pos[3]))
+    down, up = w_budget if isinstance(w_budget, tuple) else (w_budget, w_budget)
+    limit = up if w_new > pos[3] else down
+    if abs(w_new - pos[3]) > limit:
+        w_new = float(pos[3] + np.copysign(limit, w_new - pos[3]))
         cut = "energy"
     return w_new, cut
 

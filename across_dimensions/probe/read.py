@@ -291,6 +291,18 @@ def camera_mode(game) -> str:
     return game.camera.mode
 
 
+def slice_away_deg(game) -> float:
+    """How far the slice is turned from the 90-degree orientation it last rested on, degrees."""
+    from ..game.slice_pay import away_deg
+
+    return away_deg(game.camera)
+
+
+def slice_cost(game) -> float:
+    """Energy per degree of slice turn (0: free, or no bar)."""
+    return game.level.energy.slice_cost if game.energy is not None else 0.0
+
+
 def orbit_deg(game) -> float:
     """How far the detached camera has orbited since the switch, degrees."""
     return float(np.degrees(game.camera.orbit))

@@ -176,7 +176,8 @@ def _firing(ctx: Ctx, a: Actions) -> Actions:
 # ------------------------------------------------------------------ disruptions
 def waste(ctx: Ctx):
     """Empty the bar at the start: every weapon at the floor from the dearest, the frustum
-    camera held, a manipulable turned to and fro, walking along w; then play on."""
+    camera held, a manipulable turned to and fro, the slice turned short of a step and back,
+    walking along w; then play on."""
     game = ctx.game
     yield idle(game)
     centre, _, _ = read.goal(game)
@@ -191,11 +192,17 @@ def waste(ctx: Ctx):
             yield idle(game)
         yield from wait(ctx, 80)
     yield from _waste_turning(ctx)
+    yield from _waste_slice(ctx)
     lo, hi = read.w_range(game)
     for _ in range(20):
         if not read.energy(game) or read.w_cost(game) <= 0 or hi <= lo:
             break
         yield from move_w(ctx, hi if read.feet(game)[3] < 0.5 * (lo + hi) else lo, ticks=240)
+    if game.level.camera.turn and read.slice_cost(game) > 0:  # the turn is paid in one go: refill first
+        for _ in range(50 * 60):  # long enough for a crystal to grow back, short of the bot's time
+            if not read.regrowing(game):
+                break
+            yield idle(game)
     yield from play(ctx)
 
 
@@ -207,6 +214,26 @@ def _waste_turning(ctx: Ctx):
                 if not read.energy(game):
                     break
                 yield from turn_handle(ctx, h.name, plane, angle)
+
+
+def _waste_slice(ctx: Ctx):
+    """Where turning the slice costs energy: take every crystal lying about, then spend the bar
+    on turns short of a step (held to 80 degrees, turned back, snapped home) until it is empty."""
+    game = ctx.game
+    if not (game.level.camera.turn and read.slice_cost(game) > 0):
+        return
+    yield from gather(ctx, {c.name for c in read.crystals(game)})
+    for _ in range(10):
+        if not read.energy(game):
+            break
+        for _ in range(120):
+            if read.slice_away_deg(game) >= 80.0 or not read.energy(game):
+                break
+            yield idle(game, turn_zw_pos=True)
+        while read.slice_away_deg(game) > 20.0:
+            yield idle(game, turn_zw_neg=True)
+        yield idle(game, presses=(("snap_slice", 1),))
+        yield from wait(ctx, 30)
 
 
 def push_to_end(direction):
@@ -246,6 +273,8 @@ def turn_back_midway(ctx: Ctx):
     game = ctx.game
     steps = ctx.route.of_kind("turn")
     centre, _, _ = read.goal(game)
+    yield idle(game)
+    yield from gather(ctx, set())  # what the route takes before it turns (a turn may cost energy)
     yield from turn_slice(ctx, steps[0], back_after=0.5 * np.linalg.norm(centre[[0, 2]] - steps[0].at[[0, 2]]))
     yield from play(ctx)
 

@@ -50,6 +50,7 @@ ENERGY_TABLE = {
     "start": Field("number", default=0.0, range=ENERGY, sign="nonnegative"),
     "max": Field("number", default=100.0, range=ENERGY, sign="positive"),
     "w_cost": Field("number", default=0.0, range=ENERGY, sign="nonnegative"),
+    "slice_cost": Field("number", default=0.0, range=ENERGY, sign="nonnegative"),
 }
 RADAR_TABLE = {
     "range": Field("number", default=20.0, range=RADAR_RANGE, sign="positive"),
@@ -197,10 +198,16 @@ class EnergySpec:
     start: float = 0.0
     maximum: float = 100.0
     w_cost: float = 0.0  # energy per unit of w travelled
+    slice_cost: float = 0.0  # energy per degree the slice turns away from where it rested
 
     @property
     def w_cost_milli(self) -> int:
         return int(round(self.w_cost * MILLI))
+
+    @property
+    def slice_cost_milli(self) -> int:
+        """Energy per degree of slice turn, thousandths."""
+        return int(round(self.slice_cost * MILLI))
 
 
 @dataclass
@@ -283,7 +290,7 @@ def read_energy(r, data) -> EnergySpec:
         return EnergySpec()
     if v["start"] > v["max"]:
         r.problem("[energy]", f"field 'start': {v['start']:g} is more than 'max' ({v['max']:g})")
-    return EnergySpec(True, min(v["start"], v["max"]), v["max"], v["w_cost"])
+    return EnergySpec(True, min(v["start"], v["max"]), v["max"], v["w_cost"], v["slice_cost"])
 
 
 def read_radar(r, data) -> RadarSpec | None:

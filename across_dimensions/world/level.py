@@ -342,6 +342,8 @@ def _system_tables(r: TableReader, data: dict, w_range, objects: list[ObjectSpec
     out["checkpoints"] = enemy_tables.read_checkpoints(r, data, w_range)
     out["health"] = enemy_tables.read_health(r, data, bool(out["enemies"]))
     out["camera"] = gameplay.read_camera(r, data)
+    if out["energy"].slice_cost > 0 and not out["camera"].turn:
+        r.problem("[energy]", "field 'slice_cost': the slice cannot turn in this level (it needs [camera] turn = true)")
     for o in objects:
         if o.walkable_in_frustum and not out["camera"].frustum:
             # Its image is met only while the frustum view holds: without one it is never walked on.

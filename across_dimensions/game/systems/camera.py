@@ -8,6 +8,9 @@ rig and its modes.
   planes at ``turn_speed``; the step presses start a 90-degree glide and the snap
   press a glide to the nearest 90-degree orientation (both at twice the speed, landing
   exactly on the axes with a :class:`~..events.SliceAligned`). The pivot is the eye.
+  With ``[energy] slice_cost``, turning away from where the slice rested is paid per degree
+  (:mod:`..slice_pay`): the bar limits the turn, and a step it cannot pay is refused
+  (:class:`~..events.SliceTurnUnpaid`).
 - ``frustum = true``: the ``switch_camera`` press detaches the 4D camera (if the bar
   holds any energy when the switch costs some), sets the focus point and spawns the
   two indicators (kinds ``camera_focus`` and ``camera_eye``, on the radar). While
@@ -25,9 +28,10 @@ import numpy as np
 
 from ...core.mesh import TriMesh3
 from ...world.geometry import box_trimesh
+from .. import slice_pay
 from ..camera import GLIDE_FACTOR, GLIDE_SHARE, TURN_PLANES, CameraRig
 from ..entities import Placed
-from ..events import CameraSwitched, SliceAligned, SliceTurnRefused
+from ..events import CameraSwitched, SliceAligned, SliceTurnRefused, SliceTurnUnpaid
 from ..frame import Drawable, SliceGauges
 from ..motion import JUMP_DEG, jump_now
 from ..system import System, encode
@@ -66,9 +70,8 @@ def _return_ticks(game) -> int:
     return max(1, round(game.level.camera.return_time / game.dt))
 
 
-def _turn(game, rig, spec, actions) -> None:
-    pivot = _pivot(game)
-    before, glide = rig.pose(), rig.glide
+def _rates(game, spec, actions) -> tuple:
+    """This tick's held turn rates in the xw, yw and zw planes, radians/s."""
     speed = np.radians(spec.turn_speed)
     rates = tuple(
         speed * (float(getattr(actions, f"turn_{pl}_pos")) - float(getattr(actions, f"turn_{pl}_neg")))
@@ -77,18 +80,59 @@ def _turn(game, rig, spec, actions) -> None:
     if actions.reduced_motion:  # jumps of JUMP_DEG instead of a smooth turn
         jumps = [jump_now(game, f"turn_{pl}", rate != 0.0) for pl, rate in zip(TURN_PLANES, rates)]
         rates = tuple(np.sign(r) * np.radians(JUMP_DEG) / game.dt if j else 0.0 for r, j in zip(rates, jumps))
-    landed = False
+    return rates
+
+
+def _press(game, rig, actions) -> None:
+    """Queue the step and snap presses; a step the bar cannot pay in full is refused."""
+    for pl in TURN_PLANES:
+        for sign, name in ((1, f"step_{pl}_pos"), (-1, f"step_{pl}_neg")):
+            for _ in range(actions.pressed(name)):
+                queued = rig.glide
+                rig.step(pl, sign)
+                need = slice_pay.owed_for(game, rig, rig.glide)
+                if need > 0 and need > game.energy.milli:
+                    rig.glide = queued
+                    _unpaid(game, rig)
+    if actions.pressed("snap_slice"):
+        rig.snap()
+
+
+def _move(game, rig, spec, actions, rates, pivot, room: float = np.inf) -> bool:
+    """Turn the slice by this tick's held rates, or advance its glide, at most ``room`` radians
+    farther from its rest; True when a glide lands."""
     if any(rates):
-        rig.turn(rates, game.dt, pivot)
-    else:
-        for pl in TURN_PLANES:
-            for sign, name in ((1, f"step_{pl}_pos"), (-1, f"step_{pl}_neg")):
-                for _ in range(actions.pressed(name)):
-                    rig.step(pl, sign)
-        if actions.pressed("snap_slice"):
-            rig.snap()
-        glide_speed = np.inf if actions.reduced_motion else speed * GLIDE_FACTOR  # reduced: lands this tick
-        landed = rig.advance_glide(glide_speed, game.dt, pivot)
+        k = min(1.0, room / (float(np.linalg.norm(rates)) * game.dt))
+        if k > 0.0:
+            rig.turn(tuple(r * k for r in rates), game.dt, pivot)
+        return False
+    speed = np.inf if actions.reduced_motion else np.radians(spec.turn_speed) * GLIDE_FACTOR  # reduced: lands now
+    speed = min(speed, room / game.dt)
+    return rig.advance_glide(speed, game.dt, pivot) if speed > 0.0 else False
+
+
+def _unpaid(game, rig) -> None:
+    """Tell the player (once per cut turn, not every tick it is held) that the bar is short."""
+    if game.tick - rig.unpaid_tick > 1:
+        game.emit(SliceTurnUnpaid(slice_pay.step_milli(game), game.energy.milli))
+    rig.unpaid_tick = game.tick
+    rig.unpaid_milli = slice_pay.step_milli(game)
+
+
+def _turn(game, rig, spec, actions) -> None:
+    pivot = _pivot(game)
+    before = rig.pose()
+    rates = _rates(game, spec, actions)
+    if not any(rates):
+        _press(game, rig, actions)
+    glide = rig.glide
+    landed = _move(game, rig, spec, actions, rates, pivot)
+    if slice_pay.short(game, rig):  # the bar cannot pay for all of it: turn only as far as it can
+        room = slice_pay.room_rad(game, rig, before[0])
+        rig.restore(before)
+        rig.glide = glide
+        landed = _move(game, rig, spec, actions, rates, pivot, room)
+        _unpaid(game, rig)
     if _leaves_the_w_range(game, rig, before[0], pivot):
         rig.restore(before)
         rig.glide = None if glide is None or _turns_towards_w(glide, before[0]) else glide
@@ -96,8 +140,10 @@ def _turn(game, rig, spec, actions) -> None:
             game.emit(SliceTurnRefused(float(rig.to_world(pivot)[3]), *game.level.w_range))
         rig.refused_tick = game.tick
         return
+    slice_pay.pay(game, rig)
     if landed:
         game.player.position[3] += rig.fold_offset()
+        slice_pay.landed(rig)
         game.emit(SliceAligned(tuple(round(a) for a in rig.angles_deg())))
 
 
@@ -253,6 +299,12 @@ def draw(game, frame, alpha) -> None:
         lo, hi = game.level.w_range
         w = float(rig.to_world(_pivot(game))[3])
         frame.hud.message = f"Turn back only at w {lo:+.1f} to {hi:+.1f} (you: w {w:+.1f}). Walk back first"
+    if game.tick - rig.unpaid_tick < REFUSED_NOTICE_TICKS and not frame.hud.message:
+        have = game.energy.value if game.energy is not None else 0.0
+        frame.hud.message = (
+            f"A 90-degree turn of the slice costs {rig.unpaid_milli / 1000:g} energy (you have {have:g})."
+            " Crystals refill the bar"
+        )
     if not rig.detached:
         return
     eye = frame.camera

@@ -3,6 +3,7 @@ the systems that pay or collect, through ``game.energy``)."""
 
 from __future__ import annotations
 
+from .. import slice_pay
 from ..energy import FLASH_TICKS, EnergyBar
 from ..frame import EnergyGauge
 from ..system import System, encode
@@ -21,7 +22,8 @@ def step(game, actions) -> None:
 
 def cost_line(level) -> str:
     """What each 4D action of ``level`` costs, in the HUD's words: moving along w per unit,
-    each weapon per use, turning an object per degree, the frustum camera per second."""
+    each weapon per use, turning an object per degree, the frustum camera per second, a
+    90-degree turn of the slice."""
     parts = []
     if level.energy.w_cost > 0 and level.w_range[1] > level.w_range[0]:
         parts.append(f"W {level.energy.w_cost:g}/UNIT")
@@ -33,6 +35,8 @@ def cost_line(level) -> str:
         parts.append(f"TURN {turns[0] / 1000:g}/DEG" if len(turns) == 1 else f"TURN {turns[0] / 1000:g}+/DEG")
     if level.camera.frustum and level.camera.frustum_cost > 0:
         parts.append(f"VIEW {level.camera.frustum_cost:g}/S")
+    if level.camera.turn and level.energy.slice_cost > 0:  # priced by the 90-degree step the keys take
+        parts.append(f"SLICE {slice_pay.step_price(level.energy.slice_cost_milli) / 1000:g}/90DEG")
     return "  ".join(parts)
 
 
