@@ -81,7 +81,10 @@ def test_a_pickup_off_the_players_w_is_not_taken(tmp_path):
 
 # ------------------------------------------------------------------ bad entries
 BAD = [
-    ('[[pickup]]\nweapon = "laser"\nposition = [0.0, 1.0, 0.0, 0.0]\n', "[[pickup]] #1: field 'weapon': expected one of"),
+    (
+        '[[pickup]]\nweapon = "laser"\nposition = [0.0, 1.0, 0.0, 0.0]\n',
+        "[[pickup]] #1: field 'weapon': expected one of gun, blast, field, got 'laser'",
+    ),
     ('[[pickup]]\nweapon = "gun"\n', "[[pickup]] #1: missing field 'position'"),
     (
         '[[pickup]]\nweapon = "gun"\nposition = [0.0, 1.0, 0.0, 3.0]\n',

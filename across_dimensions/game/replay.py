@@ -84,13 +84,16 @@ class Replay:
             self.actions = ActionRuns(self.actions)
 
     def header(self, fmt: str = FORMAT) -> dict:
+        # A replay read from a version without the arsenal is written back as that version: "no
+        # arsenal" (the campaign's) and "none owned" ([]) are different starts.
+        arsenal = {} if self.arsenal is None else {"arsenal": list(self.arsenal)}
         return {
             "format": fmt,
-            "version": VERSION,
+            "version": VERSION if arsenal else 3,
             "level": self.level,
             "level_hash": self.level_hash,
             "bakes": dict(sorted((self.bakes or {}).items())),
-            "arsenal": list(self.arsenal or ()),
+            **arsenal,
             "seed": self.seed,
             "tick_rate": self.tick_rate,
             "hash_every": self.hash_every,
