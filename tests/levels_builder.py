@@ -206,7 +206,11 @@ class LevelBuilder:
         return self.add("enemy", name=name, position=list(position), **fields)
 
     def weapon(self, kind: str = "gun", **fields) -> LevelBuilder:
+        """Tune a weapon (``[[weapon]]``); :meth:`load` starts the player with it."""
         return self.add("weapon", kind=kind, **fields)
+
+    def pickup(self, weapon: str, position, **fields) -> LevelBuilder:
+        return self.add("pickup", weapon=weapon, position=list(position), **fields)
 
     # ------------------------------------------------------------ out
     def text(self, extra: str = "") -> str:
@@ -221,11 +225,13 @@ class LevelBuilder:
         path.write_text(self.text(extra), encoding="utf-8")
         return path
 
-    def load(self, where: Path, name: str = "level.toml", extra: str = ""):
-        """Write the level (see :meth:`write`) and load it."""
+    def load(self, where: Path, name: str = "level.toml", extra: str = "", arsenal=None):
+        """Write the level (see :meth:`write`) and load it, the player owning ``arsenal`` at the
+        start (default: the weapons it tunes, as if earlier levels had given them)."""
         from across_dimensions.world.level import load_level
 
-        return load_level(self.write(where, name, extra))
+        level = load_level(self.write(where, name, extra))
+        return level.with_arsenal(level.tuning if arsenal is None else arsenal)
 
 
 def write_text(where: Path, text: str, name: str = "level.toml") -> Path:

@@ -47,7 +47,8 @@ def _without(replay: Replay, *presses: str) -> Replay:
 # ---------------------------------------------------------------- 4: the Armory (gun and push)
 def test_armory_has_only_the_gun_and_its_ledge_is_beyond_any_jump():
     level = load_level(ARMORY)
-    assert [w.kind for w in level.weapons] == ["gun"]
+    assert [w.kind for w in level.weapons] == ["gun"] and level.arsenal == ()  # the gun lies in the level
+    assert [p.weapon for p in level.pickups] == ["gun"]
     jump = JUMP_SPEED**2 / (2 * G)  # how high the feet rise
     ledge = 2.2  # the ledge's top (levels/04_armory.toml)
     assert jump + STEP_HEIGHT < ledge, "the ledge must not be reached from the floor"
@@ -86,7 +87,7 @@ def test_armory_replay_pushes_the_crate_and_without_the_crate_does_not_finish(tm
     assert game.entities.named("crate") is None
     result = play(replay, game, check=False)
     assert result.outcome is None
-    assert game.player.position[1] < 0.5  # still on the floor
+    assert game.player.position[1] < 1.5  # on the floor, or in a jump from it: never up on the ledge (2.2)
     for _ in range(600):  # and jumping at the ledge for ten more seconds does not get there either
         game.step(Actions(forward=1.0, jump=True))
     assert game.outcome is None
@@ -100,10 +101,14 @@ def test_blast_and_field_replay_finishes_with_both_new_weapons():
     assert ev["blast"] >= 1 and ev["field"] >= 1 and ev["target_hit"] == 2
 
 
-def test_without_the_blast_the_kata_switch_is_never_hit():
+def test_without_the_blast_the_kata_switch_is_never_hit(tmp_path):
     replay = Replay.load(BLAST_FIELD_REPLAY)
-    game = Game(load_level(BLAST_FIELD), seed=replay.seed)
-    result = play(_without(replay, "weapon_2"), game, check=False)  # the blast is never taken: the gun fires instead
+    text = BLAST_FIELD.read_text(encoding="utf-8")
+    cut = text.index("[[pickup]]   # before the blue door")
+    no_blast = tmp_path / "no_blast.toml"  # the blast's pickup taken out: the same clicks fire the gun
+    no_blast.write_text(text[:cut] + text[text.index("\n\n", cut) :], encoding="utf-8")
+    game = Game(load_level(no_blast, arsenal=["gun"]), seed=replay.seed)
+    result = play(replay, game, check=False)
     assert result.outcome is None
     assert game.event_counts["blast"] == 0
     assert game.entities.named("door B") is not None

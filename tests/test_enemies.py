@@ -314,7 +314,8 @@ radius = 7.0
 duration = 0.6
 """
     game = Game(hall().load(tmp_path, extra=body + GUN))
-    run(game, 30)
+    run(game, 29)
+    run(game, 1, Actions(presses=(("weapon_2", 1),)))  # the blast's key
     foe = enemy(game).data
     assert foe.state == "hidden" and foe.centre[3] == pytest.approx(1.6)
     seen = fire(game, 45)
@@ -324,7 +325,7 @@ duration = 0.6
     crystal = game.entities.get(loot[0].crystal)
     assert crystal.center(game)[3] == 0.0  # in the player's slice, where it can be taken
     # Defeated afterwards, it has nothing left to give.
-    seen = run(game, 1, Actions(presses=(("weapon_2", 1),))) + fire(game)
+    seen = run(game, 1, Actions(presses=(("weapon_1", 1),))) + fire(game)  # the gun's key
     assert [ev.kind for ev in seen if ev.kind in ("enemy_defeated", "loot_released")] == ["enemy_defeated"]
 
 

@@ -77,7 +77,7 @@ def _load(tmp_path: Path, data: dict):
 
 def test_a_version_1_replay_with_presses_is_refused(tmp_path):
     data = _shipped("09_hive")  # its rows carry {"fire": 1}: version 2's
-    del data["bakes"]
+    del data["bakes"], data["arsenal"]
     data["version"] = 1
     why = _load(tmp_path, data)
     assert isinstance(why, str) and "r.json: entry 'actions' #1" in why and "says version 1" in why
@@ -93,6 +93,9 @@ def test_a_key_of_a_later_version_is_refused(tmp_path):
     data = _shipped("01_first_steps")
     del data["bakes"]
     assert "entry 'bakes': missing" in _load(tmp_path, data)
+    data = _shipped("01_first_steps")
+    del data["arsenal"]
+    assert "entry 'arsenal': missing" in _load(tmp_path, data)
     data = _shipped("09_hive")
     data["bakes"] = {"meshes/tree.obj": "xyz"}
     assert "entry 'bakes' 'meshes/tree.obj'" in _load(tmp_path, data)

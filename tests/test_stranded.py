@@ -33,6 +33,7 @@ def switch_room(opens: str = "door", goal_w=None) -> LevelBuilder:
         )
         .table("energy", start=1.0, max=5.0, w_cost=2.0)
         .weapon("gun", cost=1.0, cooldown=0.1)
+        .pickup("gun", [0.0, 1.0, -6.0, 0.0])  # at the spawn: the window's game takes it on its first tick
         .object([0.0, 2.0, 4.0, 0.0], name="door", scale=[8.0, 4.0, 0.4, 3.0])
         .add("target", name="switch", position=[0.0, 1.6, 0.0, 0.0], opens=opens)
     )

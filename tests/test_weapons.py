@@ -199,7 +199,7 @@ def test_firing_is_deterministic():
 
 
 def test_not_enough_energy_is_a_visible_cue_not_silence():
-    game = Game(load_level(ARMORY))
+    game = Game(load_level(ARMORY, arsenal=["gun"]))
     game.energy.milli = 500  # half a unit; a shot costs 1
     game.step(FIRE)
     refused = [e for e in game.events if isinstance(e, WeaponRefused)]
@@ -209,7 +209,7 @@ def test_not_enough_energy_is_a_visible_cue_not_silence():
 
 
 def test_weapons_switch_by_next_previous_and_number_keys():
-    game = Game(load_level(BLAST_FIELD))
+    game = Game(load_level(BLAST_FIELD, arsenal=["gun", "blast", "field"]))
     slots = []
     for p in ("next_weapon", "next_weapon", "next_weapon", "previous_weapon", "weapon_3", "weapon_1"):
         game.step(Actions(presses=((p, 1),)))
@@ -219,7 +219,7 @@ def test_weapons_switch_by_next_previous_and_number_keys():
 
 
 def test_hud_draws_the_weapon_panel():
-    game = Game(load_level(ARMORY))
+    game = Game(load_level(ARMORY, arsenal=["gun"]))
     game.step(FIRE)
     hud = game.frame().hud
     assert hud.weapon.cooldown == pytest.approx(1.0 - 1 / round(0.35 * 60), abs=1e-9)
@@ -337,7 +337,7 @@ def test_what_the_blast_brings_is_drawn_as_soon_as_it_reaches_the_slice():
 def test_field_turns_exactly_the_objects_in_its_radius_to_wireframe_and_back(tmp_path):
     game = scatter(tmp_path)
     styles = {e.name: e.style for e in game.entities}
-    game.step(Actions(presses=(("weapon_2", 1),)))
+    game.step(Actions(presses=(("weapon_3", 1),)))  # the field's key, whatever else is owned
     game.step(Actions(presses=(("fire", 1),)))
     (field,) = [e for e in game.events if e.kind == "field"]
     wired = {e.name for e in game.entities if e.style == "wire"}
@@ -398,6 +398,7 @@ def test_blast_and_field_replay_finishes_with_every_weapon_used():
     assert summary["outcome"] == "complete"
     ev = summary["events"]
     assert ev["shot_fired"] >= 2 and ev["target_hit"] == 2 and ev["blast"] >= 1 and ev["field"] >= 1
+    assert ev["weapon_acquired"] == 2  # the blast and the field, found on the way; the gun came from level 4
 
 
 BAD = [

@@ -157,8 +157,9 @@ def level_schema(args) -> int:
 
 
 # ----------------------------------------------------------------- replays
-def _load_game(level_arg: str, seed: int):
-    """The game of a level: a 4D one, or the Flatland prologue's for a ``format = "flatland"`` file."""
+def _load_game(level_arg: str, seed: int, arsenal=None):
+    """The game of a level: a 4D one (started with the weapons ``arsenal``; None: the
+    campaign's), or the Flatland prologue's for a ``format = "flatland"`` file."""
     from ..world.resources import is_prologue_file, resolve_level
 
     try:
@@ -173,7 +174,7 @@ def _load_game(level_arg: str, seed: int):
     from ..game.sim import Game
     from ..world.level import load_level
 
-    return Game(load_level(path), seed=seed)
+    return Game(load_level(path, arsenal=arsenal), seed=seed)
 
 
 def _summary(game, result) -> dict:
@@ -211,7 +212,7 @@ def replay(args) -> int:
             "it has no final hash to check",
             file=sys.stderr,
         )
-    game = _load_game(args.level, rep.seed)
+    game = _load_game(args.level, rep.seed, rep.arsenal)
     if not getattr(args, "no_check", False):  # --no-check plays any actions on any level
         _refuse_other_level(args, rep, game.level)
     if not isinstance(game, FlatGame):  # the prologue compiles no 4D kernels
@@ -281,7 +282,7 @@ def _update_hashes(args, rep, game, as_json: bool) -> int:
             f"{rep.final_ticks}, got {_outcome(result.outcome)} at tick {result.ticks}"
         )
     updated = False
-    header = (rep.level_hash, rep.bakes) != (fresh.level_hash, fresh.bakes)
+    header = (rep.level_hash, rep.bakes, rep.arsenal) != (fresh.level_hash, fresh.bakes, fresh.arsenal)
     if refused is None and problem is None and (changed or header):
         _check_actions_kept(args.replay, fresh)
         fresh.save(args.replay)  # temporary file in the same folder, then os.replace

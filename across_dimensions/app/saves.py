@@ -7,8 +7,14 @@ replaces the folder, for tests and portable installs)::
     {"format": "across-dimensions-progress", "version": 1,
      "finished": {"01_first_steps": 41.5},            # level -> best time, seconds
      "crystals": {"02_crystal_cache": [3, 3]},        # level -> [most found in one run, in the level]
+     "arsenal": ["gun"],                              # the weapons found so far (pickups)
      "secrets": {"10_x": {"found": ["the garden"], "total": 2}},  # level -> secrets ever found, of how many
      "current": {"level": "03_tumbling_hall", "checkpoint": null}}
+
+``arsenal`` lists the weapons the player has picked up, in key order (a file without it
+has found none). What a level starts with is the campaign's, not the file's
+(:func:`~across_dimensions.world.pickups.campaign_arsenal`), so a fresh save and a
+replay start a level alike; the file says what the player has found so far.
 
 ``current`` is where *Continue* resumes: the level being played when the game
 was left, and the index of the last checkpoint reached in it (``null``: the
@@ -23,8 +29,8 @@ starts fresh.
 Two games may share one data folder (two windows, a second one started by
 mistake). Each write holds a lock (``.progress.lock``, ``flock``) while it reads
 the file again and merges it with what it has in memory: every finished level
-and its best time, the most crystals of each level, every secret found; only *Continue*'s place is
-the writer's own. So no game loses another's progress. A game killed in the
+and its best time, the most crystals of each level, every secret and weapon found; only *Continue*'s place
+is the writer's own. So no game loses another's progress. A game killed in the
 middle of a write leaves its temporary file (``.progress.json.XXXXXXXX.tmp``);
 the next start removes those, under the same lock, so never one being written.
 """
@@ -40,6 +46,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..core.fileio import FileProblem, atomic_write, read_text
+from ..world.gameplay import WEAPON_KINDS
+from ..world.pickups import arsenal_problem
 
 FORMAT = "across-dimensions-progress"
 #: Bumped when the file's meaning changes; an older reader refuses (and keeps aside) a newer file.
@@ -100,6 +108,8 @@ class Progress:
         Level stem -> best time in seconds from the level's start to its goal.
     crystals : dict of str to (int, int)
         Level stem -> (most crystals found in one run, crystals in the level).
+    arsenal : set of str
+        The weapons picked up so far.
     secrets : dict of str to (tuple of str, int)
         Level stem -> (the names of its secrets found in any run, sorted; secrets in the level).
     current : str or None
@@ -110,6 +120,7 @@ class Progress:
 
     finished: dict[str, float] = field(default_factory=dict)
     crystals: dict[str, tuple[int, int]] = field(default_factory=dict)
+    arsenal: set[str] = field(default_factory=set)
     secrets: dict[str, tuple[tuple[str, ...], int]] = field(default_factory=dict)
     current: str | None = None
     checkpoint: int | None = None
@@ -175,6 +186,7 @@ class Progress:
         for level, (found, total) in other.crystals.items():
             mine = self.crystals.get(level)
             self.crystals[level] = (found, total) if mine is None else (max(mine[0], min(found, mine[1])), mine[1])
+        self.arsenal |= other.arsenal
         for level, (names, total) in other.secrets.items():
             mine = self.secrets.get(level)
             self.found_secrets(level, names, total if mine is None else mine[1])
@@ -186,6 +198,7 @@ class Progress:
                 "version": VERSION,
                 "finished": self.finished,
                 "crystals": {k: list(v) for k, v in self.crystals.items()},
+                "arsenal": [k for k in WEAPON_KINDS if k in self.arsenal],
                 "secrets": {k: {"found": list(v[0]), "total": v[1]} for k, v in self.secrets.items()},
                 "current": None if self.current is None else {"level": self.current, "checkpoint": self.checkpoint},
             },
@@ -218,6 +231,11 @@ class Progress:
             if not ok or pair[0] > pair[1]:
                 raise ValueError(f"crystals.{level}: expected [found, total] with 0 <= found <= total, got {pair!r}")
             progress.crystals[renamed(level)] = (pair[0], pair[1])
+        arsenal = data.get("arsenal", [])
+        problem = arsenal_problem(arsenal)
+        if problem is not None:
+            raise ValueError(f"arsenal: {problem}")
+        progress.arsenal = set(arsenal)
         _read_secrets(progress, data.get("secrets", {}))
         current = data.get("current")
         if current is not None:

@@ -243,8 +243,27 @@ class WeaponRefused(Event):
 
 
 @dataclass(frozen=True)
+class WeaponAcquired(Event):
+    """The player walked into a ``[[pickup]]`` and owns its weapon from now on (and in every later
+    level of the campaign); it is taken in hand.
+
+    Attributes
+    ----------
+    entity : int
+        The pickup's entity id (removed in the same tick).
+    weapon : str
+        The weapon's kind.
+    """
+
+    kind: ClassVar[str] = "weapon_acquired"
+    entity: int
+    weapon: str
+
+
+@dataclass(frozen=True)
 class WeaponSelected(Event):
-    """The player switched weapons; ``slot`` counts from 0 in the level's order."""
+    """The player switched weapons; ``slot`` counts from 0 among the weapons a run of the level can
+    have (``level.weapons``)."""
 
     kind: ClassVar[str] = "weapon_selected"
     slot: int

@@ -74,7 +74,7 @@ def holds(until: dict, game) -> bool:
             ok = game.entities.named(v) is None
         elif key == "weapon":
             ars = game.states.weapons
-            ok = ars is not None and ars.current.kind == v
+            ok = ars is not None and ars.armed and ars.current.kind == v
         else:
             x = float(p["xyzw".index(key[0])])
             ok = x >= v if key.endswith("_min") else x <= v

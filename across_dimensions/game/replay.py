@@ -9,8 +9,8 @@ makes one while a game is played; :mod:`.playback` plays one back.
 Recording survives a crash. While a recording is in progress, its file holds a
 *journal* (JSON Lines, append-only) that grows once per simulated second::
 
-    {"format": "across-dimensions-replay-journal", "version": 3, "level": ..., "level_hash": ...,
-     "bakes": {...}, "seed": 0, "tick_rate": 60, "hash_every": 60}
+    {"format": "across-dimensions-replay-journal", "version": 4, "level": ..., "level_hash": ...,
+     "bakes": {...}, "arsenal": [...], "seed": 0, "tick_rate": 60, "hash_every": 60}
     [count, [forward, right, yaw, pitch, w, buttons]]       # runs, in order
     {"tick": 60, "hash": "..."}                             # state hashes, in order
 
@@ -60,7 +60,9 @@ class Replay:
     as :class:`ActionRuns`. ``recovered`` is true for a replay read back from
     the journal of a recording that was cut short (it has no final hash).
     ``bakes`` (asset name -> bake digest) is None for a replay of a version
-    before 3, whose ``level_hash`` is the level file's alone.
+    before 3, whose ``level_hash`` is the level file's alone. ``arsenal`` (the weapons
+    owned at the start) is None for a replay of a version before 4: it plays with the
+    campaign's arsenal for its level.
     """
 
     level: str
@@ -75,18 +77,23 @@ class Replay:
     outcome: str | None = None
     recovered: bool = False
     bakes: dict[str, str] | None = None
+    arsenal: tuple[str, ...] | None = None
 
     def __post_init__(self):
         if not isinstance(self.actions, ActionRuns):
             self.actions = ActionRuns(self.actions)
 
     def header(self, fmt: str = FORMAT) -> dict:
+        # A replay read from a version without the arsenal is written back as that version: "no
+        # arsenal" (the campaign's) and "none owned" ([]) are different starts.
+        arsenal = {} if self.arsenal is None else {"arsenal": list(self.arsenal)}
         return {
             "format": fmt,
-            "version": VERSION,
+            "version": VERSION if arsenal else 3,
             "level": self.level,
             "level_hash": self.level_hash,
             "bakes": dict(sorted((self.bakes or {}).items())),
+            **arsenal,
             "seed": self.seed,
             "tick_rate": self.tick_rate,
             "hash_every": self.hash_every,
@@ -163,7 +170,7 @@ class Recorder:
         if game.tick != 0:
             raise ValueError(f"a recording starts at tick 0, the game is at tick {game.tick}")
         level_hash, bakes = level_identity(game.level)
-        self.replay = Replay(level_name, level_hash, game.seed, bakes=bakes)
+        self.replay = Replay(level_name, level_hash, game.seed, bakes=bakes, arsenal=tuple(game.level.arsenal))
         self.game = game
         self.path = None if path is None else Path(path)
         self.flush_every = flush_every

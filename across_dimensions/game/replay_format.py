@@ -4,10 +4,11 @@ File format (JSON, UTF-8, strict: no NaN or Infinity)::
 
     {
       "format": "across-dimensions-replay",
-      "version": 3,
+      "version": 4,
       "level": "01_first_steps",        # shipped level name or path
       "level_hash": "<the level's hash: 64 lowercase hex digits>",
       "bakes": {"meshes/tree.obj": "<sha256 of its bake>"},   # version 3; {} when it lifts none
+      "arsenal": ["gun"],                # version 4: the weapons owned at the start
       "seed": 0,                         # 0 <= seed < 2**64
       "tick_rate": 60,
       "hash_every": 60,
@@ -20,6 +21,11 @@ File format (JSON, UTF-8, strict: no NaN or Infinity)::
 the level bakes (``bakes``; see :mod:`across_dimensions.world.level_bakes`), so
 a replay names a different bake as the cause of a mismatch. Versions 1 and 2,
 which have no ``bakes``, hash the file alone and still play.
+
+``arsenal`` (version 4) is what the player owned at the start (what the campaign had
+given by that level, :mod:`across_dimensions.world.pickups`), so a replay plays the
+same wherever the campaign puts the level later. Earlier versions play with the
+campaign's arsenal of today.
 
 ``actions`` is run-length encoded: held keys repeat the same row. A row ends
 with ``{action: presses}`` on the ticks that one-shot actions were pressed
@@ -57,13 +63,14 @@ from pathlib import Path
 
 from ..core.errors import InputError
 from ..core.fileio import MiB
+from ..world.pickups import arsenal_problem
 from .actions import ActionRuns, Actions, short_repr
 from .sim import TICK_RATE
 
 FORMAT = "across-dimensions-replay"
 JOURNAL_FORMAT = "across-dimensions-replay-journal"
-VERSION = 3  # written; 2 added one-shot presses to action rows, 3 the bakes
-READS = (1, 2, 3)  # versions this game plays
+VERSION = 4  # written; 2 added one-shot presses to action rows, 3 the bakes, 4 the arsenal
+READS = (1, 2, 3, 4)  # versions this game plays
 HASH_EVERY = 60
 #: Longest replay, in ticks: two hours at 60 Hz.
 MAX_TICKS = 2 * 3600 * TICK_RATE
@@ -74,7 +81,7 @@ MAX_SEED = 2**64 - 1
 _MAX_DIGITS = 20
 _HEADER = ("format", "version", "level", "level_hash", "seed", "tick_rate", "hash_every")
 #: Header entries each version added to those before it.
-_HEADER_ADDED = {3: ("bakes",)}
+_HEADER_ADDED = {3: ("bakes",), 4: ("arsenal",)}
 _BODY = ("actions", "hashes", "final")
 _FINAL_KEYS = frozenset(("ticks", "hash", "outcome"))
 _LEVEL_HASH = re.compile(r"[0-9a-f]{64}")
@@ -244,7 +251,14 @@ class _Checker:
             "tick_rate": tick_rate,
             "hash_every": self.whole("entry 'hash_every'", data["hash_every"], 1, MAX_TICKS),
             "bakes": self.bakes(data["bakes"]) if "bakes" in keys else None,
+            "arsenal": self.arsenal(data["arsenal"]) if "arsenal" in keys else None,
         }
+
+    def arsenal(self, value) -> tuple[str, ...]:
+        problem = arsenal_problem(value)
+        if problem is not None:
+            self.fail("entry 'arsenal'", problem)
+        return tuple(value)
 
     def bakes(self, value) -> dict[str, str]:
         if not isinstance(value, dict) or len(value) > 256:

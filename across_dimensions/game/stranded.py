@@ -26,7 +26,7 @@ def shot_milli(game) -> int | None:
     """The cheapest shot in thousandths: 0 with rounds in a gun, None without a gun."""
     ars = game.states.weapons
     costs = []
-    for k, spec in enumerate(game.level.weapons):
+    for k, spec in enumerate(game.level.weapons):  # a gun lying in a pickup counts: it can be taken
         if spec.kind == "gun":
             rounds = ars.rounds[k] if ars is not None else spec.ammo
             costs.append(0 if rounds > 0 else spec.cost_milli)

@@ -1,11 +1,14 @@
 """The player's weapons: the 120-cell gun, the w-pull blast and the wire field (paper, section 5).
 
-The level lists the weapons (``[[weapon]]``, :class:`~..world.gameplay.WeaponSpec`);
-the weapons system keeps one :class:`Arsenal` for them (``game.states.weapons``,
-made with the game by ``systems/weapons.py``). The systems that use it:
+The player finds weapons in the level (``[[pickup]]``, :mod:`~..world.pickups`) or brings
+them from earlier levels of the campaign (``level.arsenal``); ``level.weapons`` are those a
+run of the level can have, as the level tunes them (``[[weapon]]``,
+:class:`~..world.gameplay.WeaponSpec`). The weapons system keeps one :class:`Arsenal` for
+them (``game.states.weapons``, made with the game by ``systems/weapons.py``). The systems
+that use it:
 
-- ``systems/weapons.py`` (before physics): switching, firing, the blast's pull
-  and the field's timer, and steering bullets that have not touched anything;
+- ``systems/weapons.py`` (before physics): picking weapons up, switching, firing, the
+  blast's pull and the field's timer, and steering bullets that have not touched anything;
 - ``systems/bullets.py`` (after physics): contacts, targets, expiry.
 
 A bullet is a dynamic hypersphere body drawn as a small 120-cell. Until its
@@ -25,8 +28,10 @@ import numpy as np
 from ..core.shapes import make_shape
 from ..physics import BodyDef
 from ..world.gameplay import TargetSpec, WeaponSpec
+from ..world.pickups import KEY_OF, PickupSpec
 from ..world.scene import Object4
 from .entities import Motion, Rigid, Scripted, reach
+from .events import WeaponAcquired
 from .system import derived, fixed
 
 #: Kinds of entity the blast pulls and the field shows (bullets are the gun's own).
@@ -38,6 +43,14 @@ MUZZLE = 0.5
 FLASH_TICKS = 8  # muzzle flash on the HUD
 REFUSED_TICKS = 60  # "NOT ENOUGH ENERGY" stays a second
 HIT_MARKER_TICKS = 18
+ACQUIRED_TICKS = 6 * 60  # the notice that teaches a weapon just picked up: time to read it
+#: How each kind of pickup looks: a small polychoron of its own shape and colour.
+PICKUP_LOOKS = {
+    "gun": ("120-cell", (0.55, 0.95, 1.0, 1.0)),
+    "blast": ("24-cell", (1.0, 0.6, 0.25, 1.0)),
+    "field": ("tesseract", (0.45, 1.0, 0.5, 1.0)),
+}
+PICKUP_SPIN = {"xw": 45.0, "zw": 30.0}  # degrees/s: turning through the slice, it reads as 4D
 
 
 @dataclass
@@ -118,8 +131,11 @@ class Arsenal:
     Attributes
     ----------
     specs : list of WeaponSpec
+        The weapons a run of the level can have (``level.weapons``), in key order.
+    owned : list of bool
+        Which of them the player has (brought along the campaign or picked up).
     slot : int
-        The weapon in hand (index into ``specs``).
+        The weapon in hand (index into ``specs``; it is owned whenever any is).
     ready : list of int
         Tick from which each weapon may be used again.
     bullets : list of int
@@ -130,6 +146,7 @@ class Arsenal:
     """
 
     specs: list[WeaponSpec] = fixed()
+    owned: list[bool] = field(default_factory=list)
     slot: int = 0
     ready: list[int] = field(default_factory=list)
     bullets: list[int] = field(default_factory=list)
@@ -142,12 +159,72 @@ class Arsenal:
     refused_tick: int = -(10**9)
     refused_text: str = ""
     hit_tick: int = -(10**9)
+    acquired_tick: int = -(10**9)
+    acquired: int = 0  # the slot of the weapon picked up last (the notice teaches it)
     bullet_mesh: object = fixed(default=None)
     bullet_reach: float = fixed(default=1.0)
 
     @property
     def current(self) -> WeaponSpec:
         return self.specs[self.slot]
+
+    @property
+    def armed(self) -> bool:
+        """Does the player hold a weapon (own any)?"""
+        return bool(self.specs) and self.owned[self.slot]
+
+    def slot_of(self, kind: str) -> int | None:
+        """The slot of the owned weapon of ``kind``, or None."""
+        return next((k for k, s in enumerate(self.specs) if s.kind == kind and self.owned[k]), None)
+
+
+@dataclass
+class Pickup:
+    """A pickup's state (``Entity.data``): the level entry it came from."""
+
+    spec: PickupSpec = fixed()
+
+
+def spawn_pickup(game, spec: PickupSpec):
+    """Put a weapon pickup in the game: a small glowing polychoron of its kind, turning through the slice."""
+    shape, color = PICKUP_LOOKS[spec.weapon]
+    mesh = make_shape(shape).with_color(color)
+    scale = spec.size / max(reach(mesh), 1e-9)
+    obj = Object4.prop(spec.name, mesh, spec.position, scale, {}, dict(PICKUP_SPIN))
+    data = Pickup(spec)
+    return game.entities.spawn("pickup", spec.name, mesh, Scripted(obj), style="glow", data=data, radius=spec.size)
+
+
+def acquire(game, entity) -> None:
+    """The player walked into ``entity``, a pickup: its weapon is theirs and in hand."""
+    ars = game.states.weapons
+    game.remove(entity.id)
+    kind = entity.data.spec.weapon
+    k = next(k for k, s in enumerate(ars.specs) if s.kind == kind)
+    if ars.owned[k]:
+        return  # brought along already: the pickup is just taken
+    ars.owned[k] = True
+    ars.slot = ars.acquired = k
+    ars.acquired_tick = game.tick
+    game.emit(WeaponAcquired(entity.id, kind))
+
+
+def acquired_notice(spec: WeaponSpec, has_energy: bool) -> str:
+    """What the notice says when ``spec`` is picked up: its key, how to use it, what it costs.
+    ``{actions}`` are filled with the player's keys by the window."""
+    key = "{" + KEY_OF[spec.kind] + "}"
+    if spec.kind == "gun" and spec.ammo >= 0:
+        pay = f"It holds {spec.max_ammo} rounds; crystals refill it."
+    elif has_energy and spec.cost_milli > 0:
+        pay = f"Each use costs {spec.cost_milli / 1000:g} energy."
+    else:
+        pay = ""
+    use = {
+        "gun": "Fire it with {fire}: its bullet swings along w as it flies.",
+        "blast": "Fire it with {fire} to pull hidden 4D things nearby to your w.",
+        "field": "Fire it with {fire} to show the 4D things nearby as glowing wireframes.",
+    }[spec.kind]
+    return f"You found the {spec.name} (key {key})! {use} {pay}".strip()
 
 
 def refill(game) -> None:
@@ -158,7 +235,7 @@ def refill(game) -> None:
     if new <= 0:
         return
     for k, spec in enumerate(ars.specs):
-        if ars.rounds[k] >= 0:
+        if ars.rounds[k] >= 0 and ars.owned[k]:
             ars.rounds[k] = min(spec.max_ammo, ars.rounds[k] + new * spec.refill)
 
 
@@ -257,6 +334,8 @@ def blast(game, spec: WeaponSpec) -> list[int]:
     moved = []
     busy = {p.entity for p in ars.pulls}
     for e in in_reach(game, spec.radius):
+        if isinstance(e.data, Target) and e.data.spec.anchored:
+            continue  # fixed at its w by the level
         if isinstance(e.motion, Scripted):
             e.motion = Shifted(e.motion)
             # Caches of the entity list tell scripted things (posed by time alone) from the

@@ -69,7 +69,8 @@ def _reach_cost(game, t) -> tuple[float, str] | None:
     the frustum camera), or None when a bullet reaches it as it is."""
     if not _beyond_bullets(game, t):
         return None
-    ways = [(s.cost_milli / 1000.0, "a blast") for s in read.weapons(game) if s.kind == "blast"]
+    anchored = read.target_spec(game, t.id).anchored
+    ways = [(s.cost_milli / 1000.0, "a blast") for s in read.weapons(game) if s.kind == "blast" and not anchored]
     cam = game.level.camera
     if cam.frustum:
         ways.append((cam.frustum_cost_milli / 60000.0, "the frustum camera"))

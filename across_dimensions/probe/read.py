@@ -185,8 +185,19 @@ def target_spec(game, target_id: int):
 
 # ------------------------------------------------------------------ weapons
 def weapons(game) -> list:
-    """The level's weapon entries, in slot order."""
+    """The weapons a run of the level can have (owned or lying in a pickup), in slot order."""
     return list(game.level.weapons)
+
+
+def owned(game, k: int) -> bool:
+    """Does the player own weapon ``k`` (brought along, or picked up)?"""
+    ars = _state(game, "weapons")
+    return ars is not None and bool(ars.owned[k])
+
+
+def pickups(game, kind: str | None = None) -> list[Thing]:
+    """Weapon pickups still lying in the level (of ``kind``, when given)."""
+    return [t for t in _things(game, "pickup") if kind is None or game.entities.get(t.id).data.spec.weapon == kind]
 
 
 def slot(game) -> int:

@@ -26,12 +26,12 @@ from . import read
 class Step:
     """One thing the route does.
 
-    ``kind``: ``crystal``, ``target``, ``blast``, ``field``, ``manipulate``, ``body``,
-    ``turn``, ``frustum``, ``enemy``, ``camera_loot`` (an enemy's crystal freed by the frustum
-    switch: ``at``/``yaw`` are the switch's) or ``frustum_walk`` (the player stepped onto a
-    ``walkable_in_frustum`` image: ``at``/``yaw`` the switch's, ``info["orbit"]`` the orbit then);
-    ``name`` what it acts on; ``at`` the player's feet
-    ``(4,)`` when it happened (None in a plan made from the level alone); ``yaw``/``pitch``
+    ``kind``: ``crystal``, ``pickup`` (its name is the weapon), ``target``, ``blast``,
+    ``field``, ``manipulate``, ``body``, ``turn``, ``frustum``, ``enemy``, ``camera_loot`` (an
+    enemy's crystal freed by the frustum switch: ``at``/``yaw`` are the switch's) or
+    ``frustum_walk`` (the player stepped onto a ``walkable_in_frustum`` image: ``at``/``yaw`` the
+    switch's, ``info["orbit"]`` the orbit then); ``name`` what it acts on; ``at`` the player's
+    feet ``(4,)`` when it happened (None in a plan made from the level alone); ``yaw``/``pitch``
     the view then; ``info`` the rest (a target's door and how the shot got there, angles, a
     body's resting place, ...).
     """
@@ -124,6 +124,8 @@ class _Recorder:
             )
         elif k in ("blast", "field"):
             self._step(k, k)
+        elif k == "weapon_acquired":
+            self._step("pickup", ev.weapon)
         elif k == "camera_switched" and ev.mode == "frustum":
             self._step("frustum", "camera")
             self.switch = (read.feet(g), *read.view(g))
@@ -153,7 +155,8 @@ class _Recorder:
 def planned_route(level) -> Route:
     """A plan from the level alone, for a level without a replay: every switch that opens
     something, every enemy that does, each manipulable turned to the top of its first plane."""
-    steps = [Step("target", t.name, 0, None, info={"opens": t.opens}) for t in level.targets if t.opens]
+    steps = [Step("pickup", p.weapon, 0, None) for p in level.pickups]
+    steps += [Step("target", t.name, 0, None, info={"opens": t.opens}) for t in level.targets if t.opens]
     steps += [Step("enemy", e.name, 0, None, info={"opens": e.opens}) for e in level.enemies if e.opens]
     for m in level.manipulables:
         plane, (lo, hi) = next(iter(m.planes.items()))
@@ -173,6 +176,8 @@ def load_route(level, replay_path: Path | None = None, scene=None) -> Route:
         return planned_route(level)
     if not same_file(rep, level):  # the file and, for a level with assets, their bakes folded in
         return planned_route(level)
+    if rep.arsenal is not None:  # the weapons the recording started with
+        level = level.with_arsenal(rep.arsenal)
     game = Game(level, seed=rep.seed, scene=scene)
     rec = _Recorder(game)
     for a in rep.actions:

@@ -1,5 +1,5 @@
 """What the probe's bots can do, each a generator of per-tick actions (see :mod:`.pilot`):
-take a crystal, shoot a switch (from where the bullet's w swing reaches it), blast, cast the
+take a crystal, pick a weapon up, shoot a switch (from where the bullet's w swing reaches it), blast, cast the
 field, shoot through the frustum camera, turn a manipulable object, push a body, fight an
 enemy, turn the slice, and walk to the goal with a walker's tricks when the way is blocked.
 
@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from ..game.actions import Actions
+from ..world.pickups import KEY_OF
 from . import read
 from .pilot import (
     JUMP_CLEAR,
@@ -37,27 +38,43 @@ MIN_SHOT = 1.0
 
 # ------------------------------------------------------------------ weapons
 def weapon_slot(ctx: Ctx, kind: str) -> int | None:
-    """The slot of the first weapon of ``kind`` the strategy may use, or None."""
+    """The slot of the owned weapon of ``kind`` the strategy may use, or None."""
     if kind not in ctx.allow.weapons:
         return None
-    return next((k for k, s in enumerate(read.weapons(ctx.game)) if s.kind == kind), None)
+    return next((k for k, s in enumerate(read.weapons(ctx.game)) if s.kind == kind and read.owned(ctx.game, k)), None)
+
+
+def fetch(ctx: Ctx, kind: str):
+    """Walk into the pickup of ``kind`` (at its w, when the strategy moves along w), if the
+    strategy may use that weapon and one lies in the level. Returns whether it is owned."""
+    game = ctx.game
+    for _ in range(2):
+        if kind not in ctx.allow.weapons or weapon_slot(ctx, kind) is not None:
+            break
+        lying = read.pickups(game, kind)
+        if not lying:
+            break
+        w = float(lying[0].center[3]) if ctx.allow.w else None
+        yield from goto(ctx, lying[0].center[[0, 2]], w, tol=0.3, ticks=1200)
+    return weapon_slot(ctx, kind) is not None
 
 
 def select(ctx: Ctx, k: int):
-    """Take weapon ``k`` in hand (a number key, or next-weapon presses past the third)."""
+    """Take weapon ``k`` in hand (the number key of its kind)."""
     game = ctx.game
+    press = KEY_OF[read.weapons(game)[k].kind]
     for _ in range(12):
         if read.slot(game) == k:
             return True
-        press = f"weapon_{k + 1}" if k < 3 else "next_weapon"
         yield Actions(presses=((press, 1),))
     return read.slot(game) == k
 
 
 def use(ctx: Ctx, kind: str, yaw: float | None = None, pitch: float = 0.0):
-    """Use the weapon of ``kind`` once, facing ``yaw, pitch`` (default: as now). Returns True
-    when it fired."""
+    """Use the weapon of ``kind`` once (fetching it first from its pickup), facing ``yaw, pitch``
+    (default: as now). Returns True when it fired."""
     game = ctx.game
+    yield from fetch(ctx, kind)
     k = weapon_slot(ctx, kind)
     if k is None:
         return False
@@ -150,6 +167,7 @@ def hit_target(ctx: Ctx, name: str, step=None):
     """Throw the switch ``name``: the field first if it is disguised, the blast if no bullet
     reaches it, the frustum camera if the route shot it so; then aim and fire."""
     game, allow = ctx.game, ctx.allow
+    yield from fetch(ctx, "gun")
     t, spec = _target(game, name), gun(ctx)
     if t is None or _hit(game, name) or spec is None or not allow.aim:
         return

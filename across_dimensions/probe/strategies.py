@@ -28,6 +28,7 @@ from . import read
 from .pilot import Allow, Ctx, Progress, distance_xz, drive, goto, idle, look, move_w, wait, yaw_to
 from .skills import (
     camera_loot,
+    fetch,
     fight,
     frustum_walk,
     gather,
@@ -76,6 +77,8 @@ def play(ctx: Ctx):
             return
         if step.kind == "target":
             yield from hit_target(ctx, step.name, step)
+        elif step.kind == "pickup":
+            yield from fetch(ctx, step.name)
         elif step.kind == "enemy" and step.info.get("opens"):
             yield from fight(ctx, step.name)
         elif step.kind == "manipulate" and allow.manipulation != "none":
@@ -135,6 +138,7 @@ def unaimed_fire(ctx: Ctx):
     seconds at a third, a half and two thirds of the way, and backing off to fire again
     when stopped."""
     game = ctx.game
+    yield from fetch(ctx, "gun")
     centre, _, _ = read.goal(game)
     start = read.feet(game)[[0, 2]]
     stops = [start + f * (centre[[0, 2]] - start) for f in (1 / 3, 1 / 2, 2 / 3)]
@@ -168,7 +172,7 @@ def _firing(ctx: Ctx, a: Actions) -> Actions:
     if k is None:
         return a
     if read.slot(game) != k:
-        return Actions(forward=a.forward, yaw=a.yaw, pitch=a.pitch, jump=a.jump, presses=((f"weapon_{k + 1}", 1),))
+        return Actions(forward=a.forward, yaw=a.yaw, pitch=a.pitch, jump=a.jump, presses=(("weapon_1", 1),))
     fire = read.weapon_ready(game)
     return Actions(forward=a.forward, yaw=a.yaw, pitch=a.pitch, jump=a.jump, presses=(("fire", 1),) if fire else ())
 
@@ -182,7 +186,9 @@ def waste(ctx: Ctx):
     yield idle(game)
     centre, _, _ = read.goal(game)
     away = yaw_to(game, centre[[0, 2]]) + math.pi  # shots go the other way, so none throws a switch
-    for spec in sorted(read.weapons(game), key=lambda s: -s.cost_milli):
+    for spec in read.weapons(game):  # a careless player takes every weapon lying about...
+        yield from fetch(ctx, spec.kind)
+    for spec in sorted(read.weapons(game), key=lambda s: -s.cost_milli):  # ...and fires it at the floor
         while read.energy(game) is not None and read.energy(game) * 1000 >= spec.cost_milli > 0:
             if not (yield from use(ctx, spec.kind, away, pitch=-0.6)):
                 break

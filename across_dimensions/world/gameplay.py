@@ -67,7 +67,8 @@ CRYSTAL_TABLE = {
     "respawn": Field("number", default=0.0, range=RESPAWN, sign="nonnegative"),
 }
 WEAPON_KINDS = ("gun", "blast", "field")
-#: Every field a ``[[weapon]]`` may have; which apply to which kind is :data:`WEAPON_FIELDS`.
+#: Every field a ``[[weapon]]`` (how a weapon behaves in the level; the player finds weapons in
+#: ``[[pickup]]`` s) may have; which apply to which kind is :data:`WEAPON_FIELDS`.
 WEAPON_TABLE = {
     "kind": Field("string", choices=WEAPON_KINDS),
     "name": Field("text", default=None, range=Range(0, MAX_NAME_CHARS)),
@@ -118,6 +119,7 @@ TARGET_TABLE = {
     "spin": Field("angles", default=None, range=SPIN),
     "opens": Field("text", default="", range=Range(0, MAX_NAME_CHARS)),
     "disguised": Field("bool", default=False),
+    "anchored": Field("bool", default=False),
 }
 MANIPULABLE_TABLE = {
     "object": Field("text", range=Range(0, MAX_NAME_CHARS)),
@@ -336,7 +338,7 @@ def read_crystals(r, data, w_range) -> list[CrystalSpec]:
 
 @dataclass
 class WeaponSpec:
-    """A ``[[weapon]]``: one of the player's weapons, in the order the level lists them.
+    """A weapon as a level has it: a ``[[weapon]]`` table's tuning, or the defaults of its kind.
 
     Times in seconds, lengths in metres; ``cost_milli`` is the energy one use
     costs, in thousandths. Fields that do not apply to ``kind`` keep their
@@ -381,7 +383,8 @@ class TargetSpec:
     ``position (4,) float64`` may lie at a w the player cannot reach; ``size``
     is its radius (drawn and hit); hitting it removes the ``[[object]]`` named
     ``opens`` (a door), if any. A ``disguised`` target is drawn like ordinary
-    scenery and stays off the radar.
+    scenery and stays off the radar; an ``anchored`` one is fixed at its w: the
+    blast does not move it (a switch meant for another tool, with the blast in hand).
     """
 
     name: str
@@ -393,10 +396,12 @@ class TargetSpec:
     spin_deg: dict = field(default_factory=dict)
     opens: str = ""
     disguised: bool = False
+    anchored: bool = False
 
 
-def read_weapons(r, data) -> list[WeaponSpec]:
-    """The ``[[weapon]]`` tables, in order (a level without them has no weapons)."""
+def read_weapons(r, data) -> list[tuple[int, WeaponSpec]]:
+    """The ``[[weapon]]`` tables that read well, with their numbers from 1, in order: how each
+    weapon behaves in the level (they give none: see :mod:`.pickups`)."""
     out = []
     for i, t in enumerate(r.entries(data, "weapon", "top level", lambda k: f"[[weapon]] #{k}"), 1):
         where = f"[[weapon]] #{i}"
@@ -419,7 +424,7 @@ def read_weapons(r, data) -> list[WeaponSpec]:
         if "ammo" in t and "max_ammo" in v and v["ammo"] > v["max_ammo"]:
             r.problem(where, f"field 'ammo': {v['ammo']:g} is more than 'max_ammo' ({v['max_ammo']:g})")
         extra = {k: v[k] for k in defaults if k not in ("name", "cost", "cooldown") and k not in counts}
-        out.append(WeaponSpec(kind, v["name"], int(round(v["cost"] * MILLI)), v["cooldown"], **counts, **extra))
+        out.append((i, WeaponSpec(kind, v["name"], int(round(v["cost"] * MILLI)), v["cooldown"], **counts, **extra)))
     return out
 
 
@@ -445,6 +450,7 @@ def read_targets(r, data, object_names) -> list[TargetSpec]:
                 v["spin"],
                 v["opens"],
                 v["disguised"],
+                v["anchored"],
             )
         )
     return out

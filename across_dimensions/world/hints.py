@@ -4,7 +4,7 @@ A hint is a string, or a table ``{ text = "...", until = { ... } }`` whose ``unt
 the player must have *done* for the hint to be done: an event of the game (``event =
 "crystal_collected"``), an object gone from the level (``gone = "door_b"``: a door a switch
 opened, a crystal taken), the player past a place (``z_min = 2.5``, ``w_min = 0.7``), or the weapon
-in hand (``weapon = "blast"``); all the conditions given must hold. A hint without ``until`` is
+in hand (``weapon = "blast"``, owned and taken); all the conditions given must hold. A hint without ``until`` is
 done when the player performs an action it names (``game.hints``), or after its reading time.
 
 The 4D loader (:mod:`.level`) reads them here, and the prologue's loader (:mod:`.flat_level`)
@@ -41,9 +41,10 @@ EVENTS = (
     "slab_knocked",
     "slice_aligned",
     "target_hit",
+    "weapon_acquired",
     "weapon_selected",
 )
-#: Weapon kinds ``until.weapon`` may name (the kinds of ``[[weapon]]``).
+#: Weapon kinds ``until.weapon`` may name (the kinds of ``[[pickup]]`` and ``[[weapon]]``).
 WEAPONS = ("gun", "blast", "field")
 #: Where the player's feet must be: ``<axis>_min`` / ``<axis>_max`` for x, y, z and w.
 PLACES = tuple(f"{a}_{b}" for a in "xyzw" for b in ("min", "max"))

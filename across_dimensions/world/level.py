@@ -19,12 +19,12 @@ function that builds its spec.
 from __future__ import annotations
 
 import hashlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
-from . import beacons, design, enemy_tables, gameplay, limits, secrets
+from . import beacons, design, enemy_tables, gameplay, limits, pickups, secrets
 from .fields import Field
 from .hints import HintSpec, hint_name_problems, read_hints
 from .level_reader import DEFAULT_COLOR, LevelError, TableReader, hint_problem, parse_level
@@ -102,10 +102,11 @@ MODELS = {
     "design": design.DESIGN_TABLE,
     "beacon": beacons.BEACON_TABLE,
     "secret": secrets.SECRET_TABLE,
+    "pickup": pickups.PICKUP_TABLE,
 }
 FORMATS = (1, 2)  # format 2 adds the tables of gameplay.MODELS
 #: Top-level keys written ``[[key]]`` (arrays of tables); the others are ``[key]`` tables.
-ARRAY_TABLES = ("box", "mesh", "world", "object", *gameplay.ARRAY_TABLES, "beacon", "secret")
+ARRAY_TABLES = ("box", "mesh", "world", "object", *gameplay.ARRAY_TABLES, "beacon", "secret", "pickup")
 
 
 @dataclass
@@ -176,7 +177,10 @@ class Level:
     seek: gameplay.SeekSpec = field(default_factory=gameplay.SeekSpec)
     rolling_resistance: float = 0.0
     tets: int = 0  # estimated tetrahedra of the 4D content (objects and worlds)
-    weapons: list[gameplay.WeaponSpec] = field(default_factory=list)
+    weapons: list[gameplay.WeaponSpec] = field(default_factory=list)  # a run's: the arsenal and the pickups'
+    arsenal: tuple[str, ...] = ()  # the weapons owned at the start (what the campaign gave before)
+    pickups: list[pickups.PickupSpec] = field(default_factory=list)
+    tuning: dict = field(default_factory=dict)  # [[weapon]]: kind -> WeaponSpec, how it behaves here
     targets: list[gameplay.TargetSpec] = field(default_factory=list)
     manipulables: list[gameplay.ManipulableSpec] = field(default_factory=list)
     enemies: list[enemy_tables.EnemySpec] = field(default_factory=list)
@@ -186,6 +190,11 @@ class Level:
     needs: tuple[str, ...] = ()  # [design]: the mechanics the level is built to demand (world.design)
     beacons: list[beacons.BeaconSpec] = field(default_factory=list)  # [[beacon]]: key objects brought back
     secrets: tuple[secrets.SecretSpec, ...] = ()  # [[secret]]: hidden places the level counts
+
+    def with_arsenal(self, kinds) -> Level:
+        """This level started with the weapons ``kinds`` (a replay's, a test's) instead of the campaign's."""
+        kinds = tuple(k for k in gameplay.WEAPON_KINDS if k in set(kinds))
+        return replace(self, arsenal=kinds, weapons=pickups.available(self.tuning, kinds, self.pickups))
 
     @property
     def bodies(self) -> int:
@@ -331,7 +340,8 @@ def _system_tables(r: TableReader, data: dict, w_range, objects: list[ObjectSpec
         "energy": gameplay.read_energy(r, data),
         "radar": gameplay.read_radar(r, data),
         "crystals": gameplay.read_crystals(r, data, w_range),
-        "weapons": gameplay.read_weapons(r, data),
+        "tuning": pickups.read_tuning(r, data),
+        "pickups": pickups.read_pickups(r, data, w_range),
         "targets": gameplay.read_targets(r, data, names),
         "manipulables": gameplay.read_manipulables(r, data, objects),
         "ghosts": gameplay.read_ghosts(r, data),
@@ -354,9 +364,12 @@ def _system_tables(r: TableReader, data: dict, w_range, objects: list[ObjectSpec
     return out
 
 
-def load_level(path, source: bytes | None = None) -> Level:
+def load_level(path, source: bytes | None = None, arsenal=None) -> Level:
     """Read and check a level file (or ``source``, the text it would have: the editor
     checks an unsaved level with the very messages a saved one would get).
+
+    ``arsenal``, the weapons owned at the start, defaults to what the campaign has given
+    by this level (:func:`.pickups.campaign_arsenal`).
 
     The file is read through the bounded reader (at most
     :data:`limits.MAX_LEVEL_BYTES`), every field is checked against its model
@@ -406,6 +419,7 @@ def load_level(path, source: bytes | None = None) -> Level:
         **content,
         **systems,
     )
+    level = level.with_arsenal(pickups.campaign_arsenal(path) if arsenal is None else arsenal)
     from .placement import placement_problems  # where things are, once every entry is read
 
     problems = placement_problems(level)

@@ -186,6 +186,10 @@ class PlayView(View):
         s.sound.play(cues)
         s.captions.heard(cues, DT)
         self.crystals_found += sum(e.kind == "crystal_collected" for e in self.game.events)
+        found = {e.weapon for e in self.game.events if e.kind == "weapon_acquired"}
+        if found - s.progress.arsenal:  # a weapon is the campaign's progress as soon as it is found
+            s.progress.arsenal |= found
+            s.save_progress()
         self._keep_secrets()
         if any(e.kind == "respawned" for e in self.game.events):  # a fall is never silent
             where = "the last checkpoint" if checkpoint_of(self.game) is not None else "the start"

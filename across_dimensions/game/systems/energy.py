@@ -20,14 +20,14 @@ def step(game, actions) -> None:
         game.energy.tick()
 
 
-def cost_line(level) -> str:
+def cost_line(level, weapons=None) -> str:
     """What each 4D action of ``level`` costs, in the HUD's words: moving along w per unit,
-    each weapon per use, turning an object per degree, the frustum camera per second, a
-    90-degree turn of the slice."""
+    each weapon per use (of ``weapons``, those the player owns; default the level's), turning
+    an object per degree, the frustum camera per second, a 90-degree turn of the slice."""
     parts = []
     if level.energy.w_cost > 0 and level.w_range[1] > level.w_range[0]:
         parts.append(f"W {level.energy.w_cost:g}/UNIT")
-    for spec in level.weapons:
+    for spec in level.weapons if weapons is None else weapons:
         if spec.cost_milli > 0 and (spec.kind != "gun" or spec.ammo < 0):
             parts.append(f"{spec.kind.upper()} {spec.cost_milli / 1000:g}")
     turns = sorted({m.cost_milli for m in level.manipulables if m.cost_milli > 0})
@@ -44,7 +44,10 @@ def draw(game, frame, alpha) -> None:
     bar = game.energy
     if bar is not None:
         flash = bar.flash / FLASH_TICKS
-        frame.hud.energy = EnergyGauge(bar.value, bar.maximum, flash, bar.milli == 0, costs=cost_line(game.level))
+        ars = game.states.weapons
+        owned = [] if ars is None else [s for s, has in zip(ars.specs, ars.owned) if has]
+        costs = cost_line(game.level, owned)
+        frame.hud.energy = EnergyGauge(bar.value, bar.maximum, flash, bar.milli == 0, costs=costs)
 
 
 def state_bytes(game) -> bytes:
