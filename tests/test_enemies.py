@@ -356,13 +356,54 @@ sight = 1.0
     seen = run(game, 1, Actions(presses=(("switch_camera", 1),))) + run(game, 60)
     assert [ev.mode for ev in seen if ev.kind == "camera_switched"] == ["frustum"]
     loot = [ev for ev in seen if isinstance(ev, LootReleased)]
-    assert [(ev.entity, ev.reason) for ev in loot] == [(enemy(game, "carrier").id, "forced")]
+    assert [(ev.entity, ev.reason) for ev in loot] == [(enemy(game, "carrier").id, "camera")]
+    assert game.entities.get(loot[0].crystal).center(game)[3] == 0.0  # at the player's w: in reach
     assert ahead.centre[3] == pytest.approx(0.0, abs=1e-9)  # held in the player's slice
     assert behind.centre[3] == pytest.approx(1.6)  # behind the player: the camera does not see it
     # Switching again (back, then to the frustum view once more) gives nothing more.
     seen = run(game, 1, Actions(presses=(("switch_camera", 1),))) + run(game, 90)
     seen += run(game, 1, Actions(presses=(("switch_camera", 1),))) + run(game, 60)
     assert not [ev for ev in seen if isinstance(ev, LootReleased) and ev.entity == enemy(game, "carrier").id]
+
+
+@pytest.mark.parametrize("z, freed", [(11.5, True), (12.5, False)])
+def test_the_camera_frees_loot_exactly_when_its_rule_says(tmp_path, monkeypatch, z, freed):
+    """The rule (:func:`enemy_system._frustum_holds`): ahead of the player and within 12 m of
+    the eye; then the crystal comes out on the tick its w first comes within its size of the
+    player's slice, never earlier."""
+    monkeypatch.setattr(en, "DRIFT", np.zeros(4))
+    body = f"""
+[camera]
+frustum = true
+frustum_cost = 0.0
+[[enemy]]
+name = "carrier"
+kind = "morph"
+position = [0.0, 1.6, {z}, 1.6]
+health = 1
+loot = 5.0
+sight = 1.0
+"""
+    game = Game(hall().load(tmp_path, extra=body + GUN))
+    run(game, 30)
+    foe = enemy(game, "carrier").data
+    eid = enemy(game, "carrier").id
+    seen = run(game, 1, Actions(presses=(("switch_camera", 1),)))
+    released_at = None
+    for _ in range(80):
+        off = foe.loot_point()[3] - game.player.position[3]
+        events = run(game, 1)
+        if any(isinstance(ev, LootReleased) for ev in events):
+            released_at = (off, foe.loot_point()[3] - game.player.position[3])
+        seen += events
+    loot = [ev for ev in seen if isinstance(ev, LootReleased)]
+    if not freed:
+        assert loot == [] and foe.centre[3] == pytest.approx(1.6)
+        return
+    assert [(ev.entity, ev.reason) for ev in loot] == [(eid, "camera")]
+    before, now = released_at
+    # The release tick: outside the crystal's size before it, within it (or across) after.
+    assert abs(before) > en.LOOT_SIZE and (abs(now) <= en.LOOT_SIZE or before * now < 0)
 
 
 # ------------------------------------------------------------------ health, death, determinism

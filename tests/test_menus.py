@@ -36,6 +36,8 @@ def test_campaign_order_skips_missing_files_and_every_entry_loads():
         "07_orthogonal_worlds",
         "08_around_the_corner",
         "09_hive",
+        "10_cloister",
+        "11_crossfire",
     ]
     shipped = {p.stem for p in level_files() + prologue_files()}
     assert stems == [s for s in order if s in shipped]  # the campaign's order, minus what is not shipped
@@ -237,8 +239,11 @@ def test_title_to_level_select_shows_locked_and_finished():
     assert rows["level:01_first_steps"].value.startswith("done  1:23.2")
     assert rows["level:02_crystal_cache"].enabled and "crystals 2/3" in rows["level:02_crystal_cache"].value
     assert not rows["level:03_tumbling_hall"].enabled and rows["level:03_tumbling_hall"].value == "locked"
-    # Down never lands on a locked level: from level 2 (the fourth row, after the prologue) it goes to Back.
+    # Down never lands on a locked level: from level 2 (the fourth row, after the prologue) it goes to
+    # the time-trial row, then Back.
     menu.selected["levels"] = 3
+    menu.input("down")
+    assert menu.items()[menu.selected["levels"]].key == "trial_mode"
     menu.input("down")
     assert menu.items()[menu.selected["levels"]].key == "back"
     assert menu.click(4) is None  # a locked level cannot be clicked either
@@ -449,8 +454,10 @@ w.update(DT)
 assert view() == "LevelCompleteView"
 p = s.progress
 print("finished", sorted(p.finished), "crystals", p.crystals, "current", p.current)
-for _ in range(int(4 / DT)):                                      # the next level follows the campaign
+for _ in range(int(4 / DT)):                                      # the results stay until the player chooses
     w.update(DT * 1.0001)
+assert view() == "LevelCompleteView" and s.menu.screen == "complete"
+w.on_key_press(key.RETURN, 0)                                     # Continue: the next level of the campaign
 print("next", w.current_view.level_path.stem)
 """
 

@@ -71,7 +71,18 @@ def test_replay_json_for_the_shipped_replays(env, tmp_path, name):
     assert r.returncode == 0, describe(r)
     out = replay_json(r)
     recorded = json.loads(SHIPPED[name].read_text())["final"]
-    assert set(out) == {"level", "outcome", "ticks", "hash", "events", "energy", "position", "respawns", "divergence"}
+    assert set(out) == {
+        "level",
+        "outcome",
+        "ticks",
+        "hash",
+        "events",
+        "causes",
+        "energy",
+        "position",
+        "respawns",
+        "divergence",
+    }
     assert out["outcome"] == recorded["outcome"] == "complete"
     assert out["ticks"] == recorded["ticks"] and out["hash"] == recorded["hash"]
     assert out["divergence"] is None and out["respawns"] == 0

@@ -88,7 +88,7 @@ def _menu_screens():
     yield menu.view()
     menu.open("title")
     menu.push("levels")
-    menu.click(len(menu.items()) - 2)  # the last level: locked
+    menu.click(len(menu.items()) - 3)  # the last level (before the time-trial row and Back): locked
     assert menu.message.startswith("Locked")
     yield menu.view()
     longest = max(ACTIONS, key=lambda a: len(ACTION_DESCRIPTIONS.get(a, "")))
@@ -100,6 +100,21 @@ def _menu_screens():
     menu.capture(s.keys_for("move_forward")[0])
     assert menu.screen == "conflict"
     yield menu.view()
+    yield complete_screen(menu)
+
+
+def complete_screen(menu):
+    """The level-complete screen with every line it may have (secrets, a ghost beaten)."""
+    results = (
+        ("Time", "12:41.3", False),
+        ("Best time", "12:41.3  new best!", True),
+        ("Crystals found", "12/14", False),
+        ("Secrets found", "2/3", False),
+        ("Deaths", "3", False),
+        ("Ghost", "12:43.0  -1.7 s", True),
+    )
+    menu.open_results(results, "Orthogonal Worlds, and a name long enough to be cut", time_trial=True)
+    return menu.view()
 
 
 @pytest.mark.parametrize("size", SIZES)

@@ -13,7 +13,9 @@ Screens:
   progress while it runs).
 * ``pause``: Resume, Restart level, (Skip the prologue,) Settings, Quit to title.
 * ``levels``: the campaign, each level unlocked or locked, finished with its best
-  time and crystals found.
+  time and crystals found; a row switches the levels it starts to time trials.
+* ``complete``: a level finished (:meth:`Menu.open_results`): its results, drawn above
+  the rows, then Continue, Retry, Time trial, Level select.
 * ``settings``: Controls, mouse sensitivity, invert X and Y, field of view,
   render scale, volume, colour-blind-safe and high-contrast palettes, reduce motion,
   text size, captions. Every change is applied at once (``on_change``) and the
@@ -25,8 +27,9 @@ Screens:
   both (the rows stay marked until resolved), or cancel.
 
 Selecting an item that leaves the menus returns a *command* string for the
-window: ``"continue"``, ``"play:<level>"``, ``"resume"``, ``"restart"``, ``"skip"``,
-``"quit_to_title"`` or ``"quit"``.
+window: ``"continue"``, ``"play:<level>"``, ``"trial:<level>"``, ``"resume"``, ``"restart"``,
+``"skip"``, ``"quit_to_title"``, ``"quit"``, or on the complete screen ``"next"``, ``"retry"``
+and ``"time_trial"``.
 """
 
 from __future__ import annotations
@@ -34,9 +37,9 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from ..render.scale import SOFTWARE_SCALE
 from ..world.campaign import CampaignEntry, locked_because
 from .keymap import ACTION_DESCRIPTIONS, ACTIONS, PRESETS, TOGGLEABLE_ACTIONS
+from .menu_settings import AUTO_VALUES, SETTINGS_ORDER, SLIDERS, TOGGLES
 from .saves import Progress
 from .settings import Settings
 
@@ -78,52 +81,6 @@ def menu_verb(key: str, settings: Settings) -> str | None:
         if key in settings.keys_for(action):
             return verb
     return None
-
-
-@dataclass(frozen=True)
-class Slider:
-    """A numeric setting shown as a bar: ``lo..hi`` in steps, displayed by ``show``."""
-
-    label: str
-    lo: float
-    hi: float
-    step: float
-    show: Callable[[float], str]
-
-
-#: The numeric settings, in menu order. One is shown only when :class:`Settings` has it.
-SLIDERS: dict[str, Slider] = {
-    "mouse_sensitivity": Slider("Mouse sensitivity", 0.0005, 0.01, 0.00025, lambda v: f"{v * 1000:.2f}"),
-    "fov_deg": Slider("Field of view", 50.0, 120.0, 5.0, lambda v: f"{v:.0f} deg"),
-    "render_scale": Slider("Render scale", 0.5, 1.0, 0.05, lambda v: f"{v * 100:.0f}%"),
-    "volume": Slider("Volume", 0.0, 1.0, 0.05, lambda v: f"{v * 100:.0f}%"),
-    "text_size": Slider("Text size", 1.0, 1.5, 0.25, lambda v: f"{v * 100:.0f}%"),
-}
-#: What a slider shows for a setting left to the game's choice ("auto"): the render scale
-#: picked for a software rasterizer, the case where a player looks for this slider.
-AUTO_VALUES: dict[str, float] = {"render_scale": SOFTWARE_SCALE}
-#: The on/off settings, in menu order (after the sliders but for the inversions).
-TOGGLES: dict[str, str] = {
-    "invert_x": "Invert mouse X",
-    "invert_y": "Invert mouse Y",
-    "colour_blind": "Colour-blind-safe palette",
-    "high_contrast": "High-contrast palette",
-    "reduce_motion": "Reduce motion (snap, don't glide)",
-    "captions": "Captions for sounds",
-}
-_SETTINGS_ORDER = (
-    "mouse_sensitivity",
-    "invert_x",
-    "invert_y",
-    "fov_deg",
-    "render_scale",
-    "volume",
-    "colour_blind",
-    "high_contrast",
-    "reduce_motion",
-    "text_size",
-    "captions",
-)
 
 
 @dataclass
@@ -177,6 +134,7 @@ class MenuView:
     message: str = ""
     progress: tuple | None = None  # (steps done, steps, what, fraction 0..1): the warm-up's line
     dim: bool = False
+    summary: tuple = ()  # (label, value, highlight) lines above the rows: a finished level's results
 
 
 _TITLES = {
@@ -186,6 +144,7 @@ _TITLES = {
     "settings": "SETTINGS",
     "controls": "CONTROLS",
     "conflict": "KEY ALREADY IN USE",
+    "complete": "LEVEL COMPLETE",
 }
 
 
@@ -237,6 +196,9 @@ class Menu:
         self.message = ""
         self.skippable = False  # the paused level may be skipped (the prologue): the pause menu says so
         self.optional = frozenset(e.stem for e in campaign if e.optional)
+        self.trial = False  # the level select starts time trials
+        self.results: tuple = ()  # the complete screen's summary and rows (open_results)
+        self.finish_rows: list[Item] = []
         #: Rows shown at once: the window lowers it when larger text leaves room for fewer.
         self.rows = VISIBLE_ROWS
 
@@ -252,6 +214,15 @@ class Menu:
         self.capturing = None
         self.selected[screen] = self._first_enabled(self.items())
         self.first[screen] = 0
+
+    def open_results(self, results: tuple, following: str, time_trial: bool) -> None:
+        """Open the level-complete screen: the ``results`` lines ``(label, value, highlight)`` over
+        Continue (to ``following``), Retry, Time trial (``time_trial``: a 4D level) and Level select."""
+        self.results = results
+        trial = [Item("time_trial", "Time trial", "race your best run")] if time_trial else []
+        self.finish_rows = [Item("next", "Continue", following), Item("retry", "Retry"), *trial]
+        self.finish_rows.append(Item("levels", "Level select"))
+        self.open("complete")
 
     def close(self) -> None:
         self.stack = []
@@ -321,12 +292,19 @@ class Menu:
                 value = f"done  {format_time(best)}"
             if open_ and found and found[1]:
                 value += f"  crystals {found[0]}/{found[1]}"
+            secrets = self.progress.secrets.get(entry.stem)
+            if open_ and secrets and secrets[1]:
+                value += f"  secrets {len(secrets[0])}/{secrets[1]}"
             rows.append(Item(f"level:{entry.stem}", f"{i + 1}. {entry.title}", value, open_, entry.teaches))
-        return rows + [Item("back", "Back")]
+        trial = Item("trial_mode", "Time trial", "on" if self.trial else "off", note="race the ghost of your best run")
+        return rows + [trial, Item("back", "Back")]
+
+    def _items_complete(self) -> list[Item]:
+        return self.finish_rows
 
     def _items_settings(self) -> list[Item]:
         rows = [Item("controls", "Controls", self.settings.preset.upper())]
-        for name in _SETTINGS_ORDER:
+        for name in SETTINGS_ORDER:
             if not hasattr(self.settings, name):  # added by another part of the game, maybe not yet
                 continue
             value = getattr(self.settings, name)
@@ -459,10 +437,13 @@ class Menu:
         key = item.key
         if not item.enabled:
             return None
-        if key in ("continue", "resume", "restart", "skip", "quit_to_title", "quit"):
+        if key in ("continue", "resume", "restart", "skip", "quit_to_title", "quit", "next", "retry", "time_trial"):
             return key
         if key.startswith("level:"):
-            return "play:" + key[6:]
+            return ("trial:" if self.trial else "play:") + key[6:]
+        if key == "trial_mode":
+            self.trial = not self.trial
+            return None
         if key in ("levels", "settings", "controls"):
             self.push(key)
             return None
@@ -485,7 +466,9 @@ class Menu:
 
     def _adjust(self, item: Item, step: int) -> None:
         key = item.key
-        if key == "preset":
+        if key == "trial_mode":
+            self.trial = not self.trial
+        elif key == "preset":
             names = list(PRESETS)
             preset = names[(names.index(self.settings.preset) + step) % len(names)]
             self.settings.preset = preset
@@ -584,6 +567,8 @@ class Menu:
             footer = "Left/Right: change    Enter: select    Esc: back    changes are saved at once"
         if screen == "controls":
             footer = "Enter: new key    Backspace: unbind    Left/Right: preset, or hold/toggle    Esc: back"
+        if screen == "complete":
+            footer = "Up/Down or mouse: choose    Enter or click: select"
         return MenuView(
             screen=screen,
             title=_TITLES[screen],
@@ -595,5 +580,6 @@ class Menu:
             prompt=prompt,
             message=self.message,
             progress=self.progress_bar if screen == "title" else None,
-            dim="pause" in self.stack,
+            dim="pause" in self.stack or "complete" in self.stack,
+            summary=self.results if screen == "complete" else (),
         )

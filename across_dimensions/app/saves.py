@@ -7,6 +7,7 @@ replaces the folder, for tests and portable installs)::
     {"format": "across-dimensions-progress", "version": 1,
      "finished": {"01_first_steps": 41.5},            # level -> best time, seconds
      "crystals": {"02_crystal_cache": [3, 3]},        # level -> [most found in one run, in the level]
+     "secrets": {"10_x": {"found": ["the garden"], "total": 2}},  # level -> secrets ever found, of how many
      "current": {"level": "03_tumbling_hall", "checkpoint": null}}
 
 ``current`` is where *Continue* resumes: the level being played when the game
@@ -22,7 +23,7 @@ starts fresh.
 Two games may share one data folder (two windows, a second one started by
 mistake). Each write holds a lock (``.progress.lock``, ``flock``) while it reads
 the file again and merges it with what it has in memory: every finished level
-and its best time, the most crystals of each level; only *Continue*'s place is
+and its best time, the most crystals of each level, every secret found; only *Continue*'s place is
 the writer's own. So no game loses another's progress. A game killed in the
 middle of a write leaves its temporary file (``.progress.json.XXXXXXXX.tmp``);
 the next start removes those, under the same lock, so never one being written.
@@ -99,6 +100,8 @@ class Progress:
         Level stem -> best time in seconds from the level's start to its goal.
     crystals : dict of str to (int, int)
         Level stem -> (most crystals found in one run, crystals in the level).
+    secrets : dict of str to (tuple of str, int)
+        Level stem -> (the names of its secrets found in any run, sorted; secrets in the level).
     current : str or None
         The level *Continue* resumes.
     checkpoint : int or None
@@ -107,6 +110,7 @@ class Progress:
 
     finished: dict[str, float] = field(default_factory=dict)
     crystals: dict[str, tuple[int, int]] = field(default_factory=dict)
+    secrets: dict[str, tuple[tuple[str, ...], int]] = field(default_factory=dict)
     current: str | None = None
     checkpoint: int | None = None
 
@@ -122,6 +126,14 @@ class Progress:
         """Keep the most crystals found in one run of ``level`` (capped by ``total``)."""
         old = self.crystals.get(level, (0, total))[0]
         self.crystals[level] = (max(old, min(found, total)), total)
+
+    def found_secrets(self, level: str, names, total: int) -> bool:
+        """Add the secrets ``names`` found in ``level`` (which has ``total``; no names: the level was
+        started, so the level select can say ``0/total``). Returns whether anything was new."""
+        old, known = self.secrets.get(level, ((), None))
+        found = tuple(sorted(set(old) | set(names)))[: max(total, 0)]
+        self.secrets[level] = (found, total)
+        return found != old or known != total
 
     def unlocked(self, stems: list[str], optional=frozenset()) -> list[bool]:
         """Which campaign levels may be played: the first, every finished one, and the one after
@@ -163,6 +175,9 @@ class Progress:
         for level, (found, total) in other.crystals.items():
             mine = self.crystals.get(level)
             self.crystals[level] = (found, total) if mine is None else (max(mine[0], min(found, mine[1])), mine[1])
+        for level, (names, total) in other.secrets.items():
+            mine = self.secrets.get(level)
+            self.found_secrets(level, names, total if mine is None else mine[1])
 
     def to_json(self) -> str:
         return json.dumps(
@@ -171,6 +186,7 @@ class Progress:
                 "version": VERSION,
                 "finished": self.finished,
                 "crystals": {k: list(v) for k, v in self.crystals.items()},
+                "secrets": {k: {"found": list(v[0]), "total": v[1]} for k, v in self.secrets.items()},
                 "current": None if self.current is None else {"level": self.current, "checkpoint": self.checkpoint},
             },
             indent=1,
@@ -202,6 +218,7 @@ class Progress:
             if not ok or pair[0] > pair[1]:
                 raise ValueError(f"crystals.{level}: expected [found, total] with 0 <= found <= total, got {pair!r}")
             progress.crystals[renamed(level)] = (pair[0], pair[1])
+        _read_secrets(progress, data.get("secrets", {}))
         current = data.get("current")
         if current is not None:
             level, cp = (current.get("level"), current.get("checkpoint")) if isinstance(current, dict) else (None, 0)
@@ -209,6 +226,21 @@ class Progress:
                 raise ValueError('current: expected {"level": name, "checkpoint": null or an index}')
             progress.current, progress.checkpoint = renamed(level), cp
         return progress
+
+
+def _read_secrets(progress: Progress, secrets) -> None:
+    """``secrets`` of a progress file into ``progress``; raises ``ValueError`` saying what is wrong."""
+    if not isinstance(secrets, dict):
+        raise ValueError('secrets: expected an object of level -> {"found": [names], "total": n}')
+    for level, entry in secrets.items():
+        found = entry.get("found") if isinstance(entry, dict) else None
+        total = entry.get("total") if isinstance(entry, dict) else None
+        names = isinstance(found, list) and all(isinstance(n, str) for n in found) and len(set(found)) == len(found)
+        if not names or type(total) is not int or not 0 <= len(found) <= total:
+            raise ValueError(
+                f'secrets.{level}: expected {{"found": [distinct names], "total": n >= found}}, got {entry!r}'
+            )
+        progress.secrets[renamed(level)] = (tuple(sorted(found)), total)
 
 
 def checkpoint_of(game) -> int | None:
@@ -239,6 +271,17 @@ def _aside(path: Path) -> Path:
         n += 1
 
 
+def set_aside(path: Path) -> str:
+    """Move a file that cannot be read out of the way (:func:`_aside`), never raising; says where
+    it went, or that it could not be moved and will be overwritten."""
+    try:
+        kept = _aside(path)
+        os.replace(path, kept)
+        return f"kept as {kept.name}"
+    except OSError as move:
+        return f"could not be moved aside ({move.strerror or move}) and will be overwritten"
+
+
 def load_progress(path: Path | None = None) -> tuple[Progress, list[str]]:
     """Read the progress file, never raising.
 
@@ -258,13 +301,8 @@ def load_progress(path: Path | None = None) -> tuple[Progress, list[str]]:
         return Progress.from_json(read_text(path, limit=PROGRESS_MAX_BYTES, what="progress")), []
     except (FileProblem, ValueError, RecursionError) as e:  # json.JSONDecodeError is a ValueError
         why = str(e).replace(f"{path}: ", "").splitlines()[0]
-        try:
-            kept = _aside(path)
-            os.replace(path, kept)
-            where = f"kept as {kept.name}"
-        except OSError as move:
-            where = f"could not be moved aside ({move.strerror or move}) and will be overwritten"
-        return Progress(), [f"{path}: not a progress file this game can read ({why}); {where}; starting fresh"]
+        kept = set_aside(path)
+        return Progress(), [f"{path}: not a progress file this game can read ({why}); {kept}; starting fresh"]
 
 
 def save_progress(progress: Progress, path: Path | None = None) -> Path:

@@ -141,19 +141,20 @@ class Session:
         if start.edit:
             self.open_editor(self.window.current_view, from_play=False)
 
-    def start_level(self, path: Path, checkpoint: int | None = None) -> None:
-        """Play ``path`` from ``checkpoint``, once the kernels are ready (a loading view until then).
-        The Flatland prologue needs none of them: it starts at once, while they compile."""
+    def start_level(self, path: Path, checkpoint: int | None = None, trial: bool = False) -> None:
+        """Play ``path`` from ``checkpoint`` (or as a time ``trial`` against its ghost, from its
+        start), once the kernels are ready (a loading view until then). The Flatland prologue
+        needs none of them: it starts at once, while they compile, and has no time trial."""
         self.menu.close()
         if is_prologue_file(path):
             self.window.show_view(FlatPlayView(self, Path(path)))
             return
         if self.warm is not None and not self.warm.ready:
-            self.window.show_view(StartupView(self, Path(path), checkpoint))
+            self.window.show_view(StartupView(self, Path(path), checkpoint, trial=trial))
             return
         if self.warm is not None and self.warm.seconds is not None:
             timing(f"kernels ready after {self.warm.seconds:.1f} s of warm-up")
-        self.window.show_view(PlayView(self, Path(path), checkpoint))
+        self.window.show_view(PlayView(self, Path(path), checkpoint, trial))
 
     def to_title(self, message: str = "") -> None:
         """Leave the level (its place is saved for Continue) for the title screen."""

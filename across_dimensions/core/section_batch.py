@@ -37,7 +37,7 @@ import numpy as np
 from .cells import Cells, mesh_cells
 from .layout import layout_colors, layout_normals, mesh_clusters
 from .mesh import TetMesh4
-from .section_batch_kernels import ROW, BatchScratch, Instances, Pool, Rows, _slice_batch
+from .section_batch_kernels import ROW, BatchScratch, Instances, Pool, Rows, _instances_in_view, _slice_batch, _w_ranges
 from .transform import inverse
 
 #: Updates the output must have fitted half its capacity before it shrinks.
@@ -47,6 +47,21 @@ SHRINK_AFTER = 30
 def _capacity(rows: int, minimum: int) -> int:
     """Rows held for ``rows`` in use: the next power of two, at least ``minimum``."""
     return max(int(minimum), 1 << max(int(rows) - 1, 0).bit_length())
+
+
+def _view_of(camera_pose) -> np.ndarray:
+    """World-to-camera ``(5, 5)`` of a camera-to-world pose (None: the identity)."""
+    if camera_pose is None:
+        return np.eye(5)
+    pose = np.asarray(camera_pose, np.float64)
+    if (pose[:4, :4] == _EYE4).all():  # a plain slice (ghost layers, an unturned slice): no solve needed
+        view = np.eye(5)
+        view[:4, 4] = -pose[:4, 4]  # what inverse() gives, up to the sign of a zero
+        return view
+    return inverse(pose)
+
+
+_EYE4 = np.eye(4)
 
 
 class _Pool:
@@ -79,6 +94,7 @@ class _Pool:
         self.radius = np.zeros(0)
         # The largest mesh's vertices, tets (or cells), and cell corners (at least a tet's 4).
         self.max_vertices, self.max_tets, self.max_corners = 0, 0, 4
+        self.max_clusters = 1
 
     def add(self, mesh: TetMesh4) -> int:
         k = self.index.get(id(mesh))
@@ -105,6 +121,7 @@ class _Pool:
         self.radius = np.append(self.radius, float(np.sqrt(((v - ctr) ** 2).sum(axis=1).max())))
         self.max_vertices = max(self.max_vertices, len(layout.vertices))
         self.max_tets = max(self.max_tets, len(layout.tets) + 1)
+        self.max_clusters = max(self.max_clusters, len(layout.lo))
         self._add_cells(mesh_cells(mesh) if self.by_cells else None, layout, v0)
         k = self.index[id(mesh)] = len(self.meshes)
         self.meshes.append(mesh)
@@ -131,7 +148,7 @@ class _Pool:
     def scratch(self, ws: BatchScratch | None) -> BatchScratch:
         """``ws`` if it is large enough for every mesh of the pool, else a new one."""
         if ws is not None and len(ws.stamp) >= self.max_vertices and len(ws.cut) >= self.max_tets:
-            if len(ws.q) >= self.max_corners:
+            if len(ws.q) >= self.max_corners and len(ws.keep) >= self.max_clusters:
                 return ws
         v, t, c = self.max_vertices, self.max_tets, self.max_corners
         return BatchScratch(
@@ -145,6 +162,7 @@ class _Pool:
             ang=np.empty(c),
             order=np.empty(c, np.int64),
             p=np.empty((4, 4)),
+            keep=np.empty(self.max_clusters, np.int64),
         )
 
 
@@ -185,11 +203,14 @@ class SectionBatch:
         self._pool = _Pool(by_cells)
         self._out = np.empty((_capacity(0, capacity_rows), ROW), np.float32)
         self._keys: list = []  # instance order (changed ones drift to the back)
-        self._pos: dict = {}  # key -> its place in that order
+        self._pos: dict | None = {}  # key -> its place in that order (None: not made yet)
+        self._order = np.zeros(0, np.int64)  # that order as places in the last update's keys
         self._view_culled: set = set()
         self._last = None  # (keys, mesh numbers, visible, model-views) of the last update
         self._start = np.zeros(1, np.int64)
         self._count = np.zeros(0, np.int64)
+        self._w_range = np.zeros((0, 2))
+        self._mesh_ids: tuple = (None, None)  # (id of each mesh, its number in the pool) of the last update
         self._scratch = None  # the kernel's BatchScratch, grown with the pool
         self._tag = 0  # marks camera-space vertices (see _slice_batch); never reused
         self._min_rows = int(capacity_rows)
@@ -211,8 +232,22 @@ class SectionBatch:
 
     def instance_rows(self, key) -> tuple[int, int]:
         """``(first row, row count)`` of an instance's triangles in :attr:`vertices`."""
+        if self._pos is None:
+            self._pos = {k: i for i, k in enumerate(self._keys)}
         i = self._pos[key]
         return int(self._start[i]), int(self._count[i])
+
+    def instances(self) -> tuple[list, np.ndarray, np.ndarray, np.ndarray]:
+        """Every instance in the output's order, as arrays: ``(keys, start (k + 1,) int64,
+        count (k,) int64, w_range (k, 2) float64)``: its rows ``start[i]`` to ``start[i] + count[i]``,
+        and the least and greatest camera-space w of its posed vertices (how far it reaches
+        either side of the slice). Valid until the next :meth:`update`."""
+        return self._keys, self._start, self._count, self._w_range
+
+    @property
+    def view_culled(self) -> set:
+        """The keys :meth:`culled_by_view` says yes to."""
+        return self._view_culled
 
     def culled_by_view(self, key) -> bool:
         """Was the instance skipped only because it is out of view (its sphere reaches the slice)?"""
@@ -237,53 +272,62 @@ class SectionBatch:
         """
         keys = list(keys)
         n = len(keys)
-        view = np.eye(5) if camera_pose is None else inverse(camera_pose)
+        view = _view_of(camera_pose)
         models = np.asarray(models, np.float64).reshape(n, 5, 5)
         mvs = np.ascontiguousarray(np.matmul(view, models))
         meshes = list(meshes)
-        if len(self._pool.meshes) > max(16, 2 * len({id(m) for m in meshes})):
+        by_id = list(map(id, meshes))
+        if len(self._pool.meshes) > max(16, 2 * len(set(by_id))):
             # Mostly meshes no longer drawn: start the pool again (and slice everything anew),
             # so a long game spawning objects of new shapes does not grow it forever.
             self._pool = _Pool(self._by_cells)
             self._last, self._keys, self._pos = None, [], {}
+            self._mesh_ids = (None, None)
             self._start = np.zeros(1, np.int64)
-        mesh_ids = np.array([self._pool.add(m) for m in meshes], np.int64)
+        if by_id != self._mesh_ids[0]:  # the same meshes as last time (most frames): the same numbers
+            self._mesh_ids = (by_id, np.array([self._pool.add(m) for m in meshes], np.int64))
+        mesh_ids = self._mesh_ids[1]
         in_slice, visible = self._visible(mvs, mesh_ids, planes)
         self._view_culled = {keys[i] for i in np.flatnonzero(in_slice & ~visible)}
         self.culled = int(n - visible.sum())
-        changed = self._changed(keys, mesh_ids, visible, mvs)
-        inputs = set(keys)
-        if not changed and len(inputs) == len(self._keys) and all(k in inputs for k in self._keys):
+        old = self._old_order(keys)
+        diff = self._changed(keys, mesh_ids, visible, mvs)
+        if not diff.any() and len(old) == n and (old >= 0).all():
             self.changed_from = self._rows
             self.sliced = 0
             self._shrink_if_settled()
             return False
         # New order: unchanged instances in their old order, then the changed ones,
         # so the static ones settle into a prefix that is never touched again.
-        stay = [k for k in self._keys if k in inputs and k not in changed]
-        first = 0
-        while first < len(stay) and self._keys[first] == stay[first]:
-            first += 1
-        order = stay + [k for k in keys if k in changed]
-        pos = {k: i for i, k in enumerate(keys)}
-        idx = np.array([pos[k] for k in order], np.int64)
+        kept = old[old >= 0]
+        stay = kept[~diff[kept]]
+        first = int(np.argmin(np.append(old[: len(stay)] == stay, False)))
+        order = np.concatenate([stay, np.flatnonzero(diff)])
         # The winding rule needs each transform's orientation.
         flips = np.where(np.linalg.det(mvs[:, :4, :4]) > 0, 1.0, -1.0)
         inst = Instances(
-            mesh_ids[idx],
-            np.ascontiguousarray(mvs[idx]),
-            np.ascontiguousarray(flips[idx]),
-            visible[idx].astype(np.uint8),
+            mesh_ids[order],
+            np.ascontiguousarray(mvs[order]),
+            np.ascontiguousarray(flips[order]),
+            visible[order].astype(np.uint8),
         )
         self._slice(inst, first)
-        self._keys = order
-        self._pos = {k: i for i, k in enumerate(order)}
+        self._keys = list(map(keys.__getitem__, order.tolist()))
+        self._order = order
+        self._pos = None
         self.sliced = n - first
         self.revision += 1
         return True
 
-    def _changed(self, keys: list, mesh_ids: np.ndarray, visible: np.ndarray, mvs: np.ndarray) -> set:
-        """The keys of the instances that are new, moved, or entered or left the view.
+    def _old_order(self, keys: list) -> np.ndarray:
+        """The last update's order as places in ``keys``, ``(k,) int64``, -1 for keys gone."""
+        if self._last is not None and self._last[0] == keys:
+            return self._order  # the same keys as last time (most frames)
+        where = {k: i for i, k in enumerate(keys)}
+        return np.array([where.get(k, -1) for k in self._keys], np.int64)
+
+    def _changed(self, keys: list, mesh_ids: np.ndarray, visible: np.ndarray, mvs: np.ndarray) -> np.ndarray:
+        """``(n,) bool`` by place in ``keys``: the instances that are new, moved, or entered or left the view.
 
         Compared as arrays: per-key Python work is what the batch is here to avoid.
         """
@@ -300,7 +344,7 @@ class SectionBatch:
                     if j is not None:
                         diff[i] = last[1][j] != mesh_ids[i] or last[2][j] != visible[i] or (last[3][j] != mvs[i]).any()
         self._last = (keys, mesh_ids, visible, mvs)
-        return {keys[i] for i in np.flatnonzero(diff)}
+        return diff
 
     def _slice(self, inst: Instances, first: int) -> None:
         """Slice the instances from ``first`` on (those before keep their rows), growing the output if needed."""
@@ -311,6 +355,9 @@ class SectionBatch:
         count = np.zeros(n, np.int64)
         start[: first + 1] = self._start[: first + 1]
         count[:first] = self._count[:first]
+        w_range = np.empty((n, 2))
+        w_range[:first] = self._w_range[:first]
+        _w_ranges(self._pool.arrays, inst, first, w_range)
         while True:
             rows = _slice_batch(
                 self._pool.arrays, inst, first, start_row, Rows(self._out, start, count), self._scratch, self._tag
@@ -324,7 +371,7 @@ class SectionBatch:
             self._out = grown
         self._rows = int(rows)
         self._shrink_if_settled()
-        self._start, self._count = start, count
+        self._start, self._count, self._w_range = start, count, w_range
         self.changed_from = start_row
 
     def _shrink_if_settled(self) -> None:
@@ -350,22 +397,7 @@ class SectionBatch:
         Returns two ``(k,) bool`` arrays.
         """
         pool = self._pool
-        if len(mvs) == 0:
-            return np.zeros(0, bool), np.zeros(0, bool)
-        a = mvs[:, :4, :4]
-        # Stretch bound: sqrt of a Gershgorin bound on A^T A (exact for a
-        # rotation times a uniform scale, an upper bound otherwise).
-        ata = np.matmul(a.transpose(0, 2, 1), a)
-        stretch = np.sqrt(np.abs(ata).sum(axis=2).max(axis=1))
-        c = np.einsum("kij,kj->ki", a, pool.center[mesh_ids]) + mvs[:, :4, 4]
-        # Margin: vertices are float32, spheres float64.
-        r = pool.radius[mesh_ids] * stretch * (1.0 + 1e-6) + 1e-6
-        in_slice = np.abs(c[:, 3]) <= r
-        visible = in_slice.copy()
-        if planes is not None and len(planes):
-            pl = np.asarray(planes, np.float64).reshape(-1, 4)
-            # The slice of a 4D ball at w distance d is a 3D ball of radius sqrt(r^2 - d^2).
-            r3 = np.sqrt(np.maximum(r * r - c[:, 3] ** 2, 0.0))
-            dist = c[:, :3] @ pl[:, :3].T + pl[:, 3]
-            visible &= (dist >= -r3[:, None] * np.linalg.norm(pl[:, :3], axis=1)).all(axis=1)
+        pl = np.zeros((0, 4)) if planes is None else np.ascontiguousarray(planes, np.float64).reshape(-1, 4)
+        in_slice, visible = np.empty(len(mvs), np.bool_), np.empty(len(mvs), np.bool_)
+        _instances_in_view(mvs, pool.center[mesh_ids], pool.radius[mesh_ids], pl, in_slice, visible)
         return in_slice, visible

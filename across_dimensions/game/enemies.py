@@ -265,6 +265,7 @@ class Foe:
     next_drift: int = 0
     hurt_tick: int = -(10**9)
     pull: tuple[float, float, int, int] | None = None  # (from_w, to_w, start, end) while the blast drags it
+    pulled_by: str = "blast"  # what started the last pull: "blast", or "camera" (the frustum switch)
     loot: int | None = None  # entity id of the crystal inside it, until released
     weak: int | None = None  # entity id of its weak spot's marker
     phase: float = fixed(default=0.0)  # seconds its animation runs ahead of the clock (enemies do not move in step)

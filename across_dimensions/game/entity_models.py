@@ -39,6 +39,7 @@ class EntityModels:
         self._others: list[int] = []
         self._arrays: tuple = ()
         self._memo: tuple = (None, None)
+        self._columns: dict = {}  # name -> array of a per-entity value, until entities come or go
 
     def update(self, game) -> None:
         """Take the game's entities again if any came or went (centres refreshed every call)."""
@@ -58,8 +59,17 @@ class EntityModels:
             self.radii = np.array([e.radius for e in self.entities], np.float64)
             self.centers = np.zeros((len(self.entities), 4))
             self.centers[self._scripted] = self._arrays[0]  # spin never moves an object
+            self._columns = {}
         for i in self._others:
             self.centers[i] = self.entities[i].center(game)
+
+    def column(self, name: str, value) -> np.ndarray:
+        """``value(entity)`` of every entity as one array (``(n, ...)``), made again only when
+        entities come or go: for what does not change in an entity's life (its mesh, its kind)."""
+        got = self._columns.get(name)
+        if got is None:
+            got = self._columns[name] = np.array([value(e) for e in self.entities], np.float64)
+        return got
 
     def models(self, game, alpha: float | None) -> np.ndarray:
         """``(n, 5, 5) float64``: each entity's model ``alpha`` of the way from the previous tick

@@ -40,9 +40,15 @@ def w_offset(mesh, model: np.ndarray, camera: np.ndarray) -> float:
     slice). The extent is the posed mesh's, so a turning thing's changes."""
     row = np.linalg.solve(np.asarray(camera, np.float64), np.asarray(model, np.float64))[3]  # camera space
     ws = mesh.vertices @ row[:4].astype(np.float32) + np.float32(row[4])
-    lo, hi = float(ws.min()), float(ws.max())
+    return float(w_offsets(np.array([[ws.min(), ws.max()]], np.float64))[0])
+
+
+def w_offsets(w_range: np.ndarray) -> np.ndarray:
+    """:func:`w_offset` of each thing from its extent along the slice's normal, ``(k, 2)``
+    (least and greatest camera-space w) to ``(k,) float64``."""
+    lo, hi = w_range[:, 0], w_range[:, 1]
     half = 0.5 * (hi - lo)
-    return 0.5 * (lo + hi) / half if half > 0.0 else 0.0
+    return np.divide(0.5 * (lo + hi), half, out=np.zeros(len(half)), where=half > 0.0)
 
 
 def view_planes(camera, aspect: float = CULL_ASPECT) -> np.ndarray:
@@ -62,6 +68,8 @@ class EntitySections:
         self.batches: dict[str, SectionBatch] = {}
         self.ghost_batches: dict[str, SectionBatch] = {}  # per ghost layer (its tag)
         self._sliced: dict[int, bool] = {}  # entity id -> its section is non-empty (or, culled by view: reaches w)
+        self._planes: tuple = (None, None)  # (camera key, its view planes)
+        self._names: dict = {}  # member name prefix -> (ids, their names)
 
     def draw(self, frame: Frame, entities, models, camera: np.ndarray, sections) -> None:
         """Slice ``entities`` (placed by ``models``) by the slice whose camera-to-world pose is
@@ -72,26 +80,21 @@ class EntitySections:
         ``sections`` (a :class:`~across_dimensions.world.scene.SectionCache`): the
         renderer derives their edges per mesh.
         """
-        planes = view_planes(frame.camera)
+        planes = self.view_planes(frame.camera)
         by_style: dict[str, list] = {}
-        for e, m in zip(entities, models):
-            by_style.setdefault(e.style, []).append((e, m))
-        wires = by_style.pop("wire", [])
+        for i, e in enumerate(entities):
+            by_style.setdefault(e.style, []).append(i)
+        wires = [(entities[i], models[i]) for i in by_style.pop("wire", [])]
         for style in [s for s in self.batches if s not in by_style]:
             del self.batches[style]  # nothing of this style left: free its arrays
         self._sliced = {}
-        for style, items in by_style.items():
+        for style, rows in by_style.items():
             batch = self.batches.get(style)
             if batch is None:
                 batch = self.batches[style] = SectionBatch()
-            ids = [e.id for e, _ in items]
-            batch.update(ids, [e.mesh for e, _ in items], np.array([m for _, m in items]), camera, planes)
-            rows = batch.vertices
-            for i, (e, m) in zip(ids, items):
-                start, count = batch.instance_rows(i)
-                self._sliced[i] = count > 0 or batch.culled_by_view(i)
-                if count and start >= batch.changed_from and style in W_CUED:
-                    rows[start : start + count, ALPHA] = w_offset(e.mesh, m, camera)
+            ids = [entities[i].id for i in rows]
+            batch.update(ids, [entities[i].mesh for i in rows], models[rows], camera, planes)
+            self._note_sliced(batch, style in W_CUED)
             frame.batches.append(
                 TriangleBatch(
                     f"entities:{style}",
@@ -99,7 +102,7 @@ class EntitySections:
                     batch.vertices,
                     style,
                     batch.changed_from,
-                    members=tuple(f"entity:{i}" for i in ids),
+                    members=self._members("entity:", ids),
                     w_cue=style in W_CUED,
                     outside_only=True,
                 )
@@ -110,20 +113,45 @@ class EntitySections:
             frame.drawables.append(Drawable(f"entity:{e.id}", rev, tri, style="wire"))
             self._sliced[e.id] = not tri.is_empty
 
+    def _note_sliced(self, batch: SectionBatch, w_cued: bool) -> None:
+        """Record which of the batch's entities have a section; write the w cue into the alpha
+        of the rows sliced anew (all at once: per-entity Python is what the batch avoids)."""
+        keys, start, count, w_range = batch.instances()
+        self._sliced.update(zip(keys, (count > 0).tolist()))
+        self._sliced.update(dict.fromkeys(batch.view_culled, True))
+        if w_cued and batch.changed_from < len(batch.vertices):
+            i0 = int(np.searchsorted(start[:-1], batch.changed_from))
+            batch.vertices[start[i0] :, ALPHA] = np.repeat(w_offsets(w_range[i0:]), count[i0:])
+
+    def view_planes(self, camera) -> np.ndarray:
+        """:func:`view_planes` of ``camera``, made once for the systems that draw one frame."""
+        key = (tuple(np.asarray(camera.position, np.float64).tolist()), camera.yaw, camera.pitch,
+               camera.fov_y_deg, camera.near, camera.far)  # fmt: skip
+        if self._planes[0] != key:
+            self._planes = (key, view_planes(camera))
+        return self._planes[1]
+
     def ghost_layer(self, frame: Frame, layer, entities, models, planes: np.ndarray) -> None:
         """Slice ``entities`` (placed by ``models (k, 5, 5)``) by the plain slice at ``layer.w``
         into one ghost batch in the layer's tint, pattern and opacity (a
         :class:`~.systems.ghosts.Layer`); ``planes`` are the view's (:func:`view_planes`)."""
-        batch = self.ghost_batches.get(layer.tag)
+        tag = layer.tag
+        batch = self.ghost_batches.get(tag)
         if batch is None:
-            batch = self.ghost_batches[layer.tag] = SectionBatch()
+            batch = self.ghost_batches[tag] = SectionBatch()
         ids = [e.id for e in entities]
         batch.update(ids, [e.mesh for e in entities], models, translation((0.0, 0.0, 0.0, layer.w)), planes)
         look = {"tint": layer.tint, "pattern": layer.pattern, "opacity": layer.opacity, "outside_only": True}
-        members = tuple(f"{layer.tag}:entity:{i}" for i in ids)
-        key = f"{layer.tag}:entities"
-        frame.batches.append(TriangleBatch(key, batch.revision, batch.vertices, "ghost", batch.changed_from, **look,
-                                           members=members))  # fmt: skip
+        members = self._members(f"{tag}:entity:", ids)
+        frame.batches.append(TriangleBatch(f"{tag}:entities", batch.revision, batch.vertices, "ghost",
+                                           batch.changed_from, **look, members=members))  # fmt: skip
+
+    def _members(self, prefix: str, ids: list) -> tuple:
+        """``prefix + id`` of each of ``ids``, made again only when the ids change."""
+        last = self._names.get(prefix)
+        if last is None or last[0] != ids:
+            last = self._names[prefix] = (ids, tuple(f"{prefix}{i}" for i in ids))
+        return last[1]
 
     def keep_ghosts(self, tags) -> None:
         """Free the batches of ghost layers not drawn this frame."""

@@ -20,9 +20,11 @@ from typing import ClassVar
 
 @dataclass(frozen=True)
 class Event:
-    """Base class of every game event."""
+    """Base class of every game event. ``causes`` names a field whose value is counted beside
+    the kind, as ``"kind:value"`` in ``game.cause_counts`` (the replay summary's ``causes``)."""
 
     kind: ClassVar[str] = "event"
+    causes: ClassVar[str | None] = None
 
 
 def event_kinds() -> list[str]:
@@ -405,12 +407,76 @@ class PlayerDied(Event):
 @dataclass(frozen=True)
 class LootReleased(Event):
     """A crystal hidden in an enemy came out: ``crystal`` is the new crystal's entity id and
-    ``reason`` is ``"defeated"`` or ``"forced"`` (a blast moved the enemy so the crystal's w crossed the slice)."""
+    ``reason`` is ``"defeated"``, ``"forced"`` (a blast moved the enemy so the crystal's w crossed the
+    slice) or ``"camera"`` (the switch to the frustum view held the enemy, ahead of the player and
+    within 12 m, and dragged it so the crystal's w crossed the slice: see
+    :func:`..systems.enemies._frustum_holds` for the rule)."""
 
     kind: ClassVar[str] = "loot_released"
+    causes: ClassVar[str | None] = "reason"
     entity: int
     crystal: int
     reason: str
+
+
+@dataclass(frozen=True)
+class SlabKnocked(Event):
+    """A bullet knocked a hidden slab so that it turns through the slice (the paper's physics
+    figure): a box-shaped rigid body whose w extent did not reach the player's slice when the
+    bullet first touched it, left turning in the xw, yw or zw plane faster than
+    :data:`..systems.bullets.KNOCK_SPIN`. From then on the bullet is an ordinary body: it falls
+    and rolls away.
+
+    Attributes
+    ----------
+    entity : int
+        The slab's entity id.
+    bullet : int
+        The bullet's entity id.
+    spin : tuple of float
+        The slab's angular velocity in the t, u, v planes (``xw``, ``yw``, ``zw``), rad/s,
+        after the impact.
+    """
+
+    kind: ClassVar[str] = "slab_knocked"
+    entity: int
+    bullet: int
+    spin: tuple
+
+
+@dataclass(frozen=True)
+class EnteredFrustumObject(Event):
+    """While the frustum view holds, the player's box came to touch the bounds of the image of an
+    object the level marks ``walkable_in_frustum`` (stepped onto or into it, :mod:`..frustum_walk`).
+    Fires once per entry: again only after the player left its bounds or the view ended.
+
+    Attributes
+    ----------
+    entity : int
+        The object's entity id.
+    name : str
+        Its name in the level.
+    """
+
+    kind: ClassVar[str] = "entered_frustum_object"
+    entity: int
+    name: str
+
+
+@dataclass(frozen=True)
+class MovedToSafety(Event):
+    """The frustum view ended with the player inside geometry (they stood in an image where the
+    cross-section has a wall): they were put at the nearest free spot (:func:`..frustum_walk.safe_spot`),
+    or back at their last checkpoint when none was free.
+
+    Attributes
+    ----------
+    position : tuple of float
+        Where they stand now, ``(x, y, z, w)``.
+    """
+
+    kind: ClassVar[str] = "moved_to_safety"
+    position: tuple
 
 
 @dataclass(frozen=True)
@@ -486,3 +552,21 @@ class ObjectReset(Event):
 
     kind: ClassVar[str] = "object_reset"
     name: str
+
+
+@dataclass(frozen=True)
+class SecretFound(Event):
+    """The player stepped into a ``[[secret]]``'s volume for the first time.
+
+    Attributes
+    ----------
+    name : str
+        The secret's name in the level.
+    found, total : int
+        How many of the level's secrets are found now (this one included), and how many it has.
+    """
+
+    kind: ClassVar[str] = "secret_found"
+    name: str
+    found: int
+    total: int

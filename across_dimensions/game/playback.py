@@ -108,7 +108,8 @@ def summary(game: Game, result: PlayResult) -> dict:
     Keys: ``level`` (the level's name), ``outcome`` (null when not finished),
     ``ticks``, ``hash`` (the final state hash), ``events`` (a count for every
     event kind the game defines, 0 for those that did not happen; see
-    ``game.events``), ``energy`` (``{"min", "max", "end"}`` in energy units over
+    ``game.events``), ``causes`` (counts of events by cause, ``"loot_released:camera"``, for the
+    kinds that have one: see :class:`~.events.Event`), ``energy`` (``{"min", "max", "end"}`` in energy units over
     the run, or null when the level has no energy bar), ``position`` (the
     player's final ``[x, y, z, w]``), ``respawns`` and ``divergence`` (null, or
     the message).
@@ -125,6 +126,7 @@ def summary(game: Game, result: PlayResult) -> dict:
         "ticks": result.ticks,
         "hash": result.final_hash,
         "events": events,
+        "causes": dict(sorted(game.cause_counts.items())),
         "energy": energy,
         "position": position,
         "respawns": game.respawns,

@@ -33,6 +33,7 @@ from .entity_models import EntityModels
 from .entity_sections import EntitySections
 from .events import Event
 from .frame import Camera3, Frame, Hud
+from .frustum_walk import image_triangles, images_hold, walkable
 from .player import HALF_WIDTH, HEIGHT, Player
 from .player_bodies import bodies_block
 from .projection import items, project
@@ -105,6 +106,7 @@ class Game:
         self._colliders: dict[float, np.ndarray] = {}
         self._sections: dict[float, list] = {}
         self._triangles: dict[str, tuple] = {}  # section key -> (TriMesh3, its (t, 3, 3) triangles)
+        self._images: dict[int, tuple] = {}  # walkable entity -> (camera pose, model, image triangles)
         self.pose_version = 0  # bumped by systems that move solid objects within a tick (manipulation)
         self.entity_of_body: dict[int, int] = {}
         for i, obj in enumerate(self.scene.objects):
@@ -134,6 +136,7 @@ class Game:
         self.show_ghosts = True
         self.events: list[Event] = []
         self.event_counts: Counter = Counter()
+        self.cause_counts: Counter = Counter()  # "kind:cause" -> count (Event.causes)
         self.tick = 0
         self.outcome: str | None = None  # "complete" once the goal is reached
         self.completed_tick: int | None = None
@@ -200,6 +203,8 @@ class Game:
         """Record an event of this tick (systems call this)."""
         self.events.append(event)
         self.event_counts[event.kind] += 1
+        if event.causes is not None:  # for the replay summary only: nothing in play reads it
+            self.cause_counts[f"{event.kind}:{getattr(event, event.causes)}"] += 1
 
     def remove(self, entity_id: int) -> None:
         """Remove an entity and free what it holds (its rigid body, its cached sections)."""
@@ -281,8 +286,16 @@ class Game:
         out = []
         feet = self.player.position
         cam = self.camera
+        images = images_hold(self)
         for e in self.entities:
-            if not e.solid:
+            if walkable(e):  # a slot always, so lists for two w's line up
+                if images:  # the frustum view holds: its image, wherever it lies
+                    out.append(self.image_triangles(e))
+                    continue
+                if not e.solid:
+                    out.append(np.zeros((0, 3, 3)))
+                    continue
+            elif not e.solid:
                 continue
             key = f"tick:{e.id}"
             # Only what the player can touch this tick needs its section: within its
@@ -311,6 +324,11 @@ class Game:
                 out.append(cached[1])
         out += self.meshes.triangles_at(w, feet, COLLIDE_MARGIN)  # after the entities
         return out
+
+    def image_triangles(self, e) -> np.ndarray:
+        """The frustum image ``(t, 3, 3) float64`` of a ``walkable_in_frustum`` entity ``e``, in
+        slice space (cached on the camera's pose and the object's model)."""
+        return image_triangles(self, e, self._images)
 
     def bodies_block_w(self, position, w: float) -> bool:
         """Would stepping to ``w`` put the player inside a rigid body?"""

@@ -14,6 +14,7 @@ from across_dimensions.core import transform
 
 from .bivector import world_inverse_inertia
 from .body_def import KINDS, BodyDef, bivector, resolve, rotation_matrix, vec4
+from .collide import BOX
 from .state import DYNAMIC, STATIC
 
 
@@ -148,6 +149,11 @@ class WorldBodies:
         """Linear ``(4,)`` and angular ``(6,)`` velocity (copies)."""
         i = self._check(body_id)
         return self.bodies.velocity[i].copy(), self.bodies.angular_velocity[i].copy()
+
+    def body_half_extents(self, body_id: int) -> np.ndarray | None:
+        """Half extents ``(4,)`` of a box body in its own frame (a copy); None for a sphere."""
+        i = self._check(body_id)
+        return self.bodies.half_extents[i].copy() if self.bodies.shape[i] == BOX else None
 
     def body_mass(self, body_id: int) -> float:
         return float(self.bodies.mass[self._check(body_id)])

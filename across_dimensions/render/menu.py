@@ -9,7 +9,8 @@ the HUD's shader in one instanced call.
 Look: a dark panel with a thin cyan frame and corner ticks; the selected row is
 a translucent cyan band with a bright bar on its left; disabled rows (locked
 levels) are grey; a key bound to two actions is orange with a note saying
-which; sliders are a track with a cyan fill left of their value.
+which; sliders are a track with a cyan fill left of their value. A finished level's summary
+(``view.summary``) stands above the rows, its values at the right, a new best in the prompt's gold.
 """
 
 from __future__ import annotations
@@ -64,7 +65,7 @@ class RowBox:
 def _scales(view, height: int) -> tuple[int, int, int]:
     """Text scales: title, rows, small print (footer, notes), at the player's text size."""
     small = scaled(max(1, height // 360))
-    big_rows = view.screen in ("title", "pause", "conflict")
+    big_rows = view.screen in ("title", "pause", "conflict", "complete")
     return small * 3, small + (1 if big_rows else 0), small
 
 
@@ -77,13 +78,14 @@ def rows_that_fit(view, height: int) -> int:
     room -= (PROGRESS_ROWS * CELL_H * s_row if view.progress is not None else 0) + (
         6 * CELL_H * s_row if view.prompt else 0
     )
+    room -= _summary_height(view, s_row)
     return max(3, room // _row_height(view, height))
 
 
 def _panel(view, width: int, height: int) -> tuple[int, int, int, int]:
     """The panel's rectangle: as tall as its rows (up to the space under the title)."""
     s_title, s_row, s_small = _scales(view, height)
-    chars = 40 if view.screen in ("title", "pause", "conflict") else 64
+    chars = 40 if view.screen in ("title", "pause", "conflict") else 48 if view.screen == "complete" else 64
     pw = min(width - 2 * max(8, width // 40), max(CELL_W * s_row * chars, width // 3))
     top = int(height * 0.22)
     bottom = height - 3 * CELL_H * s_small
@@ -93,6 +95,7 @@ def _panel(view, width: int, height: int) -> tuple[int, int, int, int]:
         2 * pad
         + rows * _row_height(view, height)
         + (PROGRESS_ROWS * CELL_H * s_row if view.progress is not None else 0)
+        + _summary_height(view, s_row)
     )
     if view.prompt:
         content += 6 * CELL_H * s_row
@@ -117,6 +120,7 @@ def menu_layout(view, width: int, height: int) -> list[RowBox]:
     y = py + pad
     if view.progress is not None:
         y += PROGRESS_ROWS * CELL_H * s_row
+    y += _summary_height(view, s_row)
     boxes = []
     gutter = _gutter(view, s_row)
     # Rows stop above the prompt's band (a key being waited for, a conflict): none under it.
@@ -171,6 +175,8 @@ def menu_quads(view, width: int, height: int) -> np.ndarray:
     _frame(q, panel, s_row, height)
     if view.progress is not None:
         _progress(q, view, panel, s_row)
+    if view.summary:
+        _summary(q, view, panel, s_row, max(1, height // 360))
     for box in menu_layout(view, width, height):
         _row(q, view, box, (s_row, s_small), max(1, height // 360))
     _scroll_marks(q, view, panel, s_row, height)
@@ -237,6 +243,26 @@ def _progress(q: QuadList, view, panel, s_row: int) -> None:
     q.rect(*bar, TRACK_COLOR)
     frac = view.progress[3] if len(view.progress) > 3 else done / max(1, total)
     q.rect(bar[0], bar[1], int(bar[2] * min(max(frac, 0.0), 1.0)), bar[3], FILL_COLOR)
+
+
+def _summary_height(view, s_row: int) -> int:
+    """Pixels the summary's lines and the rule under them take above the rows (0: none)."""
+    return len(view.summary) * line_height(s_row) + CELL_H * s_row if view.summary else 0
+
+
+def _summary(q: QuadList, view, panel, s_row: int, t: int) -> None:
+    """A finished level's lines: each label at the left, its value at the right (a highlighted
+    one, a new best, in gold), a rule under them."""
+    px, py, pw, _ = panel
+    pad = CELL_W * s_row
+    y = py + pad
+    for label, value, highlight in view.summary:
+        value = ellipsized(value, pw // 2 - pad, s_row, "...")
+        vw = text_width(value, s_row)
+        q.text(ellipsized(label, pw - 3 * pad - vw, s_row, "..."), px + pad, y, s_row, NOTE_COLOR)
+        q.text(value, px + pw - pad - vw, y, s_row, PROMPT_COLOR if highlight else VALUE_COLOR)
+        y += line_height(s_row)
+    q.rect(px + pad, y + CELL_H * s_row // 4, pw - 2 * pad, t, FRAME_COLOR)
 
 
 def _row(q: QuadList, view, box: RowBox, scales, t: int) -> None:

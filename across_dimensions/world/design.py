@@ -31,6 +31,8 @@ NEEDS = {
     "frustum": "the frustum camera",
     "orbit": "orbiting the detached frustum camera",
     "enemies": "fighting enemies (aiming at them, their weak spots)",
+    "frustum_walk": "walking on an object's frustum image (walkable_in_frustum)",
+    "camera_loot": "freeing an enemy's crystal with the frustum camera's hold",
 }
 DESIGN_TABLE = {"needs": Field("words", default=(), choices=tuple(NEEDS))}
 

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import beacons, design, enemy_tables, gameplay, limits
+from . import beacons, design, enemy_tables, gameplay, limits, secrets
 from .fields import Field
 from .hints import HintSpec, hint_name_problems, read_hints
 from .level_reader import DEFAULT_COLOR, LevelError, TableReader, hint_problem, parse_level
@@ -101,10 +101,11 @@ MODELS = {
     **gameplay.MODELS,
     "design": design.DESIGN_TABLE,
     "beacon": beacons.BEACON_TABLE,
+    "secret": secrets.SECRET_TABLE,
 }
 FORMATS = (1, 2)  # format 2 adds the tables of gameplay.MODELS
 #: Top-level keys written ``[[key]]`` (arrays of tables); the others are ``[key]`` tables.
-ARRAY_TABLES = ("box", "mesh", "world", "object", *gameplay.ARRAY_TABLES, "beacon")
+ARRAY_TABLES = ("box", "mesh", "world", "object", *gameplay.ARRAY_TABLES, "beacon", "secret")
 
 
 @dataclass
@@ -184,6 +185,7 @@ class Level:
     camera: gameplay.CameraSpec = field(default_factory=gameplay.CameraSpec)
     needs: tuple[str, ...] = ()  # [design]: the mechanics the level is built to demand (world.design)
     beacons: list[beacons.BeaconSpec] = field(default_factory=list)  # [[beacon]]: key objects brought back
+    secrets: tuple[secrets.SecretSpec, ...] = ()  # [[secret]]: hidden places the level counts
 
     @property
     def bodies(self) -> int:
@@ -321,8 +323,8 @@ def _content_tables(r: TableReader, data: dict) -> dict:
 
 
 def _system_tables(r: TableReader, data: dict, w_range, objects: list[ObjectSpec]) -> dict:
-    """The tables of the game's systems (format 2, :mod:`.gameplay`), ``[design]`` and
-    ``[[beacon]]``, by the
+    """The tables of the game's systems (format 2, :mod:`.gameplay`), ``[design]``,
+    ``[[beacon]]`` and ``[[secret]]``, by the
     :class:`Level` field each fills; ``w_range`` is None when the level's own is broken."""
     names = {o.name for o in objects}
     out = {
@@ -340,8 +342,13 @@ def _system_tables(r: TableReader, data: dict, w_range, objects: list[ObjectSpec
     out["checkpoints"] = enemy_tables.read_checkpoints(r, data, w_range)
     out["health"] = enemy_tables.read_health(r, data, bool(out["enemies"]))
     out["camera"] = gameplay.read_camera(r, data)
+    for o in objects:
+        if o.walkable_in_frustum and not out["camera"].frustum:
+            # Its image is met only while the frustum view holds: without one it is never walked on.
+            r.problem(f"[[object]] '{o.name}'", "field 'walkable_in_frustum': needs [camera] with frustum = true")
     out["needs"] = design.read_design(r, data)
     out["beacons"] = beacons.read_beacons(r, data, objects)
+    out["secrets"] = secrets.read_secrets(r, data, w_range)
     return out
 
 

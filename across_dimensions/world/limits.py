@@ -59,6 +59,7 @@ MAX_COUNTS = {
     "enemy": (64, "enemies"),
     "animation": (512, "animation keyframes ([[animation]])"),
     "checkpoint": (64, "checkpoints"),
+    "secret": (32, "secrets"),
 }
 
 MAX_NAME_CHARS = 100  # level, world and object names

@@ -31,6 +31,7 @@ OBJECT = {
     "color": Field("color", default=OBJECT_COLOR),
     "spin": Field("angles", default=None, range=SPIN),
     "solid": Field("bool", default=True),
+    "walkable_in_frustum": Field("bool", default=False),
     "body": Field("string", default="none", choices=OBJECT_BODIES),
     "mass": Field("number", default=1.0, range=MASS, sign="positive"),
     "velocity": Field("vector", 4, default=(0.0, 0.0, 0.0, 0.0), range=SPEED),
@@ -76,6 +77,7 @@ class ObjectSpec:
     body: str
     mass: float
     velocity: np.ndarray = field(default_factory=lambda: np.zeros(4))
+    walkable_in_frustum: bool = False
 
 
 def read_object(r: TableReader, ot: dict, i: int) -> ObjectSpec:
@@ -90,10 +92,27 @@ def read_object(r: TableReader, ot: dict, i: int) -> ObjectSpec:
         ot,
         OBJECT,
         where,
-        keys=("depth", "position", "rotation", "scale", "color", "spin", "solid", "body", "mass", "velocity"),
+        keys=(
+            "depth",
+            "position",
+            "rotation",
+            "scale",
+            "color",
+            "spin",
+            "solid",
+            "body",
+            "mass",
+            "velocity",
+            "walkable_in_frustum",
+        ),
     )
     if v["body"] != "none":
         _check_body(r, where, v, (shape, params) if params_ok else None, asset)
+        if v["walkable_in_frustum"]:
+            r.problem(
+                where,
+                "field 'walkable_in_frustum': a rigid body cannot be walked on as its image (expected body = 'none')",
+            )
     return ObjectSpec(
         name,
         shape,
@@ -109,6 +128,7 @@ def read_object(r: TableReader, ot: dict, i: int) -> ObjectSpec:
         v["body"],
         v["mass"],
         v["velocity"],
+        v["walkable_in_frustum"],
     )
 
 

@@ -62,6 +62,7 @@ class Object4:
     body: str
     mass: float
     velocity: np.ndarray
+    walkable_in_frustum: bool = False  # while the frustum view holds, the walker meets its image
 
     @classmethod
     def prop(cls, name: str, mesh: TetMesh4, position, scale, rotation_deg=None, spin_deg=None) -> Object4:
@@ -206,6 +207,7 @@ def _build_object(spec, meshes: dict) -> Object4:
         spec.body,
         spec.mass,
         spec.velocity.copy(),
+        spec.walkable_in_frustum,
     )
 
 

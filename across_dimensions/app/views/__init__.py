@@ -5,7 +5,7 @@
   (one model, :class:`~across_dimensions.app.menu.Menu`, behind them all).
 - :mod:`.startup`: a level named on the command line, waiting for the kernels.
 - :mod:`.play`: a level being played: input, the fixed-tick loop, drawing.
-- :mod:`.complete`: the level finished, until the next one starts.
+- :mod:`.complete`: the level finished: its results, then Continue, Retry, Time trial or Level select.
 - The level editor's view is :class:`across_dimensions.app.editor.mode.EditorView` (an optional extra).
 
 The window (:class:`~across_dimensions.app.window.GameWindow`) keeps them in a stack: the top one

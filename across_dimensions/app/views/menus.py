@@ -151,12 +151,14 @@ class TitleView(MenuScreen):
 
 
 class LevelSelectView(MenuScreen):
-    """The campaign's levels, locked or open, with best times and crystals; a click plays one."""
+    """The campaign's levels, locked or open, with best times and crystals; a click plays one
+    (as a time trial when the screen's time-trial row is on)."""
 
     def run(self, command: str) -> None:
-        if command.startswith("play:"):
+        kind, _, stem = command.partition(":")
+        if kind in ("play", "trial"):
             s = self.session
-            s.start_level(next(e.path for e in s.campaign if e.stem == command[5:]))
+            s.start_level(next(e.path for e in s.campaign if e.stem == stem), trial=kind == "trial")
 
 
 class PauseView(MenuScreen):
@@ -188,7 +190,7 @@ class PauseView(MenuScreen):
             self.window.pop_view()
         elif command == "restart":
             s.recording.stop()
-            s.start_level(self.backdrop.level_path)
+            s.start_level(self.backdrop.level_path, trial=getattr(self.backdrop, "trial", False))
         elif command == "skip":  # the prologue: on to the level after it
             s.recording.stop()
             s.next_level(self.backdrop.level_path)

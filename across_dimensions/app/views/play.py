@@ -29,8 +29,9 @@ from ..input import PlayInput, with_keys
 from ..onboarding import fill_keys
 from ..saves import checkpoint_of, resume_at_checkpoint
 from ..settings import look_delta
+from ..time_trial import Race, RunLog
 from .base import View
-from .complete import NEXT_LEVEL_DELAY, LevelCompleteView
+from .complete import OUTRO_SECONDS, LevelCompleteView
 from .menus import PauseView
 
 #: Most ticks run in one frame: a machine that falls further behind drops time instead.
@@ -47,20 +48,23 @@ class PlayView(View):
         The level file.
     checkpoint : int or None
         Where to start: the level's start (None) or the index of a checkpoint reached before.
+    trial : bool
+        A time trial: the level from its start against its ghost (:class:`~..time_trial.Race`).
     """
 
     shows_level = True
-    #: Seconds of play after the goal before the next level starts.
-    finish_seconds = NEXT_LEVEL_DELAY
+    #: Seconds of play after the goal before the level's results.
+    finish_seconds = OUTRO_SECONDS
     #: Said as the next level starts ("": nothing).
     farewell = ""
     #: The game was started by the level editor: finishing it goes back there, not to the next level.
     from_editor = False
 
-    def __init__(self, session, path: Path, checkpoint: int | None = None):
+    def __init__(self, session, path: Path, checkpoint: int | None = None, trial: bool = False):
         super().__init__(session)
         self.input = PlayInput(session.bindings, self.window.keys, session.settings)
-        self.load(path, checkpoint)
+        self.trial = trial
+        self.load(path, None if trial else checkpoint)
         if session.recording.path_given:  # --record FILE: the first level played
             self.start_recording()
 
@@ -76,9 +80,17 @@ class PlayView(View):
         self.hints = True
         self.energy_trail, self._drawn_at = EnergyTrail(), time.perf_counter()
         resume_at_checkpoint(self.game, checkpoint)
+        # A run from the start may become the level's ghost; a time trial races the one kept.
+        self.run_log = RunLog(self.game, self._path.stem) if checkpoint_of(self.game) is None else None
+        self.race = None
+        if self.trial and self.run_log is not None:
+            self.race, line = Race.of_level(self._path.stem, self.run_log.level_hash, s.warn)
+            s.say(line, 4.0)
         # A level is where Continue resumes only when it is open in the campaign.
         stems = [e.stem for e in s.campaign]
         self.continues = s.progress.play(self._path.stem, checkpoint_of(self.game), stems, s.optional)
+        if self.game.level.secrets:  # the level select can say how many there are to find
+            s.progress.found_secrets(self._path.stem, (), len(self.game.level.secrets))
         s.save_progress()
         s.renderer.forget_meshes()  # a new world: its meshes reuse the old one's keys and revisions
         st = s.settings
@@ -106,6 +118,7 @@ class PlayView(View):
         self._path = Path(path) if path is not None else self._path
         self.from_editor = True
         self.game = game
+        self.run_log = self.race = None  # the editor's game: neither a run to keep nor a race
         self.hints = False
         self.accumulator = 0.0
         self.input.forget()
@@ -173,10 +186,21 @@ class PlayView(View):
         s.sound.play(cues)
         s.captions.heard(cues, DT)
         self.crystals_found += sum(e.kind == "crystal_collected" for e in self.game.events)
+        self._keep_secrets()
         if any(e.kind == "respawned" for e in self.game.events):  # a fall is never silent
             where = "the last checkpoint" if checkpoint_of(self.game) is not None else "the start"
             s.say(f"You fell out of the level: back at {where}.", 3.0)
         s.recording.record(actions)
+        reached = self.run_log.record(self.game, actions) if self.run_log is not None else None
+        if reached is not None and self.race is not None:
+            s.say(self.race.split(reached, self.game.tick, self.game.level.checkpoints[reached].name), 3.0)
+
+    def _keep_secrets(self) -> None:
+        """Save each secret as it is found (not at the level's end): leaving the level keeps it."""
+        found = [e for e in self.game.events if e.kind == "secret_found"]
+        if found and not self.from_editor:
+            self.session.progress.found_secrets(self._path.stem, [e.name for e in found], found[0].total)
+            self.session.save_progress()
 
     def read_actions(self):
         """This tick's actions (see :class:`~across_dimensions.app.input.PlayInput`)."""
@@ -248,6 +272,9 @@ class PlayView(View):
         s.onboarding.decorate(hud, lambda text: fill_keys(text, s.settings))
         if s.recording.active and not hud.message:
             hud.message = "REC"
+        if self.race is not None:
+            hud.message = hud.message or self.race.clock(self.game.completed_tick or self.game.tick)
+            self.race.figure(self.game, frame, self.accumulator / DT)
         return frame
 
     # ---------------------------------------------------------------- input

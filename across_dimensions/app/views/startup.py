@@ -25,11 +25,13 @@ class StartupView(View):
         Where in it to start.
     edit : bool
         Open it in the level editor (``edit LEVEL``), which builds games from its first frame.
+    trial : bool
+        Play it as a time trial.
     """
 
-    def __init__(self, session, path: Path, checkpoint: int | None = None, edit: bool = False):
+    def __init__(self, session, path: Path, checkpoint: int | None = None, edit: bool = False, trial: bool = False):
         super().__init__(session)
-        self.path, self.checkpoint, self.edit = path, checkpoint, edit
+        self.path, self.checkpoint, self.edit, self.trial = path, checkpoint, edit, trial
 
     def on_show(self) -> None:
         self.window.set_exclusive_mouse(True)
@@ -40,7 +42,7 @@ class StartupView(View):
     def on_update(self, dt: float) -> None:
         warm = self.session.warm
         if warm is None or warm.ready:
-            self.session.start_level(self.path, self.checkpoint)
+            self.session.start_level(self.path, self.checkpoint, self.trial)
             if self.edit:
                 self.session.open_editor(self.window.current_view, from_play=False)
 

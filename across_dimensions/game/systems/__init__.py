@@ -23,6 +23,7 @@ from . import (
     crystals,
     enemies,
     energy,
+    frustum_walk,
     ghosts,
     health,
     manipulation,
@@ -32,6 +33,7 @@ from . import (
     radar,
     rigid_bodies,
     scenery,
+    secrets,
     sections,
     seek,
     solid_bodies,
@@ -41,10 +43,12 @@ from . import (
 #: Tick order: energy first (new tick); the 4D camera (turning the slice, the frustum
 #: switch; it holds the w keys while detached); seek reads its presses before the player moves
 #: (the glide starts on the tick of the press); manipulation (it turns objects and takes
-#: the walking keys while one is held); the player moves, pushes bodies; weapons fire and
+#: the walking keys while one is held); the player moves (walking into frustum images, and put
+#: somewhere safe when the view ends inside geometry), pushes bodies; weapons fire and
 #: steer bullets, and the beacons bring back bodies out of range, before physics runs; bullets
 #: read its contacts after; enemies (the blast, bullet
-#: hits, their moves and shots) and the player's health after the bullets; pickups; the outcome.
+#: hits, their moves and shots) and the player's health after the bullets; pickups; the outcome;
+#: the secrets (a secret exit finishes the level only when the goal did not this tick).
 #: Frame order: manipulation (its ghost previews, HUD line), scenery, entities, radar, HUD,
 #: then the ghosts along w, after everything solid. Setup runs in the same order, so the
 #: entities systems spawn get their ids in it: targets, then enemies, then the level's crystals.
@@ -54,6 +58,7 @@ SYSTEMS = (
     seek.SYSTEM,
     manipulation.SYSTEM,
     player.SYSTEM,
+    frustum_walk.SYSTEM,
     push.SYSTEM,
     weapons.SYSTEM,
     solid_bodies.SYSTEM,
@@ -64,6 +69,7 @@ SYSTEMS = (
     health.SYSTEM,
     crystals.SYSTEM,
     outcome.SYSTEM,
+    secrets.SYSTEM,
     scenery.SYSTEM,
     sections.SYSTEM,
     radar.SYSTEM,

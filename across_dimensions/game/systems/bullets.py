@@ -6,6 +6,10 @@ a target's size plus its own radius hits the target and is spent (and, while the
 camera is detached, a bullet whose frustum image overlaps the target's image): the
 target's door (the object named by ``opens``) is removed. A bullet is removed after its lifetime or
 once it sleeps; the blast's finished pulls are settled here too.
+
+A bullet whose first touch of a box-shaped body finds that body hidden (its w extent clear of
+the player's slice) and leaves it turning in a w plane (t, u or v) knocks the slab: a
+:class:`~..events.SlabKnocked`.
 """
 
 from __future__ import annotations
@@ -13,9 +17,34 @@ from __future__ import annotations
 import numpy as np
 
 from .. import weapons as wp
-from ..events import BulletHit, TargetHit
+from ..events import BulletHit, SlabKnocked, TargetHit
 from ..system import System
 from . import camera
+
+#: The slowest turn in a w plane (rad/s, the norm of the t, u, v parts) that counts as a knock:
+#: a turn of about a degree a second, far above the solver's rounding on a body at rest
+#: (which stays below 1e-9) and below any hit a player would notice.
+KNOCK_SPIN = 0.02
+
+
+def _w_half(phys, body: int, half: np.ndarray) -> float:
+    """How far a box body reaches along the world's w from its centre."""
+    return float(np.abs(phys.body_rotation(body)[3]) @ half)
+
+
+def _knock(game, bullet: int, slab: int, body: int) -> None:
+    """Report a knocked slab: ``slab`` (an entity with rigid ``body``) touched by ``bullet``."""
+    phys = game.physics
+    half = phys.body_half_extents(body)
+    if half is None or phys.body_kind(body) != "dynamic":
+        return
+    # Hidden: none of the slab reaches the player's slice (the bullet met it off the slice).
+    pw = float(game.player.position[3])
+    if abs(pw - float(phys.body_position(body)[3])) <= _w_half(phys, body, half):
+        return
+    spin = phys.body_velocity(body)[1][3:]
+    if float(np.linalg.norm(spin)) > KNOCK_SPIN:
+        game.emit(SlabKnocked(slab, bullet, tuple(float(x) for x in spin)))
 
 
 def _contacts(game, ars) -> None:
@@ -39,6 +68,7 @@ def _contacts(game, ars) -> None:
                 game.emit(BulletHit(eid, what, oid))
                 if what == "body":
                     ars.hit_tick = game.tick
+                    _knock(game, eid, oid, other)
             e.data.contacted = True
 
 

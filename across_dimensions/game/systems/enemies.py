@@ -388,8 +388,8 @@ def _release(game, e, reason: str) -> None:
     foe.loot = None
     lo, hi = game.level.w_range
     pw = float(game.player.position[3])
-    # Where the player can reach it: at their w when the blast shook it out, else where it fell, within the range.
-    w = pw if reason == "forced" else min(max(float(at[3]), lo), hi)
+    # Where the player can reach it: at their w when a pull shook it out, else where it fell, within the range.
+    w = pw if reason in ("forced", "camera") else min(max(float(at[3]), lo), hi)
     spec = CrystalSpec(f"{foe.spec.name} loot", np.array([at[0], at[1], at[2], w]), foe.spec.loot_milli)
     c = crystals.spawn(game, spec)
     game.emit(LootReleased(e.id, c.id, reason))
@@ -411,9 +411,11 @@ def _blasts(game) -> None:
             _drag(game, foe, float(blasts[-1].w), end)
 
 
-def _drag(game, foe: en.Foe, w: float, end: int) -> None:
-    """Pull the enemy from its w to ``w``, arriving at tick ``end``, then stunned."""
+def _drag(game, foe: en.Foe, w: float, end: int, by: str = "blast") -> None:
+    """Pull the enemy from its w to ``w``, arriving at tick ``end``, then stunned; ``by`` is what
+    pulls it (``"blast"`` or ``"camera"``), the cause its crystal comes out with."""
     foe.pull = (float(foe.centre[3]), float(w), game.tick, end)
+    foe.pulled_by = by
     foe.shots_left = 0
     _set_state(game, foe, "dragged")
 
@@ -434,7 +436,17 @@ FRUSTUM_HOLD_TIME = 0.8
 
 def _frustum_holds(game) -> None:
     """The switch to the frustum camera forces the enemies it looks at into the player's slice,
-    as the blast does: a crystal hidden in one comes out when its w crosses the slice."""
+    as the blast does.
+
+    The rule for loot the camera frees (the paper: crystals hidden in an enemy are looted "by
+    forcing that enemy to perform particular movements or by controlling the 4D camera"): the
+    switch to the frustum view holds every live enemy whose centre is ahead of the player (in
+    x, z, within 90 degrees of the view's heading) and within :data:`FRUSTUM_HOLD_RANGE` of the
+    eye, and drags it to the player's w over :data:`FRUSTUM_HOLD_TIME`. When that pull carries
+    the crystal inside it across the player's slice (its w within the crystal's size of the
+    player's, or passing it), the crystal comes out at the player's w with the cause
+    ``"camera"`` (:class:`~..events.LootReleased`); a blast's pull frees it as ``"forced"``.
+    An enemy behind the player, or farther, keeps its crystal."""
     if not any(ev.kind == "camera_switched" and ev.mode == "frustum" for ev in game.events):
         return
     p = game.player
@@ -445,7 +457,7 @@ def _frustum_holds(game) -> None:
         foe = e.data
         rel = foe.centre[:3] - eye
         if foe.alive and np.linalg.norm(rel) <= FRUSTUM_HOLD_RANGE and rel[[0, 2]] @ ahead > 0.0:
-            _drag(game, foe, pw, end)
+            _drag(game, foe, pw, end, by="camera")
 
 
 def _forced_loot(game, e, w_before: float) -> None:
@@ -457,7 +469,7 @@ def _forced_loot(game, e, w_before: float) -> None:
     off = foe.loot_point()[3] - foe.centre[3]
     before, now = w_before + off - pw, foe.centre[3] + off - pw
     if abs(now) <= en.LOOT_SIZE or before * now < 0:
-        _release(game, e, "forced")
+        _release(game, e, "camera" if foe.pulled_by == "camera" else "forced")
 
 
 # ------------------------------------------------------------------ step and draw

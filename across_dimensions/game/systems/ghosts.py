@@ -25,7 +25,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import section_collision
-from ..entity_sections import view_planes
 from ..frame import Drawable
 from ..player import W_SPEED, overlapping, player_box
 from ..system import System
@@ -166,6 +165,29 @@ def same_as_slice(mesh, model: np.ndarray, w: float, wg: float) -> bool:
     return lo < min(w, wg) and max(w, wg) < hi
 
 
+def slice_spans(caps: np.ndarray, models: np.ndarray) -> np.ndarray:
+    """Where each thing is a prism along w that nothing turns out of w, the span ``(lo, hi)``
+    of w between its caps, NaN elsewhere: ``(n, 2) float64``. :func:`same_as_slice` of thing
+    ``i`` is ``lo < min(w, wg) and max(w, wg) < hi``, with the same arithmetic.
+
+    Parameters
+    ----------
+    caps : (n, 2) float64
+        Each mesh's :func:`_w_caps`, NaN where it has none.
+    models : (n, 5, 5) float64
+    """
+    fixed = ~(models[:, 3, :3] != 0.0).any(axis=1) & ~(models[:, :3, 3] != 0.0).any(axis=1)
+    a = models[:, 3, 3, None] * caps + models[:, 3, 4, None]
+    spans = np.sort(a, axis=1)
+    spans[~fixed] = np.nan
+    return spans
+
+
+def _caps(mesh) -> tuple[float, float]:
+    caps = _w_caps(mesh)
+    return (np.nan, np.nan) if caps is None else caps
+
+
 def _holds_player(tri, lo, hi) -> bool:
     """Is the player's box ``(lo, hi)`` inside the solid this section bounds, or cut by its
     surface? (The walker's own test for a step along w: standing against a wall is not.)"""
@@ -175,7 +197,7 @@ def _holds_player(tri, lo, hi) -> bool:
 def _solid(table, feet) -> tuple[np.ndarray, np.ndarray]:
     """``(n,) bool`` twice: is each entity solid (or a body), and could its section stand where
     the player stands (a cheap test on its reach)?"""
-    solid = np.array([e.solid or e.kind == "body" for e in table.entities], bool)
+    solid = table.column("ghost_solid", lambda e: e.solid or e.kind == "body").astype(bool)
     near = np.all(np.abs(table.centers[:, :3] - feet[:3]) <= (table.radii + BLOCK_REACH)[:, None], axis=1)
     return solid, solid & near
 
@@ -188,23 +210,25 @@ def draw(game, frame, alpha) -> None:
     feet = game.player.position
     lo, hi = player_box(feet)
     solids, may_block = _solid(table, feet)
-    planes = view_planes(frame.camera)
+    planes = game.entity_sections.view_planes(frame.camera)
     blocked: list[int] = []
     w = frame.camera.w
     layers = layers_of(game, w)
+    if layers:
+        spans = slice_spans(table.column("ghost_w_caps", lambda e: _caps(e.mesh)).reshape(-1, 2), models)
     for layer in layers:
         tag = layer.tag
         # Solid things are drawn one by one (the ghost of one that would block the player is
-        # stronger); the rest of the entities are cut together, one batch per layer.
-        things, batched = [], []
-        for i in np.flatnonzero(np.abs(table.centers[:, 3] - layer.w) <= table.radii):
+        # stronger); the rest of the entities are cut together, one batch per layer. A ghost
+        # that would be the section itself, drawn over it, is left out.
+        near = np.abs(table.centers[:, 3] - layer.w) <= table.radii
+        same = (spans[:, 0] < min(w, layer.w)) & (max(w, layer.w) < spans[:, 1])
+        shown = np.flatnonzero(near & ~same)
+        things = []
+        for i in shown[solids[shown]]:
             e = table.entities[i]
-            if same_as_slice(e.mesh, models[i], w, layer.w):
-                continue  # the ghost would be the section itself, drawn over it
-            if solids[i]:
-                things.append((f"{tag}:{e.id}", f"{tag}:entity:{e.id}", e.mesh, models[i], bool(may_block[i])))
-            else:
-                batched.append(i)
+            things.append((f"{tag}:{e.id}", f"{tag}:entity:{e.id}", e.mesh, models[i], bool(may_block[i])))
+        batched = shown[~solids[shown]]
         game.entity_sections.ghost_layer(frame, layer, [table.entities[i] for i in batched], models[batched], planes)
         worlds = enumerate(game.scene.worlds)
         things += [(f"{tag}:world:{i}", f"{tag}:world:{i}", wd.mesh, np.eye(5), True) for i, wd in worlds]

@@ -1,0 +1,123 @@
+"""Per-entity work done as arrays: each batched path against the per-entity result it replaces.
+
+The frame's entity batches find which instances meet the slice and the view, how far each reaches
+along the slice's normal (the w cue) and which instances changed, for all instances at once; the
+ghost layers test every entity for a ghost that would be the slice itself at once. Each must give
+what the one-by-one code gives. No timing here: speed is in ``across-dimensions bench``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from across_dimensions.core.section import cross_section
+from across_dimensions.core.section_batch import SectionBatch
+from across_dimensions.core.section_batch_kernels import _instances_in_view
+from across_dimensions.core.shapes import make_shape, tesseract
+from across_dimensions.core.transform import PLANES, pose, rotation, scaling, translation
+from across_dimensions.game.entity_sections import w_offset, w_offsets
+from across_dimensions.game.systems import ghosts
+
+
+@pytest.fixture(scope="module")
+def meshes():
+    return [make_shape("tesseract"), make_shape("5-cell"), make_shape("16-cell")]
+
+
+def random_models(rng, n, spread=3.0, w_spread=1.0):
+    out = []
+    for _ in range(n):
+        angles = {p: rng.uniform(-np.pi, np.pi) for p in PLANES}
+        pos = (*rng.uniform(-spread, spread, 3), rng.uniform(-w_spread, w_spread))
+        out.append(pose(pos, angles, scale=rng.uniform(0.5, 1.5)))
+    return np.array(out)
+
+
+def visible_per_instance(mv, center, radius, planes):
+    """The test of one instance as the batch made it with numpy, one by one."""
+    a = mv[:4, :4]
+    stretch = np.sqrt(np.abs(a.T @ a).sum(axis=1).max())
+    c = a @ center + mv[:4, 4]
+    r = radius * stretch * (1.0 + 1e-6) + 1e-6
+    in_slice = abs(c[3]) <= r
+    r3 = np.sqrt(max(r * r - c[3] ** 2, 0.0))
+    dist = planes[:, :3] @ c[:3] + planes[:, 3]
+    return in_slice, in_slice and bool((dist >= -r3 * np.linalg.norm(planes[:, :3], axis=1)).all())
+
+
+def test_instances_meet_the_slice_and_the_view_as_tested_one_by_one():
+    rng = np.random.default_rng(3)
+    mvs = random_models(rng, 400, spread=6.0, w_spread=2.0)
+    mvs[::7] = mvs[::7] @ scaling((1.0, 3.0, 0.2, 1.5))  # stretched: the bound, not the exact radius
+    centers, radii = rng.uniform(-0.5, 0.5, (400, 4)), rng.uniform(0.2, 1.5, 400)
+    planes = np.array([[1.0, 0.0, 0.3, 2.0], [-0.5, 0.2, 1.0, 1.0], [0.0, -2.0, 0.0, 3.0]])
+    in_slice, visible = np.empty(400, bool), np.empty(400, bool)
+    _instances_in_view(mvs, centers, radii, planes, in_slice, visible)
+    want = np.array([visible_per_instance(m, c, r, planes) for m, c, r in zip(mvs, centers, radii)])
+    np.testing.assert_array_equal(in_slice, want[:, 0])
+    np.testing.assert_array_equal(visible, want[:, 1])
+    assert 0 < visible.sum() < in_slice.sum() < 400  # every outcome occurs
+
+
+def test_w_cue_of_each_instance_is_the_one_made_per_entity(meshes):
+    rng = np.random.default_rng(5)
+    models = random_models(rng, 30)
+    picks = [meshes[i % 3] for i in range(30)]
+    camera = pose((0.3, 0.0, -1.0, 0.2), {"xw": 0.4, "yz": 0.1})
+    batch = SectionBatch()
+    batch.update(range(30), picks, models, camera)
+    keys, start, count, w_range = batch.instances()
+    cue = w_offsets(w_range)
+    for i, k in enumerate(keys):
+        assert cue[i] == pytest.approx(w_offset(picks[k], models[k], camera), abs=1e-5)
+    assert (count > 0).sum() > 5 and np.abs(cue).max() > 0.3
+
+
+def test_changed_instances_move_back_and_the_rest_keep_their_triangles(meshes):
+    """Updates that add, drop, move and reorder instances leave every instance with the
+    triangles a fresh slice gives it."""
+    rng = np.random.default_rng(11)
+    models = random_models(rng, 40, spread=2.0, w_spread=0.5)
+    mesh_of = {k: meshes[k % 3] for k in range(40)}
+    camera = translation((0.0, 0.0, 0.0, 0.05))
+    batch = SectionBatch(by_cells=False)
+    live = list(range(25))
+    for step in range(12):
+        if step % 3 == 1:
+            live = [k for k in live if rng.random() > 0.2] + [int(k) for k in rng.choice(40, 4)]
+            live = list(dict.fromkeys(live))
+        if step % 4 == 2:
+            rng.shuffle(live)
+        moved = rng.choice(40, 5)
+        models[moved] = models[moved] @ translation((0.0, 0.0, 0.0, 0.01))
+        batch.update(live, [mesh_of[k] for k in live], models[live], camera)
+        keys, start, count, _ = batch.instances()
+        assert sorted(keys) == sorted(live)
+        assert start[-1] == len(batch.vertices)
+        for i, k in enumerate(keys):
+            tri = cross_section(mesh_of[k], camera, models[k])
+            rows = batch.vertices[start[i] : start[i] + count[i]]
+            np.testing.assert_array_equal(rows[:, 0:3], tri.vertices)
+            assert batch.instance_rows(k) == (start[i], count[i])
+
+
+def test_ghost_spans_say_what_same_as_slice_says_for_each_entity():
+    rng = np.random.default_rng(2)
+    slab, cell = tesseract(1.0), make_shape("24-cell")
+    cases = []
+    for i in range(60):
+        deep = translation((*rng.uniform(-2, 2, 3), rng.uniform(-1, 1))) @ scaling((2.0, 1.0, 0.5, rng.uniform(0.2, 3)))
+        if i % 4 == 1:
+            deep = deep @ rotation("xw", 0.2)  # turned into w: never the same slice
+        if i % 4 == 2:
+            deep = deep @ rotation("xy", 0.7)  # turned in space only: still a prism along w
+        cases.append((cell if i % 5 == 0 else slab, deep))
+    caps = np.array([ghosts._caps(m) for m, _ in cases])
+    models = np.array([m for _, m in cases])
+    spans = ghosts.slice_spans(caps, models)
+    for w, wg in [(0.0, 0.3), (0.5, -0.4), (-1.0, 1.2), (0.2, 0.25)]:
+        same = (spans[:, 0] < min(w, wg)) & (max(w, wg) < spans[:, 1])
+        want = [ghosts.same_as_slice(m, model, w, wg) for m, model in cases]
+        np.testing.assert_array_equal(same, want)
+    assert same.any() and not same.all()

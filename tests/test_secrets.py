@@ -1,0 +1,140 @@
+"""Secrets: ``[[secret]]`` read and checked, ``secret_found`` fired once on entering, kept in the progress."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from across_dimensions.app.saves import Progress, load_progress, save_progress
+from across_dimensions.game.actions import Actions
+from across_dimensions.game.sim import Game
+from across_dimensions.world.level import LevelError, load_level
+
+LEVEL = """
+[level]
+format = 2
+name = "Secrets"
+w_range = [-1.0, 1.0]
+
+[spawn]
+position = [0.0, 0.0, -6.0, 0.0]
+
+[goal]
+center = [0.0, 1.0, 30.0]
+size = [2.0, 2.0, 2.0]
+
+[[box]]
+center = [0.0, -0.5, 0.0]
+size = [10.0, 1.0, 70.0]
+
+[[secret]]
+name = "the nook"
+min = [-1.0, 0.0, -1.0, -0.2]
+max = [1.0, 2.0, 1.0, 0.2]
+
+[[secret]]
+name = "the ana room"
+min = [-1.0, 0.0, 4.0, 0.5]
+max = [1.0, 2.0, 6.0, 1.0]
+{exit}
+"""
+
+
+BOX = 'name = "a"\nmin = [0, 0, 0, 0]\nmax = [1, 1, 1, 1]'
+
+
+def _level(tmp_path, text=LEVEL, exit=""):
+    path = tmp_path / "secrets.toml"
+    path.write_text(text.replace("{exit}", exit), encoding="utf-8")
+    return path
+
+
+def _walk(game, ticks, **kw):
+    """Step ``ticks`` ticks with the same actions; the ``secret_found`` events, per tick."""
+    found = []
+    for _ in range(ticks):
+        game.step(Actions(**kw))
+        found += [(game.tick, e.name, e.found, e.total) for e in game.events if e.kind == "secret_found"]
+    return found
+
+
+def test_a_secret_is_found_once_when_entered_and_never_otherwise(tmp_path):
+    game = Game(load_level(_level(tmp_path)))
+    assert [s.name for s in game.level.secrets] == ["the nook", "the ana room"]
+    assert isinstance(game.level.secrets, tuple)
+    assert _walk(game, 30) == []  # standing at the spawn finds nothing
+    found = _walk(game, 200, forward=1.0)  # through the nook at w = 0, past the ana room's z at w = 0
+    assert [(name, n, total) for _, name, n, total in found] == [("the nook", 1, 2)]
+    assert game.player.position[2] > 5.0  # walked through the ana room's x-z, at the wrong w
+    back = _walk(game, 220, forward=-1.0)  # back through the nook: already found
+    assert back == [] and game.event_counts["secret_found"] == 1
+    assert game.player.position[2] < 0.0
+    _walk(game, 60, w=1.0)  # along w to 0.7 or more, away from everything
+    assert game.player.position[3] > 0.6
+    again = _walk(game, 240, forward=1.0)  # into the ana room, then on through it
+    assert [name for _, name, _, _ in again] == ["the ana room"] and again[0][2:] == (2, 2)
+    assert game.event_counts["secret_found"] == 2 and game.outcome is None  # no exit: the level goes on
+
+
+def test_a_secret_exit_finishes_the_level(tmp_path):
+    game = Game(load_level(_level(tmp_path, exit="exit = true")))
+    _walk(game, 60, w=1.0)
+    _walk(game, 200, forward=1.0)
+    assert game.event_counts["secret_found"] == 1 and game.event_counts["level_complete"] == 1
+    assert game.outcome == "complete" and game.player.position[2] < 25.0  # far short of the goal
+
+
+def test_levels_without_secrets_spawn_nothing(tmp_path):
+    game = Game(load_level(_level(tmp_path, LEVEL.split("[[secret]]")[0])))
+    _walk(game, 10, forward=1.0)
+    assert game.level.secrets == () and not game.entities.of_kind("secret")
+
+
+@pytest.mark.parametrize(
+    "entry, says",
+    [
+        (
+            f"{BOX}\n[[secret]]\n{BOX}",
+            "[[secret]] #2 'a': field 'name': another secret is named 'a'",
+        ),
+        (
+            'name = "a"\nmin = [0, 0, 0, 0]\nmax = [1, 0, 1, 1]',
+            "[[secret]] #1 'a': fields 'min', 'max': expected min < max",
+        ),
+        (
+            'name = "a"\nmin = [0, 0, 0, 2]\nmax = [1, 1, 1, 3]',
+            "outside the level's w_range [-1.0, 1.0], so it can never be found",
+        ),
+        ('name = "a"\nmin = [0, 0, 0, 0]\nmax = [1, 1, 1, 1]\ncentre = 1', "[[secret]] #1: unknown field 'centre'"),
+        ("min = [0, 0, 0, 0]\nmax = [1, 1, 1, 1]", "[[secret]] #1: missing field 'name'"),
+    ],
+)
+def test_bad_secrets_are_named(tmp_path, entry, says):
+    text = LEVEL.split("[[secret]]")[0] + "[[secret]]\n" + entry + "\n"
+    with pytest.raises(LevelError) as e:
+        load_level(_level(tmp_path, text))
+    assert says in str(e.value)
+    r = subprocess.run(
+        [sys.executable, "-m", "across_dimensions", "check-level", str(tmp_path / "secrets.toml")],
+        capture_output=True,
+        text=True,
+    )
+    assert r.returncode == 2 and says in r.stderr and "Traceback" not in r.stderr
+
+
+def test_progress_keeps_every_secret_found_across_runs_and_games(tmp_path):
+    path = tmp_path / "progress.json"
+    p = Progress()
+    assert p.found_secrets("10_x", (), 2) and p.secrets["10_x"] == ((), 2)  # started: 0 of 2
+    assert p.found_secrets("10_x", ["b"], 2) and not p.found_secrets("10_x", ["b"], 2)
+    save_progress(p, path)
+    other = Progress()
+    other.found_secrets("10_x", ["a"], 2)  # another game, same folder: merged, not lost
+    save_progress(other, path)
+    back, warnings = load_progress(path)
+    assert warnings == [] and back.secrets == {"10_x": (("a", "b"), 2)}
+    path.write_text(path.read_text().replace('"total": 2', '"total": 1'))  # two found of one: corrupt
+    fresh, warnings = load_progress(path)
+    assert fresh.secrets == {} and "secrets.10_x" in warnings[0] and "kept as progress.corrupt-1.json" in warnings[0]
+    assert not Path(path).exists() and (tmp_path / "progress.corrupt-1.json").exists()
