@@ -372,11 +372,26 @@ def test_bench_scene_refuses_bad_options():
 
 
 def test_bench_levels_reports_the_worst_frame_of_a_level():
-    r = _run("bench", "levels", "--level", "06_bridge", "--grid", "1", "--frames", "1", "--json")
+    r = _run("bench", "levels", "--level", "06_bridge", "--grid", "1", "--frames", "1", "--json", "--no-memory")
     assert r.returncode == 0, r.stderr
     (row,) = json.loads(r.stdout)
     assert row["level"] == "06_bridge" and row["poses"] == 8
     assert row["worst_ms"] >= row["median_ms"] > 0
+    assert row["full_worst_cpu_ms"] > 0 and row["geometry"] > 0
+    # Where the worst full-size frame's time goes: the scenery is drawn, and shades about the view once.
+    passes = {p["pass"]: p for p in row["passes"]}
+    assert passes["scenery"]["triangles"] > 0 and 0.1 < passes["scenery"]["overdraw"] < 3.0
+    assert "[PASS]" in r.stderr or "[FAIL]" in r.stderr
+    assert "full size" in r.stderr and "Peak memory" not in r.stderr
+
+
+@pytest.mark.slow
+def test_bench_levels_measures_the_peak_memory_of_play():
+    """The memory target: ``play`` in a child process on its own display, its peak resident set."""
+    r = _run("bench", "levels", "--level", "00_arrival", "--grid", "1", "--frames", "1", timeout=1800)
+    assert r.returncode == 0, r.stderr
+    line = next(x for x in r.stdout.splitlines() if "peak memory of play" in x)
+    assert "00_arrival" in line and "MB" in line and ("[PASS]" in line or "[FAIL]" in line), line
 
 
 def test_render_scale_setting_is_checked(tmp_path):

@@ -197,6 +197,30 @@ def test_small_hole_and_flipped_faces_are_repaired(tmp_path):
     assert signed_volume(rv, rf) == pytest.approx(1.0)
 
 
+def test_a_repaired_surface_is_read_back_from_the_cache(tmp_path, monkeypatch):
+    """The second load of a surface comes from the bake cache: the same arrays, without
+    reading the file with trimesh again; a damaged entry is read and repaired anew."""
+    import across_dimensions.world.bake as bake
+
+    v, f = cube_surface()
+    path = write_obj(tmp_path / "flipped.obj", v, np.concatenate([f[:3, ::-1], f[3:]]))
+    cache = tmp_path / "cache"
+    first = load_surface(path, cache_dir=cache)
+    (entry,) = cache.glob("flipped-*.npz")
+
+    def no_reading(*a):
+        raise AssertionError("read the file again")
+
+    monkeypatch.setattr(bake, "read_triangles", no_reading)
+    again = load_surface(path, cache_dir=cache)
+    assert all(np.array_equal(a, b) and a.dtype == b.dtype for a, b in zip(first, again))
+    entry.write_bytes(b"not a zip")
+    monkeypatch.undo()
+    repaired = load_surface(path, cache_dir=cache)
+    assert all(np.array_equal(a, b) for a, b in zip(first, repaired))
+    assert signed_volume(*repaired) == pytest.approx(1.0)
+
+
 def test_inside_out_surface_is_turned_outward(tmp_path):
     v, f = cube_surface()
     rv, rf = load_surface(write_obj(tmp_path / "inverted.obj", v, f[:, ::-1]))

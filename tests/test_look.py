@@ -268,10 +268,10 @@ def test_game_frames_ask_for_the_dome_and_cue_4d_things_by_w():
 @pytest.mark.gl
 @pytest.mark.parametrize("level", [p.stem for p in level_files()])
 def test_skipping_inner_faces_of_4d_things_changes_no_pixel_a_player_sees(gl_ctx, level, monkeypatch):
-    """Sections of 4D things are closed surfaces wound counter-clockwise from outside, so
-    culling their inner faces must leave every view along the level's replay (where a
-    player really stands, looking where they really look) unchanged; if a section were open
-    or wound the other way, whole faces would vanish."""
+    """Sections of 4D things and the level's boxes are closed surfaces wound counter-clockwise
+    from outside, so culling their inner faces must leave every view along the level's replay
+    (where a player really stands, looking where they really look) unchanged; if a section or
+    a box were open or wound the other way, whole faces would vanish."""
     from across_dimensions.game.playback import play
     from across_dimensions.game.replay import Replay
     from across_dimensions.game.sim import Game

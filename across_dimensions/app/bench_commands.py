@@ -53,6 +53,7 @@ def add_arguments(p) -> None:
     g.add_argument("--per-object", action="store_true", help="scene: also measure the per-object path it replaces")
     g.add_argument("--level", action="append", metavar="LEVEL", help="levels: only these levels (repeatable)")
     g.add_argument("--grid", type=positive_int, metavar="K", help="levels: standing points per axis (6)")
+    g.add_argument("--no-memory", action="store_true", help="levels: skip the peak memory of play on the largest level")
 
 
 def run(args) -> int:
@@ -121,7 +122,16 @@ def _levels(args) -> int:
         render_scale=args.render_scale,
         out=out,
     )
-    bench_levels.print_targets(rows, out=out)
+    memory = None
+    if not args.no_memory:
+        from ..bench.memory import play_peak_mb
+
+        big = bench_levels.largest(rows)["level"]
+        out(f"Peak memory: play {big} (the largest level measured) in a child process ...")
+        memory = play_peak_mb(big)
+        for r in rows:
+            r["play_peak_mb"] = memory[0] if r["level"] == big else None
+    bench_levels.print_targets(rows, memory, out=out)
     if args.json:
         print(json.dumps(rows), flush=True)
     return 0

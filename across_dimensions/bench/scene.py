@@ -46,7 +46,8 @@ from ..core.shapes import make_shape
 from ..core.transform import translation
 from ..game.frame import Camera3, Drawable, Frame, TriangleBatch
 from ..render.context import Offscreen, create_offscreen_context
-from ..render.renderer import Renderer, _frustum_planes
+from ..render.gl_math import frustum_planes
+from ..render.renderer import Renderer
 from ..render.scale import ScaledTarget, resolve_render_scale
 
 #: The paper's figure's x axis.
@@ -56,7 +57,7 @@ MODES = ("section", "frustum")
 ROW_KEYS = ("mode", "n", "fps", "projection_ms", "submit_ms", "raster_ms", "baseline_fps")
 #: Targets on a 2-core machine with llvmpipe at 1280x720.
 TARGET_SECTION = (100, 60.0)  # N, FPS
-TARGET_FRUSTUM = (20, 30.0)
+TARGET_FRUSTUM = (100, 30.0)
 TARGET_OVERHEAD_MS = 0.02  # per object, projection + submission beyond the kernel
 FRUSTUM_DISTANCE = 3.0  # the 4D camera's distance along -w
 FRUSTUM_FOV = 60.0
@@ -267,7 +268,7 @@ def _measure(ctx, target: _Target, renderer: Renderer, scene: _Scene, kind: str,
     aspect = target.viewport[2] / target.viewport[3]
     planes = None
     if scene.mode == "section":
-        planes = _frustum_planes(scene.camera.projection_matrix(aspect) @ scene.camera.view_matrix())
+        planes = frustum_planes(scene.camera.projection_matrix(aspect) @ scene.camera.view_matrix())
     for i in range(warm + frames):
         target.use()
         rot = spin(scene.n, i * FRAME_DT)  # the animation is the game's work, not the projection's
@@ -342,18 +343,19 @@ def targets(rows: list[dict]) -> list[tuple[str, str, bool | None]]:
         return next((r for r in rows if r["mode"] == mode and r["n"] == n), None)
 
     out = []
-    n, fps = TARGET_SECTION
-    r = row("section", n)
-    out.append(
-        (f"cross-section, {n} rotating 120-cells: >= {fps:.0f} FPS", f"{r['fps']:.1f} FPS" if r else "not run", None)
-    )
-    if r:
-        out[-1] = out[-1][:2] + (r["fps"] >= fps,)
-    n, fps = TARGET_FRUSTUM
-    r = row("frustum", n)
-    out.append((f"frustum, {n} rotating 120-cells: >= {fps:.0f} FPS", f"{r['fps']:.1f} FPS" if r else "not run", None))
-    if r:
-        out[-1] = out[-1][:2] + (r["fps"] >= fps,)
+    for mode, (n, fps) in (("section", TARGET_SECTION), ("frustum", TARGET_FRUSTUM)):
+        r = row(mode, n)
+        name = f"{'cross-section' if mode == 'section' else mode}, {n} rotating 120-cells: >= {fps:.0f} FPS"
+        if r is None:
+            out.append((name, "not run", None))
+            continue
+        # The targets are for full size: a run at a lower render scale measures, but does not pass.
+        full = r.get("render_scale", 1.0) >= 1.0
+        measured = (
+            f"{r['fps']:.1f} FPS at render scale {r.get('render_scale', 1.0):g} "
+            f"(static baseline {r['baseline_fps']:.1f} FPS, same run)"
+        )
+        out.append((name + " at 1280x720", measured, (r["fps"] >= fps) if full else None))
     sec = [r for r in rows if r["mode"] == "section" and r.get("overhead_ms_per_object") is not None]
     if sec:
         big = max(sec, key=lambda r: r["n"])

@@ -48,6 +48,7 @@ import numpy as np
 
 from ..game.frame import RADAR_KINDS, Camera3, Radar
 from .context import RenderError
+from .gl_math import mat4_bytes
 from .hud import HudMetrics
 from .palette import current, pin
 from .radar_shapes import disc_vertices, unit_shapes, weld
@@ -316,11 +317,7 @@ void main() {
 """
 
 
-def _mat4_bytes(m: np.ndarray) -> bytes:
-    return np.ascontiguousarray(np.asarray(m, np.float64).T, np.float32).tobytes()
-
-
-_IDENTITY = _mat4_bytes(np.eye(4))
+_IDENTITY = mat4_bytes(np.eye(4))
 
 
 def radar_rect_gl(viewport: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
@@ -410,7 +407,7 @@ class RadarRenderer:
         hit = self._vp_cache.get(key)
         if hit is None:
             vp, ndc_r = radar_view_proj(aspect)
-            hit = self._vp_cache[key] = (_mat4_bytes(vp), ndc_r)
+            hit = self._vp_cache[key] = (mat4_bytes(vp), ndc_r)
         return hit
 
     def draw(self, radar: Radar, viewport: tuple[int, int, int, int], scale: float = 1.0, alpha: float = 1.0) -> None:

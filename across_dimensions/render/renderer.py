@@ -44,7 +44,6 @@ lighting makes culling unnecessary for correctness.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
 
 import moderngl
 import numpy as np
@@ -54,8 +53,10 @@ from . import materials
 from . import palette as w_cues
 from .batch import DEPTH_FRAGMENT, DEPTH_VERTEX, BatchBuffers
 from .context import RenderError
+from .gl_math import frustum_planes, mat4_bytes
 from .hud import HudRenderer
 from .mesh_cache import GpuMesh, MeshCache
+from .passes import PassProfile, RenderStats
 from .radar import RadarRenderer
 from .radar_yield import YIELD_ALPHA, radar_yields
 from .shaders import PROGRAMS, program_source
@@ -71,39 +72,6 @@ _NO_TINT = (0.0, 0.0, 0.0, 0.0)
 PREPASS_MAX_TRIANGLES = 20_000
 
 
-@dataclass
-class RenderStats:
-    """Counters a test or a debug overlay can read.
-
-    ``uploads`` and ``releases`` accumulate over the renderer's life; the others
-    describe the last :meth:`Renderer.draw`.
-    """
-
-    uploads: int = 0  #: mesh uploads (first sight of a key, or a new revision)
-    releases: int = 0  #: cached meshes freed because no view uses their key any more
-    edge_builds: int = 0  #: wire edge lists derived (per upload, only for wire drawables)
-    frames: int = 0
-    draw_calls: int = 0  #: shading draws (the depth pre-pass's are ``depth_calls``)
-    depth_calls: int = 0  #: depth-only draws of the pre-pass (see :meth:`Renderer._depth_prepass`)
-    culled: int = 0  #: drawables skipped last frame because their bounding sphere was outside the view
-    triangles: int = 0
-    lines: int = 0
-    cached: int = 0  #: keys with GPU buffers after the last frame
-    upload_bytes: int = 0  #: bytes sent by the last frame's uploads
-    batch_sync_cpu_ms: float = 0.0  #: CPU time of the last frame's batch uploads (this thread)
-    by_key: dict = field(default_factory=dict)  #: uploads per key (lifetime)
-
-
-def _frustum_planes(view_proj: np.ndarray) -> np.ndarray:
-    """The six clip planes of ``view_proj`` as ``(6, 4) float64`` rows ``(n, d)``, |n| = 1.
-
-    A point ``p`` is inside when ``n . p + d >= 0`` for all six (Gribb & Hartmann).
-    """
-    m = np.asarray(view_proj, np.float64)
-    planes = np.array([m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[3] + m[2], m[3] - m[2]])
-    return planes / np.maximum(np.linalg.norm(planes[:, :3], axis=1, keepdims=True), 1e-300)
-
-
 class _Cued:
     """A drawable with a w cue, as drawn: its program (``hyper`` for solids) and band scale."""
 
@@ -112,11 +80,6 @@ class _Cued:
     def __init__(self, d: Drawable, style: str, band_scale: float):
         self.key, self.style, self.w_offset, self.band_scale = d.key, style, d.w_offset, band_scale
         self.tint, self.pattern, self.opacity, self.outside_only = d.tint, d.pattern, d.opacity, d.outside_only
-
-
-def _mat4_bytes(m: np.ndarray) -> bytes:
-    # GLSL matrices are column-major; numpy's are row-major.
-    return np.ascontiguousarray(np.asarray(m, np.float64).T, np.float32).tobytes()
 
 
 class Renderer:
@@ -179,6 +142,8 @@ class Renderer:
         self._batch_views: dict[str, tuple[int, set[str]]] = {}  # view -> (draw number, batch keys)
         self._views: dict[str, tuple[int, set[str]]] = {}  # view -> (draw number, keys it used)
         self._constants: dict[int, tuple] = {}  # program -> the rarely changing uniforms it holds
+        #: When set, each pass is finished and charged to it (:mod:`.passes`; the benchmark's breakdown).
+        self.profile: PassProfile | None = None
 
     def set_palette(self, name: str) -> None:
         """Switch the named colours: ``"default"``, ``"colour_blind"`` (ana and kata, crystals
@@ -296,16 +261,17 @@ class Renderer:
         light = np.asarray(frame.light_dir, np.float64)
         light = light / max(np.linalg.norm(light), 1e-12)
 
-        seen, opaque, wires, ghosts = self._bucket(frame, _frustum_planes(view_proj), eye)
+        seen, opaque, wires, ghosts = self._bucket(frame, frustum_planes(view_proj), eye)
         self._keep_views_meshes(view, seen)
         self._sync_batches(frame, view)
 
         # Outer faces are counter-clockwise seen from outside; on screen they stay so unless
         # the view (the camera's is a mirror: x right, z forward) and a model mirror space.
         self._view_mirrored = bool(np.linalg.det(view_mat[:3, :3]) < 0.0)
-        vp_bytes = _mat4_bytes(view_proj)
+        vp_bytes = mat4_bytes(view_proj)
         dome = scifi and frame.sky == "dome"
         self._set_frame_uniforms(frame, vp_bytes, eye, light, sky, dome)
+        self._lap("setup")
 
         self._draw_opaque(frame, opaque, wires, vp_bytes)
         if dome:
@@ -313,7 +279,9 @@ class Renderer:
             if self._sky is None:
                 self._sky = SkyRenderer(self.ctx)
             st.draw_calls += self._sky.draw(view_proj, eye, light, self.palette, self._set)
+            self._lap("sky")
         self._draw_ghosts(frame, ghosts, vp_bytes)
+        self._lap("ghosts")
         if hud:
             self.draw_overlay(frame, viewport)
 
@@ -422,18 +390,22 @@ class Renderer:
         prepass = self.depth_prepass and bool(opaque)
         if prepass:
             self._depth_prepass(opaque, solid_batches, vp_bytes)
+            self._lap("prepass")
         for _, d, gm, model in opaque:
             self._draw_mesh(d.style, gm, model, moderngl.TRIANGLES, gm.n_indices, d)
+            self._lap("matter" if isinstance(d, _Cued) else "scenery")
         for tb in solid_batches:
             self._draw_batch(tb, vp_bytes, scifi)
             if prepass:
                 ctx.depth_func = "<="  # a batch with its own pre-pass sets "<" back after it
+        self._lap("matter")
         if prepass:
             ctx.depth_func = "<"
         for _, _d, gm, model in wires:
             n = self.meshes.edges(gm)
             if n:
                 self._draw_mesh("wire", gm, model, moderngl.LINES, n)
+        self._lap("wires")
 
     def _draw_ghosts(self, frame: Frame, ghosts: list, vp_bytes: bytes) -> None:
         """The ghost drawables and batches, back to front per drawable; depth test on (solids
@@ -488,6 +460,7 @@ class Renderer:
             alpha = YIELD_ALPHA if radar_yields(frame, *viewport[2:]) else 1.0
             self.radar.draw(frame.radar, viewport, scale, alpha)
             self.stats.draw_calls += self.radar.draw_calls
+            self._lap("radar")
 
     def _depth_prepass(self, opaque: list, batches: list, vp_bytes: bytes) -> None:
         """Lay down the opaque drawables' depth with an empty shader, then let the shading
@@ -503,7 +476,7 @@ class Renderer:
         prog["u_view_proj"].write(vp_bytes)
         fbo.color_mask = False, False, False, False
         for _, d, gm, model in opaque:
-            prog["u_model"].write(_mat4_bytes(model))
+            prog["u_model"].write(mat4_bytes(model))
             vao = gm.vaos.get("depth")
             if vao is None:
                 vao = gm.vaos["depth"] = ctx.vertex_array(
@@ -551,7 +524,7 @@ class Renderer:
 
     def _draw_mesh(self, style: str, gm: GpuMesh, model: np.ndarray, mode: int, count: int, d=None) -> None:
         prog = self._programs[style]
-        self._set(prog, "u_model", _mat4_bytes(model))
+        self._set(prog, "u_model", mat4_bytes(model))
         if isinstance(d, _Cued):
             self._set(prog, "u_w_offset", float(d.w_offset))
             self._set(prog, "u_band_scale", d.band_scale)
@@ -575,6 +548,11 @@ class Renderer:
             self.stats.lines += count // 2
         else:
             self.stats.triangles += count // 3
+
+    def _lap(self, name: str) -> None:
+        """End the pass ``name`` for the profile, when one is set (see :mod:`.passes`)."""
+        if self.profile is not None:
+            self.profile.mark(name)
 
     @staticmethod
     def _set(prog: moderngl.Program, name: str, value) -> None:

@@ -26,6 +26,7 @@ import numpy as np
 from ..core.fileio import check_folder
 from ..core.lift import HyperDepth, extend_solid
 from ..core.mesh import MeshError, TetMesh4
+from .assets import mesh_files
 from .assets.bake_cache import (
     BAKE_VERSION,
     bake_digest,
@@ -65,14 +66,19 @@ __all__ = [
 ]
 
 
-def load_surface(path) -> tuple[np.ndarray, np.ndarray]:
-    """Read a closed triangle surface, repairing small defects.
+def load_surface(path, cache_dir=None) -> tuple[np.ndarray, np.ndarray]:
+    """Read a closed triangle surface, repairing small defects; cached as the bakes are.
+
+    The repaired surface is kept in the bake cache under the asset's key, so loading a level
+    again reads it back without trimesh (which alone is 60 MB of a game's memory).
 
     Parameters
     ----------
     path : str or Path
         ``.obj``, ``.glb``, ``.gltf`` or ``.stl``. A scene (glTF) is flattened:
         every mesh with its node transform applied.
+    cache_dir : str or Path, optional
+        Default :func:`default_cache_dir`.
 
     Returns
     -------
@@ -86,8 +92,35 @@ def load_surface(path) -> tuple[np.ndarray, np.ndarray]:
         Unreadable, unknown format, too large, referencing files outside its
         folder, no triangles, or still open after repair.
     """
+    file = _surface_entry(path, cache_dir)
+    cached = _load_surface_entry(file) if file is not None and file.exists() else None
+    if cached is not None:
+        return cached
     v, f = read_triangles(path)
-    return repair_surface(v, f, path)
+    v, f = repair_surface(v, f, path)
+    if file is not None:
+        try:
+            save_entry(file, v, f, names=("vertices", "faces"))
+        except OSError:
+            pass  # a read-only cache: the next load repairs again
+    return v, f
+
+
+def _surface_entry(path, cache_dir) -> Path | None:
+    """Where the repaired surface of ``path`` is cached (None for a file that cannot be keyed:
+    reading it then reports why)."""
+    try:
+        check_format(path)
+        return entry_path(cache_dir, path, cache_key(path, surface=1))
+    except AssetError:
+        return None
+
+
+def _load_surface_entry(file) -> tuple[np.ndarray, np.ndarray] | None:
+    """A cached surface, or None when it is unusable or over today's triangle limit (then it is
+    read and repaired again, which says why)."""
+    found = load_entry(file, names=("vertices", "faces"))
+    return found if found is not None and len(found[1]) <= mesh_files.MAX_TRIANGLES else None
 
 
 def bake_key(path, edge_length_fac: float = DEFAULT_EDGE_LENGTH_FAC) -> str:

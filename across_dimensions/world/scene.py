@@ -107,6 +107,9 @@ class Scene:
     floor_mesh: TriMesh3 = field(default_factory=TriMesh3.empty)
     worlds: list[ExtendedWorld] = field(default_factory=list)
     objects: list[Object4] = field(default_factory=list)
+    #: The ``[[mesh]]`` surfaces, which may be open (drawn two-sided); ``static_mesh`` and
+    #: ``floor_mesh`` hold only boxes: closed, wound counter-clockwise seen from outside.
+    open_mesh: TriMesh3 = field(default_factory=TriMesh3.empty)
 
     def world_boxes_at(self, w: float) -> np.ndarray:
         """Boxes ``(k, 2, 3)`` of the extended worlds in the slice at ``w`` (NaN where absent)."""
@@ -130,6 +133,7 @@ def build_scene(level: Level) -> Scene:
     """Build all geometry of ``level`` (lifted assets come from the bake cache)."""
     tris: list[TriMesh3] = []
     floors: list[TriMesh3] = []
+    surfaces: list[TriMesh3] = []
     boxes = []
     for b in level.boxes:
         # Wide, flat boxes are floors: drawn with a metre grid, which tells the
@@ -140,14 +144,16 @@ def build_scene(level: Level) -> Scene:
     for m in level.meshes:
         v, f, model = _mesh_surface(m)
         t = surface_trimesh(v, f, m.color, model)
-        tris.append(t)
+        surfaces.append(t)
         boxes.append([t.vertices.min(axis=0), t.vertices.max(axis=0)])
     static_boxes = np.asarray(boxes, dtype=np.float64).reshape(-1, 2, 3)
 
     worlds = [_build_world(w) for w in level.worlds]
     meshes: dict = {}  # objects of the same shape and colour share one mesh (drawn as instances of it)
     objects = [_build_object(o, meshes) for o in level.objects]
-    return Scene(level, merge_trimeshes(tris), static_boxes, merge_trimeshes(floors), worlds, objects)
+    return Scene(
+        level, merge_trimeshes(tris), static_boxes, merge_trimeshes(floors), worlds, objects, merge_trimeshes(surfaces)
+    )
 
 
 def _build_world(spec) -> ExtendedWorld:

@@ -24,7 +24,7 @@ import numpy as np
 
 from ...core.fileio import atomic_writer, read_bytes
 from .confine import Budget, referenced_files
-from .limits import MAX_ASSET_BYTES, MAX_TETS
+from .limits import MAX_ASSET_BYTES, MAX_TETS, MAX_TRIANGLES
 
 #: Bump when anything changes what a bake produces for the same input.
 #: 2: holes are filled by trimesh (its own diagonal for a quad hole); surfaces
@@ -95,8 +95,11 @@ def entry_path(cache_dir, path, key: str) -> Path:
     return folder / f"{Path(path).stem}-{key[:24]}.npz"
 
 
-def load_entry(file) -> tuple[np.ndarray, np.ndarray] | None:
+def load_entry(file, names=("vertices", "tets")) -> tuple[np.ndarray, np.ndarray] | None:
     """The cached 3D tets, or None when missing or unusable (then it is rebuilt).
+
+    ``names=("vertices", "faces")`` reads a cached repaired surface instead (faces ``(m, 3)``,
+    ``0 < m <= MAX_TRIANGLES``).
 
     Returns
     -------
@@ -104,6 +107,7 @@ def load_entry(file) -> tuple[np.ndarray, np.ndarray] | None:
     tets : (m, 4) int64
         ``0 < m <= MAX_TETS``, indices in range.
     """
+    width, most = (4, MAX_TETS) if names[1] == "tets" else (3, MAX_TRIANGLES)
     try:
         raw = read_bytes(file, limit=MAX_ENTRY_BYTES, what="bake cache entry")
         with zipfile.ZipFile(io.BytesIO(raw)) as z:
@@ -112,7 +116,7 @@ def load_entry(file) -> tuple[np.ndarray, np.ndarray] | None:
             if sum(i.file_size for i in z.infolist()) > MAX_ENTRY_BYTES:
                 return None
         with np.load(io.BytesIO(raw), allow_pickle=False) as d:
-            v, t = d["vertices"], d["tets"]
+            v, t = d[names[0]], d[names[1]]
             version = int(d["bake_version"])
     except Exception:  # noqa: BLE001 -- missing, truncated, corrupt, old format: all mean "rebake"
         return None
@@ -121,8 +125,8 @@ def load_entry(file) -> tuple[np.ndarray, np.ndarray] | None:
         or v.ndim != 2
         or v.shape[1] != 3
         or t.ndim != 2
-        or t.shape[1] != 4
-        or not 0 < len(t) <= MAX_TETS
+        or t.shape[1] != width
+        or not 0 < len(t) <= most
         or t.min() < 0
         or t.max() >= len(v)
         or not np.isfinite(v).all()
@@ -131,7 +135,7 @@ def load_entry(file) -> tuple[np.ndarray, np.ndarray] | None:
     return v.astype(np.float64), t.astype(np.int64)
 
 
-def save_entry(file, vertices: np.ndarray, tets: np.ndarray) -> None:
+def save_entry(file, vertices: np.ndarray, tets: np.ndarray, names=("vertices", "tets")) -> None:
     """Write an entry atomically (unique temporary file, fsync, rename); creates the cache folder.
 
     The file is an ``.npz`` whose bytes depend on the arrays alone (members in a
@@ -139,7 +143,7 @@ def save_entry(file, vertices: np.ndarray, tets: np.ndarray) -> None:
     """
     file = Path(file)
     file.parent.mkdir(parents=True, exist_ok=True)  # the cache's own folder, not one a user typed
-    arrays = {"vertices": vertices, "tets": tets.astype(np.int32), "bake_version": np.asarray(BAKE_VERSION)}
+    arrays = {names[0]: vertices, names[1]: tets.astype(np.int32), "bake_version": np.asarray(BAKE_VERSION)}
     with atomic_writer(file, "wb") as f, zipfile.ZipFile(f, "w", zipfile.ZIP_DEFLATED) as z:
         for name, a in arrays.items():
             member = io.BytesIO()
