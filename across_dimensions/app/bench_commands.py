@@ -1,9 +1,10 @@
-"""``bench scene`` and ``bench levels``: the rendering benchmarks on the command line.
+"""``bench scene``, ``bench levels`` and ``bench start`` on the command line.
 
 ``bench scene`` reproduces the paper's "Rendering performance" figure (see
 :mod:`across_dimensions.bench.scene`); ``bench levels`` renders every
 shipped level from a grid of standing points and directions (see
-:mod:`across_dimensions.bench.levels`). Both print a table and the
+:mod:`across_dimensions.bench.levels`); ``bench start`` times a fresh install's first start
+(see :mod:`.bench_start`). Each prints a table and the
 issue's targets next to the measured figures, or with ``--json`` only the rows
 as one JSON list on stdout (targets then go to stderr).
 """
@@ -54,10 +55,11 @@ def add_arguments(p) -> None:
     g.add_argument("--level", action="append", metavar="LEVEL", help="levels: only these levels (repeatable)")
     g.add_argument("--grid", type=positive_int, metavar="K", help="levels: standing points per axis (6)")
     g.add_argument("--no-memory", action="store_true", help="levels: skip the peak memory of play on the largest level")
+    g.add_argument("--busy", type=int, default=4, metavar="N", help="start: also with N busy processes (4; 0 skips it)")
 
 
 def run(args) -> int:
-    return _scene(args) if args.what == "scene" else _levels(args)
+    return {"scene": _scene, "levels": _levels, "start": _start}[args.what](args)
 
 
 def _say(args):
@@ -132,6 +134,19 @@ def _levels(args) -> int:
         for r in rows:
             r["play_peak_mb"] = memory[0] if r["level"] == big else None
     bench_levels.print_targets(rows, memory, out=out)
+    if args.json:
+        print(json.dumps(rows), flush=True)
+    return 0
+
+
+def _start(args) -> int:
+    from . import bench_start
+
+    if not 0 <= args.busy <= 64:
+        raise UserError(f"--busy: expected a number of busy processes from 0 to 64, got {args.busy}")
+    out = _say(args)
+    rows = bench_start.run(busy_n=args.busy, out=out)
+    bench_start.print_targets(rows, out=out)
     if args.json:
         print(json.dumps(rows), flush=True)
     return 0

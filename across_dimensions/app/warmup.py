@@ -36,6 +36,8 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+from .._shipped_kernels import serve_all
+
 NOTICE_AFTER = 1.5  # seconds: a cache hit finishes well before this
 #: Seconds between the child's kernel counts (``kernels DONE TOTAL COMPILED`` lines).
 COUNT_EVERY = 0.5
@@ -253,7 +255,7 @@ class BackgroundWarmUp(threading.Thread):
         if getattr(sys, "frozen", False):
             return
         stamp = stamp_path()
-        if stamp is not None and stamp.exists():  # warm: loading on the thread takes a second
+        if (stamp is not None and stamp.exists()) or serve_all():  # warm: loading on the thread takes a second
             return
         try:
             child = subprocess.Popen(

@@ -70,6 +70,7 @@ class GameWindow(pyglet.window.Window):
         self.wall_time = 0.0
         self.waiting_for_level = start.level_path is not None
         self.level_drawn = False
+        self.last_frame_view: str | None = None
         self.screenshot_after, self.quit_after = start.screenshot_after, start.quit_after
         self.shot_pending = False
         self._drawn_signature, self._drawn_times = None, 0
@@ -141,6 +142,9 @@ class GameWindow(pyglet.window.Window):
     def on_draw(self):
         fw, fh = self.get_framebuffer_size()
         self.current_view.on_draw(self.ctx.screen, (0, 0, fw, fh))
+        if self.last_frame_view is None:  # the title (or the start-up view) is up and takes input
+            timing("first frame")
+        self.last_frame_view = type(self.current_view).__name__
         if self.current_view.shows_level and not self.level_drawn:
             self.level_drawn = True
             timing("first level frame")
