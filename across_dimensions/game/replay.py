@@ -170,7 +170,10 @@ class Recorder:
         if game.tick != 0:
             raise ValueError(f"a recording starts at tick 0, the game is at tick {game.tick}")
         level_hash, bakes = level_identity(game.level)
-        self.replay = Replay(level_name, level_hash, game.seed, bakes=bakes, arsenal=tuple(game.level.arsenal))
+        arsenal = getattr(game.level, "arsenal", None)  # the Flatland prologue has no weapons to start with
+        self.replay = Replay(
+            level_name, level_hash, game.seed, bakes=bakes, arsenal=None if arsenal is None else tuple(arsenal)
+        )
         self.game = game
         self.path = None if path is None else Path(path)
         self.flush_every = flush_every
