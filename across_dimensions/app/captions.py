@@ -26,6 +26,11 @@ EVENT_WORDS = {
     "object_reset": "object put back",
     "slice_turn_refused": "slice turn refused",
     "slice_turn_unpaid": "no energy to turn the slice",
+    "weapon_acquired": "weapon taken",
+    "secret_found": "secret found",
+    "slab_knocked": "slab knocked",
+    "entered_frustum_object": "stepped onto the image",
+    "moved_to_safety": "moved to safety",
 }
 #: Words for each captioned effect (effects not here are not captioned).
 WORDS = {

@@ -75,6 +75,11 @@ EVENT_SOUNDS: dict[str, str | None] = {
     "object_reset": "respawn",
     "slice_turn_refused": "refused",
     "slice_turn_unpaid": "refused",
+    "weapon_acquired": "pickup",
+    "secret_found": "complete",
+    "slab_knocked": "impact",
+    "entered_frustum_object": "arrive",
+    "moved_to_safety": "respawn",
 }
 
 
