@@ -359,6 +359,7 @@ class Renderer:
             if scifi:
                 self._set(prog, "u_time", float(frame.time))
                 self._set(prog, "u_pulse", 0.9 + 0.1 * float(np.sin(1.3 * frame.time)))
+                self._set(prog, "u_glow_pulse", 0.9 + 0.15 * float(np.sin(2.4 * frame.time)))
                 self._set(prog, "u_w_offset", 0.0)
                 self._set(prog, "u_band_scale", 1.0)
             if self._constants.get(prog.glo) == constants:

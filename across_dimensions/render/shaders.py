@@ -28,6 +28,9 @@ VERTEX = """
 uniform mat4 u_view_proj;
 uniform mat4 u_model;
 uniform mat3 u_normal_mat;
+uniform vec3 u_eye;
+uniform vec3 u_light_dir;   // toward the light, normalised on the CPU
+uniform float u_fog_density;
 
 in vec3 in_pos;
 in vec3 in_normal;
@@ -36,20 +39,103 @@ in vec4 in_color;
 out vec3 v_world;
 out vec3 v_normal;
 out vec4 v_color;
+// What is the same for every pixel goes to the fragment shader as flat varyings, not
+// uniforms: llvmpipe reads a uniform in a fragment shader lane by lane, with a bounds check
+// (about 0.25 ms of CPU per component over a full 1280x720 view), a flat input once a
+// triangle. xyz the eye and the light, w the fog's density squared and the trims' pulse.
+flat out vec4 v_eye;
+flat out vec4 v_sun;
 #ifdef LOOK_SCIFI
-uniform vec3 u_eye;
-uniform vec3 u_sky_zenith;
+uniform float u_time;
+uniform float u_pulse;      // the trims' slow breathing, 0.8 to 1 (set once a frame)
+uniform vec3 u_sky_zenith;  // display colours of the sky dome (fog goes to its horizon)
 uniform vec3 u_sky_horizon;
 uniform vec3 u_sky_ground;
 out vec3 v_fog_color;  // the sky behind the vertex: smooth, so per vertex is enough
 SKY_GRADIENT
+#else
+uniform vec3 u_sky;         // display-space sky colour (fog target)
+flat out vec3 v_fog_color;
+#endif
+#if defined(LOOK_SCIFI) && !defined(STYLE_WIRE) && !defined(STYLE_GHOST) && !defined(STYLE_GLOW)
+uniform vec3 u_key_light;   // linear light colours
+uniform vec3 u_ambient_sky;
+uniform vec3 u_ambient_ground;
+flat out vec3 v_key;
+flat out vec3 v_ambient;    // the hemisphere ambient at a vertical face
+flat out vec3 v_ambient_up; // what facing straight up adds to it (facing down takes away)
+#endif
+#if defined(LOOK_SCIFI) && defined(STYLE_SOLID)
+uniform vec3 u_trim;
+flat out vec3 v_trim;       // the trim's light, pulse included
+#endif
+#if defined(LOOK_SCIFI) && defined(STYLE_FLOOR)
+uniform vec3 u_floor_line;
+flat out vec3 v_floor_line;
+#endif
+#if defined(LOOK_SCIFI) && (defined(STYLE_HYPER) || defined(STYLE_GLOW))
+uniform float u_glow_pulse; // the crystals' faster pulse (set once a frame)
+uniform float u_w_offset;
+uniform float u_band_scale;
+uniform float u_w_from_alpha;
+uniform vec3 u_ana;
+uniform vec3 u_kata;
+uniform vec3 u_hyper_rim;
+// The w cue's parameters, one thing's throughout (its w offset is a uniform, or every vertex
+// of a batched thing carries the same one): x bands per metre, y their drift, z the side
+// (1 ana, -1 kata), w their strength; the side's colour; the rim's colour.
+flat out vec4 v_band;
+flat out vec3 v_side_tint;
+flat out vec3 v_rim;
+flat out vec2 v_anim;       // x the iridescence's drift, y the crystals' pulse
+#endif
+#ifdef STYLE_GHOST
+uniform float u_alpha;      // ghost opacity
+uniform vec4 u_tint;        // rgb the ghost's colour is pulled to, and how far (a)
+uniform int u_pattern;      // 0 plain, 1 stripes, 2 dots (screen space)
+uniform float u_opacity;    // per-drawable factor (fading along w, preview emphasis)
+flat out vec4 v_tint;
+flat out vec2 v_ghost;      // x opacity, y pattern
 #endif
 
 void main() {
     vec4 world = u_model * vec4(in_pos, 1.0);
     v_world = world.xyz;
+    v_eye = vec4(u_eye, u_fog_density * u_fog_density);
+    v_sun = vec4(u_light_dir, 0.0);
 #ifdef LOOK_SCIFI
     v_fog_color = sky_gradient(normalize(world.xyz - u_eye));
+    v_sun.w = u_pulse;
+#else
+    v_fog_color = u_sky;
+#endif
+#if defined(LOOK_SCIFI) && !defined(STYLE_WIRE) && !defined(STYLE_GHOST) && !defined(STYLE_GLOW)
+    v_key = u_key_light;
+    v_ambient = 0.5 * (u_ambient_sky + u_ambient_ground);
+    v_ambient_up = 0.5 * (u_ambient_sky - u_ambient_ground);
+#endif
+#if defined(LOOK_SCIFI) && defined(STYLE_SOLID)
+    v_trim = u_trim * u_pulse;
+#endif
+#if defined(LOOK_SCIFI) && defined(STYLE_FLOOR)
+    v_floor_line = u_floor_line;
+#endif
+#if defined(LOOK_SCIFI) && (defined(STYLE_HYPER) || defined(STYLE_GLOW))
+    // Bands whose spacing shrinks as the slice nears the edge of the thing along w (see
+    // w_bands in the fragment shader): sparse and faint at its centre, dense at the edge.
+    float w_off = u_w_from_alpha > 0.5 ? in_color.a : u_w_offset;
+    float a = min(abs(w_off), 1.0);
+    float side = w_off >= 0.0 ? 1.0 : -1.0;
+    float period = u_band_scale * mix(0.9, 0.14, a);
+    // No bands right at the centre (nothing to warn about).
+    v_band = vec4(1.0 / period, side * u_time * (0.25 + 0.9 * a), side, smoothstep(0.06, 0.22, a));
+    v_side_tint = side > 0.0 ? u_ana : u_kata;
+    v_rim = u_hyper_rim;
+    v_anim = vec2(0.05 * u_time, u_glow_pulse);
+#endif
+#ifdef STYLE_GHOST
+    v_tint = u_tint;
+    v_ghost = vec2(u_alpha * u_opacity, float(u_pattern));
 #endif
     v_normal = u_normal_mat * in_normal;
     v_color = in_color;
@@ -63,43 +149,44 @@ void main() {
 """.replace("SKY_GRADIENT", SKY_GRADIENT)
 
 FRAGMENT = """
-uniform vec3 u_eye;
-uniform vec3 u_light_dir;   // toward the light, normalised on the CPU
-uniform vec3 u_sky;         // display-space sky colour (fog target)
-uniform float u_fog_density;
-uniform float u_alpha;      // ghost opacity
-#ifdef STYLE_GHOST
-uniform vec4 u_tint;        // rgb the ghost's colour is pulled to, and how far (a)
-uniform int u_pattern;      // 0 plain, 1 stripes, 2 dots (screen space)
-uniform float u_opacity;    // per-drawable factor (fading along w, preview emphasis)
-#endif
-#ifdef LOOK_SCIFI
-uniform float u_time;       // seconds, for slow animation (bands drift)
-uniform float u_pulse;      // the trims' slow breathing, 0.8 to 1 (set once a frame)
-uniform vec3 u_sky_zenith;  // display colours of the sky dome (fog goes to its horizon)
-uniform vec3 u_sky_horizon;
-uniform vec3 u_sky_ground;
-uniform vec3 u_key_light;   // linear light colours
-uniform vec3 u_ambient_sky;
-uniform vec3 u_ambient_ground;
-uniform vec3 u_trim;
-uniform vec3 u_floor_line;
-uniform vec3 u_ana;
-uniform vec3 u_kata;
-uniform vec3 u_hyper_rim;
-uniform float u_w_offset;   // 4D things: (w of the thing - w of the slice) / its half extent in w
-uniform float u_band_scale; // metres per band unit (the drawable's size)
-uniform float u_w_from_alpha; // 1: each vertex's colour alpha is its thing's w offset (batches)
-#endif
-
 in vec3 v_world;
 in vec3 v_normal;
 in vec4 v_color;
+flat in vec4 v_eye;         // xyz the eye, w the fog's density squared
+flat in vec4 v_sun;         // xyz toward the light, w the trims' pulse (see the vertex shader)
 #ifdef LOOK_SCIFI
 in vec3 v_fog_color;
+#else
+flat in vec3 v_fog_color;
+#endif
+#if defined(LOOK_SCIFI) && !defined(STYLE_WIRE) && !defined(STYLE_GHOST) && !defined(STYLE_GLOW)
+flat in vec3 v_key;
+flat in vec3 v_ambient;
+flat in vec3 v_ambient_up;
+#endif
+#if defined(LOOK_SCIFI) && defined(STYLE_SOLID)
+flat in vec3 v_trim;
+#endif
+#if defined(LOOK_SCIFI) && defined(STYLE_FLOOR)
+flat in vec3 v_floor_line;
+#endif
+#if defined(LOOK_SCIFI) && (defined(STYLE_HYPER) || defined(STYLE_GLOW))
+flat in vec4 v_band;        // the w cue, per thing (see the vertex shader)
+flat in vec3 v_side_tint;
+flat in vec3 v_rim;
+flat in vec2 v_anim;
+#endif
+#ifdef STYLE_GHOST
+flat in vec4 v_tint;
+flat in vec2 v_ghost;
 #endif
 
 out vec4 f_color;
+
+// llvmpipe runs this on the CPU, every branch of it for every pixel (a branch only masks
+// lanes), at about 30 cycles a millisecond of a full 1280x720 view: what does not vary per
+// pixel is worked out per vertex, uniforms are read there, and exp, pow and divisions are
+// avoided.
 
 vec3 to_display(vec3 c) {
     // Linear up to 0.8, then a soft shoulder approaching 1.0.
@@ -109,6 +196,25 @@ vec3 to_display(vec3 c) {
     c = min(c, 0.8) + over / (1.0 + 5.0 * over);
     return sqrt(c);
 }
+
+// exp(-x) for x >= 0 as (1 - x/32)^32, within 0.009: five multiplies instead of exp's
+// polynomial and exponent bits.
+float exp_neg(float x) {
+    float e = max(1.0 - x * (1.0 / 32.0), 0.0);
+    e *= e; e *= e; e *= e; e *= e;
+    return e * e;
+}
+
+#if !defined(STYLE_WIRE) && !defined(STYLE_GHOST) && !defined(STYLE_GLOW)
+// pow(x, n) near its highlight: x^n = exp(n ln x), with ln x ~ -(1 - x)(1 + (1 - x) / 2)
+// and exp(-m) ~ (1 - m/16)^16; within 0.018 of pow for any n (a highlight is at most 0.45).
+float pow_highlight(float x, float n) {
+    float u = 1.0 - x;
+    float e = max(1.0 - n * u * (1.0 + 0.5 * u) * (1.0 / 16.0), 0.0);
+    e *= e; e *= e; e *= e;
+    return e * e;
+}
+#endif
 
 #ifdef LOOK_SCIFI
 // A hash without sin (Hoskins): a few multiplies, cheaper than sin on llvmpipe.
@@ -138,31 +244,24 @@ float grid_lines(vec2 uv, float spacing) {
 // surface whose spacing shrinks as the slice nears the edge of the thing along w (sparse
 // and faint at its centre, dense at the edge), solid lines rising when the thing lies ana
 // (+w) of the slice and dotted lines sinking when it lies kata (-w), the same sides as
-// the ghosts' stripes and dots. Returns the band mask in 0-1.
-float w_offset_here() {
-    return u_w_from_alpha > 0.5 ? v_color.a : u_w_offset;
-}
-
-float w_bands(vec3 N) {
-    float w_off = w_offset_here();
-    float a = min(abs(w_off), 1.0);
-    float side = w_off >= 0.0 ? 1.0 : -1.0;
-    float period = u_band_scale * mix(0.9, 0.14, a);
-    vec3 an = abs(N);
+// the ghosts' stripes and dots. Returns the band mask in 0-1. ``an``: |normal|.
+float w_bands(vec3 an) {
     // Across vertical faces the bands are levels of height; on horizontal faces, diagonals.
     float s = an.y > 0.7 ? (v_world.x + v_world.z) * 0.7071 : v_world.y;
-    float t = s / period - side * u_time * (0.25 + 0.9 * a);
+    float t = s * v_band.x - v_band.y;
     float fw = max(fwidth(t), 1e-5);
+    float rfw = 0.5 / fw;
     float d = abs(fract(t) - 0.5);  // 0.5 at a band's middle
-    float band = smoothstep(0.5 - 0.16 - fw, 0.5 - 0.16 + fw, d);
-    if (side < 0.0) {
-        // kata: dotted, the dots as long as the bands are wide
-        float u = (an.x > an.z ? v_world.z : v_world.x) / period;
-        float fu = max(fwidth(u), 1e-5);
-        band *= smoothstep(0.25 - fu, 0.25 + fu, abs(fract(u) - 0.5));
-    }
-    // No bands right at the centre (nothing to warn about), and none where they would alias.
-    return band * smoothstep(0.06, 0.22, a) * (1.0 - smoothstep(0.25, 0.5, fw));
+    // Linear anti-aliasing over two pixels' worth of t either side of the edge.
+    float band = clamp((d - 0.34) * rfw + 0.5, 0.0, 1.0);
+    // kata: dotted, the dots as long as the bands are wide (computed on both sides: a branch
+    // costs as much as its body on llvmpipe)
+    float u = (an.x > an.z ? v_world.z : v_world.x) * v_band.x;
+    float du = abs(fract(u) - 0.5);
+    float dots = clamp((du - 0.25) * (0.5 / max(fwidth(u), 1e-5)) + 0.5, 0.0, 1.0);
+    band *= v_band.z < 0.0 ? dots : 1.0;
+    // None where they would alias.
+    return band * v_band.w * clamp(2.0 - 4.0 * fw, 0.0, 1.0);
 }
 #endif
 
@@ -171,13 +270,13 @@ float w_bands(vec3 N) {
 // hue (never colour alone) at any distance and on any surface. 1 on the pattern's
 // marks, a faint floor between them so the ghost's shape still reads.
 float ghost_pattern(vec2 px) {
-    if (u_pattern == 1) {
+    if (v_ghost.y == 1.0) {
         // Diagonal stripes, 9 px period, 4 px wide, anti-aliased by fwidth.
         float t = (px.x + px.y) / 9.0;
         float d = abs(fract(t) - 0.5) * 9.0;
         return 0.35 + 0.65 * (1.0 - smoothstep(1.5, 2.5, d));
     }
-    if (u_pattern == 2) {
+    if (v_ghost.y == 2.0) {
         // Dots on an 8 px grid, radius 2.2 px.
         vec2 c = (fract(px / 8.0) - 0.5) * 8.0;
         return 0.35 + 0.65 * (1.0 - smoothstep(1.7, 2.7, length(c)));
@@ -189,20 +288,20 @@ float ghost_pattern(vec2 px) {
 void main() {
     vec3 albedo = v_color.rgb;
 #ifdef STYLE_GHOST
-    albedo = mix(albedo, u_tint.rgb, u_tint.a);
+    albedo = mix(albedo, v_tint.rgb, v_tint.a);
 #endif
-    vec3 to_eye = u_eye - v_world;
-    float dist = length(to_eye);
-    vec3 V = to_eye / max(dist, 1e-6);
+    vec3 to_eye = v_eye.xyz - v_world;
+    float dist2 = dot(to_eye, to_eye);
+    vec3 V = to_eye * inversesqrt(max(dist2, 1e-12));
     vec3 emit = vec3(0.0);  // light of the surface's own, added after lighting
 
 #ifdef STYLE_WIRE
     vec3 lit = albedo;
 #else
-    float nlen = length(v_normal);
-    // Meshes without normals (frustum projections) are shaded flat, with the
-    // face normal taken from screen-space derivatives of the position.
-    vec3 N = nlen > 1e-8 ? v_normal / nlen : normalize(cross(dFdx(v_world), dFdy(v_world)));
+    // Meshes without normals (frustum projections) are shaded flat, with the face normal
+    // taken from screen-space derivatives of the position; one normalisation for both.
+    vec3 N = dot(v_normal, v_normal) > 1e-16 ? v_normal : cross(dFdx(v_world), dFdy(v_world));
+    N *= inversesqrt(max(dot(N, N), 1e-30));
     // Two-sided lighting: no culling and a mirrored view matrix mean we may see
     // either side of a triangle, so light the side facing the eye.
     float ndv = dot(N, V);
@@ -217,40 +316,39 @@ void main() {
     // anti-aliasing instead of smoothstep) and stable in world space.
     bool flat_face = an.y >= max(an.x, an.z);
     float wall = flat_face ? 0.0 : 1.0;
-    vec2 size = flat_face ? vec2(2.0) : vec2(1.5, 1.0);
-    vec2 p = (flat_face ? v_world.xz : (an.x >= an.z ? v_world.zy : v_world.xy)) / size;
+    vec2 p = (flat_face ? v_world.xz : (an.x >= an.z ? v_world.zy : v_world.xy))
+        * (flat_face ? vec2(0.5) : vec2(1.0 / 1.5, 1.0));
     vec2 cell = floor(p);
-    vec2 fw = max(fwidth(p), vec2(1e-5));
+    vec2 rfw = 1.0 / max(fwidth(p), vec2(1e-5));  // pixels per panel, on each axis
     // Pixels to the nearest seam on each axis; seams ~1.5 px wide, fading out where panels
     // shrink below ~10 px (distance, grazing angles) instead of aliasing into moire.
-    vec2 g = (0.5 - abs(fract(p) - 0.5)) / fw;
-    float fade = clamp(4.0 - 13.0 * max(fw.x, fw.y), 0.0, 1.0);
+    vec2 fp = fract(p);
+    vec2 g = (0.5 - abs(fp - 0.5)) * rfw;
+    float fade = clamp(4.0 - 13.0 / min(rfw.x, rfw.y), 0.0, 1.0);
     vec2 seams = clamp(1.5 - g, 0.0, 1.0) * fade;
     float h = hash12(cell + floor(v_world.y * 0.25) * 17.0);
     // Cool, darker steel than the level's colours say: the emissive trims and the 4D
     // matter are the brightest things in view, so the eye goes to them.
     albedo *= vec3(0.70, 0.74, 0.82) * ((0.84 + 0.3 * h) * (1.0 - 0.6 * max(seams.x, seams.y)));
     gloss = 0.5 + h;
-    if (h > 0.95 && wall > 0.5) {
-        // A vent: horizontal slats over the panel's middle.
-        vec2 f = fract(p);
-        float inside = step(0.2, f.x) * step(f.x, 0.8) * step(0.3, f.y) * step(f.y, 0.7);
-        float slat = clamp((abs(fract(p.y * 16.0) - 0.5) - 0.25) / (16.0 * fw.y) + 0.5, 0.0, 1.0);
-        albedo *= 1.0 - 0.55 * inside * slat;
-    }
+    // A vent on a few wall panels: horizontal slats over the panel's middle.
+    vec2 in_mid = step(abs(fp - 0.5), vec2(0.3, 0.2));
+    float slat = clamp((abs(fract(p.y * 16.0) - 0.5) - 0.25) * (rfw.y * (1.0 / 16.0)) + 0.5, 0.0, 1.0);
+    float vent = h > 0.95 ? wall : 0.0;
+    albedo *= 1.0 - 0.55 * vent * in_mid.x * in_mid.y * slat;
     #ifdef STYLE_FLOOR
     // Lit lines every 10 m (every fifth seam): wayfinding at a glance, and scale.
     vec2 major = step(mod(floor(p + 0.5), 5.0), vec2(0.5)) * seams;
-    emit += u_floor_line * (0.9 * max(major.x, major.y));
+    emit += v_floor_line * (0.9 * max(major.x, major.y));
     #else
     // An emissive trim a hand above the floor (y 0.10 to 0.16), breathing slowly, over a
     // dark kick plate; walls darken upward, away from the trim and the floor's bounce.
     float y = v_world.y;
-    float fy = max(fwidth(y), 1e-4);
-    float trim = clamp((y - 0.10) / fy + 0.5, 0.0, 1.0) * clamp((0.16 - y) / fy + 0.5, 0.0, 1.0);
-    float kick = clamp((0.10 - y) / fy + 0.5, 0.0, 1.0);
-    albedo *= 1.0 - wall * (0.5 * kick + 0.35 * clamp((y - 0.3) / 3.7, 0.0, 1.0));
-    emit += u_trim * (wall * trim * u_pulse);
+    float rfy = 1.0 / max(fwidth(y), 1e-4);
+    float trim = clamp((y - 0.10) * rfy + 0.5, 0.0, 1.0) * clamp((0.16 - y) * rfy + 0.5, 0.0, 1.0);
+    float kick = clamp((0.10 - y) * rfy + 0.5, 0.0, 1.0);
+    albedo *= 1.0 - wall * (0.5 * kick + 0.35 * clamp((y - 0.3) * (1.0 / 3.7), 0.0, 1.0));
+    emit += v_trim * (wall * trim);
     #endif
   #elif defined(STYLE_FLOOR)
     // Grid on the plane most facing the normal: world xz for floors.
@@ -265,21 +363,21 @@ void main() {
     // hue turns with the view angle, and the w bands cut into it as light.
     float fres = (1.0 - ndv) * (1.0 - ndv);
     // Three phase-shifted triangle waves: a cosine palette's hues without three cosines.
-    vec3 irid = abs(fract(vec3(0.0, 0.33, 0.67) + 1.3 * fres + 0.05 * u_time) * 2.0 - 1.0);
-    vec3 side_tint = w_offset_here() >= 0.0 ? u_ana : u_kata;
-    float bands = w_bands(N);
+    vec3 irid = abs(fract(vec3(0.0, 0.33, 0.67) + 1.3 * fres + v_anim.x) * 2.0 - 1.0);
+    float bands = w_bands(an);
     // A lattice of glowing diagonal lines: nothing in the scenery looks like it, and it
     // shows the surface's shape where the rim light cannot (faces seen head on).
     vec2 huv = an.y > 0.7 ? v_world.xz : (an.x > an.z ? v_world.zy : v_world.xy);
     vec2 q = vec2(huv.x + huv.y, huv.x - huv.y) * 2.0;
-    vec2 fq = max(fwidth(q), vec2(1e-5));
-    vec2 gq = (0.5 - abs(fract(q) - 0.5)) / fq;
-    float lattice = (1.0 - min(min(gq.x, gq.y) / 1.2, 1.0)) * (1.0 - smoothstep(0.1, 0.35, max(fq.x, fq.y)));
+    vec2 rfq = 1.0 / max(fwidth(q), vec2(1e-5));
+    vec2 gq = (0.5 - abs(fract(q) - 0.5)) * rfq;
+    float lattice = (1.0 - min(min(gq.x, gq.y) * (1.0 / 1.2), 1.0))
+        * clamp(1.4 - 4.0 / min(rfq.x, rfq.y), 0.0, 1.0);
     albedo *= 0.6;
     gloss = 2.5;
-    emit += albedo * 0.25 + fres * mix(u_hyper_rim, irid, 0.5) * 0.6;
-    emit += lattice * u_pulse * (v_color.rgb * 0.5 + 0.1);
-    emit += bands * (0.35 * side_tint + 0.25 * albedo);
+    emit += albedo * 0.25 + fres * mix(v_rim, irid, 0.5) * 0.6;
+    emit += lattice * v_sun.w * (v_color.rgb * 0.5 + 0.1);
+    emit += bands * (0.35 * v_side_tint + 0.25 * albedo);
     albedo *= 1.0 - 0.45 * bands;
   #endif
 
@@ -287,31 +385,36 @@ void main() {
     // Ghosts are translucent films, often layered over the whole view: no specular, rim or
     // fill terms (a ghost is a hint of shape, and each term costs a full-screen pass's worth
     // of CPU on a software rasterizer), only the sun's direction and the view angle.
-    vec3 lit = albedo * (0.2 + 0.35 * ndv + 0.6 * max(dot(N, u_light_dir), 0.0));
+    vec3 lit = albedo * (0.2 + 0.35 * ndv + 0.6 * max(dot(N, v_sun.xyz), 0.0));
   #elif defined(STYLE_GLOW)
     // Emissive (crystals): lit from within, brightest at the silhouette, and
     // barely fogged, so it never reads as scenery under the same sun.
     vec3 lit = albedo * (0.75 + 1.6 * (1.0 - ndv) * (1.0 - ndv)) + vec3(0.06);
     #ifdef LOOK_SCIFI
-    // A slow pulse, facets catching the light, and the w bands as darker rings.
-    lit *= 0.9 + 0.15 * sin(u_time * 2.4);
-    lit += vec3(0.5) * pow(max(dot(reflect(-V, N), u_light_dir), 0.0), 24.0);
-    lit *= 1.0 - 0.5 * w_bands(N);
+    // A slow pulse, facets catching the light (x^24 by squaring), and the w bands as darker rings.
+    lit *= v_anim.y;
+    float r = max(dot(reflect(-V, N), v_sun.xyz), 0.0);
+    float r2 = r * r;
+    float r8 = r2 * r2;
+    r8 *= r8;
+    lit += vec3(0.5) * (r8 * r8 * r8);
+    lit *= 1.0 - 0.5 * w_bands(an);
     #endif
   #else
-    vec3 L = u_light_dir;
+    vec3 L = v_sun.xyz;
     float diffuse = max(dot(N, L), 0.0);
     #ifdef LOOK_SCIFI
-    vec3 key = u_key_light;
-    vec3 ambient = mix(u_ambient_ground, u_ambient_sky, 0.5 + 0.5 * N.y);
+    vec3 key = v_key;
+    vec3 ambient = v_ambient + v_ambient_up * N.y;
     #else
     vec3 key = vec3(1.0, 0.96, 0.90);
     // Hemisphere ambient: cool from above, dark from below, so faces facing
     // away from the light still show their orientation.
     vec3 ambient = mix(vec3(0.035, 0.035, 0.04), vec3(0.13, 0.15, 0.20), 0.5 + 0.5 * N.y);
     #endif
-    vec3 H = normalize(L + V);
-    float spec = diffuse > 0.0 ? pow(max(dot(N, H), 0.0), 40.0 * gloss) * 0.18 * gloss : 0.0;
+    vec3 H = L + V;
+    H *= inversesqrt(max(dot(H, H), 1e-12));
+    float spec = diffuse > 0.0 ? pow_highlight(max(dot(N, H), 0.0), 40.0 * gloss) * 0.18 * gloss : 0.0;
     float rim = (1.0 - ndv) * (1.0 - ndv) * (1.0 - ndv) * 0.12;
     // A weak light from the eye keeps faces turned away from the sun readable.
     float fill = 0.22 * ndv;
@@ -322,25 +425,22 @@ void main() {
 #ifdef STYLE_GHOST
     // A little of the tint as light of its own: a ghost must read as "ana" or "kata"
     // even where the sun leaves its surface dark.
-    lit += u_tint.rgb * u_tint.a * 0.3;
+    lit += v_tint.rgb * v_tint.a * 0.3;
 #endif
     vec3 color = to_display(lit);
-    float fd = dist * u_fog_density;
-    float fog = 1.0 - exp(-fd * fd);
+    // Exponential-squared fog: 1 - exp(-(dist * density)^2), from the squared distance.
+    float fog = 1.0 - exp_neg(dist2 * v_eye.w);
 #ifdef STYLE_GLOW
     fog *= 0.4;
 #endif
-#ifdef LOOK_SCIFI
-    // Atmospheric depth: distant things fade into the sky behind them, not into one colour.
+    // Atmospheric depth: distant things fade into the sky behind them (in the sci-fi look,
+    // the dome's colour there; in the flat look, the one sky colour).
     color = mix(color, v_fog_color, fog);
-#else
-    color = mix(color, u_sky, fog);
-#endif
 
 #ifdef STYLE_GHOST
     // Slightly more opaque at grazing angles so a ghost's silhouette reads.
     float graze = (1.0 - ndv) * (1.0 - ndv);
-    float alpha = u_alpha * u_opacity * v_color.a * (1.0 + 0.6 * graze) * ghost_pattern(gl_FragCoord.xy);
+    float alpha = v_ghost.x * v_color.a * (1.0 + 0.6 * graze) * ghost_pattern(gl_FragCoord.xy);
     f_color = vec4(color, clamp(alpha, 0.0, 1.0));
 #else
     f_color = vec4(color, 1.0);
