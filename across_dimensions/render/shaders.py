@@ -4,6 +4,13 @@ One vertex/fragment pair, specialised per drawable style with ``#define``s, so
 each compiled program carries only the code its style needs (llvmpipe runs
 fragment shaders on the CPU: every instruction counts at 1280x720).
 
+What llvmpipe charges for, measured over a full 1280x720 view (CPU ms of all its threads):
+reading a uniform in a fragment shader (lane by lane, with a bounds check; about 0.25 ms per
+component), ``exp`` and ``pow`` (about 1 ms each), and every branch's body (a branch only masks
+lanes). So the vertex shader reads every uniform and hands the fragment shader flat inputs
+(the palette's colours, the eye, the light, the w cue of a 4D thing), and fog and highlights
+use a few multiplies instead of ``exp`` and ``pow`` (within 0.02 of them).
+
 Colour pipeline: vertex colours are linear RGB; lighting happens in linear
 space; the result goes through a soft shoulder (so highlights don't clip
 harshly) and a gamma of 2 (``sqrt``: close to sRGB's ~2.2 and cheaper than
