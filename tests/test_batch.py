@@ -378,9 +378,11 @@ def test_bench_levels_reports_the_worst_frame_of_a_level():
     assert row["level"] == "06_bridge" and row["poses"] == 8
     assert row["worst_ms"] >= row["median_ms"] > 0
     assert row["full_worst_cpu_ms"] > 0 and row["geometry"] > 0
-    # Where the worst full-size frame's time goes: the scenery is drawn, and shades about the view once.
+    # Where the worst full-size frame's time goes: the scenery is drawn, and the scenery, the 4D
+    # matter and the sky behind them shade about the view once (the worst pose may face the sky).
     passes = {p["pass"]: p for p in row["passes"]}
-    assert passes["scenery"]["triangles"] > 0 and 0.1 < passes["scenery"]["overdraw"] < 3.0
+    assert passes["scenery"]["triangles"] > 0
+    assert 0.8 < sum(passes[k]["overdraw"] for k in ("scenery", "matter", "sky")) < 3.0, passes
     assert "[PASS]" in r.stderr or "[FAIL]" in r.stderr
     assert "full size" in r.stderr and "Peak memory" not in r.stderr
 
