@@ -7,6 +7,7 @@ import dataclasses
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -62,8 +63,60 @@ def test_armory_replay_finishes_by_a_shot_and_a_push():
     summary = _replay_cli(ARMORY, ARMORY_REPLAY)
     assert summary["outcome"] == "complete" and summary["divergence"] is None
     ev = summary["events"]
-    assert ev["shot_fired"] >= 1 and ev["target_hit"] == 1 and ev["blast"] == 0 and ev["field"] == 0
+    assert ev["shot_fired"] >= 2 and ev["target_hit"] == 1 and ev["blast"] == 0 and ev["field"] == 0
+    assert ev["slab_knocked"] >= 1  # the hidden block round the switch was knocked off its post first
     assert summary["position"][1] > 2.2  # finished up on the ledge
+
+
+def _armory_variant(tmp_path, shield: str) -> Path:
+    """The Armory with its hidden block round the switch as it ships (``"body"``), fixed in place
+    (``"fixed"``: a solid slab no bullet can knock) or taken out (``"none"``)."""
+    text = ARMORY.read_text(encoding="utf-8")
+    body = 'body = "hypercube"\nmass = 2.5\n'
+    assert text.count(body) == 1
+    if shield == "fixed":
+        text = text.replace(body, "")
+    elif shield == "none":
+        cut = text.index('name = "shield"')
+        text = text[: text.rindex("[[object]]", 0, cut)] + text[text.index("\n\n", cut) + 2 :]
+    path = tmp_path / f"04_armory_{shield}.toml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _switch_hits(level: Path, spots) -> int:
+    """How many of single shots at the switch, one from each feet position ``(x, z, w)``, hit it."""
+    hits = 0
+    for x, z, w in spots:
+        game = Game(load_level(level, arsenal=["gun"]))
+        game.player.position = np.array([x, 0.0, z, w])
+        game.step(Actions())
+        aim = game.entities.named("ana switch").center(game)[:3] - game.player.eye()[:3]
+        yaw, pitch = np.arctan2(aim[0], aim[2]), np.arctan2(aim[1], np.hypot(aim[0], aim[2]))
+        game.step(Actions(yaw=float(yaw), pitch=float(pitch)))
+        game.step(Actions(presses=(("fire", 1),)))
+        for _ in range(90):
+            game.step(Actions())
+        hits += game.event_counts.get("target_hit", 0)
+    return hits
+
+
+def test_armory_switch_is_reached_only_by_knocking_its_hidden_block(tmp_path):
+    # Shots from near and far, either side, in front of the switch and beside it, at every w
+    # the player can take: without the block some hit the switch; with the block fixed in place
+    # none does (so the shipped block, a body, must be knocked first), and the shipped route,
+    # played against the fixed block, never opens the door.
+    spots = [
+        (x, z, w)
+        for x, z in ((0.0, -13.0), (-3.0, -11.0), (3.5, -12.0), (2.5, -10.0), (0.0, -4.6))
+        for w in (-0.4, 0.0, 0.4)
+    ]
+    assert _switch_hits(_armory_variant(tmp_path, "none"), spots) >= 3
+    assert _switch_hits(_armory_variant(tmp_path, "fixed"), spots) == 0
+    replay = Replay.load(ARMORY_REPLAY)
+    game = Game(load_level(_armory_variant(tmp_path, "fixed")), seed=replay.seed)
+    result = play(replay, game, check=False)
+    assert result.outcome is None and game.entities.named("door A") is not None
 
 
 def test_armory_replay_pushes_the_crate_and_without_the_crate_does_not_finish(tmp_path):

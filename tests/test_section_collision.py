@@ -208,7 +208,7 @@ def test_a_world_mesh_section_shrinks_with_the_profile(tmp_path):
 def _bullets_at_door_a(remove_door: bool) -> float:
     """Fire the Armory's gun once from in front of door A (a tesseract slab across the
     hall at z = -4, 0.4 m thick); the farthest z the bullet reaches in 2 s."""
-    game = Game(load_level(levels_dir() / "04_armory.toml"))
+    game = Game(load_level(levels_dir() / "04_armory.toml", arsenal=["gun"]))  # the gun, as if taken
     if remove_door:
         game.remove(game.entities.named("door A").id)
     game.player.position = np.array([0.0, 0.0, -7.0, 0.0])
