@@ -396,6 +396,8 @@ def test_bench_quick_prints_throughput_and_copy_baseline(cli):
     assert re.search(r"Game\.step:\s+[\d.]+ ms per tick\s+\(baseline, no entities: [\d.]+ ms", out), out
     assert re.search(r"1000 crystals .*Game\.step [\d.]+ ms per tick\s+\(baseline, the path without them", out), out
     assert re.search(r"64 enemies on their own .*Game\.step [\d.]+ ms\s+\(baseline, the hall without them", out), out
+    # The held enemies' line says what their frame costs most: the triangles their sections hold.
+    assert re.search(r"Enemies: 10 animated in view .*sections, [\d,]+ triangles per frame", out), out
     # A PASS or FAIL line for each CPU target, after the figures.
     for target in ("Game.frame, 200 entities <= 2 ms", "Game.step, 10 enemies in view <= 1 ms",
                    "Game.frame, 10 enemies in view <= 2 ms", "Game.step, 64 enemies <= 4 ms",

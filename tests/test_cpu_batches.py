@@ -132,3 +132,52 @@ def test_ghost_spans_say_what_same_as_slice_says_for_each_entity():
         want = [ghosts.same_as_slice(m, model, w, wg) for m, model in cases]
         np.testing.assert_array_equal(same, want)
     assert same.any() and not same.all()
+
+
+def test_animated_enemies_in_the_frames_batches_are_each_enemys_own_sections(tmp_path):
+    """Ten held enemies (lifted trees and swarms of hyperspheres) at several animation poses: the
+    frame's batches (the slice, and the ghost layers on either side) hold for each enemy the
+    section the per-object slicer gives its posed mesh, and the w cue made for it alone."""
+    from across_dimensions.bench.systems import enemy_level_text
+    from across_dimensions.game.actions import Actions
+    from across_dimensions.game.sim import Game
+    from across_dimensions.game.systems import enemies
+    from across_dimensions.world.level import load_level
+
+    path = tmp_path / "enemies.toml"
+    path.write_text(enemy_level_text(10), encoding="utf-8")
+    game = Game(load_level(path))
+    game.step(Actions())
+    enemies.hold(game, 0.0, 10**9)
+    foes = [e for e in game.entities.of_kind("enemy")]
+    seen = 0
+    for ticks in (30, 95, 130, 200):  # poses across both kinds' keyframes (4.5 s and 6 s loops)
+        for _ in range(ticks):
+            game.step(Actions())
+        game.frame(0.5)
+        table = game.entity_models
+        models = dict(zip((e.id for e in table.entities), table.models(game, 0.5)))
+        es = game.entity_sections
+        slices = [(es.batches["solid"], game.camera.slice_pose(0.0), True)]
+        slices += [(batch, translation((0.0, 0.0, 0.0, w)), False) for batch, w in _ghost_batches(game)]
+        for batch, camera, cue in slices:
+            for e in foes:
+                assert not batch.culled_by_view(e.id)  # all ten stand in front of the player
+                start, count = batch.instance_rows(e.id)
+                rows = batch.vertices[start : start + count]
+                tri = cross_section(e.mesh, camera, models[e.id])
+                assert len(rows) == len(tri.vertices)
+                np.testing.assert_allclose(rows[:, 0:3], tri.vertices, atol=1e-6)
+                np.testing.assert_allclose(rows[:, 3:6], tri.normals, atol=1e-6)
+                np.testing.assert_allclose(rows[:, 6:ALPHA], tri.colors[:, :3], atol=1e-6)
+                alpha = w_offset(e.mesh, models[e.id], camera) if cue else tri.colors[:, 3]
+                np.testing.assert_allclose(rows[:, ALPHA], alpha, atol=1e-5)
+                seen += count > 0
+    assert seen > 100  # most enemies are cut in most of the 12 slices
+
+
+def _ghost_batches(game):
+    """``(batch, w)`` of each ghost layer drawn in the last frame."""
+    layers = ghosts.layers_of(game, game.player.position[3])
+    assert len(layers) == 2
+    return [(game.entity_sections.ghost_batches[layer.tag], layer.w) for layer in layers]

@@ -60,7 +60,7 @@ def _systems(out, quick: bool) -> tuple[dict, dict, dict, dict]:
     out("")
     out(
         f"Enemies: {foes['enemies']} animated in view ({foes['tets']:,} tetrahedra), each re-sliced every tick "
-        f"({foes['sections_per_frame']:.1f} sections per frame):"
+        f"({foes['sections_per_frame']:.1f} sections, {foes['triangles_per_frame']:,} triangles per frame):"
     )
     out(
         f"  Game.step {foes['enemies_step_ms']:.2f} ms, Game.frame {foes['enemies_frame_ms']:.2f} ms   "

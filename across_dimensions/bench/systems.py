@@ -118,6 +118,13 @@ def _batched(game: Game) -> int:
     return sum(b.sliced for b in [*es.batches.values(), *es.ghost_batches.values()])
 
 
+def _triangles(game: Game) -> int:
+    """Triangles the last frame's entity batches hold (its own and its ghosts'): what the
+    slicing kernel wrote, three rows each."""
+    es = game.entity_sections
+    return sum(len(b.vertices) for b in [*es.batches.values(), *es.ghost_batches.values()]) // 3
+
+
 def _games(texts: dict, ready=None):
     """``(label, game)`` for each level text, loaded from a temporary file."""
     with tempfile.TemporaryDirectory() as d:
@@ -226,8 +233,9 @@ def bench_enemies(n: int = 10, ticks: int = 300, held: bool = True) -> dict:
     -------
     dict
         ``enemies_step_ms``, ``enemies_frame_ms``, ``baseline_step_ms``, ``baseline_frame_ms``,
-        ``sections_per_frame`` (enemy sections cut per frame), ``tets`` (their tetrahedra),
-        ``enemies``.
+        ``sections_per_frame`` (enemy sections cut per frame), ``triangles_per_frame`` (what
+        those sections hold: the slicing kernel's output, most of the frame's cost), ``tets``
+        (their tetrahedra), ``enemies``.
     """
     sight = 0.1 if held else 40.0
     texts = {"enemies": enemy_level_text(n, sight), "baseline": enemy_level_text(0)}
@@ -235,6 +243,7 @@ def bench_enemies(n: int = 10, ticks: int = 300, held: bool = True) -> dict:
     game = games["enemies"]
     out["tets"] = sum(len(e.mesh.tets) for e in game.entities.of_kind("enemy"))
     out["sections_per_frame"] = _time_game(game, 10, _turning, held)[2] / 10
+    out["triangles_per_frame"] = _triangles(game) if held else 0
     out["enemies"] = n
     return out
 
