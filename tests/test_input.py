@@ -224,8 +224,8 @@ def test_version_one_replays_still_load(tmp_path):
 
 
 def test_unknown_versions_and_bad_presses_are_refused_naming_the_file(tmp_path):
-    with pytest.raises(ReplayError, match=r"old\.json: replay format version 4; this game reads versions 1, 2 and 3"):
-        Replay.load(_v1(tmp_path, version=4))
+    with pytest.raises(ReplayError, match=r"old\.json: replay format version 5; this game reads versions 1, 2, 3 and 4"):
+        Replay.load(_v1(tmp_path, version=5))
     for presses, why in (
         ({"sneeze": 1}, "unknown action"),
         ({"fire": 0}, "from 1 to"),

@@ -58,11 +58,11 @@ def test_the_hud_shows_owned_weapons_only_and_keys_reach_only_those(tmp_path):
     game.step(Actions(presses=(("weapon_3", 1), ("next_weapon", 1))))  # the field is not owned yet
     panel = game.frame().hud.weapon
     assert (panel.name, panel.slot, panel.count) == ("120-cell gun", 1, 1)
-    assert game.frame().hud.energy.costs == "GUN 1"
+    assert game.frame().hud.energy.costs == "W 2/UNIT  GUN 1"  # the level's w moves are paid too
     assert walk_until(game, "weapon_acquired") == 1  # the blast floats ahead of the start
     panel = game.frame().hud.weapon
     assert (panel.name, panel.slot, panel.count) == ("w-pull blast", 2, 2)  # taken in hand
-    assert game.frame().hud.energy.costs == "GUN 1  BLAST 5"
+    assert game.frame().hud.energy.costs == "W 2/UNIT  GUN 1  BLAST 5"
     game.step(Actions(presses=(("weapon_3", 1),)))
     assert game.states.weapons.current.kind == "blast"
 

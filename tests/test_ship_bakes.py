@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 from across_dimensions.game.replay import Replay
+from across_dimensions.game.replay_format import VERSION
 from across_dimensions.game.replay_level import level_divergence, level_identity, same_file
 from across_dimensions.world import bake
 from across_dimensions.world.assets import bake_cache, fixed_seed
@@ -141,4 +142,4 @@ def test_a_replay_of_an_older_format_checks_the_file_alone():
 def test_every_shipped_replay_is_of_the_current_format():
     for path in sorted((REPO / "levels" / "replays").glob("*.json")):
         data = json.loads(path.read_text())
-        assert data["version"] == 3 and isinstance(data["bakes"], dict), path
+        assert data["version"] == VERSION and isinstance(data["bakes"], dict), path

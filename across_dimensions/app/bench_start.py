@@ -14,7 +14,6 @@ from __future__ import annotations
 import importlib.util
 import os
 import re
-import resource
 import subprocess
 import sys
 import tempfile
@@ -42,8 +41,8 @@ def fresh_env(home: str) -> dict:
         ("NUMBA_CACHE_DIR", "numba"),
         ("ACROSS_DIMENSIONS_DATA_DIR", "data"),
         ("ACROSS_DIMENSIONS_SCREENSHOT_DIR", "shots"),
-        ("XDG_CACHE_HOME", "cache"),
-        ("XDG_CONFIG_HOME", "config"),
+        ("ACROSS_DIMENSIONS_CACHE_DIR", "cache"),
+        ("ACROSS_DIMENSIONS_CONFIG_DIR", "config"),
     ):
         env[name] = os.path.join(home, sub)
     env["ACROSS_DIMENSIONS_TIMING"] = "1"
@@ -55,19 +54,28 @@ def timings(args: list[str], env: dict) -> dict[str, float]:
     (``what`` without its figures: ``kernels ready``, not ``kernels ready after 3.1 s of warm-up``),
     and its CPU seconds as ``cpu``."""
     cmd = [sys.executable, "-m", "across_dimensions", *args]
-    used = resource.getrusage(resource.RUSAGE_CHILDREN)
+    used = _children_cpu()
     done = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=TIMEOUT)
-    now = resource.getrusage(resource.RUSAGE_CHILDREN)
     if done.returncode != 0:
         raise UserError(f"bench start: {' '.join(args)} failed: {done.stderr.strip()[-800:]}")
     # The CPU time of the whole run (to its exit, half a second after the frame): on a busy
     # machine the figure that says what the start costs, apart from the wait for a core.
-    out = {"cpu": now.ru_utime + now.ru_stime - used.ru_utime - used.ru_stime}
+    out = {"cpu": _children_cpu() - used}
     for line in done.stdout.splitlines():
         m = _TIMING.match(line.strip())
         if m:
             out.setdefault(m.group(1).split(" after ")[0], float(m.group(2)))
     return out
+
+
+def _children_cpu() -> float:
+    """CPU seconds of this process's finished children (0 where the platform does not count them)."""
+    try:
+        import resource  # Unix only
+    except ImportError:
+        return 0.0
+    used = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return used.ru_utime + used.ru_stime
 
 
 @contextmanager

@@ -53,7 +53,7 @@ def fill_env(folder: Path, home: str) -> dict:
             "NUMBA_CACHE_LOCATOR_CLASSES": f"{shipped.LOCATOR},numba.core.caching.UserProvidedCacheLocator",
             "NUMBA_CACHE_DIR": os.path.join(home, "numba"),
             "ACROSS_DIMENSIONS_DATA_DIR": os.path.join(home, "data"),
-            "XDG_CACHE_HOME": os.path.join(home, "cache"),
+            "ACROSS_DIMENSIONS_CACHE_DIR": os.path.join(home, "cache"),
         }
     )
     return env

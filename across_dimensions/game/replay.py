@@ -170,10 +170,8 @@ class Recorder:
         if game.tick != 0:
             raise ValueError(f"a recording starts at tick 0, the game is at tick {game.tick}")
         level_hash, bakes = level_identity(game.level)
-        arsenal = getattr(game.level, "arsenal", None)  # the Flatland prologue has no weapons to start with
-        self.replay = Replay(
-            level_name, level_hash, game.seed, bakes=bakes, arsenal=None if arsenal is None else tuple(arsenal)
-        )
+        arsenal = tuple(getattr(game.level, "arsenal", ()))  # the Flatland prologue owns no weapons
+        self.replay = Replay(level_name, level_hash, game.seed, bakes=bakes, arsenal=arsenal)
         self.game = game
         self.path = None if path is None else Path(path)
         self.flush_every = flush_every

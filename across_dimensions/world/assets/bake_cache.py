@@ -35,11 +35,18 @@ BAKE_VERSION = 3
 MAX_ENTRY_BYTES = MAX_TETS * (4 * 4 + 4 * 3 * 8) + (1 << 16)
 
 
+#: Names a folder that replaces the per-user cache folder (a fresh one for a benchmark's first start).
+CACHE_DIR_ENV = "ACROSS_DIMENSIONS_CACHE_DIR"
+
+
 def default_cache_dir() -> Path:
-    """``platformdirs.user_cache_dir("across-dimensions") / "bake"``."""
+    """``$ACROSS_DIMENSIONS_CACHE_DIR/bake`` when set, else
+    ``platformdirs.user_cache_dir("across-dimensions") / "bake"``."""
+    import os
+
     import platformdirs
 
-    return Path(platformdirs.user_cache_dir("across-dimensions")) / "bake"
+    return Path(os.environ.get(CACHE_DIR_ENV) or platformdirs.user_cache_dir("across-dimensions")) / "bake"
 
 
 def shipped_dir() -> Path:
