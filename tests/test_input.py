@@ -224,7 +224,8 @@ def test_version_one_replays_still_load(tmp_path):
 
 
 def test_unknown_versions_and_bad_presses_are_refused_naming_the_file(tmp_path):
-    with pytest.raises(ReplayError, match=r"old\.json: replay format version 5; this game reads versions 1, 2, 3 and 4"):
+    refused = r"old\.json: replay format version 5; this game reads versions 1, 2, 3 and 4"
+    with pytest.raises(ReplayError, match=refused):
         Replay.load(_v1(tmp_path, version=5))
     for presses, why in (
         ({"sneeze": 1}, "unknown action"),
