@@ -64,6 +64,15 @@ def _view_of(camera_pose) -> np.ndarray:
 _EYE4 = np.eye(4)
 
 
+def _one_colour_tets(tets: np.ndarray, colors: np.ndarray) -> bool:
+    """Is each tet ``(m, 4)`` of one colour (its vertices' ``colors (n, 4)`` equal, bit for bit)?
+
+    Then a corner's colour interpolated along an edge is its ends' colour, exactly, unless that
+    is a negative zero (``-0.0 + s * 0.0`` is ``+0.0``): a mesh with one is not of one colour."""
+    c = colors.view(np.uint32)[tets]
+    return bool((c == c[:, :1]).all()) and not (np.signbit(colors) & (colors == 0)).any()
+
+
 class _Pool:
     """Every distinct mesh's slicing layout, concatenated: :attr:`arrays` is the kernels'
     :class:`~.section_batch_kernels.Pool`."""
@@ -89,6 +98,7 @@ class _Pool:
             cell_tet=np.zeros((0, 4), np.uint32),
             cell_center=np.zeros((0, 4)),
             cell_radius=np.zeros(0),
+            flat=np.zeros(0, np.uint8),
         )
         self.center = np.zeros((0, 4))  # per mesh: bounding sphere (object space)
         self.radius = np.zeros(0)
@@ -103,17 +113,19 @@ class _Pool:
         layout = mesh_clusters(mesh)
         a = self.arrays
         v0, c0, t0 = len(a.vertices), len(a.clo), len(a.tets)
+        colors = layout_colors(mesh, layout).astype(np.float32)
         self.arrays = a._replace(
             vertices=np.concatenate([a.vertices, layout.vertices]),
             tets=np.concatenate([a.tets, layout.tets + np.uint32(v0)]),
             tet_normals=np.concatenate([a.tet_normals, layout_normals(mesh, layout)]),
-            colors=np.concatenate([a.colors, layout_colors(mesh, layout).astype(np.float32)]),
+            colors=np.concatenate([a.colors, colors]),
             mesh_v=np.concatenate([a.mesh_v, [[v0, v0 + len(layout.vertices)]]]),
             mesh_c=np.concatenate([a.mesh_c, [[c0, c0 + len(layout.lo)]]]),
             clo=np.concatenate([a.clo, layout.lo + t0]),
             chi=np.concatenate([a.chi, layout.hi + t0]),
             ccenter=np.concatenate([a.ccenter, layout.centers]),
             cradius=np.concatenate([a.cradius, layout.radii]),
+            flat=np.append(a.flat, np.uint8(_one_colour_tets(layout.tets, colors))),
         )
         v = layout.vertices.astype(np.float64)
         ctr = 0.5 * (v.min(axis=0) + v.max(axis=0))
@@ -161,8 +173,13 @@ class _Pool:
             qc=np.empty((c, 4)),
             ang=np.empty(c),
             order=np.empty(c, np.int64),
-            p=np.empty((4, 4)),
             keep=np.empty(self.max_clusters, np.int64),
+            above=np.empty(v, np.uint8),
+            rec=np.empty(16 * t, np.float32),
+            recc=np.empty(16 * t, np.float32),
+            sj=np.empty(4 * t),
+            n64=np.empty((3, t)),
+            tn=np.empty((3, t), np.float32),
         )
 
 

@@ -16,8 +16,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ._jit import njit
-from .cases import CASE_COUNT, CASE_EDGES, CASE_REVERSED
-from .section_kernels import normal_transform
+from .section_batch_tets import _cut_tets, _tet_rows, _to_camera
 
 #: Floats per output vertex: position 3, normal 3, colour 4 (the renderer's layout).
 ROW = 10
@@ -50,6 +49,8 @@ class Pool(NamedTuple):
         One tet of each cell, for its normal.
     cell_center : (cells, 4) float64
     cell_radius : (cells,) float64
+    flat : (meshes,) uint8
+        Per mesh: 1 when each of its tets is of one colour (its four vertices' colours equal).
     """
 
     vertices: np.ndarray
@@ -68,6 +69,7 @@ class Pool(NamedTuple):
     cell_tet: np.ndarray
     cell_center: np.ndarray
     cell_radius: np.ndarray
+    flat: np.ndarray
 
 
 class Instances(NamedTuple):
@@ -133,10 +135,18 @@ class BatchScratch(NamedTuple):
     ang : (p,) float64
     order : (p,) int64
         A cell polygon's corners' angles and their order.
-    p : (4, 4) float64
-        A tet's corners in camera space.
     keep : (c,) int64
         The clusters of the instance its slice meets.
+    above : (v,) uint8
+        Per vertex of the instance: camera-space w > 0.
+    rec : (16 t,) float32
+    recc : (16 t,) float32
+        Per cut tet: its polygon's corners (xyz and one unused), their colours (rgba).
+    sj : (4 t,) float64
+        And the corners' interpolation factors along their edges.
+    n64 : (3, t) float64
+    tn : (3, t) float32
+        Per cut tet: its normal, then made unit.
     """
 
     cam: np.ndarray
@@ -148,8 +158,13 @@ class BatchScratch(NamedTuple):
     qc: np.ndarray
     ang: np.ndarray
     order: np.ndarray
-    p: np.ndarray
     keep: np.ndarray
+    above: np.ndarray
+    rec: np.ndarray
+    recc: np.ndarray
+    sj: np.ndarray
+    n64: np.ndarray
+    tn: np.ndarray
 
 
 @njit(cache=True)
@@ -173,8 +188,7 @@ def _slice_batch(pool, inst, first, start_row, rows, ws, tag):
                 ncut = _cut_cells(pool, inst, k, ws)
                 o = _cell_rows(pool, inst, k, ncut, rows.out, o, ws)
             else:
-                ncut = _cut_tets(pool, inst, k, tag + k, ws)
-                o = _tet_rows(pool, inst, k, ncut, rows.out, o, ws)
+                o = _tet_rows(pool, inst, k, _cut_tets(pool, inst, k, tag + k, ws), rows.out, o, ws)
         count[k] = o - start[k]
         start[k + 1] = o
     return o
@@ -243,146 +257,11 @@ def _w_ranges(pool, inst, first, out, w_cue):
 
 
 @njit(inline="always")
-def _cut_tets(pool, inst, k, stamp_of, ws):
-    """The tets of instance ``k`` its slice cuts, into ``ws.cut`` (their cases into
-    ``ws.cmask``); returns their number.
-
-    Clusters are culled by their bounding sphere, and each vertex of the
-    clusters kept is moved into camera space once (``ws.stamp`` holds
-    ``stamp_of`` where ``ws.cam`` has it), with the per-object slicer's sums.
-    """
-    verts, tets, clo, chi, ccenter, cradius = pool.vertices, pool.tets, pool.clo, pool.chi, pool.ccenter, pool.cradius
-    cam, stamp, cut, cmask, keep = ws.cam, ws.stamp, ws.cut, ws.cmask, ws.keep
-    m = inst.mesh[k]
-    mv = inst.mvs[k]
-    v_lo = pool.mesh_v[m, 0]
-    w_gain = np.sqrt(mv[3, 0] ** 2 + mv[3, 1] ** 2 + mv[3, 2] ** 2 + mv[3, 3] ** 2)
-    # Clusters the slice meets, and their tets: when those use about every vertex, move every
-    # vertex into camera space in one loop without marks (vectorized), as the per-object slicer does.
-    nkeep = 0
-    visit = 0
-    for cl in range(pool.mesh_c[m, 0], pool.mesh_c[m, 1]):
-        cc = ccenter[cl]
-        dc = mv[3, 0] * cc[0] + mv[3, 1] * cc[1] + mv[3, 2] * cc[2] + mv[3, 3] * cc[3] + mv[3, 4]
-        if abs(dc) <= cradius[cl] * w_gain:
-            keep[nkeep] = cl
-            nkeep += 1
-            visit += chi[cl] - clo[cl]
-    every = 4 * visit >= pool.mesh_v[m, 1] - v_lo
-    if every:
-        _cells_to_camera(pool, inst, k, ws)
-    ncut = 0
-    for kc in range(nkeep):
-        cl = keep[kc]
-        for t in range(clo[cl], chi[cl]):
-            mask = 0
-            for j in range(4):
-                vi = tets[t, j]
-                li = vi - v_lo
-                if not every and stamp[li] != stamp_of:
-                    stamp[li] = stamp_of
-                    for r in range(4):
-                        cam[li, r] = (
-                            mv[r, 0] * verts[vi, 0]
-                            + mv[r, 1] * verts[vi, 1]
-                            + mv[r, 2] * verts[vi, 2]
-                            + mv[r, 3] * verts[vi, 3]
-                            + mv[r, 4]
-                        )
-                mask |= (cam[li, 3] > 0.0) << j
-            # Compacted without a branch: near the slice whether a tet is cut is a coin toss.
-            cut[ncut] = t
-            cmask[ncut] = mask
-            ncut += (mask != 0) & (mask != 15)
-    return ncut
-
-
-@njit(inline="always")
-def _tet_rows(pool, inst, k, ncut, out, o, ws):
-    """The triangles of instance ``k``'s ``ncut`` cut tets (:func:`_cut_tets`) into ``out``
-    from row ``o``; returns the next row (rows past ``len(out)`` are counted, not written).
-
-    The points, normal and winding of the per-object slicer
-    (:func:`~.section_kernels._points_by_tet`, ``_unit_normals``, ``_rows``), bit for bit.
-    """
-    tets, tet_normals, colors = pool.tets, pool.tet_normals, pool.colors
-    cam, cut, cmask, q, qc, p, g = ws.cam, ws.cut, ws.cmask, ws.q, ws.qc, ws.p, ws.g
-    cap = out.shape[0]
-    v_lo = pool.mesh_v[inst.mesh[k], 0]
-    normal_transform(inst.mvs[k], inst.flips[k], g)
-    g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
-    g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
-    reverse = CASE_REVERSED[1 if inst.flips[k] < 0.0 else 0]
-    alpha = inst.alpha[k]
-    keep_alpha = np.isnan(alpha)
-    for i in range(ncut):
-        t = cut[i]
-        mask = cmask[i]
-        nk = CASE_COUNT[mask]
-        if o + 3 * (nk - 2) > cap:
-            o += 3 * (nk - 2)  # count only: the caller grows the output
-            continue
-        for j in range(4):
-            li = tets[t, j] - v_lo
-            for r in range(4):
-                p[j, r] = cam[li, r]
-        n0, n1, n2, n3 = tet_normals[t, 0], tet_normals[t, 1], tet_normals[t, 2], tet_normals[t, 3]
-        nx = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
-        ny = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
-        nz = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
-        ln = np.sqrt(nx * nx + ny * ny + nz * nz)
-        inv = 1.0 / ln if ln > 0.0 else 0.0
-        nx, ny, nz = nx * inv, ny * inv, nz * inv
-        for e in range(nk):
-            a = CASE_EDGES[mask, e, 0]
-            b = CASE_EDGES[mask, e, 1]
-            if tets[t, a] > tets[t, b]:
-                a, b = b, a
-            s = p[a, 3] / (p[a, 3] - p[b, 3])
-            for r in range(3):
-                q[e, r] = p[a, r] + s * (p[b, r] - p[a, r])
-            ca = tets[t, a]
-            cb = tets[t, b]
-            for r in range(4):
-                qc[e, r] = colors[ca, r] + s * (colors[cb, r] - colors[ca, r])
-        rev = reverse[mask] != 0
-        for tri in range(nk - 2):
-            for j in range(3):
-                src = 0 if j == 0 else tri + j
-                if rev and j > 0:
-                    src = tri + 3 - j
-                out[o, 0] = q[src, 0]
-                out[o, 1] = q[src, 1]
-                out[o, 2] = q[src, 2]
-                out[o, 3] = nx
-                out[o, 4] = ny
-                out[o, 5] = nz
-                out[o, 6] = qc[src, 0]
-                out[o, 7] = qc[src, 1]
-                out[o, 8] = qc[src, 2]
-                out[o, 9] = qc[src, 3] if keep_alpha else alpha if keep_alpha else alpha
-                o += 1
-    return o
-
-
-@njit(inline="always")
 def _cells_to_camera(pool, inst, k, ws):
     """Every vertex of instance ``k`` into camera space (``ws.cam``): a cell mesh has few
     vertices for its tets (a 120-cell: 600 for 3,240), and most of them are on cut cells."""
-    verts, cam = pool.vertices, ws.cam
-    mv = inst.mvs[k]
     m = inst.mesh[k]
-    v_lo = pool.mesh_v[m, 0]
-    for vi in range(v_lo, pool.mesh_v[m, 1]):
-        li = vi - v_lo
-        for r in range(4):
-            cam[li, r] = (
-                mv[r, 0] * verts[vi, 0]
-                + mv[r, 1] * verts[vi, 1]
-                + mv[r, 2] * verts[vi, 2]
-                + mv[r, 3] * verts[vi, 3]
-                + mv[r, 4]
-            )
+    _to_camera(pool, inst.mvs[k], pool.mesh_v[m, 0], pool.mesh_v[m, 0], pool.mesh_v[m, 1], ws)
 
 
 @njit(inline="always")

@@ -1,0 +1,239 @@
+"""The tet-by-tet path of :func:`~.section_batch_kernels._slice_batch`: one instance's cut tets,
+then their triangles, bit for bit those of :func:`~.section.cross_section`.
+
+Each step is a loop of its own without unpredictable branches, as in the per-object slicer
+(:mod:`.section_kernels`), whose arithmetic it repeats exactly:
+
+1. :func:`_cut_tets`: the clusters the slice meets (bounding spheres), their vertices moved
+   into camera space with one byte per vertex saying whether it lies above the slice, then
+   the cut tets compacted without a branch (a cluster none of whose tets is cut costs one
+   predictable branch).
+2. :func:`_tet_rows`: per cut tet its normal and its polygon's corners (only the real ones:
+   three or four), the normals made unit in a loop of their own (vectorized), the corners'
+   colours only for a mesh whose tets are not each of one colour (a one-coloured tet's
+   corners all have its colour, exactly: ``c + s (c - c) == c``), then the rows.
+
+The helpers are inlined into the batch kernel and take the bundles whole: numba counts
+references on every call of a function that takes arrays.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._jit import njit
+from .cases import CASE_COUNT, CASE_EDGES, CASE_REVERSED, CASE_TRIANGLES
+from .section_kernels import U, normal_transform
+
+
+@njit(inline="always")
+def _cut_tets(pool, inst, k, stamp_of, ws):
+    """The tets of instance ``k`` its slice cuts, into ``ws.cut`` (their cases into
+    ``ws.cmask``); returns their number and their triangles'.
+
+    Clusters are culled by their bounding sphere. When the kept clusters' tets use about every
+    vertex, every vertex is moved into camera space in one loop; else each vertex they use,
+    once (``ws.stamp`` holds ``stamp_of`` where ``ws.cam`` has it). ``ws.above`` gets one byte
+    per vertex: camera-space w > 0.
+    """
+    tets, clo, chi, ccenter, cradius = pool.tets, pool.clo, pool.chi, pool.ccenter, pool.cradius
+    above, cut, cmask, keep = ws.above, ws.cut, ws.cmask, ws.keep
+    m = inst.mesh[k]
+    mv = inst.mvs[k]
+    v_lo = pool.mesh_v[m, 0]
+    m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
+    w_gain = np.sqrt(m0**2 + m1**2 + m2**2 + m3**2)
+    nkeep = 0
+    visit = 0
+    for cl in range(pool.mesh_c[m, 0], pool.mesh_c[m, 1]):
+        dc = m0 * ccenter[cl, 0] + m1 * ccenter[cl, 1] + m2 * ccenter[cl, 2] + m3 * ccenter[cl, 3] + m4
+        hit = abs(dc) <= cradius[cl] * w_gain
+        keep[nkeep] = cl
+        nkeep += hit
+        visit += (chi[cl] - clo[cl]) * hit
+    if 4 * visit >= pool.mesh_v[m, 1] - v_lo:
+        _to_camera(pool, mv, v_lo, v_lo, pool.mesh_v[m, 1], ws)
+    else:
+        stamp = ws.stamp
+        for kc in range(nkeep):
+            cl = keep[kc]
+            for t in range(clo[cl], chi[cl]):
+                for j in range(4):
+                    vi = tets[t, j]
+                    if stamp[vi - v_lo] != stamp_of:
+                        stamp[vi - v_lo] = stamp_of
+                        _to_camera(pool, mv, v_lo, vi, vi + 1, ws)
+    vl = U(v_lo)
+    ncut = 0
+    ntri = 0
+    last = 0  # cut tets in the previous cluster: its neighbour likely has some too
+    for kc in range(nkeep):
+        cl = keep[kc]
+        t0, t1 = clo[cl], chi[cl]
+        if last == 0:
+            some = 0
+            for t in range(t0, t1):
+                a0, a1 = above[U(tets[t, 0]) - vl], above[U(tets[t, 1]) - vl]
+                some |= (a0 + a1 + above[U(tets[t, 2]) - vl] + above[U(tets[t, 3]) - vl]) & 3
+            if some == 0:
+                continue
+        before = ncut
+        for t in range(t0, t1):
+            mask = (
+                U(above[U(tets[t, 0]) - vl])
+                | (U(above[U(tets[t, 1]) - vl]) << U(1))
+                | (U(above[U(tets[t, 2]) - vl]) << U(2))
+                | (U(above[U(tets[t, 3]) - vl]) << U(3))
+            )
+            # Compacted without a branch: near the slice whether a tet is cut is a coin toss.
+            cut[ncut] = t
+            cmask[ncut] = mask
+            ncut += CASE_TRIANGLES[mask] != 0
+            ntri += CASE_TRIANGLES[mask]
+        last = ncut - before
+    return ncut, ntri
+
+
+@njit(inline="always")
+def _to_camera(pool, mv, v_lo, v0, v1, ws):
+    """Pool vertices ``v0..v1`` of a mesh whose first is ``v_lo`` moved by ``mv (5, 5)`` into
+    camera space, ``ws.cam`` (rows from ``v0 - v_lo``), and whether each is above the slice,
+    ``ws.above``: the per-object slicer's sums."""
+    verts, cam, above = pool.vertices, ws.cam, ws.above
+    a00, a01, a02, a03, a04 = mv[0, 0], mv[0, 1], mv[0, 2], mv[0, 3], mv[0, 4]
+    a10, a11, a12, a13, a14 = mv[1, 0], mv[1, 1], mv[1, 2], mv[1, 3], mv[1, 4]
+    a20, a21, a22, a23, a24 = mv[2, 0], mv[2, 1], mv[2, 2], mv[2, 3], mv[2, 4]
+    a30, a31, a32, a33, a34 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
+    for vi in range(v0, v1):
+        li = vi - v_lo
+        x, y, z, w = verts[vi, 0], verts[vi, 1], verts[vi, 2], verts[vi, 3]
+        cam[li, 0] = a00 * x + a01 * y + a02 * z + a03 * w + a04
+        cam[li, 1] = a10 * x + a11 * y + a12 * z + a13 * w + a14
+        cam[li, 2] = a20 * x + a21 * y + a22 * z + a23 * w + a24
+        cw = a30 * x + a31 * y + a32 * z + a33 * w + a34
+        cam[li, 3] = cw
+        above[li] = cw > 0.0
+
+
+@njit(inline="always")
+def _tet_rows(pool, inst, k, cuts, out, o, ws):
+    """The triangles of instance ``k``'s cut tets (``cuts``: :func:`_cut_tets`'s counts) into
+    ``out`` from row ``o``; returns the next row. When they do not fit, nothing is written
+    and the rows they need are counted (the caller grows the output).
+
+    The points, normal and winding of the per-object slicer
+    (:func:`~.section_kernels._points_by_tet`, ``_unit_normals``, ``_rows``), bit for bit.
+    """
+    ncut, ntri = cuts
+    if o + 3 * ntri > out.shape[0]:
+        return o + 3 * ntri
+    m = inst.mesh[k]
+    _corners(pool, inst, k, ncut, ws)
+    if not pool.flat[m]:
+        _corner_colors(pool, pool.mesh_v[m, 0], ncut, ws)
+    tx, ty, tz = ws.tn[0], ws.tn[1], ws.tn[2]
+    nx, ny, nz = ws.n64[0], ws.n64[1], ws.n64[2]
+    for i in range(ncut):  # its own loop: vectorized
+        x, y, z = nx[i], ny[i], nz[i]
+        ln = np.sqrt(x * x + y * y + z * z)
+        inv = 1.0 / ln if ln > 0.0 else 0.0  # a degenerate tet: zero stays zero
+        tx[i] = np.float32(x * inv)
+        ty[i] = np.float32(y * inv)
+        tz[i] = np.float32(z * inv)
+    return _rows(pool, inst, k, ncut, out, o, ws)
+
+
+@njit(inline="always")
+def _corners(pool, inst, k, ncut, ws):
+    """Per cut tet ``i``: its normal, not yet unit, into ``ws.n64[:, i]``, and the corners of
+    its polygon into ``ws.rec[16 i:]`` (xyz and one unused, float32, per corner), their
+    interpolation factors into ``ws.sj[4 i:]``.
+
+    A corner is interpolated from the edge's lower vertex index, so the tets sharing the edge
+    (and the per-object slicer) compute the same point to the bit.
+    """
+    tets, tet_normals, cam, cut, cmask, rec, sj, g = (
+        pool.tets, pool.tet_normals, ws.cam, ws.cut, ws.cmask, ws.rec, ws.sj, ws.g
+    )  # fmt: skip
+    v_lo = pool.mesh_v[inst.mesh[k], 0]
+    normal_transform(inst.mvs[k], inst.flips[k], g)
+    g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
+    g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
+    nx, ny, nz = ws.n64[0], ws.n64[1], ws.n64[2]
+    for i in range(ncut):
+        t = cut[i]
+        mask = cmask[i]
+        n0, n1, n2, n3 = tet_normals[t, 0], tet_normals[t, 1], tet_normals[t, 2], tet_normals[t, 3]
+        nx[i] = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
+        ny[i] = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
+        nz[i] = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
+        for e in range(CASE_COUNT[mask]):
+            ia, ib = tets[t, CASE_EDGES[mask, e, 0]], tets[t, CASE_EDGES[mask, e, 1]]
+            a, b = min(ia, ib) - v_lo, max(ia, ib) - v_lo
+            s = cam[a, 3] / (cam[a, 3] - cam[b, 3])
+            j = 4 * i + e
+            sj[j] = s
+            for r in range(3):
+                rec[4 * j + r] = np.float32(cam[a, r] + s * (cam[b, r] - cam[a, r]))
+
+
+@njit(inline="always")
+def _corner_colors(pool, v_lo, ncut, ws):
+    """The colours of :func:`_corners`' corners into ``ws.recc[16 i:]`` (rgba per corner), for a
+    mesh of many-coloured tets (whose first vertex is ``v_lo``)."""
+    tets, colors, cut, cmask, sj, recc = pool.tets, pool.colors, ws.cut, ws.cmask, ws.sj, ws.recc
+    for i in range(ncut):
+        t = cut[i]
+        mask = cmask[i]
+        for e in range(CASE_COUNT[mask]):
+            ia, ib = tets[t, CASE_EDGES[mask, e, 0]], tets[t, CASE_EDGES[mask, e, 1]]
+            a, b = min(ia, ib), max(ia, ib)
+            s = sj[4 * i + e]
+            for r in range(4):
+                recc[16 * i + 4 * e + r] = np.float32(colors[a, r] + s * (colors[b, r] - colors[a, r]))
+
+
+@njit(inline="always")
+def _rows(pool, inst, k, ncut, out, o, ws):
+    """Three rows per triangle into ``out`` from row ``o``: each polygon fanned from its first
+    corner, wound outward (the case's :data:`~.cases.CASE_REVERSED`); returns the next row.
+
+    Copies only: a one-coloured tet's rows take its first vertex's colour, the alpha is
+    ``inst.alpha[k]`` unless that is NaN.
+    """
+    tets, colors, cut, cmask, rec, recc = pool.tets, pool.colors, ws.cut, ws.cmask, ws.rec, ws.recc
+    tx, ty, tz = ws.tn[0], ws.tn[1], ws.tn[2]
+    flat = pool.flat[inst.mesh[k]] != 0
+    reverse = CASE_REVERSED[1 if inst.flips[k] < 0.0 else 0]
+    keep_alpha = np.isnan(inst.alpha[k])
+    alpha = np.float32(inst.alpha[k])
+    for i in range(ncut):
+        mask = cmask[i]
+        four = CASE_COUNT[mask] == 4
+        rev = reverse[mask] != 0
+        fx, fy, fz = tx[i], ty[i], tz[i]
+        c0 = tets[cut[i], 0]
+        cr, cg, cb, ca = colors[c0, 0], colors[c0, 1], colors[c0, 2], colors[c0, 3]
+        # Fan from corner 0: triangles (0, 1, 2) and (0, 2, 3), their last two swapped when reversed.
+        for kk in range(6 if four else 3):
+            e = 0
+            if kk == 1 or kk == 2:
+                e = 2 if rev == (kk == 1) else 1
+            elif kk == 4 or kk == 5:
+                e = 3 if rev == (kk == 4) else 2
+            b = 16 * i + 4 * e
+            if not flat:
+                cr, cg, cb, ca = recc[b], recc[b + 1], recc[b + 2], recc[b + 3]
+            r = o + kk
+            out[r, 0] = rec[b]
+            out[r, 1] = rec[b + 1]
+            out[r, 2] = rec[b + 2]
+            out[r, 3] = fx
+            out[r, 4] = fy
+            out[r, 5] = fz
+            out[r, 6] = cr
+            out[r, 7] = cg
+            out[r, 8] = cb
+            out[r, 9] = ca if keep_alpha else alpha
+        o += 6 if four else 3
+    return o
