@@ -35,7 +35,7 @@ from __future__ import annotations
 import numpy as np
 
 from .cells import Cells, mesh_cells
-from .layout import layout_colors, layout_normals, mesh_clusters
+from .layout import layout_colors, layout_edges, layout_normals, mesh_clusters
 from .mesh import TetMesh4
 from .section_batch_kernels import ROW, BatchScratch, Instances, Pool, Rows, _instances_in_view, _slice_batch, _w_ranges
 from .transform import inverse
@@ -98,12 +98,15 @@ class _Pool:
             cell_tet=np.zeros((0, 4), np.uint32),
             cell_center=np.zeros((0, 4)),
             cell_radius=np.zeros(0),
+            tet_edges=np.zeros((0, 6), np.uint32),
+            edge_ends=np.zeros((0, 2), np.uint32),
+            mesh_e=np.zeros((0, 2), np.int64),
             flat=np.zeros(0, np.uint8),
         )
         self.center = np.zeros((0, 4))  # per mesh: bounding sphere (object space)
         self.radius = np.zeros(0)
         # The largest mesh's vertices, tets (or cells), and cell corners (at least a tet's 4).
-        self.max_vertices, self.max_tets, self.max_corners = 0, 0, 4
+        self.max_vertices, self.max_tets, self.max_corners, self.max_edges = 0, 0, 4, 0
         self.max_clusters = 1
 
     def add(self, mesh: TetMesh4) -> int:
@@ -114,6 +117,8 @@ class _Pool:
         a = self.arrays
         v0, c0, t0 = len(a.vertices), len(a.clo), len(a.tets)
         colors = layout_colors(mesh, layout).astype(np.float32)
+        tet_edges, edge_lo, edge_hi = layout_edges(layout)
+        e0 = len(a.edge_ends)
         self.arrays = a._replace(
             vertices=np.concatenate([a.vertices, layout.vertices]),
             tets=np.concatenate([a.tets, layout.tets + np.uint32(v0)]),
@@ -125,6 +130,9 @@ class _Pool:
             chi=np.concatenate([a.chi, layout.hi + t0]),
             ccenter=np.concatenate([a.ccenter, layout.centers]),
             cradius=np.concatenate([a.cradius, layout.radii]),
+            tet_edges=np.concatenate([a.tet_edges, tet_edges]),
+            edge_ends=np.concatenate([a.edge_ends, np.column_stack([edge_lo, edge_hi])]),
+            mesh_e=np.concatenate([a.mesh_e, [[e0, e0 + len(edge_lo)]]]),
             flat=np.append(a.flat, np.uint8(_one_colour_tets(layout.tets, colors))),
         )
         v = layout.vertices.astype(np.float64)
@@ -133,6 +141,7 @@ class _Pool:
         self.radius = np.append(self.radius, float(np.sqrt(((v - ctr) ** 2).sum(axis=1).max())))
         self.max_vertices = max(self.max_vertices, len(layout.vertices))
         self.max_tets = max(self.max_tets, len(layout.tets) + 1)
+        self.max_edges = max(self.max_edges, len(edge_lo))
         self.max_clusters = max(self.max_clusters, len(layout.lo))
         self._add_cells(mesh_cells(mesh) if self.by_cells else None, layout, v0)
         k = self.index[id(mesh)] = len(self.meshes)
@@ -160,7 +169,7 @@ class _Pool:
     def scratch(self, ws: BatchScratch | None) -> BatchScratch:
         """``ws`` if it is large enough for every mesh of the pool, else a new one."""
         if ws is not None and len(ws.stamp) >= self.max_vertices and len(ws.cut) >= self.max_tets:
-            if len(ws.q) >= self.max_corners and len(ws.keep) >= self.max_clusters:
+            if len(ws.q) >= self.max_corners and len(ws.keep) >= self.max_clusters and len(ws.point) >= self.max_edges:
                 return ws
         v, t, c = self.max_vertices, self.max_tets, self.max_corners
         return BatchScratch(
@@ -175,6 +184,9 @@ class _Pool:
             order=np.empty(c, np.int64),
             keep=np.empty(self.max_clusters, np.int64),
             above=np.empty(v, np.uint8),
+            point=np.full(self.max_edges, -1, np.int64),
+            elist=np.empty(4 * t, np.int64),
+            tj=np.empty(4 * t, np.int64),
             rec=np.empty(16 * t, np.float32),
             recc=np.empty(16 * t, np.float32),
             sj=np.empty(4 * t),

@@ -49,6 +49,12 @@ class Pool(NamedTuple):
         One tet of each cell, for its normal.
     cell_center : (cells, 4) float64
     cell_radius : (cells,) float64
+    tet_edges : (m, 6) uint32
+        Per tet: its edges' numbers in its mesh, in :data:`~.cases.TET_EDGE_PAIRS` order.
+    edge_ends : (e, 2) uint32
+        Per edge: its vertices' numbers in its mesh, lower first (:func:`~.layout.layout_edges`).
+    mesh_e : (meshes, 2) int64
+        Per mesh: its edge range.
     flat : (meshes,) uint8
         Per mesh: 1 when each of its tets is of one colour (its four vertices' colours equal).
     """
@@ -69,6 +75,9 @@ class Pool(NamedTuple):
     cell_tet: np.ndarray
     cell_center: np.ndarray
     cell_radius: np.ndarray
+    tet_edges: np.ndarray
+    edge_ends: np.ndarray
+    mesh_e: np.ndarray
     flat: np.ndarray
 
 
@@ -139,11 +148,17 @@ class BatchScratch(NamedTuple):
         The clusters of the instance its slice meets.
     above : (v,) uint8
         Per vertex of the instance: camera-space w > 0.
+    point : (e,) int64
+        Per edge of the mesh: its point's number (-1 between instances).
+    elist : (4 t,) int64
+        Per point: its edge.
+    tj : (4 t,) int64
+        Per cut tet: its polygon's point numbers.
     rec : (16 t,) float32
     recc : (16 t,) float32
-        Per cut tet: its polygon's corners (xyz and one unused), their colours (rgba).
+        Per point ``j``, from ``4 j``: xyz and one unused; its colour.
     sj : (4 t,) float64
-        And the corners' interpolation factors along their edges.
+        Per point: how far along its edge.
     n64 : (3, t) float64
     tn : (3, t) float32
         Per cut tet: its normal, then made unit.
@@ -160,6 +175,9 @@ class BatchScratch(NamedTuple):
     order: np.ndarray
     keep: np.ndarray
     above: np.ndarray
+    point: np.ndarray
+    elist: np.ndarray
+    tj: np.ndarray
     rec: np.ndarray
     recc: np.ndarray
     sj: np.ndarray

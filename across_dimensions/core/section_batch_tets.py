@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._jit import njit
-from .cases import CASE_COUNT, CASE_EDGES, CASE_REVERSED, CASE_TRIANGLES
+from .cases import CASE_COUNT, CASE_LOCAL_FLAT, CASE_REVERSED, CASE_TRIANGLES
 from .section_kernels import U, normal_transform
 
 
@@ -128,9 +128,9 @@ def _tet_rows(pool, inst, k, cuts, out, o, ws):
     if o + 3 * ntri > out.shape[0]:
         return o + 3 * ntri
     m = inst.mesh[k]
-    _corners(pool, inst, k, ncut, ws)
+    npt = _corners(pool, inst, k, ncut, ws)
     if not pool.flat[m]:
-        _corner_colors(pool, pool.mesh_v[m, 0], ncut, ws)
+        _corner_colors(pool, m, npt, ws)
     tx, ty, tz = ws.tn[0], ws.tn[1], ws.tn[2]
     nx, ny, nz = ws.n64[0], ws.n64[1], ws.n64[2]
     for i in range(ncut):  # its own loop: vectorized
@@ -145,52 +145,65 @@ def _tet_rows(pool, inst, k, cuts, out, o, ws):
 
 @njit(inline="always")
 def _corners(pool, inst, k, ncut, ws):
-    """Per cut tet ``i``: its normal, not yet unit, into ``ws.n64[:, i]``, and the corners of
-    its polygon into ``ws.rec[16 i:]`` (xyz and one unused, float32, per corner), their
-    interpolation factors into ``ws.sj[4 i:]``.
+    """Per cut tet ``i``: its normal, not yet unit, into ``ws.n64[:, i]``, and the point numbers
+    of its polygon's corners into ``ws.tj[4 i:]`` (a triangle's fourth repeats its third); then
+    each point once, though several cut tets share its edge: its xyz into ``ws.rec[4 j:]``
+    (float32, one unused), its interpolation factor into ``ws.sj[j]``; returns the points'
+    number.
 
-    A corner is interpolated from the edge's lower vertex index, so the tets sharing the edge
-    (and the per-object slicer) compute the same point to the bit.
+    ``ws.point`` numbers the instance's cut edges (-1 on entry and on return), ``ws.elist``
+    lists them. A point is interpolated from its edge's lower vertex index, as the per-object
+    slicer does (:func:`~.section_kernels._points_by_edge`), so the same to the bit.
     """
-    tets, tet_normals, cam, cut, cmask, rec, sj, g = (
-        pool.tets, pool.tet_normals, ws.cam, ws.cut, ws.cmask, ws.rec, ws.sj, ws.g
+    tet_normals, tet_edges, cut, cmask, point, elist, tj, g = (
+        pool.tet_normals, pool.tet_edges, ws.cut, ws.cmask, ws.point, ws.elist, ws.tj, ws.g
     )  # fmt: skip
-    v_lo = pool.mesh_v[inst.mesh[k], 0]
     normal_transform(inst.mvs[k], inst.flips[k], g)
     g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
     g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
     nx, ny, nz = ws.n64[0], ws.n64[1], ws.n64[2]
+    npt = 0
     for i in range(ncut):
         t = cut[i]
-        mask = cmask[i]
+        mask = U(cmask[i])
         n0, n1, n2, n3 = tet_normals[t, 0], tet_normals[t, 1], tet_normals[t, 2], tet_normals[t, 3]
         nx[i] = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
         ny[i] = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
         nz[i] = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
-        for e in range(CASE_COUNT[mask]):
-            ia, ib = tets[t, CASE_EDGES[mask, e, 0]], tets[t, CASE_EDGES[mask, e, 1]]
-            a, b = min(ia, ib) - v_lo, max(ia, ib) - v_lo
-            s = cam[a, 3] / (cam[a, 3] - cam[b, 3])
-            j = 4 * i + e
-            sj[j] = s
-            for r in range(3):
-                rec[4 * j + r] = np.float32(cam[a, r] + s * (cam[b, r] - cam[a, r]))
+        for e in range(4):
+            # Number the edge's point if it has none yet, without a branch.
+            eid = U(tet_edges[t, CASE_LOCAL_FLAT[U(4) * mask + U(e)]])
+            j = point[eid]
+            new = j < 0
+            j = npt if new else j
+            point[eid] = j
+            elist[npt] = eid
+            npt += new
+            tj[4 * i + e] = j
+    cam, ends, rec, sj = ws.cam, pool.edge_ends, ws.rec, ws.sj
+    e_lo = pool.mesh_e[inst.mesh[k], 0]
+    for j in range(npt):
+        eid = elist[j]
+        point[eid] = -1
+        a, b = ends[e_lo + eid, 0], ends[e_lo + eid, 1]
+        s = cam[a, 3] / (cam[a, 3] - cam[b, 3])
+        sj[j] = s
+        for r in range(3):
+            rec[4 * j + r] = np.float32(cam[a, r] + s * (cam[b, r] - cam[a, r]))
+    return npt
 
 
 @njit(inline="always")
-def _corner_colors(pool, v_lo, ncut, ws):
-    """The colours of :func:`_corners`' corners into ``ws.recc[16 i:]`` (rgba per corner), for a
-    mesh of many-coloured tets (whose first vertex is ``v_lo``)."""
-    tets, colors, cut, cmask, sj, recc = pool.tets, pool.colors, ws.cut, ws.cmask, ws.sj, ws.recc
-    for i in range(ncut):
-        t = cut[i]
-        mask = cmask[i]
-        for e in range(CASE_COUNT[mask]):
-            ia, ib = tets[t, CASE_EDGES[mask, e, 0]], tets[t, CASE_EDGES[mask, e, 1]]
-            a, b = min(ia, ib), max(ia, ib)
-            s = sj[4 * i + e]
-            for r in range(4):
-                recc[16 * i + 4 * e + r] = np.float32(colors[a, r] + s * (colors[b, r] - colors[a, r]))
+def _corner_colors(pool, m, npt, ws):
+    """The colours of :func:`_corners`' points into ``ws.recc[4 j:]`` (rgba), for a mesh ``m``
+    of many-coloured tets."""
+    colors, ends, elist, sj, recc = pool.colors, pool.edge_ends, ws.elist, ws.sj, ws.recc
+    e_lo, v_lo = pool.mesh_e[m, 0], pool.mesh_v[m, 0]
+    for j in range(npt):
+        a, b = v_lo + ends[e_lo + elist[j], 0], v_lo + ends[e_lo + elist[j], 1]
+        s = sj[j]
+        for r in range(4):
+            recc[4 * j + r] = np.float32(colors[a, r] + s * (colors[b, r] - colors[a, r]))
 
 
 @njit(inline="always")
@@ -201,7 +214,7 @@ def _rows(pool, inst, k, ncut, out, o, ws):
     Copies only: a one-coloured tet's rows take its first vertex's colour, the alpha is
     ``inst.alpha[k]`` unless that is NaN.
     """
-    tets, colors, cut, cmask, rec, recc = pool.tets, pool.colors, ws.cut, ws.cmask, ws.rec, ws.recc
+    tets, colors, cut, cmask, tj, rec, recc = pool.tets, pool.colors, ws.cut, ws.cmask, ws.tj, ws.rec, ws.recc
     tx, ty, tz = ws.tn[0], ws.tn[1], ws.tn[2]
     flat = pool.flat[inst.mesh[k]] != 0
     reverse = CASE_REVERSED[1 if inst.flips[k] < 0.0 else 0]
@@ -221,7 +234,7 @@ def _rows(pool, inst, k, ncut, out, o, ws):
                 e = 2 if rev == (kk == 1) else 1
             elif kk == 4 or kk == 5:
                 e = 3 if rev == (kk == 4) else 2
-            b = 16 * i + 4 * e
+            b = 4 * tj[4 * i + e]
             if not flat:
                 cr, cg, cb, ca = recc[b], recc[b + 1], recc[b + 2], recc[b + 3]
             r = o + kk
