@@ -37,7 +37,7 @@ import numpy as np
 from .cells import Cells, mesh_cells
 from .layout import layout_colors, layout_edges, layout_normals, mesh_clusters
 from .mesh import TetMesh4
-from .section_batch_kernels import ROW, BatchScratch, Instances, Pool, Rows, _instances_in_view, _slice_batch, _w_ranges
+from .section_batch_kernels import ROW, BatchScratch, Instances, Pool, Rows, _instances_in_view, _slice_batch
 from .transform import inverse
 
 #: Updates the output must have fitted half its capacity before it shrinks.
@@ -390,11 +390,9 @@ class SectionBatch:
         count[:first] = self._count[:first]
         w_range = np.empty((n, 2))
         w_range[:first] = self._w_range[:first]
-        _w_ranges(self._pool.arrays, inst, first, w_range, w_cue)
         while True:
-            rows = _slice_batch(
-                self._pool.arrays, inst, first, start_row, Rows(self._out, start, count), self._scratch, self._tag
-            )
+            out = Rows(self._out, start, count, w_range)
+            rows = _slice_batch(self._pool.arrays, inst, first, start_row, out, self._scratch, self._tag, w_cue)
             self._tag += n + 1
             if rows <= len(self._out):
                 break

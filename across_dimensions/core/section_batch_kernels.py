@@ -95,7 +95,7 @@ class Instances(NamedTuple):
     visible : (k,) uint8
         0 for an instance culled whole.
     alpha : (k,) float64
-        What its rows' alpha is: NaN for its colours' own, else this value (see :func:`_w_ranges`).
+        What its rows' alpha is: NaN for its colours' own, else this value (see :func:`_w_side`).
     """
 
     mesh: np.ndarray
@@ -116,11 +116,14 @@ class Rows(NamedTuple):
         Instance ``i``'s first row; ``start[k]`` is one past the last.
     count : (k,) int64
         Instance ``i``'s rows.
+    w_range : (k, 2) float64
+        Instance ``i``'s least and greatest camera-space w.
     """
 
     out: np.ndarray
     start: np.ndarray
     count: np.ndarray
+    w_range: np.ndarray
 
 
 class BatchScratch(NamedTuple):
@@ -186,8 +189,10 @@ class BatchScratch(NamedTuple):
 
 
 @njit(cache=True)
-def _slice_batch(pool, inst, first, start_row, rows, ws, tag):
+def _slice_batch(pool, inst, first, start_row, rows, ws, tag, w_cue):
     """Slice instances ``first..`` into ``rows`` from row ``start_row``; returns the rows needed.
+    Each one's reach along w goes into ``rows.w_range``, with ``w_cue`` its rows' alpha too
+    (:func:`_w_side`).
 
     A mesh with a cell range in ``pool.mesh_cells`` is sliced cell by cell, any
     other tet by tet. The rows needed may exceed ``len(rows.out)``: then nothing
@@ -200,6 +205,7 @@ def _slice_batch(pool, inst, first, start_row, rows, ws, tag):
     for k in range(first, inst.mesh.shape[0]):
         start[k] = o
         m = inst.mesh[k]
+        _w_side(pool, inst, k, ws, rows.w_range, w_cue)
         if inst.visible[k]:
             if mesh_cells[m, 1] > mesh_cells[m, 0]:
                 _cells_to_camera(pool, inst, k, ws)
@@ -249,29 +255,32 @@ def _instances_in_view(mvs, center, radius, planes, in_slice, visible):
         visible[k] = seen
 
 
-@njit(cache=True)
-def _w_ranges(pool, inst, first, out, w_cue):
-    """Per instance ``k >= first``: the least and greatest camera-space w of its vertices, into
-    ``out[k]`` (``(k, 2) float64``): how far the posed mesh reaches either side of the slice.
+@njit(inline="always")
+def _w_side(pool, inst, k, ws, w_range, w_cue):
+    """Instance ``k``'s camera-space w of every vertex into ``ws.cam[:, 3]``, whether it lies
+    above the slice into ``ws.above``, and their least and greatest into ``w_range[k]``
+    (``(k, 2) float64``): how far the posed mesh reaches either side of the slice.
 
     With ``w_cue``, also where the slice cuts it along that extent into ``inst.alpha[k]``, the
     alpha of its rows: 0 mid-way, -1 or 1 at its ends (the renderer's w cue, as
     :func:`~across_dimensions.game.entity_sections.w_offset` gives it); else NaN (its colours' own).
     """
-    verts = pool.vertices
-    for k in range(first, inst.mesh.shape[0]):
-        m = inst.mesh[k]
-        mv = inst.mvs[k]
-        m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
-        lo, hi = np.inf, -np.inf
-        for vi in range(pool.mesh_v[m, 0], pool.mesh_v[m, 1]):
-            w = m0 * verts[vi, 0] + m1 * verts[vi, 1] + m2 * verts[vi, 2] + m3 * verts[vi, 3] + m4
-            lo = min(lo, w)
-            hi = max(hi, w)
-        out[k, 0] = lo
-        out[k, 1] = hi
-        half = 0.5 * (hi - lo)
-        inst.alpha[k] = (0.5 * (lo + hi) / half if half > 0.0 else 0.0) if w_cue else np.nan
+    verts, cam, above = pool.vertices, ws.cam, ws.above
+    m = inst.mesh[k]
+    mv = inst.mvs[k]
+    v_lo = pool.mesh_v[m, 0]
+    m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
+    lo, hi = np.inf, -np.inf
+    for vi in range(v_lo, pool.mesh_v[m, 1]):
+        w = m0 * verts[vi, 0] + m1 * verts[vi, 1] + m2 * verts[vi, 2] + m3 * verts[vi, 3] + m4
+        cam[vi - v_lo, 3] = w
+        above[vi - v_lo] = w > 0.0
+        lo = min(lo, w)
+        hi = max(hi, w)
+    w_range[k, 0] = lo
+    w_range[k, 1] = hi
+    half = 0.5 * (hi - lo)
+    inst.alpha[k] = (0.5 * (lo + hi) / half if half > 0.0 else 0.0) if w_cue else np.nan
 
 
 @njit(inline="always")

@@ -33,8 +33,8 @@ def _cut_tets(pool, inst, k, stamp_of, ws):
 
     Clusters are culled by their bounding sphere. When the kept clusters' tets use about every
     vertex, every vertex is moved into camera space in one loop; else each vertex they use,
-    once (``ws.stamp`` holds ``stamp_of`` where ``ws.cam`` has it). ``ws.above`` gets one byte
-    per vertex: camera-space w > 0.
+    once (``ws.stamp`` holds ``stamp_of`` where ``ws.cam`` has it). Which side of the slice
+    each vertex lies on is in ``ws.above`` already (:func:`~.section_batch_kernels._w_side`).
     """
     tets, clo, chi, ccenter, cradius = pool.tets, pool.clo, pool.chi, pool.ccenter, pool.cradius
     above, cut, cmask, keep = ws.above, ws.cut, ws.cmask, ws.keep
@@ -97,22 +97,18 @@ def _cut_tets(pool, inst, k, stamp_of, ws):
 @njit(inline="always")
 def _to_camera(pool, mv, v_lo, v0, v1, ws):
     """Pool vertices ``v0..v1`` of a mesh whose first is ``v_lo`` moved by ``mv (5, 5)`` into
-    camera space, ``ws.cam`` (rows from ``v0 - v_lo``), and whether each is above the slice,
-    ``ws.above``: the per-object slicer's sums."""
-    verts, cam, above = pool.vertices, ws.cam, ws.above
+    camera space, ``ws.cam[:, :3]`` (rows from ``v0 - v_lo``): the per-object slicer's sums.
+    Their w is there already (:func:`~.section_batch_kernels._w_side`)."""
+    verts, cam = pool.vertices, ws.cam
     a00, a01, a02, a03, a04 = mv[0, 0], mv[0, 1], mv[0, 2], mv[0, 3], mv[0, 4]
     a10, a11, a12, a13, a14 = mv[1, 0], mv[1, 1], mv[1, 2], mv[1, 3], mv[1, 4]
     a20, a21, a22, a23, a24 = mv[2, 0], mv[2, 1], mv[2, 2], mv[2, 3], mv[2, 4]
-    a30, a31, a32, a33, a34 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
     for vi in range(v0, v1):
         li = vi - v_lo
         x, y, z, w = verts[vi, 0], verts[vi, 1], verts[vi, 2], verts[vi, 3]
         cam[li, 0] = a00 * x + a01 * y + a02 * z + a03 * w + a04
         cam[li, 1] = a10 * x + a11 * y + a12 * z + a13 * w + a14
         cam[li, 2] = a20 * x + a21 * y + a22 * z + a23 * w + a24
-        cw = a30 * x + a31 * y + a32 * z + a33 * w + a34
-        cam[li, 3] = cw
-        above[li] = cw > 0.0
 
 
 @njit(inline="always")
