@@ -46,18 +46,25 @@ def visible_per_instance(mv, center, radius, planes):
     return in_slice, in_slice and bool((dist >= -r3 * np.linalg.norm(planes[:, :3], axis=1)).all())
 
 
-def test_instances_meet_the_slice_and_the_view_as_tested_one_by_one():
+def test_instances_meet_the_slice_and_the_view_as_tested_one_by_one_and_have_det_s_orientation():
     rng = np.random.default_rng(3)
     mvs = random_models(rng, 400, spread=6.0, w_spread=2.0)
     mvs[::7] = mvs[::7] @ scaling((1.0, 3.0, 0.2, 1.5))  # stretched: the bound, not the exact radius
     centers, radii = rng.uniform(-0.5, 0.5, (400, 4)), rng.uniform(0.2, 1.5, 400)
     planes = np.array([[1.0, 0.0, 0.3, 2.0], [-0.5, 0.2, 1.0, 1.0], [0.0, -2.0, 0.0, 3.0]])
-    in_slice, visible = np.empty(400, bool), np.empty(400, bool)
-    _instances_in_view(mvs, centers, radii, planes, in_slice, visible)
+    mvs[::5] = mvs[::5] @ scaling((1.0, -1.0, 1.0, 1.0))  # mirrored: the other winding
+    mvs[3] = mvs[3] @ scaling((1.0, 1.0, 0.0, 1.0))  # flat: too close to call, numpy's det decides
+    in_slice, visible, flips = np.empty(400, bool), np.empty(400, bool), np.empty(400)
+    unsure = _instances_in_view(mvs, centers, radii, planes, in_slice, visible, flips)
     want = np.array([visible_per_instance(m, c, r, planes) for m, c, r in zip(mvs, centers, radii)])
     np.testing.assert_array_equal(in_slice, want[:, 0])
     np.testing.assert_array_equal(visible, want[:, 1])
     assert 0 < visible.sum() < in_slice.sum() < 400  # every outcome occurs
+    det = np.linalg.det(mvs[:, :4, :4])  # the orientation the per-object slicer takes
+    assert unsure == 1 and flips[3] == 0.0
+    sure = np.arange(400) != 3
+    np.testing.assert_array_equal(flips[sure], np.where(det[sure] > 0, 1.0, -1.0))
+    assert (flips < 0).sum() >= 60  # both orientations occur
 
 
 def test_w_cue_in_each_instances_rows_is_the_one_made_per_entity(meshes):

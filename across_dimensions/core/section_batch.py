@@ -37,7 +37,7 @@ import numpy as np
 from .cells import Cells, mesh_cells
 from .layout import layout_colors, layout_edges, layout_normals, mesh_clusters
 from .mesh import TetMesh4
-from .section_batch_kernels import ROW, BatchScratch, Instances, Pool, Rows, _instances_in_view, _slice_batch
+from .section_batch_kernels import ROW, BatchScratch, Instances, Pool, _instances_in_view, _slice_batch
 from .transform import inverse
 
 #: Updates the output must have fitted half its capacity before it shrinks.
@@ -240,6 +240,7 @@ class SectionBatch:
         self._count = np.zeros(0, np.int64)
         self._w_range = np.zeros((0, 2))
         self._mesh_ids: tuple = (None, None)  # (id of each mesh, its number in the pool) of the last update
+        self._view: tuple = (b"", None)  # (camera pose's bytes, its world-to-camera) of the last update
         self._scratch = None  # the kernel's BatchScratch, grown with the pool
         self._tag = 0  # marks camera-space vertices (see _slice_batch); never reused
         self._min_rows = int(capacity_rows)
@@ -304,9 +305,8 @@ class SectionBatch:
         """
         keys = list(keys)
         n = len(keys)
-        view = _view_of(camera_pose)
         models = np.asarray(models, np.float64).reshape(n, 5, 5)
-        mvs = np.ascontiguousarray(np.matmul(view, models))
+        mvs = np.ascontiguousarray(np.matmul(self._view_for(camera_pose), models))
         meshes = list(meshes)
         by_id = list(map(id, meshes))
         if len(self._pool.meshes) > max(16, 2 * len(set(by_id))):
@@ -319,7 +319,7 @@ class SectionBatch:
         if by_id != self._mesh_ids[0]:  # the same meshes as last time (most frames): the same numbers
             self._mesh_ids = (by_id, np.array([self._pool.add(m) for m in meshes], np.int64))
         mesh_ids = self._mesh_ids[1]
-        in_slice, visible = self._visible(mvs, mesh_ids, planes)
+        in_slice, visible, flips = self._visible(mvs, mesh_ids, planes)
         self._view_culled = {keys[i] for i in np.flatnonzero(in_slice & ~visible)}
         self.culled = int(n - visible.sum())
         old = self._old_order(keys)
@@ -334,23 +334,25 @@ class SectionBatch:
         kept = old[old >= 0]
         stay = kept[~diff[kept]]
         first = int(np.argmin(np.append(old[: len(stay)] == stay, False)))
-        order = np.concatenate([stay, np.flatnonzero(diff)])
-        # The winding rule needs each transform's orientation.
-        flips = np.where(np.linalg.det(mvs[:, :4, :4]) > 0, 1.0, -1.0)
-        inst = Instances(
-            mesh_ids[order],
-            np.ascontiguousarray(mvs[order]),
-            np.ascontiguousarray(flips[order]),
-            visible[order].astype(np.uint8),
-            np.empty(n),
-        )
+        if len(stay) == 0 and diff.all():  # everything changed (animated things): the order of keys
+            order, inst = np.arange(n), Instances(mesh_ids, mvs, flips, visible.view(np.uint8), np.empty(n))
+        else:
+            order = np.concatenate([stay, np.flatnonzero(diff)])
+            inst = Instances(mesh_ids[order], mvs[order], flips[order], visible[order].view(np.uint8), np.empty(n))
         self._slice(inst, first, w_cue)
-        self._keys = list(map(keys.__getitem__, order.tolist()))
+        self._keys = keys if len(stay) == 0 and diff.all() else list(map(keys.__getitem__, order.tolist()))
         self._order = order
         self._pos = None
         self.sliced = n - first
         self.revision += 1
         return True
+
+    def _view_for(self, camera_pose) -> np.ndarray:
+        """:func:`_view_of` the pose, made again only when the pose changes."""
+        key = None if camera_pose is None else np.asarray(camera_pose, np.float64).tobytes()
+        if key != self._view[0]:
+            self._view = (key, _view_of(camera_pose))
+        return self._view[1]
 
     def _old_order(self, keys: list) -> np.ndarray:
         """The last update's order as places in ``keys``, ``(k,) int64``, -1 for keys gone."""
@@ -367,7 +369,7 @@ class SectionBatch:
         n = len(keys)
         last = self._last
         if last is not None and last[0] == keys:
-            diff = (last[1] != mesh_ids) | (last[2] != visible) | (last[3] != mvs).any(axis=(1, 2))
+            diff = (last[1] != mesh_ids) | (last[2] != visible) | (last[3] != mvs).reshape(n, 25).any(axis=1)
         else:
             diff = np.ones(n, bool)
             if last is not None:
@@ -391,8 +393,9 @@ class SectionBatch:
         w_range = np.empty((n, 2))
         w_range[:first] = self._w_range[:first]
         while True:
-            out = Rows(self._out, start, count, w_range)
-            rows = _slice_batch(self._pool.arrays, inst, first, start_row, out, self._scratch, self._tag, w_cue)
+            out = (self._out, start, count, w_range)  # a Rows, as a plain tuple like the other bundles
+            pool, ws = tuple(self._pool.arrays), tuple(self._scratch)
+            rows = _slice_batch(pool, tuple(inst), first, start_row, out, ws, self._tag, w_cue)
             self._tag += n + 1
             if rows <= len(self._out):
                 break
@@ -422,13 +425,13 @@ class SectionBatch:
             self._out = small
             self._small = 0
 
-    def _visible(self, mvs: np.ndarray, mesh_ids: np.ndarray, planes) -> tuple[np.ndarray, np.ndarray]:
-        """Which instances' bounding spheres meet the slice, and which meet both the slice and the view.
-
-        Returns two ``(k,) bool`` arrays.
-        """
+    def _visible(self, mvs: np.ndarray, mesh_ids: np.ndarray, planes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Which instances' bounding spheres meet the slice, and which meet both the slice and the view
+        (two ``(k,) bool`` arrays), and each one's orientation, ``(k,) float64``: ``1.0`` where
+        ``det(mv[:4, :4]) > 0``, else ``-1.0`` (the winding rule needs it)."""
         pool = self._pool
         pl = np.zeros((0, 4)) if planes is None else np.ascontiguousarray(planes, np.float64).reshape(-1, 4)
-        in_slice, visible = np.empty(len(mvs), np.bool_), np.empty(len(mvs), np.bool_)
-        _instances_in_view(mvs, pool.center[mesh_ids], pool.radius[mesh_ids], pl, in_slice, visible)
-        return in_slice, visible
+        in_slice, visible, flips = np.empty(len(mvs), np.bool_), np.empty(len(mvs), np.bool_), np.empty(len(mvs))
+        if _instances_in_view(mvs, pool.center[mesh_ids], pool.radius[mesh_ids], pl, in_slice, visible, flips):
+            flips = np.where(np.linalg.det(mvs[:, :4, :4]) > 0, 1.0, -1.0)  # flat ones: the per-object slicer's call
+        return in_slice, visible, flips
