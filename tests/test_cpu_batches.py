@@ -144,7 +144,9 @@ def test_ghost_spans_say_what_same_as_slice_says_for_each_entity():
 def test_animated_enemies_in_the_frames_batches_are_each_enemys_own_sections(tmp_path):
     """Ten held enemies (lifted trees and swarms of hyperspheres) at several animation poses: the
     frame's batches (the slice, and the ghost layers on either side) hold for each enemy the
-    section the per-object slicer gives its posed mesh, and the w cue made for it alone."""
+    section the per-object slicer gives its posed mesh, and the w cue made for it alone, less
+    the triangles that face away from the eye (the renderer skips those: the batches are drawn
+    with inner faces culled), and say it has a section."""
     from across_dimensions.bench.systems import enemy_level_text
     from across_dimensions.game.actions import Actions
     from across_dimensions.game.sim import Game
@@ -157,30 +159,48 @@ def test_animated_enemies_in_the_frames_batches_are_each_enemys_own_sections(tmp
     game.step(Actions())
     enemies.hold(game, 0.0, 10**9)
     foes = [e for e in game.entities.of_kind("enemy")]
-    seen = 0
+    kept = dropped = 0
     for ticks in (30, 95, 130, 200):  # poses across both kinds' keyframes (4.5 s and 6 s loops)
         for _ in range(ticks):
             game.step(Actions())
-        game.frame(0.5)
+        frame = game.frame(0.5)
+        eye = np.asarray(frame.camera.position, np.float64)
         table = game.entity_models
         models = dict(zip((e.id for e in table.entities), table.models(game, 0.5)))
         es = game.entity_sections
         slices = [(es.batches["solid"], game.camera.slice_pose(0.0), True)]
         slices += [(batch, translation((0.0, 0.0, 0.0, w)), False) for batch, w in _ghost_batches(game)]
         for batch, camera, cue in slices:
+            cuts = dict(zip(batch.instances()[0], batch.cut_counts))
             for e in foes:
                 assert not batch.culled_by_view(e.id)  # all ten stand in front of the player
                 start, count = batch.instance_rows(e.id)
                 rows = batch.vertices[start : start + count]
                 tri = cross_section(e.mesh, camera, models[e.id])
-                assert len(rows) == len(tri.vertices)
-                np.testing.assert_allclose(rows[:, 0:3], tri.vertices, atol=1e-6)
-                np.testing.assert_allclose(rows[:, 3:6], tri.normals, atol=1e-6)
-                np.testing.assert_allclose(rows[:, 6:ALPHA], tri.colors[:, :3], atol=1e-6)
                 alpha = w_offset(e.mesh, models[e.id], camera) if cue else tri.colors[:, 3]
-                np.testing.assert_allclose(rows[:, ALPHA], alpha, atol=1e-5)
-                seen += count > 0
-    assert seen > 100  # most enemies are cut in most of the 12 slices
+                alpha = np.broadcast_to(alpha, len(tri.vertices))
+                want = np.column_stack([tri.vertices, tri.normals, tri.colors[:, :3], alpha])
+                front = _rows_in_order(rows, want)
+                away = ((eye - tri.vertices[::3]) * tri.normals[::3]).sum(axis=1) < 0.0
+                assert not (~front & ~away).any(), "a triangle facing the eye was left out"
+                assert (cuts[e.id] > 0) == (len(tri.vertices) > 0)  # it has a section, faces away or not
+                if cue:  # the slice's batch: what the radar asks
+                    assert es.has_section(e.id) == (len(tri.vertices) > 0)
+                kept, dropped = kept + front.sum(), dropped + (~front).sum()
+    assert kept > 10_000 and dropped > 0.3 * (kept + dropped)  # most enemies are cut; about half faces away
+
+
+def _rows_in_order(rows: np.ndarray, want: np.ndarray) -> np.ndarray:
+    """Which triangles of ``want`` ``(3 t, 10)`` the ``rows`` ``(3 r, 10)`` hold, in order and none
+    else: ``(t,) bool``."""
+    held = np.zeros(len(want) // 3, bool)
+    r = 0
+    for i in range(len(held)):
+        if r < len(rows) and np.allclose(rows[r : r + 3], want[3 * i : 3 * i + 3], atol=1e-5):
+            held[i] = True
+            r += 3
+    assert r == len(rows), "the batch holds a triangle the per-object slicer does not give"
+    return held
 
 
 def _ghost_batches(game):

@@ -235,12 +235,14 @@ class SectionBatch:
         self._pos: dict | None = {}  # key -> its place in that order (None: not made yet)
         self._order = np.zeros(0, np.int64)  # that order as places in the last update's keys
         self._view_culled: set = set()
-        self._last = None  # (keys, mesh numbers, visible, model-views) of the last update
+        self._last = None  # (keys, mesh numbers, visible, model-views, sliced for an eye) of the last update
         self._start = np.zeros(1, np.int64)
         self._count = np.zeros(0, np.int64)
         self._w_range = np.zeros((0, 2))
         self._mesh_ids: tuple = (None, None)  # (id of each mesh, its number in the pool) of the last update
         self._view: tuple = (b"", None)  # (camera pose's bytes, its world-to-camera) of the last update
+        self._eye = None  # the last update's eye, as bytes
+        self._cut = np.zeros(0, np.int64)
         self._scratch = None  # the kernel's BatchScratch, grown with the pool
         self._tag = 0  # marks camera-space vertices (see _slice_batch); never reused
         self._min_rows = int(capacity_rows)
@@ -275,6 +277,12 @@ class SectionBatch:
         return self._keys, self._start, self._count, self._w_range
 
     @property
+    def cut_counts(self) -> np.ndarray:
+        """``(k,) int64`` in :meth:`instances`' order: each instance's cut tets (or cells), the
+        polygons left out for facing away from the eye included: it has a section if > 0."""
+        return self._cut
+
+    @property
     def view_culled(self) -> set:
         """The keys :meth:`culled_by_view` says yes to."""
         return self._view_culled
@@ -283,7 +291,7 @@ class SectionBatch:
         """Was the instance skipped only because it is out of view (its sphere reaches the slice)?"""
         return key in self._view_culled
 
-    def update(self, keys, meshes, models, camera_pose=None, planes=None, w_cue: bool = False) -> bool:
+    def update(self, keys, meshes, models, camera_pose=None, planes=None, w_cue: bool = False, eye=None) -> bool:
         """Slice every instance that changed; returns True if the output changed.
 
         Parameters
@@ -302,6 +310,13 @@ class SectionBatch:
         w_cue : bool
             The alpha of each instance's rows says where the slice cuts it along its extent
             that way (0 mid-way, -1 or 1 at its ends), instead of its colours' alpha.
+        eye : (3,) float64, optional
+            Where the picture is seen from, in the output frame, for a batch drawn with its
+            inner faces skipped (closed surfaces, wound counter-clockwise from outside): the
+            polygons of a changed instance that clearly face away from it are left out, since
+            the rasterizer would skip them (half the rows to write and to upload). Such an
+            instance is sliced again, whole, once the eye has moved (:meth:`cut_counts` still
+            says which instances have a section).
         """
         keys = list(keys)
         n = len(keys)
@@ -323,7 +338,12 @@ class SectionBatch:
         self._view_culled = {keys[i] for i in np.flatnonzero(in_slice & ~visible)}
         self.culled = int(n - visible.sum())
         old = self._old_order(keys)
-        diff = self._changed(keys, mesh_ids, visible, mvs)
+        eye_key = None if eye is None else np.asarray(eye, np.float64).reshape(3).tobytes()
+        moved, self._eye = eye_key != self._eye, eye_key
+        diff, culled = self._changed(keys, mesh_ids, visible, mvs)
+        cull = diff if eye is not None else np.zeros(n, bool)  # only what changed anyway
+        diff = diff | (culled & moved)  # sliced for the eye where it was: whole again
+        self._last = (*self._last[:4], np.where(diff, cull, culled))
         if not diff.any() and len(old) == n and (old >= 0).all():
             self.changed_from = self._rows
             self.sliced = 0
@@ -334,11 +354,14 @@ class SectionBatch:
         kept = old[old >= 0]
         stay = kept[~diff[kept]]
         first = int(np.argmin(np.append(old[: len(stay)] == stay, False)))
+        seen_from = np.zeros(3) if eye is None else np.asarray(eye, np.float64).reshape(3)
         if len(stay) == 0 and diff.all():  # everything changed (animated things): the order of keys
-            order, inst = np.arange(n), Instances(mesh_ids, mvs, flips, visible.view(np.uint8), np.empty(n))
+            order = np.arange(n)
+            inst = Instances(mesh_ids, mvs, flips, visible.view(np.uint8), np.empty(n), cull.view(np.uint8), seen_from)
         else:
             order = np.concatenate([stay, np.flatnonzero(diff)])
-            inst = Instances(mesh_ids[order], mvs[order], flips[order], visible[order].view(np.uint8), np.empty(n))
+            look = (np.empty(n), cull[order].view(np.uint8), seen_from)
+            inst = Instances(mesh_ids[order], mvs[order], flips[order], visible[order].view(np.uint8), *look)
         self._slice(inst, first, w_cue)
         self._keys = keys if len(stay) == 0 and diff.all() else list(map(keys.__getitem__, order.tolist()))
         self._order = order
@@ -361,8 +384,10 @@ class SectionBatch:
         where = {k: i for i, k in enumerate(keys)}
         return np.array([where.get(k, -1) for k in self._keys], np.int64)
 
-    def _changed(self, keys: list, mesh_ids: np.ndarray, visible: np.ndarray, mvs: np.ndarray) -> np.ndarray:
-        """``(n,) bool`` by place in ``keys``: the instances that are new, moved, or entered or left the view.
+    def _changed(self, keys: list, mesh_ids: np.ndarray, visible: np.ndarray, mvs: np.ndarray):
+        """``(n,) bool`` twice, by place in ``keys``: the instances that are new, moved, or entered
+        or left the view; and those whose rows were made without the polygons facing away
+        from the last update's eye.
 
         Compared as arrays: per-key Python work is what the batch is here to avoid.
         """
@@ -370,16 +395,18 @@ class SectionBatch:
         last = self._last
         if last is not None and last[0] == keys:
             diff = (last[1] != mesh_ids) | (last[2] != visible) | (last[3] != mvs).reshape(n, 25).any(axis=1)
+            culled = last[4]
         else:
-            diff = np.ones(n, bool)
+            diff, culled = np.ones(n, bool), np.zeros(n, bool)
             if last is not None:
                 where = {k: i for i, k in enumerate(last[0])}
                 for i, k in enumerate(keys):
                     j = where.get(k)
                     if j is not None:
                         diff[i] = last[1][j] != mesh_ids[i] or last[2][j] != visible[i] or (last[3][j] != mvs[i]).any()
-        self._last = (keys, mesh_ids, visible, mvs)
-        return diff
+                        culled[i] = last[4][j]
+        self._last = (keys, mesh_ids, visible, mvs, culled)
+        return diff, culled
 
     def _slice(self, inst: Instances, first: int, w_cue: bool) -> None:
         """Slice the instances from ``first`` on (those before keep their rows), growing the output if needed."""
@@ -392,8 +419,10 @@ class SectionBatch:
         count[:first] = self._count[:first]
         w_range = np.empty((n, 2))
         w_range[:first] = self._w_range[:first]
+        cut = np.empty(n, np.int64)
+        cut[:first] = self._cut[:first]
         while True:
-            out = (self._out, start, count, w_range)  # a Rows, as a plain tuple like the other bundles
+            out = (self._out, start, count, w_range, cut)  # a Rows, as a plain tuple like the other bundles
             pool, ws = tuple(self._pool.arrays), tuple(self._scratch)
             rows = _slice_batch(pool, tuple(inst), first, start_row, out, ws, self._tag, w_cue)
             self._tag += n + 1
@@ -405,7 +434,7 @@ class SectionBatch:
             self._out = grown
         self._rows = int(rows)
         self._shrink_if_settled()
-        self._start, self._count, self._w_range = start, count, w_range
+        self._start, self._count, self._w_range, self._cut = start, count, w_range, cut
         self.changed_from = start_row
 
     def _shrink_if_settled(self) -> None:

@@ -96,6 +96,10 @@ class Instances(NamedTuple):
         0 for an instance culled whole.
     alpha : (k,) float64
         What its rows' alpha is: NaN for its colours' own, else this value (see :func:`_w_side`).
+    cull : (k,) uint8
+        1: leave out the polygons that face away from ``eye`` (sliced tet by tet only).
+    eye : (3,) float64
+        Where the picture is seen from, in the output's frame.
     """
 
     mesh: np.ndarray
@@ -103,6 +107,8 @@ class Instances(NamedTuple):
     flips: np.ndarray
     visible: np.ndarray
     alpha: np.ndarray
+    cull: np.ndarray
+    eye: np.ndarray
 
 
 class Rows(NamedTuple):
@@ -118,12 +124,15 @@ class Rows(NamedTuple):
         Instance ``i``'s rows.
     w_range : (k, 2) float64
         Instance ``i``'s least and greatest camera-space w.
+    cut : (k,) int64
+        Instance ``i``'s cut tets (or cells), polygons facing away included: has it a section?
     """
 
     out: np.ndarray
     start: np.ndarray
     count: np.ndarray
     w_range: np.ndarray
+    cut: np.ndarray
 
 
 class BatchScratch(NamedTuple):
@@ -214,9 +223,14 @@ def _slice_batch(pool, inst, first, start_row, rows, ws, tag, w_cue):
             if mesh_cells[m, 1] > mesh_cells[m, 0]:
                 _cells_to_camera(pool, inst, k, ws)
                 ncut = _cut_cells(pool, inst, k, ws)
+                rows.cut[k] = ncut
                 o = _cell_rows(pool, inst, k, ncut, rows.out, o, ws)
             else:
-                o = _tet_rows(pool, inst, k, _cut_tets(pool, inst, k, tag + k, ws), rows.out, o, ws)
+                cuts = _cut_tets(pool, inst, k, tag + k, ws)
+                rows.cut[k] = cuts[0]
+                o = _tet_rows(pool, inst, k, cuts, rows.out, o, ws)
+        else:
+            rows.cut[k] = 0
         count[k] = o - start[k]
         start[k + 1] = o
     return o

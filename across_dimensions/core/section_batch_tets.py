@@ -114,8 +114,9 @@ def _to_camera(pool, mv, v_lo, v0, v1, ws):
 @njit(inline="always")
 def _tet_rows(pool, inst, k, cuts, out, o, ws):
     """The triangles of instance ``k``'s cut tets (``cuts``: :func:`_cut_tets`'s counts) into
-    ``out`` from row ``o``; returns the next row. When they do not fit, nothing is written
-    and the rows they need are counted (the caller grows the output).
+    ``out`` from row ``o``; returns the next row. When they might not fit, nothing is written
+    and the rows all cut tets need are counted (the caller grows the output). With
+    ``inst.cull[k]``, tets whose polygon faces away from ``inst.eye`` are left out.
 
     The points, normal and winding of the per-object slicer
     (:func:`~.section_kernels._points_by_tet`, ``_unit_normals``, ``_rows``), bit for bit.
@@ -124,7 +125,7 @@ def _tet_rows(pool, inst, k, cuts, out, o, ws):
     if o + 3 * ntri > out.shape[0]:
         return o + 3 * ntri
     m = inst.mesh[k]
-    npt = _corners(pool, inst, k, ncut, ws)
+    ncut, npt = _corners(pool, inst, k, ncut, ws)
     if not pool.flat[m]:
         _corner_colors(pool, m, npt, ws)
     tx, ty, tz = ws.tn[0], ws.tn[1], ws.tn[2]
@@ -141,31 +142,47 @@ def _tet_rows(pool, inst, k, cuts, out, o, ws):
 
 @njit(inline="always")
 def _corners(pool, inst, k, ncut, ws):
-    """Per cut tet ``i``: its normal, not yet unit, into ``ws.n64[:, i]``, and the point numbers
-    of its polygon's corners into ``ws.tj[4 i:]`` (a triangle's fourth repeats its third); then
-    each point once, though several cut tets share its edge: its xyz into ``ws.rec[4 j:]``
-    (float32, one unused), its interpolation factor into ``ws.sj[j]``; returns the points'
-    number.
+    """Per cut tet ``i`` kept: its normal, not yet unit, into ``ws.n64[:, i]``, and the point
+    numbers of its polygon's corners into ``ws.tj[4 i:]`` (a triangle's fourth repeats its
+    third); then each point once, though several cut tets share its edge: its xyz into
+    ``ws.rec[4 j:]`` (float32, one unused), its interpolation factor into ``ws.sj[j]``.
+    Returns the tets kept (compacted in ``ws.cut`` and ``ws.cmask``) and the points' number.
 
-    ``ws.point`` numbers the instance's cut edges (-1 on entry and on return), ``ws.elist``
-    lists them. A point is interpolated from its edge's lower vertex index, as the per-object
-    slicer does (:func:`~.section_kernels._points_by_edge`), so the same to the bit.
+    With ``inst.cull[k]``, a tet whose polygon faces away from ``inst.eye`` is left out
+    (:func:`_faces_away`). ``ws.point`` numbers the instance's cut edges (-1 on entry and on
+    return), ``ws.elist`` lists them. A point is interpolated from its edge's lower vertex
+    index, as the per-object slicer does (:func:`~.section_kernels._points_by_edge`), so the
+    same to the bit.
     """
-    tet_normals, tet_edges, cut, cmask, point, elist, tj, g = (
-        pool.tet_normals, pool.tet_edges, ws.cut, ws.cmask, ws.point, ws.elist, ws.tj, ws.g
+    tet_normals, tet_edges, tets, cut, cmask, point, elist, tj, g, cam = (
+        pool.tet_normals, pool.tet_edges, pool.tets, ws.cut, ws.cmask, ws.point, ws.elist, ws.tj, ws.g, ws.cam
     )  # fmt: skip
-    normal_transform(inst.mvs[k], inst.flips[k], g)
+    mv = inst.mvs[k]
+    normal_transform(mv, inst.flips[k], g)
     g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
     g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
+    h0, h1, h2, h3 = _w_cofactors(mv, inst.flips[k])
+    cull = inst.cull[k] != 0
+    ex, ey, ez = inst.eye[0], inst.eye[1], inst.eye[2]
+    v_lo = pool.mesh_v[inst.mesh[k], 0]
     nx, ny, nz = ws.n64[0], ws.n64[1], ws.n64[2]
     npt = 0
+    kept = 0
     for i in range(ncut):
         t = cut[i]
         mask = U(cmask[i])
         n0, n1, n2, n3 = tet_normals[t, 0], tet_normals[t, 1], tet_normals[t, 2], tet_normals[t, 3]
-        nx[i] = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
-        ny[i] = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
-        nz[i] = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
+        x = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
+        y = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
+        z = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
+        if cull:
+            v = tets[t, 0] - v_lo
+            w = h0 * n0 + h1 * n1 + h2 * n2 + h3 * n3
+            if _faces_away(ex - cam[v, 0], ey - cam[v, 1], ez - cam[v, 2], cam[v, 3], x, y, z, w):
+                continue
+        cut[kept] = t  # compacted in place: kept <= i
+        cmask[kept] = mask
+        nx[kept], ny[kept], nz[kept] = x, y, z
         for e in range(4):
             # Number the edge's point if it has none yet, without a branch.
             eid = U(tet_edges[t, CASE_LOCAL_FLAT[U(4) * mask + U(e)]])
@@ -175,8 +192,9 @@ def _corners(pool, inst, k, ncut, ws):
             point[eid] = j
             elist[npt] = eid
             npt += new
-            tj[4 * i + e] = j
-    cam, ends, rec, sj = ws.cam, pool.edge_ends, ws.rec, ws.sj
+            tj[4 * kept + e] = j
+        kept += 1
+    ends, rec, sj = pool.edge_ends, ws.rec, ws.sj
     e_lo = pool.mesh_e[inst.mesh[k], 0]
     for j in range(npt):
         eid = elist[j]
@@ -186,7 +204,52 @@ def _corners(pool, inst, k, ncut, ws):
         sj[j] = s
         for r in range(3):
             rec[4 * j + r] = np.float32(cam[a, r] + s * (cam[b, r] - cam[a, r]))
-    return npt
+    return kept, npt
+
+
+#: A polygon is left out when the eye lies behind its plane by more than this fraction of its
+#: distance from the polygon (the cosine of the angle from the plane): nearly edge-on ones are
+#: kept, so the rasterizer, which culls back faces itself, decides those as it always did.
+CULL_MARGIN = 1e-2
+
+
+# size: scalar helper, coordinates in registers
+@njit(inline="always")
+def _faces_away(dx, dy, dz, vw, nx, ny, nz, nw):
+    """Does a tet's section face away from the eye, clearly? ``(dx, dy, dz)`` is the eye minus
+    one vertex of the tet (camera space xyz), ``vw`` that vertex's w, ``(nx, ny, nz, nw)`` the
+    tet's outward 4D normal. The section's plane holds the points ``x`` of the slice (w = 0)
+    with ``n . (x - v) = nw vw``, so the eye's side of it is the sign of ``n . d - nw vw``.
+    Scalars in, scalars out: an inlined function taking arrays would count references."""
+    side = dx * nx + dy * ny + dz * nz - nw * vw
+    far = (CULL_MARGIN * CULL_MARGIN) * (nx * nx + ny * ny + nz * nz) * (dx * dx + dy * dy + dz * dz)
+    return side < 0.0 and side * side > far
+
+
+@njit(inline="always")
+def _w_cofactors(mv, flip):
+    """The w row of :func:`~.section_kernels.normal_transform`'s ``flip cof(A)``, ``A = mv[:4,
+    :4]``: what turns an object-space tet normal into the w of its camera-space normal."""
+    out0 = out1 = out2 = out3 = 0.0
+    for j in range(4):
+        c0 = 1 if j == 0 else 0
+        c1 = 2 if j <= 1 else 1
+        c2 = 3 if j <= 2 else 2
+        minor = (
+            mv[0, c0] * (mv[1, c1] * mv[2, c2] - mv[1, c2] * mv[2, c1])
+            - mv[0, c1] * (mv[1, c0] * mv[2, c2] - mv[1, c2] * mv[2, c0])
+            + mv[0, c2] * (mv[1, c0] * mv[2, c1] - mv[1, c1] * mv[2, c0])
+        )
+        value = -flip * minor if j % 2 == 0 else flip * minor  # the sign of (3 + j)
+        if j == 0:
+            out0 = value
+        elif j == 1:
+            out1 = value
+        elif j == 2:
+            out2 = value
+        else:
+            out3 = value
+    return out0, out1, out2, out3
 
 
 @njit(inline="always")

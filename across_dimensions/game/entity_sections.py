@@ -88,7 +88,8 @@ class EntitySections:
             if batch is None:
                 batch = self.batches[style] = SectionBatch()
             ids = [entities[i].id for i in rows]
-            batch.update(ids, [entities[i].mesh for i in rows], models[rows], camera, planes, w_cue=style in W_CUED)
+            meshes, eye = [entities[i].mesh for i in rows], frame.camera.position
+            batch.update(ids, meshes, models[rows], camera, planes, w_cue=style in W_CUED, eye=eye)
             self._note_sliced(batch)
             frame.batches.append(
                 TriangleBatch(
@@ -111,8 +112,8 @@ class EntitySections:
     def _note_sliced(self, batch: SectionBatch) -> None:
         """Record which of the batch's entities have a section (all at once: per-entity Python is
         what the batch avoids)."""
-        keys, _, count, _ = batch.instances()
-        self._sliced.update(zip(keys, (count > 0).tolist()))
+        keys = batch.instances()[0]
+        self._sliced.update(zip(keys, (batch.cut_counts > 0).tolist()))
         self._sliced.update(dict.fromkeys(batch.view_culled, True))
 
     def view_planes(self, camera) -> np.ndarray:
@@ -132,7 +133,8 @@ class EntitySections:
         if batch is None:
             batch = self.ghost_batches[tag] = SectionBatch()
         ids = [e.id for e in entities]
-        batch.update(ids, [e.mesh for e in entities], models, translation((0.0, 0.0, 0.0, layer.w)), planes)
+        pose = translation((0.0, 0.0, 0.0, layer.w))
+        batch.update(ids, [e.mesh for e in entities], models, pose, planes, eye=frame.camera.position)
         look = {"tint": layer.tint, "pattern": layer.pattern, "opacity": layer.opacity, "outside_only": True}
         members = self._members(f"{tag}:entity:", ids)
         frame.batches.append(TriangleBatch(f"{tag}:entities", batch.revision, batch.vertices, "ghost",
