@@ -64,6 +64,24 @@ def _view_of(camera_pose) -> np.ndarray:
 _EYE4 = np.eye(4)
 
 
+#: Tets per chunk, the unit the tet slicer culls by: its layout's clusters (spatially
+#: coherent runs of tets) cut into runs this long, each with its bounding box.
+CHUNK = 16
+
+
+def _chunks(layout) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A layout's clusters cut into chunks of :data:`CHUNK` tets: their first and one-past-last
+    tets ``(c,) int64``, and the middle and half size ``(c, 4) float64`` of each one's box in
+    object space (a tighter bound along any direction than a cluster's sphere)."""
+    lo = np.concatenate([np.arange(a, b, CHUNK) for a, b in zip(layout.lo, layout.hi)]).astype(np.int64)
+    hi = np.minimum(lo + CHUNK, np.repeat(layout.hi, -(-(layout.hi - layout.lo) // CHUNK)))
+    corners = layout.vertices.astype(np.float64)[layout.tets]  # (m, 4, 4)
+    order = np.argsort(lo, kind="stable")
+    mn = np.minimum.reduceat(corners.min(axis=1), lo[order])[np.argsort(order)]
+    mx = np.maximum.reduceat(corners.max(axis=1), lo[order])[np.argsort(order)]
+    return lo, hi, 0.5 * (mn + mx), 0.5 * (mx - mn)
+
+
 def _one_colour_tets(tets: np.ndarray, colors: np.ndarray) -> bool:
     """Is each tet ``(m, 4)`` of one colour (its vertices' ``colors (n, 4)`` equal, bit for bit)?
 
@@ -91,7 +109,7 @@ class _Pool:
             clo=np.zeros(0, np.int64),
             chi=np.zeros(0, np.int64),
             ccenter=np.zeros((0, 4)),
-            cradius=np.zeros(0),
+            chalf=np.zeros((0, 4)),
             mesh_cells=np.zeros((0, 2), np.int64),
             cell_edge_start=np.zeros(1, np.int64),
             cell_edges=np.zeros((0, 2), np.uint32),
@@ -116,6 +134,7 @@ class _Pool:
         layout = mesh_clusters(mesh)
         a = self.arrays
         v0, c0, t0 = len(a.vertices), len(a.clo), len(a.tets)
+        lo, hi, center, half = _chunks(layout)
         colors = layout_colors(mesh, layout).astype(np.float32)
         tet_edges, edge_lo, edge_hi = layout_edges(layout)
         e0 = len(a.edge_ends)
@@ -125,11 +144,11 @@ class _Pool:
             tet_normals=np.concatenate([a.tet_normals, layout_normals(mesh, layout)]),
             colors=np.concatenate([a.colors, colors]),
             mesh_v=np.concatenate([a.mesh_v, [[v0, v0 + len(layout.vertices)]]]),
-            mesh_c=np.concatenate([a.mesh_c, [[c0, c0 + len(layout.lo)]]]),
-            clo=np.concatenate([a.clo, layout.lo + t0]),
-            chi=np.concatenate([a.chi, layout.hi + t0]),
-            ccenter=np.concatenate([a.ccenter, layout.centers]),
-            cradius=np.concatenate([a.cradius, layout.radii]),
+            mesh_c=np.concatenate([a.mesh_c, [[c0, c0 + len(lo)]]]),
+            clo=np.concatenate([a.clo, lo + t0]),
+            chi=np.concatenate([a.chi, hi + t0]),
+            ccenter=np.concatenate([a.ccenter, center]),
+            chalf=np.concatenate([a.chalf, half]),
             tet_edges=np.concatenate([a.tet_edges, tet_edges]),
             edge_ends=np.concatenate([a.edge_ends, np.column_stack([edge_lo, edge_hi])]),
             mesh_e=np.concatenate([a.mesh_e, [[e0, e0 + len(edge_lo)]]]),
@@ -142,7 +161,7 @@ class _Pool:
         self.max_vertices = max(self.max_vertices, len(layout.vertices))
         self.max_tets = max(self.max_tets, len(layout.tets) + 1)
         self.max_edges = max(self.max_edges, len(edge_lo))
-        self.max_clusters = max(self.max_clusters, len(layout.lo))
+        self.max_clusters = max(self.max_clusters, len(lo))
         self._add_cells(mesh_cells(mesh) if self.by_cells else None, layout, v0)
         k = self.index[id(mesh)] = len(self.meshes)
         self.meshes.append(mesh)

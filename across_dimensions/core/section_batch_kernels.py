@@ -33,12 +33,12 @@ class Pool(NamedTuple):
         Per tet: its outward normal in object space.
     colors : (n, 4) float32
     mesh_v, mesh_c : (meshes, 2) int64
-        Per mesh: its vertex range, its cluster range.
+        Per mesh: its vertex range, its chunk range.
     clo, chi : (c,) int64
-        Per cluster: its tet range.
-    ccenter : (c, 4) float64
-    cradius : (c,) float64
-        Per cluster: its bounding sphere.
+        Per chunk (a run of tets of one of its layout's clusters, see ``section_batch._chunks``):
+        its tet range.
+    ccenter, chalf : (c, 4) float64
+        Per chunk: the middle and half size of its box (object space).
     mesh_cells : (meshes, 2) int64
         Per mesh sliced cell by cell (see :mod:`.cells`): its cell range (empty: by tets).
     cell_edge_start : (cells + 1,) int64
@@ -68,7 +68,7 @@ class Pool(NamedTuple):
     clo: np.ndarray
     chi: np.ndarray
     ccenter: np.ndarray
-    cradius: np.ndarray
+    chalf: np.ndarray
     mesh_cells: np.ndarray
     cell_edge_start: np.ndarray
     cell_edges: np.ndarray
@@ -157,7 +157,7 @@ class BatchScratch(NamedTuple):
     order : (p,) int64
         A cell polygon's corners' angles and their order.
     keep : (c,) int64
-        The clusters of the instance its slice meets.
+        The chunks of the instance its slice meets.
     above : (v,) uint8
         Per vertex of the instance: camera-space w > 0.
     point : (e,) int64

@@ -4,9 +4,9 @@ then their triangles, bit for bit those of :func:`~.section.cross_section`.
 Each step is a loop of its own without unpredictable branches, as in the per-object slicer
 (:mod:`.section_kernels`), whose arithmetic it repeats exactly:
 
-1. :func:`_cut_tets`: the clusters the slice meets (bounding spheres), their vertices moved
+1. :func:`_cut_tets`: the chunks of tets the slice meets (bounding boxes), their vertices moved
    into camera space with one byte per vertex saying whether it lies above the slice, then
-   the cut tets compacted without a branch (a cluster none of whose tets is cut costs one
+   the cut tets compacted without a branch (a chunk none of whose tets is cut costs one
    predictable branch).
 2. :func:`_tet_rows`: per cut tet its normal and its polygon's corners (only the real ones:
    three or four), the normals made unit in a loop of their own (vectorized), the corners'
@@ -31,23 +31,27 @@ def _cut_tets(pool, inst, k, stamp_of, ws):
     """The tets of instance ``k`` its slice cuts, into ``ws.cut`` (their cases into
     ``ws.cmask``); returns their number and their triangles'.
 
-    Clusters are culled by their bounding sphere. When the kept clusters' tets use about every
+    Chunks of tets are culled by their box. When the kept chunks' tets use about every
     vertex, every vertex is moved into camera space in one loop; else each vertex they use,
     once (``ws.stamp`` holds ``stamp_of`` where ``ws.cam`` has it). Which side of the slice
     each vertex lies on is in ``ws.above`` already (:func:`~.section_batch_kernels._w_side`).
     """
-    tets, clo, chi, ccenter, cradius = pool.tets, pool.clo, pool.chi, pool.ccenter, pool.cradius
+    tets, clo, chi, ccenter, chalf = pool.tets, pool.clo, pool.chi, pool.ccenter, pool.chalf
     above, cut, cmask, keep = ws.above, ws.cut, ws.cmask, ws.keep
     m = inst.mesh[k]
     mv = inst.mvs[k]
     v_lo = pool.mesh_v[m, 0]
     m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
-    w_gain = np.sqrt(m0**2 + m1**2 + m2**2 + m3**2)
+    a0, a1, a2, a3 = abs(m0), abs(m1), abs(m2), abs(m3)
     nkeep = 0
     visit = 0
     for cl in range(pool.mesh_c[m, 0], pool.mesh_c[m, 1]):
-        dc = m0 * ccenter[cl, 0] + m1 * ccenter[cl, 1] + m2 * ccenter[cl, 2] + m3 * ccenter[cl, 3] + m4
-        hit = abs(dc) <= cradius[cl] * w_gain
+        c0, c1, c2, c3 = ccenter[cl, 0], ccenter[cl, 1], ccenter[cl, 2], ccenter[cl, 3]
+        h0, h1, h2, h3 = chalf[cl, 0], chalf[cl, 1], chalf[cl, 2], chalf[cl, 3]
+        # The box's w reaches |w(middle)| - sum |row_j| half_j; the slack covers rounding.
+        reach = a0 * h0 + a1 * h1 + a2 * h2 + a3 * h3
+        size = abs(m4) + a0 * abs(c0) + a1 * abs(c1) + a2 * abs(c2) + a3 * abs(c3) + reach
+        hit = abs(m0 * c0 + m1 * c1 + m2 * c2 + m3 * c3 + m4) <= reach + 1e-9 * size
         keep[nkeep] = cl
         nkeep += hit
         visit += (chi[cl] - clo[cl]) * hit
@@ -66,7 +70,7 @@ def _cut_tets(pool, inst, k, stamp_of, ws):
     vl = U(v_lo)
     ncut = 0
     ntri = 0
-    last = 0  # cut tets in the previous cluster: its neighbour likely has some too
+    last = 0  # cut tets in the previous chunk: its neighbour likely has some too
     for kc in range(nkeep):
         cl = keep[kc]
         t0, t1 = clo[cl], chi[cl]
