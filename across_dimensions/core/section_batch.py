@@ -187,13 +187,12 @@ class _Pool:
 
     def scratch(self, ws: BatchScratch | None) -> BatchScratch:
         """``ws`` if it is large enough for every mesh of the pool, else a new one."""
-        if ws is not None and len(ws.stamp) >= self.max_vertices and len(ws.cut) >= self.max_tets:
+        if ws is not None and len(ws.above) >= self.max_vertices and len(ws.cut) >= self.max_tets:
             if len(ws.q) >= self.max_corners and len(ws.keep) >= self.max_clusters and len(ws.point) >= self.max_edges:
                 return ws
         v, t, c = self.max_vertices, self.max_tets, self.max_corners
         return BatchScratch(
             cam=np.empty((v, 4)),
-            stamp=np.full(v, -1, np.int64),
             cut=np.empty(t, np.int64),
             cmask=np.empty(t, np.int64),
             g=np.empty(12),
@@ -263,7 +262,6 @@ class SectionBatch:
         self._eye = None  # the last update's eye, as bytes
         self._cut = np.zeros(0, np.int64)
         self._scratch = None  # the kernel's BatchScratch, grown with the pool
-        self._tag = 0  # marks camera-space vertices (see _slice_batch); never reused
         self._min_rows = int(capacity_rows)
         self._small = 0  # updates in a row the output could have been smaller
         self._rows = 0
@@ -443,8 +441,7 @@ class SectionBatch:
         while True:
             out = (self._out, start, count, w_range, cut)  # a Rows, as a plain tuple like the other bundles
             pool, ws = tuple(self._pool.arrays), tuple(self._scratch)
-            rows = _slice_batch(pool, tuple(inst), first, start_row, out, ws, self._tag, w_cue)
-            self._tag += n + 1
+            rows = _slice_batch(pool, tuple(inst), first, start_row, out, ws, w_cue)
             if rows <= len(self._out):
                 break
             # Grow at once and slice again (rare: only when the scene grows).

@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ._jit import njit
-from .section_batch_tets import _cut_tets, _tet_rows, _to_camera
+from .section_batch_tets import _cut_tets, _tet_rows
 
 #: Floats per output vertex: position 3, normal 3, colour 4 (the renderer's layout).
 ROW = 10
@@ -142,8 +142,6 @@ class BatchScratch(NamedTuple):
     ----------
     cam : (v, 4) float64
         Camera-space vertices of the instance being sliced.
-    stamp : (v,) int64
-        Which instance each row of ``cam`` belongs to.
     cut : (t,) int64
         The cut tets (or cells) of the instance.
     cmask : (t,) int64
@@ -177,7 +175,6 @@ class BatchScratch(NamedTuple):
     """
 
     cam: np.ndarray
-    stamp: np.ndarray
     cut: np.ndarray
     cmask: np.ndarray
     g: np.ndarray
@@ -198,7 +195,7 @@ class BatchScratch(NamedTuple):
 
 
 @njit(cache=True)
-def _slice_batch(pool, inst, first, start_row, rows, ws, tag, w_cue):
+def _slice_batch(pool, inst, first, start_row, rows, ws, w_cue):
     """Slice instances ``first..`` into ``rows`` from row ``start_row``; returns the rows needed.
     Each one's reach along w goes into ``rows.w_range``, with ``w_cue`` its rows' alpha too
     (:func:`_w_side`).
@@ -206,8 +203,6 @@ def _slice_batch(pool, inst, first, start_row, rows, ws, tag, w_cue):
     A mesh with a cell range in ``pool.mesh_cells`` is sliced cell by cell, any
     other tet by tet. The rows needed may exceed ``len(rows.out)``: then nothing
     past the end was written and the caller grows the output and calls again.
-    ``ws.stamp`` marks which vertices are in ``ws.cam`` already: ``tag + k`` for
-    instance ``k``, with a ``tag`` the caller never reuses.
 
     The bundles come as plain tuples and are named again here: numba's dispatcher types a plain
     tuple of arrays in C, a named tuple in Python (about 10 us a call).
@@ -221,12 +216,11 @@ def _slice_batch(pool, inst, first, start_row, rows, ws, tag, w_cue):
         _w_side(pool, inst, k, ws, rows.w_range, w_cue)
         if inst.visible[k]:
             if mesh_cells[m, 1] > mesh_cells[m, 0]:
-                _cells_to_camera(pool, inst, k, ws)
                 ncut = _cut_cells(pool, inst, k, ws)
                 rows.cut[k] = ncut
                 o = _cell_rows(pool, inst, k, ncut, rows.out, o, ws)
             else:
-                cuts = _cut_tets(pool, inst, k, tag + k, ws)
+                cuts = _cut_tets(pool, inst, k, ws)
                 rows.cut[k] = cuts[0]
                 o = _tet_rows(pool, inst, k, cuts, rows.out, o, ws)
         else:
@@ -305,9 +299,10 @@ def _orientation(a):
 
 @njit(inline="always")
 def _w_side(pool, inst, k, ws, w_range, w_cue):
-    """Instance ``k``'s camera-space w of every vertex into ``ws.cam[:, 3]``, whether it lies
-    above the slice into ``ws.above``, and their least and greatest into ``w_range[k]``
-    (``(k, 2) float64``): how far the posed mesh reaches either side of the slice.
+    """Instance ``k``'s least and greatest camera-space w of its vertices into ``w_range[k]``
+    (``(k, 2) float64``): how far the posed mesh reaches either side of the slice. For an
+    instance not culled whole, also its vertices in camera space (``ws.cam``, the per-object
+    slicer's sums) and whether each lies above the slice (``ws.above``): one pass for all.
 
     With ``w_cue``, also where the slice cuts it along that extent into ``inst.alpha[k]``, the
     alpha of its rows: 0 mid-way, -1 or 1 at its ends (the renderer's w cue, as
@@ -317,26 +312,32 @@ def _w_side(pool, inst, k, ws, w_range, w_cue):
     m = inst.mesh[k]
     mv = inst.mvs[k]
     v_lo = pool.mesh_v[m, 0]
+    a00, a01, a02, a03, a04 = mv[0, 0], mv[0, 1], mv[0, 2], mv[0, 3], mv[0, 4]
+    a10, a11, a12, a13, a14 = mv[1, 0], mv[1, 1], mv[1, 2], mv[1, 3], mv[1, 4]
+    a20, a21, a22, a23, a24 = mv[2, 0], mv[2, 1], mv[2, 2], mv[2, 3], mv[2, 4]
     m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
     lo, hi = np.inf, -np.inf
-    for vi in range(v_lo, pool.mesh_v[m, 1]):
-        w = m0 * verts[vi, 0] + m1 * verts[vi, 1] + m2 * verts[vi, 2] + m3 * verts[vi, 3] + m4
-        cam[vi - v_lo, 3] = w
-        above[vi - v_lo] = w > 0.0
-        lo = min(lo, w)
-        hi = max(hi, w)
+    if inst.visible[k]:
+        for vi in range(v_lo, pool.mesh_v[m, 1]):
+            x, y, z, u = verts[vi, 0], verts[vi, 1], verts[vi, 2], verts[vi, 3]
+            w = m0 * x + m1 * y + m2 * z + m3 * u + m4
+            li = vi - v_lo
+            cam[li, 0] = a00 * x + a01 * y + a02 * z + a03 * u + a04
+            cam[li, 1] = a10 * x + a11 * y + a12 * z + a13 * u + a14
+            cam[li, 2] = a20 * x + a21 * y + a22 * z + a23 * u + a24
+            cam[li, 3] = w
+            above[li] = w > 0.0
+            lo = min(lo, w)
+            hi = max(hi, w)
+    else:
+        for vi in range(v_lo, pool.mesh_v[m, 1]):
+            w = m0 * verts[vi, 0] + m1 * verts[vi, 1] + m2 * verts[vi, 2] + m3 * verts[vi, 3] + m4
+            lo = min(lo, w)
+            hi = max(hi, w)
     w_range[k, 0] = lo
     w_range[k, 1] = hi
     half = 0.5 * (hi - lo)
     inst.alpha[k] = (0.5 * (lo + hi) / half if half > 0.0 else 0.0) if w_cue else np.nan
-
-
-@njit(inline="always")
-def _cells_to_camera(pool, inst, k, ws):
-    """Every vertex of instance ``k`` into camera space (``ws.cam``): a cell mesh has few
-    vertices for its tets (a 120-cell: 600 for 3,240), and most of them are on cut cells."""
-    m = inst.mesh[k]
-    _to_camera(pool, inst.mvs[k], pool.mesh_v[m, 0], pool.mesh_v[m, 0], pool.mesh_v[m, 1], ws)
 
 
 @njit(inline="always")

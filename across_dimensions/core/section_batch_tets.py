@@ -4,10 +4,9 @@ then their triangles, bit for bit those of :func:`~.section.cross_section`.
 Each step is a loop of its own without unpredictable branches, as in the per-object slicer
 (:mod:`.section_kernels`), whose arithmetic it repeats exactly:
 
-1. :func:`_cut_tets`: the chunks of tets the slice meets (bounding boxes), their vertices moved
-   into camera space with one byte per vertex saying whether it lies above the slice, then
-   the cut tets compacted without a branch (a chunk none of whose tets is cut costs one
-   predictable branch).
+1. :func:`_cut_tets`: the chunks of tets the slice meets (bounding boxes), then their cut
+   tets compacted without a branch, from one byte per vertex saying whether it lies above the
+   slice (made with the vertices' camera-space coordinates in one pass over them).
 2. :func:`_tet_rows`: per cut tet its normal and its polygon's corners (only the real ones:
    three or four), the normals made unit in a loop of their own (vectorized), the corners'
    colours only for a mesh whose tets are not each of one colour (a one-coloured tet's
@@ -27,14 +26,13 @@ from .section_kernels import U, normal_transform
 
 
 @njit(inline="always")
-def _cut_tets(pool, inst, k, stamp_of, ws):
+def _cut_tets(pool, inst, k, ws):
     """The tets of instance ``k`` its slice cuts, into ``ws.cut`` (their cases into
     ``ws.cmask``); returns their number and their triangles'.
 
-    Chunks of tets are culled by their box. When the kept chunks' tets use about every
-    vertex, every vertex is moved into camera space in one loop; else each vertex they use,
-    once (``ws.stamp`` holds ``stamp_of`` where ``ws.cam`` has it). Which side of the slice
-    each vertex lies on is in ``ws.above`` already (:func:`~.section_batch_kernels._w_side`).
+    Chunks of tets are culled by their box. The vertices in camera space, and which side of
+    the slice each lies on, are in ``ws.cam`` and ``ws.above`` already
+    (:func:`~.section_batch_kernels._w_side`).
     """
     tets, clo, chi, ccenter, chalf = pool.tets, pool.clo, pool.chi, pool.ccenter, pool.chalf
     above, cut, cmask, keep = ws.above, ws.cut, ws.cmask, ws.keep
@@ -44,7 +42,6 @@ def _cut_tets(pool, inst, k, stamp_of, ws):
     m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
     a0, a1, a2, a3 = abs(m0), abs(m1), abs(m2), abs(m3)
     nkeep = 0
-    visit = 0
     for cl in range(pool.mesh_c[m, 0], pool.mesh_c[m, 1]):
         c0, c1, c2, c3 = ccenter[cl, 0], ccenter[cl, 1], ccenter[cl, 2], ccenter[cl, 3]
         h0, h1, h2, h3 = chalf[cl, 0], chalf[cl, 1], chalf[cl, 2], chalf[cl, 3]
@@ -54,65 +51,25 @@ def _cut_tets(pool, inst, k, stamp_of, ws):
         hit = abs(m0 * c0 + m1 * c1 + m2 * c2 + m3 * c3 + m4) <= reach + 1e-9 * size
         keep[nkeep] = cl
         nkeep += hit
-        visit += (chi[cl] - clo[cl]) * hit
-    if 4 * visit >= pool.mesh_v[m, 1] - v_lo:
-        _to_camera(pool, mv, v_lo, v_lo, pool.mesh_v[m, 1], ws)
-    else:
-        stamp = ws.stamp
-        for kc in range(nkeep):
-            cl = keep[kc]
-            for t in range(clo[cl], chi[cl]):
-                for j in range(4):
-                    vi = tets[t, j]
-                    if stamp[vi - v_lo] != stamp_of:
-                        stamp[vi - v_lo] = stamp_of
-                        _to_camera(pool, mv, v_lo, vi, vi + 1, ws)
     vl = U(v_lo)
+    tf = tets.reshape(-1)
     ncut = 0
     ntri = 0
-    last = 0  # cut tets in the previous chunk: its neighbour likely has some too
     for kc in range(nkeep):
         cl = keep[kc]
-        t0, t1 = clo[cl], chi[cl]
-        if last == 0:
-            some = 0
-            for t in range(t0, t1):
-                a0, a1 = above[U(tets[t, 0]) - vl], above[U(tets[t, 1]) - vl]
-                some |= (a0 + a1 + above[U(tets[t, 2]) - vl] + above[U(tets[t, 3]) - vl]) & 3
-            if some == 0:
-                continue
-        before = ncut
-        for t in range(t0, t1):
+        for t in range(U(clo[cl]), U(chi[cl])):
             mask = (
-                U(above[U(tets[t, 0]) - vl])
-                | (U(above[U(tets[t, 1]) - vl]) << U(1))
-                | (U(above[U(tets[t, 2]) - vl]) << U(2))
-                | (U(above[U(tets[t, 3]) - vl]) << U(3))
+                U(above[U(tf[U(4) * t]) - vl])
+                | (U(above[U(tf[U(4) * t + U(1)]) - vl]) << U(1))
+                | (U(above[U(tf[U(4) * t + U(2)]) - vl]) << U(2))
+                | (U(above[U(tf[U(4) * t + U(3)]) - vl]) << U(3))
             )
             # Compacted without a branch: near the slice whether a tet is cut is a coin toss.
             cut[ncut] = t
             cmask[ncut] = mask
             ncut += CASE_TRIANGLES[mask] != 0
             ntri += CASE_TRIANGLES[mask]
-        last = ncut - before
     return ncut, ntri
-
-
-@njit(inline="always")
-def _to_camera(pool, mv, v_lo, v0, v1, ws):
-    """Pool vertices ``v0..v1`` of a mesh whose first is ``v_lo`` moved by ``mv (5, 5)`` into
-    camera space, ``ws.cam[:, :3]`` (rows from ``v0 - v_lo``): the per-object slicer's sums.
-    Their w is there already (:func:`~.section_batch_kernels._w_side`)."""
-    verts, cam = pool.vertices, ws.cam
-    a00, a01, a02, a03, a04 = mv[0, 0], mv[0, 1], mv[0, 2], mv[0, 3], mv[0, 4]
-    a10, a11, a12, a13, a14 = mv[1, 0], mv[1, 1], mv[1, 2], mv[1, 3], mv[1, 4]
-    a20, a21, a22, a23, a24 = mv[2, 0], mv[2, 1], mv[2, 2], mv[2, 3], mv[2, 4]
-    for vi in range(v0, v1):
-        li = vi - v_lo
-        x, y, z, w = verts[vi, 0], verts[vi, 1], verts[vi, 2], verts[vi, 3]
-        cam[li, 0] = a00 * x + a01 * y + a02 * z + a03 * w + a04
-        cam[li, 1] = a10 * x + a11 * y + a12 * z + a13 * w + a14
-        cam[li, 2] = a20 * x + a21 * y + a22 * z + a23 * w + a24
 
 
 @njit(inline="always")
