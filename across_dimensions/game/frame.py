@@ -56,18 +56,17 @@ class Camera3:
 
     def view_matrix(self) -> np.ndarray:
         """World-to-eye ``(4, 4) float64`` in OpenGL's convention (eye looks down -z)."""
-        f = self.forward()
-        up = np.array([0.0, 1.0, 0.0])
+        fx, fy, fz = self.forward().tolist()
         # The world is left-handed and OpenGL's eye space right-handed, so this
         # matrix includes a reflection (det -1); see CONVENTIONS.md.
-        r = np.cross(up, f)
-        nr = np.linalg.norm(r)
-        r = r / nr if nr > 1e-9 else np.array([np.cos(self.yaw), 0.0, -np.sin(self.yaw)])
-        u = np.cross(f, r)
+        # r = up x f with up = +y, then u = f x r: the cross products written out (numpy's
+        # np.cross costs more than the rest of the frame's camera work).
+        nr = np.sqrt(fz * fz + fx * fx)
+        rx, rz = (fz / nr, -fx / nr) if nr > 1e-9 else (np.cos(self.yaw), -np.sin(self.yaw))
         m = np.eye(4)
-        m[0, :3] = r
-        m[1, :3] = u
-        m[2, :3] = -f
+        m[0, :3] = rx, 0.0, rz
+        m[1, :3] = fy * rz, fz * rx - fx * rz, -fy * rx
+        m[2, :3] = -fx, -fy, -fz
         m[:3, 3] = -m[:3, :3] @ np.asarray(self.position, dtype=np.float64)
         return m
 
