@@ -20,9 +20,13 @@ frame draws what the per-object frame drew.
 
 Whole instances are culled before any tet is touched: by their bounding sphere
 against the slice (``|w distance| > radius``) and, when view planes are given,
-against the 3D view frustum. Inside a surviving instance, clusters of tets are
-culled as in the per-object slicer, and each vertex is moved into camera space
+against the 3D view frustum. Inside a surviving instance, runs of 16 tets are
+culled by their boxes (:data:`CHUNK`), and each vertex is moved into camera space
 once (a 120-cell's vertex belongs to ~22 tets).
+
+A batch drawn with inner faces skipped may be given the eye: the instances it
+slices anyway then leave out the polygons that clearly face away from it (the
+rasterizer would skip them), about half their rows (see :meth:`SectionBatch.update`).
 
 Instances that did not move keep their triangles: the batch re-slices only from
 the first changed instance on, and moves instances that change to the back of

@@ -9,7 +9,9 @@ whatever the number of entities). Entities whose bounding sphere is outside a
 generous view frustum are not sliced at all.
 
 The triangles are exactly those :func:`core.section.cross_section` gives for
-each entity (tests compare the frames pixel by pixel).
+each entity, less those of a changing entity that clearly face away from the
+eye: the batches are drawn with inner faces skipped, so the renderer would skip
+them too (tests compare the frames pixel by pixel).
 """
 
 from __future__ import annotations
