@@ -120,6 +120,38 @@ def test_changed_instances_move_back_and_the_rest_keep_their_triangles(meshes):
             assert batch.instance_rows(k) == (start[i], count[i])
 
 
+def test_an_instance_cut_for_the_eye_is_cut_whole_again_once_the_eye_moves(meshes):
+    """Changed instances leave out the triangles facing away from the eye; when the eye moves,
+    those (and only those) are sliced again, whole, and stay so while they keep still."""
+    rng = np.random.default_rng(7)
+    models = random_models(rng, 12, spread=2.0, w_spread=0.3)
+    picks = [meshes[k % 3] for k in range(12)]
+    camera = translation((0.0, 0.0, 0.0, 0.05))
+    whole = {k: len(cross_section(picks[k], camera, models[k]).vertices) for k in range(12)}
+    batch = SectionBatch(by_cells=False)
+
+    def rows():
+        keys, _, count, _ = batch.instances()
+        return dict(zip(keys, count.tolist()))
+
+    eye = np.array([0.5, 1.0, -9.0])
+    batch.update(range(12), picks, models, camera, eye=eye)  # all new: cut for this eye
+    cut_for_eye = rows()
+    assert all(cut_for_eye[k] <= whole[k] for k in range(12))
+    assert sum(cut_for_eye.values()) < 0.7 * sum(whole.values())
+    assert dict(zip(batch.instances()[0], batch.cut_counts > 0)) == {k: whole[k] > 0 for k in range(12)}
+    batch.update(range(12), picks, models, camera, eye=eye)  # nothing changed
+    assert batch.sliced == 0 and rows() == cut_for_eye
+    models[3] = models[3] @ translation((0.0, 0.0, 0.0, 0.01))  # one moved, and the eye too
+    batch.update(range(12), picks, models, camera, eye=eye + 1.0)
+    assert batch.sliced == 12 and rows() == {**whole, 3: rows()[3]}  # the others whole again
+    assert rows()[3] < len(cross_section(picks[3], camera, models[3]).vertices)  # it, for the new eye
+    batch.update(range(12), picks, models, camera, eye=eye + 2.0)  # only it is cut again: whole
+    assert batch.sliced < 12 and rows() == whole
+    batch.update(range(12), picks, models, camera, eye=eye + 3.0)  # all whole: the eye is no matter
+    assert batch.sliced == 0
+
+
 def test_ghost_spans_say_what_same_as_slice_says_for_each_entity():
     rng = np.random.default_rng(2)
     slab, cell = tesseract(1.0), make_shape("24-cell")
