@@ -5,9 +5,14 @@ frustum projection, shapes. Depends on numpy and numba only.
 >>> cube = cross_section(shapes.tesseract())          # the unit cube at w = 0
 """
 
-from .frustum import frustum_project, frustum_project_reference
-from .mesh import MeshError, TetMesh4, TriMesh3, cross4
-from .section import cross_section, cross_section_reference
+from .stale_kernels import drop_stale_core_kernels
+
+# Before any kernel is loaded from the on-disk cache (see stale_kernels for why).
+drop_stale_core_kernels()
+
+from .frustum import frustum_project, frustum_project_reference  # noqa: E402
+from .mesh import MeshError, TetMesh4, TriMesh3, cross4  # noqa: E402
+from .section import cross_section, cross_section_reference  # noqa: E402
 
 __all__ = [
     "MeshError",

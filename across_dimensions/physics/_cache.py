@@ -11,29 +11,12 @@ physics cache entries are dropped and rebuilt on first use.
 
 from __future__ import annotations
 
-import hashlib
 from pathlib import Path
 
-import numba  # noqa: E402
-from numba.core import config  # noqa: E402
-
-from across_dimensions.core import _jit  # noqa: F401  (numba configured as the core configures it)
-from across_dimensions.core.fileio import FileProblem, atomic_write
+from across_dimensions.core import stale_kernels
 
 _HERE = Path(__file__).resolve().parent
 _STAMP = "physics-sources.sha256"
-
-
-def cache_dir() -> Path | None:
-    """Directory numba uses for this package's kernels, or None if unknown."""
-    probe = str(_HERE / "world.py")
-    if config.CACHE_DIR:
-        try:
-            from numba.core.caching import UserProvidedCacheLocator
-        except ImportError:
-            return None
-        return Path(config.CACHE_DIR) / UserProvidedCacheLocator.get_suitable_cache_subpath(probe)
-    return _HERE / "__pycache__"
 
 
 def sources_digest() -> str:
@@ -44,15 +27,8 @@ def sources_digest() -> str:
     takes part (the physics compiles its :func:`expm_skew` in), and so does
     :mod:`.state` (the kernels' argument types).
     """
-    h = hashlib.sha256(numba.__version__.encode())
-    paths = sorted(_HERE.glob("*.py")) + [_HERE.parent / "core" / "transform.py"]
-    for path in paths:
-        text = path.read_bytes()
-        if b"@njit" not in text and b"@intrinsic" not in text and path.name != "state.py":
-            continue
-        h.update(path.name.encode())
-        h.update(text)
-    return h.hexdigest()
+    paths = list(_HERE.glob("*.py")) + [_HERE.parent / "core" / "transform.py"]
+    return stale_kernels.sources_digest(paths, always=("state.py",))
 
 
 def drop_stale_kernels() -> bool:
@@ -64,25 +40,4 @@ def drop_stale_kernels() -> bool:
         True if entries were dropped. Never raises on file-system errors: the
         worst case is a recompile.
     """
-    try:
-        d = cache_dir()
-        if d is None:
-            return False
-        digest = sources_digest()
-        stamp = d / _STAMP
-        if stamp.is_file() and stamp.read_text() == digest:
-            return False
-        dropped = False
-        if d.is_dir():
-            for f in d.iterdir():
-                if f.suffix in (".nbi", ".nbc"):
-                    try:
-                        f.unlink()
-                        dropped = True
-                    except FileNotFoundError:
-                        pass
-        d.mkdir(parents=True, exist_ok=True)  # numba's own cache folder: ours to create
-        atomic_write(stamp, digest)
-        return dropped
-    except (OSError, FileProblem):
-        return False
+    return stale_kernels.drop_stale_kernels(_HERE / "world.py", sources_digest(), _STAMP)
