@@ -17,7 +17,7 @@ from across_dimensions.game.systems.radar import INTEREST
 from across_dimensions.render import renderer as renderer_module
 from across_dimensions.render.context import Offscreen
 from across_dimensions.render.hud_layout import HudMetrics
-from across_dimensions.render.radar_yield import interest_on_screen, radar_yields
+from across_dimensions.render.radar_yield import YIELD_ALPHA, interest_on_screen, radar_yields
 from across_dimensions.render.renderer import Renderer
 from across_dimensions.world.level import load_level
 from across_dimensions.world.resources import level_files
@@ -121,3 +121,20 @@ def test_the_radar_gives_way_only_to_what_lies_behind_it():
     assert not radar_yields(game.frame(), W, H)  # straight ahead: in the middle of the view
     game.place_player(feet, -0.45, 0.4)  # looking up and left: the crystal sits bottom right
     assert radar_yields(game.frame(), W, H)
+
+
+def test_a_gauge_gives_way_as_a_whole_only_to_what_lies_behind_it():
+    from across_dimensions.game.frame import EnergyGauge, Hud
+    from across_dimensions.render.hud import hud_quads
+
+    hud = Hud(
+        energy=EnergyGauge(4.0, 10.0, costs="W 2/UNIT  GUN 1"), crosshair=False, w_min=0.0, w_max=0.0
+    )  # the bar alone
+    plain = hud_quads(hud, W, H)
+    bar = HudMetrics(W, H).energy_bar()
+    far = np.array([[W / 2, 20.0, 5.0]])  # up in the middle of the view
+    near = np.array([[bar[0] + bar[2] + 4.0, bar[1] + 2.0, 5.0]])  # reaching the bar's right end
+    assert np.array_equal(hud_quads(hud, W, H, interest=far), plain)
+    faded = hud_quads(hud, W, H, interest=near)
+    assert faded.shape == plain.shape and np.array_equal(faded[:, :11], plain[:, :11])
+    assert np.allclose(faded[:, 11], plain[:, 11] * YIELD_ALPHA)  # every quad of the block, none left bright

@@ -98,6 +98,7 @@ from .hud_layout import hint_lines, hint_rect, label_rect, left_lines, message_l
 from .palette import cue
 from .quads import QUAD_FLOATS, QuadList
 from .quads import quads_text as quads_text
+from .radar_yield import give_way
 from .text_layout import ellipsized
 
 CROSSHAIR_COLOR = (0.95, 0.95, 0.95, 1.0)
@@ -115,12 +116,17 @@ HINT_LABEL_COLOR = (0.6, 0.8, 0.95, 0.8)
 WARNING_COLOR = (1.0, 0.8, 0.35, 0.95)
 
 
-def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> np.ndarray:
+def hud_quads(
+    hud: Hud, width: int, height: int, radar: Radar | None = None, interest: np.ndarray | None = None
+) -> np.ndarray:
     """Lay out the HUD for a ``width x height`` viewport.
 
     With ``radar``, also the radar's labels round its rectangle (the radar itself is drawn by
     :class:`~across_dimensions.render.radar.RadarRenderer`): ``+w`` at the top left, ``-w`` at the
     bottom left (pins stand above for ana, hang below for kata) and the range at the bottom right.
+    ``interest`` (``(n, 3)``: screen centre ``x, y`` and radius in pixels, see
+    :func:`~.radar_yield.interest_on_screen`) are things the player may be after: a gauge over
+    one of them gives way (:func:`~.radar_yield.give_way`), as the radar does.
 
     Returns
     -------
@@ -134,7 +140,8 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
     # A hit: the view flashes red (first, so everything else stays readable on top).
     if hud.damage_flash > 0:
         draw_damage_vignette(q, min(float(hud.damage_flash), 1.0), m.width, m.height)
-    _gauges(q, hud, m)
+    for block in _gauges(hud, m):
+        q.quads(give_way(block, interest))
     if radar is not None:
         _radar_labels(q, radar, m)
     if hud.fps is not None:  # top-left
@@ -161,22 +168,35 @@ def hud_quads(hud: Hud, width: int, height: int, radar: Radar | None = None) -> 
     return q.array()
 
 
-def _gauges(q: QuadList, hud: Hud, m: HudMetrics) -> None:
-    """The w indicator (none in a 3D level: nowhere to go along w), the energy bar and the weapon
-    panel above it, the health bar and the hit's direction, the slice gauges."""
+def _gauges(hud: Hud, m: HudMetrics) -> list[np.ndarray]:
+    """The gauges, each a block of quads that gives way as a whole: the w indicator (none in a 3D
+    level: nowhere to go along w), the energy bar with the weapon panel above it, the health bar
+    and the hit's direction, the slice gauges."""
+    blocks = []
+
+    def block(*draws) -> None:
+        g = QuadList()
+        for draw in draws:
+            draw(g)
+        blocks.append(g.array())
+
     if hud.w_max > hud.w_min:
-        draw_w_indicator(q, hud, m)
-    if hud.energy is not None:
-        draw_energy_bar(q, hud.energy, m)
-    if hud.weapon is not None:
-        costs = hud.energy.costs if hud.energy is not None else ""  # two lines of costs lift the panel
-        draw_weapon_panel(q, hud.weapon, m, max(0, len(left_lines(costs, m, gauges=True)) - 1))
-    if hud.health is not None:
-        draw_health_bar(q, hud.health, m)
-    if hud.damage_dir is not None:
-        draw_damage_cue(q, float(hud.damage_dir), m)
+        block(lambda g: draw_w_indicator(g, hud, m))
+    costs = hud.energy.costs if hud.energy is not None else ""  # two lines of costs lift the panel
+    block(
+        lambda g: hud.energy is not None and draw_energy_bar(g, hud.energy, m),
+        lambda g: (
+            hud.weapon is not None
+            and draw_weapon_panel(g, hud.weapon, m, max(0, len(left_lines(costs, m, gauges=True)) - 1))
+        ),
+    )
+    block(
+        lambda g: hud.health is not None and draw_health_bar(g, hud.health, m),
+        lambda g: hud.damage_dir is not None and draw_damage_cue(g, float(hud.damage_dir), m),
+    )
     if hud.slice is not None:
-        draw_slice_gauges(q, hud.slice, m)
+        block(lambda g: draw_slice_gauges(g, hud.slice, m))
+    return blocks
 
 
 def _radar_labels(q: QuadList, radar: Radar, m: HudMetrics) -> None:
@@ -305,13 +325,19 @@ class HudRenderer:
             ],
         )
 
-    def draw(self, hud: Hud, viewport: tuple[int, int, int, int], radar: Radar | None = None) -> None:
+    def draw(
+        self,
+        hud: Hud,
+        viewport: tuple[int, int, int, int],
+        radar: Radar | None = None,
+        interest: np.ndarray | None = None,
+    ) -> None:
         """Draw over whatever is in ``viewport`` (``(x, y, w, h)``, GL convention) of the bound framebuffer.
 
-        ``radar`` adds the radar's labels (see :func:`hud_quads`).
+        ``radar`` adds the radar's labels, ``interest`` makes gauges give way (see :func:`hud_quads`).
         """
         _, _, w, h = (int(v) for v in viewport)
-        quads = hud_quads(hud, w, h, radar)
+        quads = hud_quads(hud, w, h, radar, interest)
         self.last_quads = quads
         self.draw_quads(quads, viewport)
 

@@ -45,6 +45,11 @@ class QuadList:
         if len(run):
             self._runs.append((len(self.rows), run, int(round(x)), int(round(y)), tuple(color)))
 
+    def quads(self, block: np.ndarray) -> None:
+        """Finished quads, ``(n, QUAD_FLOATS)`` (another list's :meth:`array`), drawn as they are."""
+        if len(block):
+            self._runs.append((len(self.rows), block, 0, 0, None))
+
     def array(self) -> np.ndarray:
         rects = np.asarray(self.rows, np.float32).reshape(-1, QUAD_FLOATS)
         if not self._runs:
@@ -54,6 +59,9 @@ class QuadList:
             if pos > at:
                 parts.append(rects[at:pos])
                 at = pos
+            if color is None:
+                parts.append(np.asarray(run, np.float32))
+                continue
             block = np.empty((len(run), QUAD_FLOATS), np.float32)
             block[:, :8] = run
             block[:, 0] += x

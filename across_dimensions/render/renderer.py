@@ -58,7 +58,7 @@ from .hud import HudRenderer
 from .mesh_cache import GpuMesh, MeshCache
 from .passes import PassProfile, RenderStats
 from .radar import RadarRenderer
-from .radar_yield import YIELD_ALPHA, radar_yields
+from .radar_yield import YIELD_ALPHA, interest_on_screen, radar_yields
 from .shaders import PROGRAMS, program_source
 from .sky import SkyRenderer
 
@@ -444,9 +444,10 @@ class Renderer:
         viewport = tuple(int(x) for x in viewport)
         if radar:
             self.draw_radar(frame, viewport)
-        # A radar giving way to what lies behind it (see radar_yield) goes without its labels.
+        # A radar giving way to what lies behind it (see radar_yield) goes without its labels;
+        # the gauges give way the same.
         labels = None if frame.radar is None or radar_yields(frame, *viewport[2:]) else frame.radar
-        self.hud.draw(frame.hud, viewport, labels)
+        self.hud.draw(frame.hud, viewport, labels, interest_on_screen(frame, *viewport[2:]))
 
     def draw_radar(self, frame: Frame, viewport: tuple[int, int, int, int], scale: float = 1.0) -> None:
         """Draw ``frame``'s radar (when not None) in its corner of the window's ``viewport``.
