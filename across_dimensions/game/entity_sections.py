@@ -125,8 +125,8 @@ class EntitySections:
         norms = np.linalg.norm(planes[:, :3], axis=1)
         out = np.any(balls[:, :3] @ planes[:, :3].T + planes[:, 3] < -balls[:, 3:] * norms, axis=1)
         for e, m, away in zip(entities, models, out.tolist()):
-            ws = e.mesh.vertices @ m[3, :4].astype(np.float32) + np.float32(m[3, 4])
-            self._sliced[e.id] = away or bool(ws.min() <= w <= ws.max())
+            ws = e.mesh.vertices @ m[3, :4] + m[3, 4]
+            self._sliced[e.id] = away or bool(ws.min() < w < ws.max())
 
     def view_planes(self, camera) -> np.ndarray:
         """:func:`view_planes` of ``camera``, made once for the systems that draw one frame."""
