@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from across_dimensions.game.actions import Actions
-from across_dimensions.game.occlusion import EYE_MARGIN, box_sections, hidden
+from across_dimensions.game.occlusion import BIG, EYE_MARGIN, box_sections, hidden
 from across_dimensions.game.sim import Game
 from across_dimensions.game.systems import sections
 from across_dimensions.world.level import load_level
@@ -48,12 +48,13 @@ def test_a_ball_reaching_into_a_box_is_hidden_when_the_rest_is_behind_one():
     wall = [[-2.0, 0.0, 4.0], [2.0, 3.0, 4.5]]
     floor = [[-10.0, -1.0, -10.0], [10.0, 0.0, 10.0]]
     eye = [0.0, 1.5, 0.0]
-    # Sunk in the floor behind the wall: the part above the floor is behind the wall.
-    assert hidden(eye, [[0.0, 0.0, 5.0]], [0.5], [wall, floor]).all()
-    assert not hidden(eye, [[0.0, 0.0, 5.0]], [0.5], [wall]).any()  # its bottom shows under the wall
-    # Pressed into the wall from behind: hidden; poking out of its front: not.
-    assert hidden(eye, [[0.0, 1.5, 4.8]], [0.5], [wall]).all()
-    assert not hidden(eye, [[0.0, 1.5, 4.2]], [0.5], [wall]).any()
+    # Sunk in the floor behind the wall: the floor hides nothing its bottom would show.
+    assert hidden(eye, [[0.0, 0.0, 6.0]], [0.5], [wall, floor]).all()
+    assert hidden(eye, [[0.0, 0.0, 6.0]], [0.5], [wall]).all()
+    # Pressed into the wall from behind: hidden when big enough to be worth the test; poking
+    # out of its front: not.
+    assert hidden(eye, [[0.0, 1.5, 5.4]], [BIG], [wall]).all()
+    assert not hidden(eye, [[0.0, 1.5, 4.2]], [BIG], [wall]).any()
 
 
 def _inside(p, boxes) -> bool:

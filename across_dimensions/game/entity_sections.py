@@ -115,18 +115,15 @@ class EntitySections:
         self._sliced.update(zip(keys, (count > 0).tolist()))
         self._sliced.update(dict.fromkeys(batch.view_culled, True))
 
-    def note_reaching(self, entities, models: np.ndarray, w: float, balls: np.ndarray, planes: np.ndarray) -> None:
-        """Entities left out of this frame's slicing though their reach spans the slice (hidden
-        behind a box; posed by ``models (k, 5, 5)``, bounded by ``balls (k, 4)``, centre and
-        radius, the slice at ``w`` axis-aligned): :meth:`has_section` says what it says of the
-        entities the batches cut. Outside the view (``planes``), that their reach spans the
-        slice; in it, whether the slice passes between their lowest and highest vertex along
-        w (for a connected surface, whether it has a section), as the radar needs."""
-        norms = np.linalg.norm(planes[:, :3], axis=1)
-        out = np.any(balls[:, :3] @ planes[:, :3].T + planes[:, 3] < -balls[:, 3:] * norms, axis=1)
-        for e, m, away in zip(entities, models, out.tolist()):
+    def note_reaching(self, entities, models: np.ndarray, w: float) -> None:
+        """Entities in the view left out of this frame's slicing though their reach spans the
+        slice (hidden behind a box; posed by ``models (k, 5, 5)``, the slice at ``w``
+        axis-aligned): :meth:`has_section` says whether the slice passes strictly between their
+        lowest and highest vertex along w (for a connected surface, whether it has a section,
+        as the radar needs)."""
+        for e, m in zip(entities, models):
             ws = e.mesh.vertices @ m[3, :4] + m[3, 4]
-            self._sliced[e.id] = away or bool(ws.min() < w < ws.max())
+            self._sliced[e.id] = bool(ws.min() < w < ws.max())
 
     def view_planes(self, camera) -> np.ndarray:
         """:func:`view_planes` of ``camera``, made once for the systems that draw one frame."""

@@ -31,6 +31,11 @@ SHRINK = 0.01
 #: Added to each thing's reach (m): its model is the frame's (between two ticks), its centre
 #: the tick's.
 MOTION_MARGIN = 0.25
+#: Things at least this big (reach, m) reaching into a box are cut into pieces outside it.
+BIG = 1.0
+#: A thing reaching into boxes is cut into at most this many pieces outside them (more, and
+#: it is taken as seen: a crate among crates is not worth the loop).
+MAX_PIECES = 8
 #: Offsets of a box's eight corners from its centre, in units of its half sizes.
 _CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], np.float64)
 
@@ -60,55 +65,75 @@ def hidden(eye, centers, radii, boxes) -> np.ndarray:
     out = _behind(eye, whole, b)
     # A thing reaching into an occluder (an enemy pressed against a gate, a ball sunk in the
     # floor): what lies inside a box is hidden by its faces, so only the rest must be behind one.
-    for i in np.flatnonzero(~out):
-        pieces = _outside(whole[i], b)
-        out[i] = len(pieces) <= 24 and bool(_behind(eye, pieces, b).all())
+    # Tried only for a big one (an enemy, not a crate or a crystal: little to draw) reaching
+    # into a box that the segment to its middle crosses (a gate it is pressed against, not the
+    # floor under it): the few cases worth a Python loop.
+    touching = np.all((whole[:, None, 0] < b[None, :, 1]) & (whole[:, None, 1] > b[None, :, 0]), axis=2)
+    k = len(b)
+    ahead = _crossed(eye, np.repeat(c, k, axis=0), np.tile(b, (len(c), 1, 1))).reshape(len(c), k)
+    rows = np.flatnonzero(~out & (touching & ahead).any(axis=1) & (r[:, 0] >= BIG))
+    pieces = [_outside(whole[i], b[touching[i]]) for i in rows]
+    if rows.size:
+        behind = np.split(_behind(eye, np.concatenate(pieces), b), np.cumsum([len(p) for p in pieces])[:-1])
+        out[rows] = [len(p) <= MAX_PIECES and bool(h.all()) for p, h in zip(pieces, behind)]
     return out
 
 
 def _behind(eye: np.ndarray, things: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``(n,) bool``: is each box of ``things (n, 2, 3)`` apart from one of the occluders
     ``b (k, 2, 3)`` and behind it (the segment from ``eye`` to each of its corners crosses it)?"""
-    if not len(things):
+    n = len(things)
+    if not n:
         return np.zeros(0, bool)
     lo, hi = b[None, :, 0], b[None, :, 1]  # (1, k, 3)
     # Touching counts as apart: a piece left by subtracting an occluder shares a face with it.
     apart = np.any((things[:, None, 1] <= lo) | (things[:, None, 0] >= hi), axis=2)  # (n, k)
     mid, half = 0.5 * (things[:, 0] + things[:, 1]), 0.5 * (things[:, 1] - things[:, 0])
-    d = mid[:, None] + half[:, None] * _CORNERS[None] - eye  # (n, 8, 3): the segments, t in [0, 1]
-    d = np.where(np.abs(d) < 1e-12, 1e-12, d)
-    inv = 1.0 / d[:, None]  # (n, 1, 8, 3)
-    t0 = (lo[:, :, None] - eye) * inv  # (n, k, 8, 3)
-    t1 = (hi[:, :, None] - eye) * inv
-    enter = np.minimum(t0, t1).max(axis=3)
-    leave = np.maximum(t0, t1).min(axis=3)
-    crossed = np.all((enter <= leave) & (enter <= 1.0) & (leave >= 0.0), axis=2)  # (n, k)
-    return np.any(apart & crossed, axis=1)
+    # The segment to the middle crosses every box that hides the whole (it lies in the cone of
+    # the corners'): the few such pairs are the only ones whose eight corners are tried.
+    k = len(b)
+    i, j = np.nonzero(apart & _crossed(eye, np.repeat(mid, k, axis=0), np.tile(b, (n, 1, 1))).reshape(n, k))
+    corners = (mid[i, None] + half[i, None] * _CORNERS[None]).reshape(-1, 3)  # (p * 8, 3)
+    all8 = _crossed(eye, corners, np.repeat(b[j], 8, axis=0)).reshape(-1, 8).all(axis=1)
+    out = np.zeros(n, bool)
+    out[i[all8]] = True
+    return out
+
+
+def _crossed(eye: np.ndarray, ends: np.ndarray, boxes: np.ndarray) -> np.ndarray:
+    """``(m,) bool``: does the segment from ``eye`` to each of ``ends (m, 3)`` cross the box
+    beside it in ``boxes (m, 2, 3)``? (The slab test, ``t`` in [0, 1].)"""
+    d = ends - eye
+    inv = 1.0 / np.where(np.abs(d) < 1e-12, 1e-12, d)
+    t0, t1 = (boxes[:, 0] - eye) * inv, (boxes[:, 1] - eye) * inv
+    enter, leave = np.minimum(t0, t1).max(axis=1), np.maximum(t0, t1).min(axis=1)
+    return (enter <= leave) & (enter <= 1.0) & (leave >= 0.0)
 
 
 def _outside(box: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """What of ``box (2, 3)`` lies outside every occluder of ``b (k, 2, 3)`` it overlaps, as
-    boxes ``(m, 2, 3)`` (each subtraction leaves at most six slabs)."""
-    pieces = [box]
-    for lo, hi in b[np.all((b[:, 0] < box[1]) & (b[:, 1] > box[0]), axis=1)]:
+    """What of ``box (2, 3)`` lies outside the occluders ``b (k, 2, 3)`` it overlaps, as
+    boxes ``(m, 2, 3)`` (each subtraction leaves at most six slabs; plain floats: a handful of
+    tiny boxes, where numpy's per-call cost would be most of the work)."""
+    pieces = [box.tolist()]
+    for lo, hi in b.tolist():
         rest = []
         for p in pieces:
-            if not np.all((lo < p[1]) & (hi > p[0])):
+            if not all(lo[a] < p[1][a] and hi[a] > p[0][a] for a in range(3)):
                 rest.append(p)
                 continue
-            core = p.copy()
+            core = [list(p[0]), list(p[1])]
             for a in range(3):  # peel the slabs below and above the occluder, axis by axis
-                if core[0, a] < lo[a]:
-                    s = core.copy()
-                    s[1, a] = core[0, a] = lo[a]
+                if core[0][a] < lo[a]:
+                    s = [list(core[0]), list(core[1])]
+                    s[1][a] = core[0][a] = lo[a]
                     rest.append(s)
-                if core[1, a] > hi[a]:
-                    s = core.copy()
-                    s[0, a] = core[1, a] = hi[a]
+                if core[1][a] > hi[a]:
+                    s = [list(core[0]), list(core[1])]
+                    s[0][a] = core[1][a] = hi[a]
                     rest.append(s)
             # what is left of ``core`` lies inside the occluder: hidden by its faces
         pieces = rest
-        if len(pieces) > 24:
+        if len(pieces) > MAX_PIECES:
             break
     return np.array(pieces, np.float64).reshape(-1, 2, 3)
 
@@ -164,9 +189,11 @@ def _is_box(mesh) -> bool:
 
 def hidden_rows(game, frame, models: np.ndarray, alpha: float) -> np.ndarray:
     """``(n,) bool`` over ``game.entity_models``'s entities (posed by ``models (n, 5, 5)``, the
-    frame's ``alpha``): hidden from ``frame``'s eye by a box in its slice. None are while the
-    slice is turned (the occluders are world boxes) or the camera is detached. Kept for the
-    frame: the sections and the ghosts ask in turn."""
+    frame's ``alpha``): in the view, not solid, and hidden from ``frame``'s eye by a box in its
+    slice (what is outside the view the batches cull themselves; solid things, doors and walls,
+    are few triangles, and the occluders). None are while the slice is turned (the occluders
+    are world boxes) or the camera is detached. Kept for the frame: the sections and the
+    ghosts ask in turn."""
     table = game.entity_models
     n = len(table.entities)
     if not n or not game.camera.aligned or game.camera.detached:
@@ -175,7 +202,16 @@ def hidden_rows(game, frame, models: np.ndarray, alpha: float) -> np.ndarray:
     key = (game.tick, alpha, tuple(np.asarray(cam.position, np.float64).tolist()), cam.w, n)
     if table.hidden_memo[0] == key:
         return table.hidden_memo[1]
+    # Only what is in the view: the rest is not cut anyway (the batches' own culling).
+    planes = game.entity_sections.view_planes(cam)
+    r = table.radii + MOTION_MARGIN
+    c = table.centers[:, :3]
+    solid = table.column("solid", lambda e: e.solid).astype(bool)
+    seen = ~solid & np.all(
+        c @ planes[:, :3].T + planes[:, 3] >= -r[:, None] * np.linalg.norm(planes[:, :3], axis=1), axis=1
+    )
+    out = np.zeros(n, bool)
     boxes = np.concatenate([game.colliders_at(cam.w), box_sections(table, models, cam.w)])
-    out = hidden(cam.position, table.centers[:, :3], table.radii + MOTION_MARGIN, boxes)
+    out[seen] = hidden(cam.position, c[seen], r[seen], boxes)
     table.hidden_memo = (key, out)
     return out

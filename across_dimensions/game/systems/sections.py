@@ -37,9 +37,7 @@ def draw(game, frame, alpha) -> None:
     entities = [table.entities[i] for i in shown]
     game.entity_sections.draw(frame, entities, models[shown], rig.slice_pose(s), game.sections)
     rows = np.flatnonzero(hidden)
-    balls = np.c_[table.centers[rows, :3], table.radii[rows]]
-    planes = game.entity_sections.view_planes(frame.camera)
-    game.entity_sections.note_reaching([table.entities[i] for i in rows], models[rows], s, balls, planes)
+    game.entity_sections.note_reaching([table.entities[i] for i in rows], models[rows], s)
 
 
 def draw_per_object(game, frame, alpha) -> None:
