@@ -31,6 +31,9 @@ SHRINK = 0.01
 #: Added to each thing's reach (m): its model is the frame's (between two ticks), its centre
 #: the tick's.
 MOTION_MARGIN = 0.25
+#: Meshes with fewer vertices are not tested (a crystal, a bullet: cheaper to draw than to test
+#: when there are hundreds); an enemy has a thousand.
+MIN_VERTICES = 64
 #: Things at least this big (reach, m) reaching into a box are cut into pieces outside it.
 BIG = 1.0
 #: A thing reaching into boxes is cut into at most this many pieces outside them (more, and
@@ -189,10 +192,11 @@ def _is_box(mesh) -> bool:
 
 def hidden_rows(game, frame, models: np.ndarray, alpha: float) -> np.ndarray:
     """``(n,) bool`` over ``game.entity_models``'s entities (posed by ``models (n, 5, 5)``, the
-    frame's ``alpha``): in the view, not solid, and hidden from ``frame``'s eye by a box in its
-    slice (what is outside the view the batches cull themselves; solid things, doors and walls,
-    are few triangles, and the occluders). None are while the slice is turned (the occluders
-    are world boxes) or the camera is detached. Kept for the frame: the sections and the
+    frame's ``alpha``): in the view, worth the test, and hidden from ``frame``'s eye by a box in
+    its slice (what is outside the view the batches cull themselves; solid things, doors and
+    walls, are the occluders; small meshes, crystals and bullets, cost less to draw than to
+    test). None are while the slice is turned (the occluders are world boxes) or the camera is
+    detached. Kept for the frame: the sections and the
     ghosts ask in turn."""
     table = game.entity_models
     n = len(table.entities)
@@ -206,8 +210,8 @@ def hidden_rows(game, frame, models: np.ndarray, alpha: float) -> np.ndarray:
     planes = game.entity_sections.view_planes(cam)
     r = table.radii + MOTION_MARGIN
     c = table.centers[:, :3]
-    solid = table.column("solid", lambda e: e.solid).astype(bool)
-    seen = ~solid & np.all(
+    worth = table.column("occludee", lambda e: not e.solid and len(e.mesh.vertices) >= MIN_VERTICES).astype(bool)
+    seen = worth & np.all(
         c @ planes[:, :3].T + planes[:, 3] >= -r[:, None] * np.linalg.norm(planes[:, :3], axis=1), axis=1
     )
     out = np.zeros(n, bool)
