@@ -9,6 +9,7 @@ hidden things reach the slice.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.occlusion import BIG, EYE_MARGIN, box_sections, hidden
@@ -138,3 +139,26 @@ def test_an_open_gate_hides_nothing():
     members = {m for b in frame.batches for m in b.members}
     enemies = [e for e in game.entity_models.entities if e.kind == "enemy"]
     assert any(f"entity:{e.id}" in members for e in enemies)
+
+
+@pytest.mark.parametrize(
+    "level, pose, covered",
+    [
+        ("11_crossfire", (-7.0, -17.0, 90.0), True),  # outside the armoury, facing its wall
+        ("10_cloister", (0.0, 10.333, 180.0), True),  # against the veil
+        ("11_crossfire", (0.0, 0.0, 0.0), False),  # the arena, the sky over its walls
+    ],
+)
+def test_a_box_covering_the_view_hides_the_sky_and_no_pixel_changes(gl_ctx, level, pose, covered):
+    from tests.test_batch import _image
+
+    game = Game(load_level(resolve_level(level)))
+    game.step(Actions())
+    x, z, yaw = pose
+    game.place_player((x, float(game.player.position[1]), z, 0.0), np.radians(yaw), 0.0)
+    frame = game.frame()
+    assert frame.sky_hidden == covered
+    if covered:
+        drawn = _image(gl_ctx, frame)
+        frame.sky_hidden = False
+        assert np.array_equal(drawn, _image(gl_ctx, frame))

@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .entity_sections import CULL_ASPECT
+
 #: A box whose bounds, grown by this (m), hold the eye hides nothing (its faces are culled from
 #: inside, and the near plane may cut the one in front of the eye).
 EYE_MARGIN = 0.3
@@ -219,3 +221,23 @@ def hidden_rows(game, frame, models: np.ndarray, alpha: float) -> np.ndarray:
     out[seen] = hidden(cam.position, c[seen], r[seen], boxes)
     table.hidden_memo = (key, out)
     return out
+
+
+def view_covered(game, frame, models: np.ndarray) -> bool:
+    """Does one box solid in the slice cover the whole of ``frame``'s view, for any window up to
+    :data:`.entity_sections.CULL_ASPECT` wide? Then the sky shows nowhere. The view's four
+    corner rays, out to the far plane, must all cross the box: its outline on screen is convex,
+    so it then holds the whole rectangle, and nearer than the far plane."""
+    if not game.camera.aligned or game.camera.detached:
+        return False
+    cam = frame.camera
+    inv = np.linalg.inv(cam.projection_matrix(CULL_ASPECT) @ cam.view_matrix())
+    far = np.array([[x, y, 1.0, 1.0] for x in (-1.0, 1.0) for y in (-1.0, 1.0)]) @ inv.T
+    far = far[:, :3] / far[:, 3:]
+    eye = np.asarray(cam.position, np.float64)
+    table = game.entity_models
+    b = _occluders(eye, np.concatenate([game.colliders_at(cam.w), box_sections(table, models, cam.w)]))
+    if not len(b):
+        return False
+    crossed = _crossed(eye, np.tile(far, (len(b), 1)), np.repeat(b, 4, axis=0)).reshape(-1, 4)
+    return bool(crossed.all(axis=1).any())

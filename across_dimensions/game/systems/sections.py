@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..occlusion import hidden_rows
+from ..occlusion import hidden_rows, view_covered
 from ..projection import items, project, world_items
 from ..system import System
 
@@ -38,6 +38,7 @@ def draw(game, frame, alpha) -> None:
     game.entity_sections.draw(frame, entities, models[shown], rig.slice_pose(s), game.sections)
     rows = np.flatnonzero(hidden)
     game.entity_sections.note_reaching([table.entities[i] for i in rows], models[rows], s)
+    frame.sky_hidden = frame.sky == "dome" and view_covered(game, frame, models)
 
 
 def draw_per_object(game, frame, alpha) -> None:
