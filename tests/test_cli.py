@@ -745,3 +745,18 @@ def test_play_with_a_display_that_does_not_answer(cli, cli_env):
 
 def test_play_unknown_level_is_a_user_error(cli):
     user_error(cli("play", "no_such_level"), "no_such_level", "shipped levels")
+
+
+def test_a_reader_that_goes_away_ends_the_command_quietly(cli_env, tmp_path):
+    # `across-dimensions ... | head`: the pipe is closed before the command writes to it.
+    p = subprocess.Popen(
+        [sys.executable, "-m", "across_dimensions", "replay", LEVEL, SHIPPED_REPLAY, "--json"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        cwd=tmp_path,
+        env=cli_env,
+    )
+    p.stdout.close()
+    err = p.stderr.read().decode()
+    assert p.wait(timeout=TIMEOUT) == 141, err  # 128 + SIGPIPE, as a shell reports it
+    assert err == ""

@@ -27,6 +27,7 @@ imported only by ``play``, so everything else runs with no display.
 from __future__ import annotations
 
 import argparse
+import os
 import signal
 import sys
 import threading
@@ -242,6 +243,11 @@ def main(argv=None) -> int:
         return _fail(argv, str(e) if str(e).startswith(PROG) else f"{PROG}: error: {e}", 2)
     except KeyboardInterrupt:
         return 130
+    except BrokenPipeError:
+        # The reader went away (``... --json | head``): nothing more to say to it, and Python's
+        # flush of stdout at exit must not fail again.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
     except Exception as e:
         if _terminated_by is not None:  # stopped by a signal mid-way (e.g. while compiling kernels)
             return _fail(argv, f"{PROG}: stopped by {signal.Signals(_terminated_by).name}", 128 + _terminated_by)
