@@ -17,6 +17,9 @@ by a convex box ``B`` that it does not touch when the segment from the eye to ea
 eight corners crosses ``B``: the directions that meet ``B`` form a convex cone holding those
 of all of ``T``, and every separating plane of the two leaves the eye on ``B``'s side (else a
 segment from the eye to ``T`` could not reach ``B``), so ``B`` is met before ``T``.
+
+The same boxes tell when the sky shows nowhere (:func:`view_covered`): a wall seen from close by
+covers the whole view, and the sky's depth test over it would cost a millisecond for no pixel.
 """
 
 from __future__ import annotations
@@ -68,8 +71,8 @@ def hidden(eye, centers, radii, boxes) -> np.ndarray:
         return np.zeros(len(c), bool)
     whole = np.stack([c - r, c + r], axis=1)
     out = _behind(eye, whole, b)
-    # A thing reaching into an occluder (an enemy pressed against a gate, a ball sunk in the
-    # floor): what lies inside a box is hidden by its faces, so only the rest must be behind one.
+    # A thing reaching into an occluder (an enemy pressed against a gate): what lies inside a
+    # box is hidden by its faces, so only the rest must be behind one.
     # Tried only for a big one (an enemy, not a crate or a crystal: little to draw) reaching
     # into a box that the segment to its middle crosses (a gate it is pressed against, not the
     # floor under it): the few cases worth a Python loop.
