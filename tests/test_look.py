@@ -272,6 +272,9 @@ def test_game_frames_ask_for_the_dome_and_cue_4d_things_by_w():
     # Entities are drawn in batches: each vertex's colour alpha carries its thing's w offset.
     from across_dimensions.game.entity_sections import ALPHA
 
+    # Seen from past the blue wall, which hides the beacon from the start (game/occlusion.py).
+    game.place_player((0.0, float(game.player.position[1]), 5.0, w), 0.0, 0.0)
+    frame = game.frame(alpha=0.5)
     solid = next(b for b in frame.batches if b.style == "solid")
     beacon = solid.vertices[:, ALPHA]
     assert len(beacon) and ((beacon > 0.0) & (beacon <= 1.0)).all(), beacon  # the beacon, at w = 0.9

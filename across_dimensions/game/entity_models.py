@@ -40,6 +40,7 @@ class EntityModels:
         self._arrays: tuple = ()
         self._memo: tuple = (None, None)
         self._columns: dict = {}  # name -> array of a per-entity value, until entities come or go
+        self.hidden_memo: tuple = (None, None)  # the frame's occlusion (see occlusion.hidden_rows)
 
     def update(self, game) -> None:
         """Take the game's entities again if any came or went (centres refreshed every call)."""

@@ -118,6 +118,16 @@ class EntitySections:
         self._sliced.update(zip(keys, (batch.cut_counts > 0).tolist()))
         self._sliced.update(dict.fromkeys(batch.view_culled, True))
 
+    def note_reaching(self, entities, models: np.ndarray, w: float) -> None:
+        """Entities in the view left out of this frame's slicing though their reach spans the
+        slice (hidden behind a box; posed by ``models (k, 5, 5)``, the slice at ``w``
+        axis-aligned): :meth:`has_section` says whether the slice passes strictly between their
+        lowest and highest vertex along w (for a connected surface, whether it has a section,
+        as the radar needs)."""
+        for e, m in zip(entities, models):
+            ws = e.mesh.vertices @ m[3, :4] + m[3, 4]
+            self._sliced[e.id] = bool(ws.min() < w < ws.max())
+
     def view_planes(self, camera) -> np.ndarray:
         """:func:`view_planes` of ``camera``, made once for the systems that draw one frame."""
         key = (tuple(np.asarray(camera.position, np.float64).tolist()), camera.yaw, camera.pitch,

@@ -325,6 +325,8 @@ class Frame:
     sky_color: tuple[float, float, float] = (0.05, 0.06, 0.10)
     light_dir: tuple[float, float, float] = (0.4, 1.0, 0.25)
     sky: str = "flat"  # "flat": one colour (sky_color); "dome": the renderer's procedural sky
+    #: One opaque box covers the whole view (game/occlusion.py): the renderer need not draw the sky.
+    sky_hidden: bool = False
     time: float = 0.0  # seconds of play, for animated shading (pulses, bands); never read by the game
     batches: list = field(default_factory=list)  # TriangleBatch: many objects, one draw call per pass
     pip: list[Drawable] | None = None  # the other projection of the same moment (picture in picture), if asked

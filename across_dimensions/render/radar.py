@@ -372,21 +372,23 @@ class RadarRenderer:
         self._disc_vbo = ctx.buffer(disc.tobytes())
         self._disc_vao = ctx.vertex_array(self.flat_prog, [(self._disc_vbo, "3f 4f", "in_pos", "in_color")])
         self._disc_n = len(disc)
-        # Backdrop, in clip space at the far plane: first a quad over the whole rectangle with alpha
-        # 0 (drawn with depth test "always", it resets the depth there without changing a pixel;
-        # a masked glClear would do the same but moderngl's clear leaves the colour mask behind),
-        # then a dark glow, densest in the middle and fading out towards the corners.
+        # Backdrop, in clip space at the far plane, drawn with depth test "always": it resets the
+        # depth in the rectangle and darkens it in one pass (a dark glow, densest in the middle and
+        # fading out towards a ring; from there to the rectangle's edge it is clear, alpha 0,
+        # and only resets the depth). A masked glClear would reset the depth alone, but
+        # moderngl's clear leaves the colour mask behind.
         far = 0.99999
-        quad = [(-1, -1), (1, -1), (1, 1), (-1, -1), (1, 1), (-1, 1)]
-        back = [(x, y, far, 0.0, 0.0, 0.0, 0.0) for x, y in quad]
         ang = np.linspace(0, 2 * np.pi, 33)
         glow, edge = BACKDROP_COLOR, BACKDROP_COLOR[:3] + (0.0,)
+        ring = np.stack([np.cos(ang), np.sin(ang)], axis=1)
+        # The rectangle's edge in the same directions: every eighth one is a corner.
+        square = ring / np.abs(ring).max(axis=1, keepdims=True)
+        back = []
         for i in range(32):
-            back += [
-                (0.0, 0.0, far, *glow),
-                (1.05 * np.cos(ang[i]), 1.05 * np.sin(ang[i]), far, *edge),
-                (1.05 * np.cos(ang[i + 1]), 1.05 * np.sin(ang[i + 1]), far, *edge),
-            ]
+            a, b = 1.05 * ring[i], 1.05 * ring[i + 1]
+            back += [(0.0, 0.0, far, *glow), (*a, far, *edge), (*b, far, *edge)]
+            for p, q, o in ((a, b, square[i]), (b, square[i + 1], square[i])):
+                back += [(*p, far, *edge), (*q, far, *edge), (*o, far, *edge)]
         back = np.array(back, np.float32)
         self._back_vbo = ctx.buffer(back.tobytes())
         self._back_vao = ctx.vertex_array(self.flat_prog, [(self._back_vbo, "3f 4f", "in_pos", "in_color")])
@@ -448,11 +450,7 @@ class RadarRenderer:
         self.flat_prog["u_view_proj"].write(_IDENTITY)
         self.flat_prog["u_alpha"].value = float(alpha)
         t0 = clock()
-        # The depth reset writes no colour: no blending for the whole rectangle's worth of pixels.
-        fbo.color_mask = False, False, False, False
-        self._back_vao.render(moderngl.TRIANGLES, vertices=6)
-        fbo.color_mask = True, True, True, True
-        self._back_vao.render(moderngl.TRIANGLES, vertices=self._back_n - 6, first=6)
+        self._back_vao.render(moderngl.TRIANGLES, vertices=self._back_n)
         spent = clock() - t0
         if alpha >= 1.0:  # opaque pins need no blending; faded ones do
             ctx.disable(moderngl.BLEND)

@@ -274,8 +274,9 @@ class Renderer:
         self._lap("setup")
 
         self._draw_opaque(frame, opaque, wires, vp_bytes)
-        if dome:
-            # After the opaque scene: the sky shades only the pixels nothing covered.
+        if dome and not frame.sky_hidden:
+            # After the opaque scene: the sky shades only the pixels nothing covered (none, when
+            # one box covers the view: then its depth test alone would cost a millisecond).
             if self._sky is None:
                 self._sky = SkyRenderer(self.ctx)
             st.draw_calls += self._sky.draw(view_proj, eye, light, self.palette, self._set)

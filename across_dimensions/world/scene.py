@@ -107,8 +107,9 @@ class Scene:
     floor_mesh: TriMesh3 = field(default_factory=TriMesh3.empty)
     worlds: list[ExtendedWorld] = field(default_factory=list)
     objects: list[Object4] = field(default_factory=list)
-    #: The ``[[mesh]]`` surfaces, which may be open (drawn two-sided); ``static_mesh`` and
-    #: ``floor_mesh`` hold only boxes: closed, wound counter-clockwise seen from outside.
+    #: The ``[[mesh]]`` surfaces; ``static_mesh`` and ``floor_mesh`` hold only boxes. All three
+    #: are closed, wound counter-clockwise seen from outside (an asset still open after repair
+    #: is refused: ``bake.load_surface``; placements never mirror, their scales are positive).
     open_mesh: TriMesh3 = field(default_factory=TriMesh3.empty)
 
     def world_boxes_at(self, w: float) -> np.ndarray:

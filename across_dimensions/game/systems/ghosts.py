@@ -26,6 +26,7 @@ import numpy as np
 
 from .. import section_collision
 from ..frame import Drawable
+from ..occlusion import hidden_rows
 from ..player import W_SPEED, overlapping, player_box
 from ..system import System
 from . import camera
@@ -215,6 +216,7 @@ def draw(game, frame, alpha) -> None:
     w = frame.camera.w
     layers = layers_of(game, w)
     if layers:
+        hidden = hidden_rows(game, frame, models, alpha)
         spans = slice_spans(table.column("ghost_w_caps", lambda e: _caps(e.mesh)).reshape(-1, 2), models)
     for layer in layers:
         tag = layer.tag
@@ -228,7 +230,7 @@ def draw(game, frame, alpha) -> None:
         for i in shown[solids[shown]]:
             e = table.entities[i]
             things.append((f"{tag}:{e.id}", f"{tag}:entity:{e.id}", e.mesh, models[i], bool(may_block[i])))
-        batched = shown[~solids[shown]]
+        batched = shown[~solids[shown] & ~hidden[shown]]  # what a box hides: no ghost to draw
         game.entity_sections.ghost_layer(frame, layer, [table.entities[i] for i in batched], models[batched], planes)
         worlds = enumerate(game.scene.worlds)
         things += [(f"{tag}:world:{i}", f"{tag}:world:{i}", wd.mesh, np.eye(5), True) for i, wd in worlds]

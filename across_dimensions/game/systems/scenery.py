@@ -12,13 +12,14 @@ def draw(game, frame, alpha) -> None:
     scene = game.scene
     frame.sky = "dome"  # the renderer's sky dome (a flat sky_color where it has none)
     frame.time = game.time + alpha * game.dt
-    # Boxes are closed and the player never stands inside one: their inner faces, always
-    # hidden, are skipped (a quarter of the frame's drawing on llvmpipe, which rasterizes them
-    # in the depth pre-pass and depth-tests them in the shading pass).
+    # Boxes and the [[mesh]] surfaces are closed and the player never stands inside one: their
+    # inner faces, always hidden, are skipped (a quarter of the frame's drawing on llvmpipe,
+    # which rasterizes them in the depth pre-pass and depth-tests them in the shading pass; an
+    # arch seen from close by, an eighth of the Cloister's frame).
     frame.drawables.append(Drawable("static", 0, scene.static_mesh, outside_only=True))
     frame.drawables.append(Drawable("floor", 0, scene.floor_mesh, style="floor", outside_only=True))
     if not scene.open_mesh.is_empty:
-        frame.drawables.append(Drawable("static_open", 0, scene.open_mesh))
+        frame.drawables.append(Drawable("static_open", 0, scene.open_mesh, outside_only=True))
 
 
 SYSTEM = System("scenery", draw=draw)

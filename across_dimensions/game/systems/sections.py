@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..occlusion import hidden_rows, view_covered
 from ..projection import items, project, world_items
 from ..system import System
 
@@ -28,10 +29,16 @@ def draw(game, frame, alpha) -> None:
     s = frame.camera.w
     table = game.entity_models
     table.update(game)
-    shown = np.flatnonzero(np.abs(rig.to_slice(table.centers)[:, 3] - s) <= table.radii)
-    models = table.models(game, alpha)[shown]
+    reach = np.abs(rig.to_slice(table.centers)[:, 3] - s) <= table.radii
+    models = table.models(game, alpha)
+    # What a box hides is not cut at all (see game/occlusion.py).
+    hidden = reach & hidden_rows(game, frame, models, alpha)
+    shown = np.flatnonzero(reach & ~hidden)
     entities = [table.entities[i] for i in shown]
-    game.entity_sections.draw(frame, entities, models, rig.slice_pose(s), game.sections)
+    game.entity_sections.draw(frame, entities, models[shown], rig.slice_pose(s), game.sections)
+    rows = np.flatnonzero(hidden)
+    game.entity_sections.note_reaching([table.entities[i] for i in rows], models[rows], s)
+    frame.sky_hidden = frame.sky == "dome" and view_covered(game, frame, models)
 
 
 def draw_per_object(game, frame, alpha) -> None:

@@ -1,0 +1,246 @@
+"""Which 4D things the level's boxes hide from the eye, so they are neither sliced nor drawn.
+
+On a software rasterizer every triangle costs its set-up even when the depth test then hides
+all of it: the enemies of an arena behind a closed gate (their sections, the depth pre-pass's
+copy of them and two ghost layers, some 30,000 triangles) cost a third of the frame seen from
+the next room. A thing is hidden when one box lies between the eye and all of it.
+
+The occluders are the boxes solid in the slice (:meth:`.sim.Game.colliders_at`: the 3D
+world's boxes and the extended worlds' parts at the slice's w) and the solid 4D objects whose
+section is a box (an axis-aligned tesseract such as a door, while the slice cuts it). A box the
+eye stands in, or next to, hides nothing: boxes are drawn outside only, and the near plane
+may open the face in front of the eye.
+
+The test is conservative. Each thing is its bounding ball (its reach round its centre: any
+section of it, at any w, lies inside), taken as the ball's bounding box ``T``. ``T`` is hidden
+by a convex box ``B`` that it does not touch when the segment from the eye to each of ``T``'s
+eight corners crosses ``B``: the directions that meet ``B`` form a convex cone holding those
+of all of ``T``, and every separating plane of the two leaves the eye on ``B``'s side (else a
+segment from the eye to ``T`` could not reach ``B``), so ``B`` is met before ``T``.
+
+The same boxes tell when the sky shows nowhere (:func:`view_covered`): a wall seen from close by
+covers the whole view, and the sky's depth test over it would cost a millisecond for no pixel.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .entity_sections import CULL_ASPECT
+
+#: A box whose bounds, grown by this (m), hold the eye hides nothing (its faces are culled from
+#: inside, and the near plane may cut the one in front of the eye).
+EYE_MARGIN = 0.3
+#: Occluders are shrunk by this (m) before the test: rounding never hides a visible edge.
+SHRINK = 0.01
+#: Added to each thing's reach (m): its model is the frame's (between two ticks), its centre
+#: the tick's.
+MOTION_MARGIN = 0.25
+#: Meshes with fewer vertices are not tested (a crystal, a bullet: cheaper to draw than to test
+#: when there are hundreds); an enemy has a thousand.
+MIN_VERTICES = 64
+#: Things at least this big (reach, m) reaching into a box are cut into pieces outside it.
+BIG = 1.0
+#: A thing reaching into boxes is cut into at most this many pieces outside them (more, and
+#: it is taken as seen: a crate among crates is not worth the loop).
+MAX_PIECES = 8
+#: Offsets of a box's eight corners from its centre, in units of its half sizes.
+_CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], np.float64)
+
+
+def hidden(eye, centers, radii, boxes) -> np.ndarray:
+    """Is each ball wholly hidden from ``eye`` by ``boxes``?
+
+    Parameters
+    ----------
+    eye : (3,) array_like
+    centers : (n, 3) array_like
+    radii : (n,) array_like
+    boxes : (k, 2, 3) array_like
+        Lower and upper corners; rows with NaN are ignored.
+
+    Returns
+    -------
+    (n,) bool
+    """
+    eye = np.asarray(eye, np.float64)
+    c = np.asarray(centers, np.float64).reshape(-1, 3)
+    r = np.asarray(radii, np.float64).reshape(-1, 1)
+    b = _occluders(eye, np.asarray(boxes, np.float64).reshape(-1, 2, 3))
+    if not len(c) or not len(b):
+        return np.zeros(len(c), bool)
+    whole = np.stack([c - r, c + r], axis=1)
+    out = _behind(eye, whole, b)
+    # A thing reaching into an occluder (an enemy pressed against a gate): what lies inside a
+    # box is hidden by its faces, so only the rest must be behind one.
+    # Tried only for a big one (an enemy, not a crate or a crystal: little to draw) reaching
+    # into a box that the segment to its middle crosses (a gate it is pressed against, not the
+    # floor under it): the few cases worth a Python loop.
+    touching = np.all((whole[:, None, 0] < b[None, :, 1]) & (whole[:, None, 1] > b[None, :, 0]), axis=2)
+    k = len(b)
+    ahead = _crossed(eye, np.repeat(c, k, axis=0), np.tile(b, (len(c), 1, 1))).reshape(len(c), k)
+    rows = np.flatnonzero(~out & (touching & ahead).any(axis=1) & (r[:, 0] >= BIG))
+    pieces = [_outside(whole[i], b[touching[i]]) for i in rows]
+    if rows.size:
+        behind = np.split(_behind(eye, np.concatenate(pieces), b), np.cumsum([len(p) for p in pieces])[:-1])
+        out[rows] = [len(p) <= MAX_PIECES and bool(h.all()) for p, h in zip(pieces, behind)]
+    return out
+
+
+def _behind(eye: np.ndarray, things: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``(n,) bool``: is each box of ``things (n, 2, 3)`` apart from one of the occluders
+    ``b (k, 2, 3)`` and behind it (the segment from ``eye`` to each of its corners crosses it)?"""
+    n = len(things)
+    if not n:
+        return np.zeros(0, bool)
+    lo, hi = b[None, :, 0], b[None, :, 1]  # (1, k, 3)
+    # Touching counts as apart: a piece left by subtracting an occluder shares a face with it.
+    apart = np.any((things[:, None, 1] <= lo) | (things[:, None, 0] >= hi), axis=2)  # (n, k)
+    mid, half = 0.5 * (things[:, 0] + things[:, 1]), 0.5 * (things[:, 1] - things[:, 0])
+    # The segment to the middle crosses every box that hides the whole (it lies in the cone of
+    # the corners'): the few such pairs are the only ones whose eight corners are tried.
+    k = len(b)
+    i, j = np.nonzero(apart & _crossed(eye, np.repeat(mid, k, axis=0), np.tile(b, (n, 1, 1))).reshape(n, k))
+    corners = (mid[i, None] + half[i, None] * _CORNERS[None]).reshape(-1, 3)  # (p * 8, 3)
+    all8 = _crossed(eye, corners, np.repeat(b[j], 8, axis=0)).reshape(-1, 8).all(axis=1)
+    out = np.zeros(n, bool)
+    out[i[all8]] = True
+    return out
+
+
+def _crossed(eye: np.ndarray, ends: np.ndarray, boxes: np.ndarray) -> np.ndarray:
+    """``(m,) bool``: does the segment from ``eye`` to each of ``ends (m, 3)`` cross the box
+    beside it in ``boxes (m, 2, 3)``? (The slab test, ``t`` in [0, 1].)"""
+    d = ends - eye
+    inv = 1.0 / np.where(np.abs(d) < 1e-12, 1e-12, d)
+    t0, t1 = (boxes[:, 0] - eye) * inv, (boxes[:, 1] - eye) * inv
+    enter, leave = np.minimum(t0, t1).max(axis=1), np.maximum(t0, t1).min(axis=1)
+    return (enter <= leave) & (enter <= 1.0) & (leave >= 0.0)
+
+
+def _outside(box: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """What of ``box (2, 3)`` lies outside the occluders ``b (k, 2, 3)`` it overlaps, as
+    boxes ``(m, 2, 3)`` (each subtraction leaves at most six slabs; plain floats: a handful of
+    tiny boxes, where numpy's per-call cost would be most of the work)."""
+    pieces = [box.tolist()]
+    for lo, hi in b.tolist():
+        rest = []
+        for p in pieces:
+            if not all(lo[a] < p[1][a] and hi[a] > p[0][a] for a in range(3)):
+                rest.append(p)
+                continue
+            core = [list(p[0]), list(p[1])]
+            for a in range(3):  # peel the slabs below and above the occluder, axis by axis
+                if core[0][a] < lo[a]:
+                    s = [list(core[0]), list(core[1])]
+                    s[1][a] = core[0][a] = lo[a]
+                    rest.append(s)
+                if core[1][a] > hi[a]:
+                    s = [list(core[0]), list(core[1])]
+                    s[0][a] = core[1][a] = hi[a]
+                    rest.append(s)
+            # what is left of ``core`` lies inside the occluder: hidden by its faces
+        pieces = rest
+        if len(pieces) > MAX_PIECES:
+            break
+    return np.array(pieces, np.float64).reshape(-1, 2, 3)
+
+
+def _occluders(eye: np.ndarray, boxes: np.ndarray) -> np.ndarray:
+    """The rows of ``boxes (k, 2, 3)`` that may hide something from ``eye``, shrunk by
+    :data:`SHRINK`: no NaN, not holding the eye (with :data:`EYE_MARGIN`), not flat."""
+    ok = ~np.isnan(boxes).any(axis=(1, 2))
+    b = boxes[ok]
+    near = np.all((b[:, 0] - EYE_MARGIN <= eye) & (eye <= b[:, 1] + EYE_MARGIN), axis=1)
+    b = b[~near] + np.array([SHRINK, -SHRINK])[None, :, None]
+    return b[np.all(b[:, 1] > b[:, 0], axis=1)]
+
+
+def box_sections(table, models: np.ndarray, w: float) -> np.ndarray:
+    """Bounds ``(m, 2, 3)`` of the sections at ``w`` of the solid entities of ``table`` (a
+    :class:`.entity_models.EntityModels`, posed by ``models (n, 5, 5)``) that are boxes:
+    a mesh whose every vertex is a corner of its bounds, posed without a turn, cut inside its
+    extent along w."""
+    boxy = table.column("occluder", lambda e: e.solid and _is_box(e.mesh)).astype(bool)
+    rows = np.flatnonzero(boxy)
+    if not len(rows):
+        return np.zeros((0, 2, 3))
+    m = models[rows]
+    lin = m[:, :4, :4]
+    unturned = np.all(np.abs(lin - lin * np.eye(4)) < 1e-9, axis=(1, 2))
+    lo, hi = _mesh_bounds(table, rows)
+    scale, move = np.diagonal(lin, axis1=1, axis2=2), m[:, :4, 4]
+    a, b = lo * scale + move, hi * scale + move
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    cut = unturned & (lo[:, 3] < w) & (w < hi[:, 3])
+    return np.stack([lo[cut, :3], hi[cut, :3]], axis=1)
+
+
+def _mesh_bounds(table, rows) -> tuple[np.ndarray, np.ndarray]:
+    """Each row's mesh bounds ``(m, 4)`` twice (lower, upper), in its own space."""
+    lo = np.array([table.entities[i].mesh.vertices.min(axis=0) for i in rows], np.float64)
+    hi = np.array([table.entities[i].mesh.vertices.max(axis=0) for i in rows], np.float64)
+    return lo, hi
+
+
+def _is_box(mesh) -> bool:
+    """Does every vertex of ``mesh`` sit on a corner of its bounds (a tesseract, subdivided or
+    not, has no other), and are all sixteen corners there? Its cuts are then boxes."""
+    v = np.asarray(mesh.vertices, np.float64)
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    tol = 1e-6 * max(1.0, float(np.abs(v).max()))
+    at_lo, at_hi = np.abs(v - lo) <= tol, np.abs(v - hi) <= tol
+    if not np.all(at_lo | at_hi) or np.any(hi - lo <= tol):
+        return False
+    return len(np.unique(at_hi.astype(np.int8), axis=0)) == 16
+
+
+def hidden_rows(game, frame, models: np.ndarray, alpha: float) -> np.ndarray:
+    """``(n,) bool`` over ``game.entity_models``'s entities (posed by ``models (n, 5, 5)``, the
+    frame's ``alpha``): in the view, worth the test, and hidden from ``frame``'s eye by a box in
+    its slice (what is outside the view the batches cull themselves; solid things, doors and
+    walls, are the occluders; small meshes, crystals and bullets, cost less to draw than to
+    test). None are while the slice is turned (the occluders are world boxes) or the camera is
+    detached. Kept for the frame: the sections and the
+    ghosts ask in turn."""
+    table = game.entity_models
+    n = len(table.entities)
+    if not n or not game.camera.aligned or game.camera.detached:
+        return np.zeros(n, bool)
+    cam = frame.camera
+    key = (game.tick, alpha, tuple(np.asarray(cam.position, np.float64).tolist()), cam.w, n)
+    if table.hidden_memo[0] == key:
+        return table.hidden_memo[1]
+    # Only what is in the view: the rest is not cut anyway (the batches' own culling).
+    planes = game.entity_sections.view_planes(cam)
+    r = table.radii + MOTION_MARGIN
+    c = table.centers[:, :3]
+    worth = table.column("occludee", lambda e: not e.solid and len(e.mesh.vertices) >= MIN_VERTICES).astype(bool)
+    seen = worth & np.all(
+        c @ planes[:, :3].T + planes[:, 3] >= -r[:, None] * np.linalg.norm(planes[:, :3], axis=1), axis=1
+    )
+    out = np.zeros(n, bool)
+    boxes = np.concatenate([game.colliders_at(cam.w), box_sections(table, models, cam.w)])
+    out[seen] = hidden(cam.position, c[seen], r[seen], boxes)
+    table.hidden_memo = (key, out)
+    return out
+
+
+def view_covered(game, frame, models: np.ndarray) -> bool:
+    """Does one box solid in the slice cover the whole of ``frame``'s view, for any window up to
+    :data:`.entity_sections.CULL_ASPECT` wide? Then the sky shows nowhere. The view's four
+    corner rays, out to the far plane, must all cross the box: its outline on screen is convex,
+    so it then holds the whole rectangle, and nearer than the far plane."""
+    if not game.camera.aligned or game.camera.detached:
+        return False
+    cam = frame.camera
+    inv = np.linalg.inv(cam.projection_matrix(CULL_ASPECT) @ cam.view_matrix())
+    far = np.array([[x, y, 1.0, 1.0] for x in (-1.0, 1.0) for y in (-1.0, 1.0)]) @ inv.T
+    far = far[:, :3] / far[:, 3:]
+    eye = np.asarray(cam.position, np.float64)
+    table = game.entity_models
+    b = _occluders(eye, np.concatenate([game.colliders_at(cam.w), box_sections(table, models, cam.w)]))
+    if not len(b):
+        return False
+    crossed = _crossed(eye, np.tile(far, (len(b), 1)), np.repeat(b, 4, axis=0)).reshape(-1, 4)
+    return bool(crossed.all(axis=1).any())
