@@ -41,6 +41,7 @@ class EntityModels:
         self._memo: tuple = (None, None)
         self._columns: dict = {}  # name -> array of a per-entity value, until entities come or go
         self.hidden_memo: tuple = (None, None)  # the frame's occlusion (see occlusion.hidden_rows)
+        self.occluder_memo: tuple = (None, None)  # the frame's occluders (occlusion._frame_occluders)
 
     def update(self, game) -> None:
         """Take the game's entities again if any came or went (centres refreshed every call)."""

@@ -46,6 +46,8 @@ BIG = 1.0
 MAX_PIECES = 8
 #: Offsets of a box's eight corners from its centre, in units of its half sizes.
 _CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], np.float64)
+#: The view's four corners on the far plane, in clip space.
+_FAR_CORNERS = np.array([[x, y, 1.0, 1.0] for x in (-1.0, 1.0) for y in (-1.0, 1.0)])
 
 
 def hidden(eye, centers, radii, boxes) -> np.ndarray:
@@ -64,9 +66,13 @@ def hidden(eye, centers, radii, boxes) -> np.ndarray:
     (n,) bool
     """
     eye = np.asarray(eye, np.float64)
+    return _hidden(eye, centers, radii, _occluders(eye, np.asarray(boxes, np.float64).reshape(-1, 2, 3)))
+
+
+def _hidden(eye: np.ndarray, centers, radii, b: np.ndarray) -> np.ndarray:
+    """:func:`hidden` by occluders ``b (k, 2, 3)`` already chosen and shrunk (:func:`_occluders`)."""
     c = np.asarray(centers, np.float64).reshape(-1, 3)
     r = np.asarray(radii, np.float64).reshape(-1, 1)
-    b = _occluders(eye, np.asarray(boxes, np.float64).reshape(-1, 2, 3))
     if not len(c) or not len(b):
         return np.zeros(len(c), bool)
     whole = np.stack([c - r, c + r], axis=1)
@@ -76,11 +82,15 @@ def hidden(eye, centers, radii, boxes) -> np.ndarray:
     # Tried only for a big one (an enemy, not a crate or a crystal: little to draw) reaching
     # into a box that the segment to its middle crosses (a gate it is pressed against, not the
     # floor under it): the few cases worth a Python loop.
-    touching = np.all((whole[:, None, 0] < b[None, :, 1]) & (whole[:, None, 1] > b[None, :, 0]), axis=2)
+    rows = np.flatnonzero(~out & (r[:, 0] >= BIG))
+    if not rows.size:
+        return out
+    touching = np.all((whole[rows, None, 0] < b[None, :, 1]) & (whole[rows, None, 1] > b[None, :, 0]), axis=2)
     k = len(b)
-    ahead = _crossed(eye, np.repeat(c, k, axis=0), np.tile(b, (len(c), 1, 1))).reshape(len(c), k)
-    rows = np.flatnonzero(~out & (touching & ahead).any(axis=1) & (r[:, 0] >= BIG))
-    pieces = [_outside(whole[i], b[touching[i]]) for i in rows]
+    ahead = _crossed(eye, np.repeat(c[rows], k, axis=0), np.tile(b, (len(rows), 1, 1))).reshape(len(rows), k)
+    tried = (touching & ahead).any(axis=1)
+    rows, touching = rows[tried], touching[tried]
+    pieces = [_outside(whole[i], b[t]) for i, t in zip(rows, touching)]
     if rows.size:
         behind = np.split(_behind(eye, np.concatenate(pieces), b), np.cumsum([len(p) for p in pieces])[:-1])
         out[rows] = [len(p) <= MAX_PIECES and bool(h.all()) for p, h in zip(pieces, behind)]
@@ -220,27 +230,40 @@ def hidden_rows(game, frame, models: np.ndarray, alpha: float) -> np.ndarray:
         c @ planes[:, :3].T + planes[:, 3] >= -r[:, None] * np.linalg.norm(planes[:, :3], axis=1), axis=1
     )
     out = np.zeros(n, bool)
-    boxes = np.concatenate([game.colliders_at(cam.w), box_sections(table, models, cam.w)])
-    out[seen] = hidden(cam.position, c[seen], r[seen], boxes)
+    if seen.any():
+        out[seen] = _hidden(
+            np.asarray(cam.position, np.float64), c[seen], r[seen], _frame_occluders(game, frame, models, alpha)
+        )
     table.hidden_memo = (key, out)
     return out
 
 
-def view_covered(game, frame, models: np.ndarray) -> bool:
+def _frame_occluders(game, frame, models: np.ndarray, alpha: float) -> np.ndarray:
+    """The occluders of ``frame``'s eye (:func:`_occluders` of the boxes solid in its slice), kept
+    for the frame: the sections, the ghosts and the sky ask in turn."""
+    table, cam = game.entity_models, frame.camera
+    eye = np.asarray(cam.position, np.float64)
+    key = (game.tick, alpha, tuple(eye.tolist()), cam.w, len(table.entities))
+    if table.occluder_memo[0] != key:
+        boxes = np.concatenate([game.colliders_at(cam.w), box_sections(table, models, cam.w)])
+        table.occluder_memo = (key, _occluders(eye, boxes))
+    return table.occluder_memo[1]
+
+
+def view_covered(game, frame, models: np.ndarray, alpha: float) -> bool:
     """Does one box solid in the slice cover the whole of ``frame``'s view, for any window up to
     :data:`.entity_sections.CULL_ASPECT` wide? Then the sky shows nowhere. The view's four
     corner rays, out to the far plane, must all cross the box: its outline on screen is convex,
     so it then holds the whole rectangle, and nearer than the far plane."""
     if not game.camera.aligned or game.camera.detached:
         return False
-    cam = frame.camera
-    inv = np.linalg.inv(cam.projection_matrix(CULL_ASPECT) @ cam.view_matrix())
-    far = np.array([[x, y, 1.0, 1.0] for x in (-1.0, 1.0) for y in (-1.0, 1.0)]) @ inv.T
-    far = far[:, :3] / far[:, 3:]
-    eye = np.asarray(cam.position, np.float64)
-    table = game.entity_models
-    b = _occluders(eye, np.concatenate([game.colliders_at(cam.w), box_sections(table, models, cam.w)]))
+    b = _frame_occluders(game, frame, models, alpha)
     if not len(b):
         return False
+    cam = frame.camera
+    inv = np.linalg.inv(cam.projection_matrix(CULL_ASPECT) @ cam.view_matrix())
+    far = _FAR_CORNERS @ inv.T
+    far = far[:, :3] / far[:, 3:]
+    eye = np.asarray(cam.position, np.float64)
     crossed = _crossed(eye, np.tile(far, (len(b), 1)), np.repeat(b, 4, axis=0)).reshape(-1, 4)
     return bool(crossed.all(axis=1).any())

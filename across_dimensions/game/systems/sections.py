@@ -38,7 +38,7 @@ def draw(game, frame, alpha) -> None:
     game.entity_sections.draw(frame, entities, models[shown], rig.slice_pose(s), game.sections)
     rows = np.flatnonzero(hidden)
     game.entity_sections.note_reaching([table.entities[i] for i in rows], models[rows], s)
-    frame.sky_hidden = frame.sky == "dome" and view_covered(game, frame, models)
+    frame.sky_hidden = frame.sky == "dome" and view_covered(game, frame, models, alpha)
 
 
 def draw_per_object(game, frame, alpha) -> None:
