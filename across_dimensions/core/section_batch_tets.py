@@ -22,7 +22,7 @@ import numpy as np
 
 from ._jit import njit
 from .cases import CASE_COUNT, CASE_LOCAL_FLAT, CASE_REVERSED, CASE_TRIANGLES
-from .section_kernels import U, normal_transform
+from .section_kernels import U, _unit_normals, normal_transform
 
 
 @njit(inline="always")
@@ -89,15 +89,7 @@ def _tet_rows(pool, inst, k, cuts, out, o, ws):
     ncut, npt = _corners(pool, inst, k, ncut, ws)
     if not pool.flat[m]:
         _corner_colors(pool, m, npt, ws)
-    tx, ty, tz = ws.tn[0], ws.tn[1], ws.tn[2]
-    nx, ny, nz = ws.n64[0], ws.n64[1], ws.n64[2]
-    for i in range(ncut):  # its own loop: vectorized
-        x, y, z = nx[i], ny[i], nz[i]
-        ln = np.sqrt(x * x + y * y + z * z)
-        inv = 1.0 / ln if ln > 0.0 else 0.0  # a degenerate tet: zero stays zero
-        tx[i] = np.float32(x * inv)
-        ty[i] = np.float32(y * inv)
-        tz[i] = np.float32(z * inv)
+    _unit_normals(ncut, ws.n64, ws.tn)  # the per-object slicer's own loop: the same bits
     return _rows(pool, inst, k, ncut, out, o, ws)
 
 
