@@ -261,7 +261,8 @@ class SectionBatch:
         self._start = np.zeros(1, np.int64)
         self._count = np.zeros(0, np.int64)
         self._w_range = np.zeros((0, 2))
-        self._mesh_ids: tuple = (None, None)  # (id of each mesh, its number in the pool) of the last update
+        # Of the last update: (id of each mesh, its number in the pool, its bounding sphere's centre and radius).
+        self._mesh_ids: tuple = (None, None, None, None)
         self._view: tuple = (b"", None)  # (camera pose's bytes, its world-to-camera) of the last update
         self._eye = None  # the last update's eye, as bytes
         self._cut = np.zeros(0, np.int64)
@@ -345,25 +346,26 @@ class SectionBatch:
         mvs = np.ascontiguousarray(np.matmul(self._view_for(camera_pose), models))
         meshes = list(meshes)
         by_id = list(map(id, meshes))
-        if len(self._pool.meshes) > max(16, 2 * len(set(by_id))):
-            # Mostly meshes no longer drawn: start the pool again (and slice everything anew),
-            # so a long game spawning objects of new shapes does not grow it forever.
-            self._pool = _Pool(self._by_cells)
-            self._last, self._keys, self._pos = None, [], {}
-            self._mesh_ids = (None, None)
-            self._start = np.zeros(1, np.int64)
         if by_id != self._mesh_ids[0]:  # the same meshes as last time (most frames): the same numbers
-            self._mesh_ids = (by_id, np.array([self._pool.add(m) for m in meshes], np.int64))
+            if len(self._pool.meshes) > max(16, 2 * len(set(by_id))):
+                # Mostly meshes no longer drawn: start the pool again (and slice everything anew),
+                # so a long game spawning objects of new shapes does not grow it forever.
+                self._pool = _Pool(self._by_cells)
+                self._last, self._keys, self._pos = None, [], {}
+                self._start = np.zeros(1, np.int64)
+            ids = np.array([self._pool.add(m) for m in meshes], np.int64)
+            self._mesh_ids = (by_id, ids, self._pool.center[ids], self._pool.radius[ids])
         mesh_ids = self._mesh_ids[1]
-        in_slice, visible, flips = self._visible(mvs, mesh_ids, planes)
-        self._view_culled = {keys[i] for i in np.flatnonzero(in_slice & ~visible)}
-        self.culled = int(n - visible.sum())
+        in_slice, visible, flips = self._visible(mvs, *self._mesh_ids[2:], planes)
+        self.culled = n - int(np.count_nonzero(visible))
+        self._view_culled = {keys[i] for i in np.flatnonzero(in_slice & ~visible)} if self.culled else set()
         old = self._old_order(keys)
         eye_key = None if eye is None else np.asarray(eye, np.float64).reshape(3).tobytes()
         moved, self._eye = eye_key != self._eye, eye_key
         diff, culled = self._changed(keys, mesh_ids, visible, mvs)
         cull = diff if eye is not None else np.zeros(n, bool)  # only what changed anyway
-        diff = diff | (culled & moved)  # sliced for the eye where it was: whole again
+        if moved:
+            diff = diff | culled  # sliced for the eye where it was: whole again
         self._last = (*self._last[:4], np.where(diff, cull, culled))
         if not diff.any() and len(old) == n and (old >= 0).all():
             self.changed_from = self._rows
@@ -372,19 +374,20 @@ class SectionBatch:
             return False
         # New order: unchanged instances in their old order, then the changed ones,
         # so the static ones settle into a prefix that is never touched again.
-        kept = old[old >= 0]
-        stay = kept[~diff[kept]]
-        first = int(np.argmin(np.append(old[: len(stay)] == stay, False)))
         seen_from = np.zeros(3) if eye is None else np.asarray(eye, np.float64).reshape(3)
-        if len(stay) == 0 and diff.all():  # everything changed (animated things): the order of keys
-            order = np.arange(n)
+        every = bool(diff.all())
+        if every:  # everything changed (animated things): the order of keys
+            first, order = 0, np.arange(n)
             inst = Instances(mesh_ids, mvs, flips, visible.view(np.uint8), np.empty(n), cull.view(np.uint8), seen_from)
         else:
+            kept = old[old >= 0]
+            stay = kept[~diff[kept]]
+            first = int(np.argmin(np.append(old[: len(stay)] == stay, False)))
             order = np.concatenate([stay, np.flatnonzero(diff)])
             look = (np.empty(n), cull[order].view(np.uint8), seen_from)
             inst = Instances(mesh_ids[order], mvs[order], flips[order], visible[order].view(np.uint8), *look)
         self._slice(inst, first, w_cue)
-        self._keys = keys if len(stay) == 0 and diff.all() else list(map(keys.__getitem__, order.tolist()))
+        self._keys = keys if every else list(map(keys.__getitem__, order.tolist()))
         self._order = order
         self._pos = None
         self.sliced = n - first
@@ -415,7 +418,9 @@ class SectionBatch:
         n = len(keys)
         last = self._last
         if last is not None and last[0] == keys:
-            diff = (last[1] != mesh_ids) | (last[2] != visible) | (last[3] != mvs).reshape(n, 25).any(axis=1)
+            diff = (last[2] != visible) | (last[3] != mvs).reshape(n, 25).any(axis=1)
+            if last[1] is not mesh_ids:  # the same meshes (most frames): the same array
+                diff |= last[1] != mesh_ids
             culled = last[4]
         else:
             diff, culled = np.ones(n, bool), np.zeros(n, bool)
@@ -434,14 +439,17 @@ class SectionBatch:
         n = len(inst.mesh)
         start_row = int(self._start[first]) if first else 0
         self._scratch = self._pool.scratch(self._scratch)
-        start = np.zeros(n + 1, np.int64)
-        count = np.zeros(n, np.int64)
-        start[: first + 1] = self._start[: first + 1]
-        count[:first] = self._count[:first]
-        w_range = np.empty((n, 2))
-        w_range[:first] = self._w_range[:first]
-        cut = np.empty(n, np.int64)
-        cut[:first] = self._cut[:first]
+        if len(self._count) == n:  # as many instances as last time: the first ones' entries stand
+            start, count, w_range, cut = self._start, self._count, self._w_range, self._cut
+        else:
+            start = np.zeros(n + 1, np.int64)
+            count = np.zeros(n, np.int64)
+            start[: first + 1] = self._start[: first + 1]
+            count[:first] = self._count[:first]
+            w_range = np.empty((n, 2))
+            w_range[:first] = self._w_range[:first]
+            cut = np.empty(n, np.int64)
+            cut[:first] = self._cut[:first]
         while True:
             out = (self._out, start, count, w_range, cut)  # a Rows, as a plain tuple like the other bundles
             pool, ws = tuple(self._pool.arrays), tuple(self._scratch)
@@ -474,13 +482,16 @@ class SectionBatch:
             self._out = small
             self._small = 0
 
-    def _visible(self, mvs: np.ndarray, mesh_ids: np.ndarray, planes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Which instances' bounding spheres meet the slice, and which meet both the slice and the view
-        (two ``(k,) bool`` arrays), and each one's orientation, ``(k,) float64``: ``1.0`` where
-        ``det(mv[:4, :4]) > 0``, else ``-1.0`` (the winding rule needs it)."""
-        pool = self._pool
+    @staticmethod
+    def _visible(
+        mvs: np.ndarray, center: np.ndarray, radius: np.ndarray, planes
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Which instances' bounding spheres (``center (k, 4)``, ``radius (k,)`` in object space)
+        meet the slice, and which meet both the slice and the view (two ``(k,) bool`` arrays), and
+        each one's orientation, ``(k,) float64``: ``1.0`` where ``det(mv[:4, :4]) > 0``, else
+        ``-1.0`` (the winding rule needs it)."""
         pl = np.zeros((0, 4)) if planes is None else np.ascontiguousarray(planes, np.float64).reshape(-1, 4)
         in_slice, visible, flips = np.empty(len(mvs), np.bool_), np.empty(len(mvs), np.bool_), np.empty(len(mvs))
-        if _instances_in_view(mvs, pool.center[mesh_ids], pool.radius[mesh_ids], pl, in_slice, visible, flips):
+        if _instances_in_view(mvs, center, radius, pl, in_slice, visible, flips):
             flips = np.where(np.linalg.det(mvs[:, :4, :4]) > 0, 1.0, -1.0)  # flat ones: the per-object slicer's call
         return in_slice, visible, flips

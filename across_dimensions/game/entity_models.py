@@ -39,12 +39,13 @@ class EntityModels:
         self._others: list[int] = []
         self._arrays: tuple = ()
         self._memo: tuple = (None, None)
+        self._centers_of = None  # (tick, pose version, entities' version) the centres are of
         self._columns: dict = {}  # name -> array of a per-entity value, until entities come or go
         self.hidden_memo: tuple = (None, None)  # the frame's occlusion (see occlusion.hidden_rows)
         self.occluder_memo: tuple = (None, None)  # the frame's occluders (occlusion._frame_occluders)
 
     def update(self, game) -> None:
-        """Take the game's entities again if any came or went (centres refreshed every call)."""
+        """Take the game's entities again if any came or went; the centres, once a tick (or pose change)."""
         if self._version != game.entities.version:
             self._version = game.entities.version
             self.entities = [e for e in game.entities if e.mesh is not None and e.kind not in INDICATOR_KINDS]
@@ -62,8 +63,11 @@ class EntityModels:
             self.centers = np.zeros((len(self.entities), 4))
             self.centers[self._scripted] = self._arrays[0]  # spin never moves an object
             self._columns = {}
-        for i in self._others:
-            self.centers[i] = self.entities[i].center(game)
+        key = (game.tick, game.pose_version, self._version)
+        if self._centers_of != key:  # nothing moves between the systems drawing one frame
+            self._centers_of = key
+            for i in self._others:
+                self.centers[i] = self.entities[i].center(game)
 
     def column(self, name: str, value) -> np.ndarray:
         """``value(entity)`` of every entity as one array (``(n, ...)``), made again only when

@@ -54,19 +54,23 @@ class Camera3:
         cp = np.cos(self.pitch)
         return np.array([np.sin(self.yaw) * cp, np.sin(self.pitch), np.cos(self.yaw) * cp])
 
-    def view_matrix(self) -> np.ndarray:
-        """World-to-eye ``(4, 4) float64`` in OpenGL's convention (eye looks down -z)."""
+    def axes(self) -> np.ndarray:
+        """The eye's axes in world coordinates ``(3, 3) float64``, unit: the rows are the
+        screen's x (``r``), its y (``u``) and the view direction (``f``)."""
         fx, fy, fz = self.forward().tolist()
-        # The world is left-handed and OpenGL's eye space right-handed, so this
-        # matrix includes a reflection (det -1); see CONVENTIONS.md.
         # r = up x f with up = +y, then u = f x r: the cross products written out (numpy's
         # np.cross costs more than the rest of the frame's camera work).
         nr = np.sqrt(fz * fz + fx * fx)
         rx, rz = (fz / nr, -fx / nr) if nr > 1e-9 else (np.cos(self.yaw), -np.sin(self.yaw))
+        return np.array([[rx, 0.0, rz], [fy * rz, fz * rx - fx * rz, -fy * rx], [fx, fy, fz]])
+
+    def view_matrix(self) -> np.ndarray:
+        """World-to-eye ``(4, 4) float64`` in OpenGL's convention (eye looks down -z)."""
+        # The world is left-handed and OpenGL's eye space right-handed, so this
+        # matrix includes a reflection (det -1); see CONVENTIONS.md.
         m = np.eye(4)
-        m[0, :3] = rx, 0.0, rz
-        m[1, :3] = fy * rz, fz * rx - fx * rz, -fy * rx
-        m[2, :3] = -fx, -fy, -fz
+        m[:3, :3] = self.axes()
+        m[2, :3] *= -1.0
         m[:3, 3] = -m[:3, :3] @ np.asarray(self.position, dtype=np.float64)
         return m
 

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..physics.sightlines import segments_cross_boxes, segments_cross_their_boxes
 from .entity_sections import CULL_ASPECT
 
 #: A box whose bounds, grown by this (m), hold the eye hides nothing (its faces are culled from
@@ -46,8 +47,8 @@ BIG = 1.0
 MAX_PIECES = 8
 #: Offsets of a box's eight corners from its centre, in units of its half sizes.
 _CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], np.float64)
-#: The view's four corners on the far plane, in clip space.
-_FAR_CORNERS = np.array([[x, y, 1.0, 1.0] for x in (-1.0, 1.0) for y in (-1.0, 1.0)])
+#: The view's four corners, as signs of the eye's x and y axes (and its view direction).
+_CORNER_SIGNS = np.array([[x, y, 1.0] for x in (-1.0, 1.0) for y in (-1.0, 1.0)])
 
 
 def hidden(eye, centers, radii, boxes) -> np.ndarray:
@@ -75,8 +76,14 @@ def _hidden(eye: np.ndarray, centers, radii, b: np.ndarray) -> np.ndarray:
     r = np.asarray(radii, np.float64).reshape(-1, 1)
     if not len(c) or not len(b):
         return np.zeros(len(c), bool)
+    # A box that hides any part of a thing, whole or a piece outside other boxes, is crossed
+    # by the segment to its middle (its direction lies in the cone of the corners'): on most
+    # frames no pair is, and that one test is all.
+    ahead, anyone = _ahead(eye, c, b)
+    if not anyone:
+        return np.zeros(len(c), bool)
     whole = np.stack([c - r, c + r], axis=1)
-    out = _behind(eye, whole, b)
+    out = _behind(eye, whole, b, ahead)
     # A thing reaching into an occluder (an enemy pressed against a gate): what lies inside a
     # box is hidden by its faces, so only the rest must be behind one.
     # Tried only for a big one (an enemy, not a crate or a crystal: little to draw) reaching
@@ -86,9 +93,7 @@ def _hidden(eye: np.ndarray, centers, radii, b: np.ndarray) -> np.ndarray:
     if not rows.size:
         return out
     touching = np.all((whole[rows, None, 0] < b[None, :, 1]) & (whole[rows, None, 1] > b[None, :, 0]), axis=2)
-    k = len(b)
-    ahead = _crossed(eye, np.repeat(c[rows], k, axis=0), np.tile(b, (len(rows), 1, 1))).reshape(len(rows), k)
-    tried = (touching & ahead).any(axis=1)
+    tried = (touching & ahead[rows]).any(axis=1)
     rows, touching = rows[tried], touching[tried]
     pieces = [_outside(whole[i], b[t]) for i, t in zip(rows, touching)]
     if rows.size:
@@ -97,9 +102,11 @@ def _hidden(eye: np.ndarray, centers, radii, b: np.ndarray) -> np.ndarray:
     return out
 
 
-def _behind(eye: np.ndarray, things: np.ndarray, b: np.ndarray) -> np.ndarray:
+def _behind(eye: np.ndarray, things: np.ndarray, b: np.ndarray, ahead: np.ndarray | None = None) -> np.ndarray:
     """``(n,) bool``: is each box of ``things (n, 2, 3)`` apart from one of the occluders
-    ``b (k, 2, 3)`` and behind it (the segment from ``eye`` to each of its corners crosses it)?"""
+    ``b (k, 2, 3)`` and behind it (the segment from ``eye`` to each of its corners crosses it)?
+    ``ahead (n, k) bool``, when given, says which segments to the things' middles cross which
+    occluders (:func:`_hidden` has it already)."""
     n = len(things)
     if not n:
         return np.zeros(0, bool)
@@ -109,8 +116,9 @@ def _behind(eye: np.ndarray, things: np.ndarray, b: np.ndarray) -> np.ndarray:
     mid, half = 0.5 * (things[:, 0] + things[:, 1]), 0.5 * (things[:, 1] - things[:, 0])
     # The segment to the middle crosses every box that hides the whole (it lies in the cone of
     # the corners'): the few such pairs are the only ones whose eight corners are tried.
-    k = len(b)
-    i, j = np.nonzero(apart & _crossed(eye, np.repeat(mid, k, axis=0), np.tile(b, (n, 1, 1))).reshape(n, k))
+    if ahead is None:
+        ahead = _ahead(eye, mid, b)[0]
+    i, j = np.nonzero(apart & ahead)
     corners = (mid[i, None] + half[i, None] * _CORNERS[None]).reshape(-1, 3)  # (p * 8, 3)
     all8 = _crossed(eye, corners, np.repeat(b[j], 8, axis=0)).reshape(-1, 8).all(axis=1)
     out = np.zeros(n, bool)
@@ -120,12 +128,17 @@ def _behind(eye: np.ndarray, things: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def _crossed(eye: np.ndarray, ends: np.ndarray, boxes: np.ndarray) -> np.ndarray:
     """``(m,) bool``: does the segment from ``eye`` to each of ``ends (m, 3)`` cross the box
-    beside it in ``boxes (m, 2, 3)``? (The slab test, ``t`` in [0, 1].)"""
-    d = ends - eye
-    inv = 1.0 / np.where(np.abs(d) < 1e-12, 1e-12, d)
-    t0, t1 = (boxes[:, 0] - eye) * inv, (boxes[:, 1] - eye) * inv
-    enter, leave = np.minimum(t0, t1).max(axis=1), np.maximum(t0, t1).min(axis=1)
-    return (enter <= leave) & (enter <= 1.0) & (leave >= 0.0)
+    beside it in ``boxes (m, 2, 3)``?"""
+    out = np.empty(len(ends), bool)
+    segments_cross_their_boxes(eye, np.ascontiguousarray(ends), np.ascontiguousarray(boxes), out)
+    return out
+
+
+def _ahead(eye: np.ndarray, ends: np.ndarray, boxes: np.ndarray) -> tuple[np.ndarray, bool]:
+    """``(m, k) bool``: does the segment from ``eye`` to each of ``ends (m, 3)`` cross each of
+    ``boxes (k, 2, 3)``; and does any?"""
+    out = np.empty((len(ends), len(boxes)), bool)
+    return out, segments_cross_boxes(eye, np.ascontiguousarray(ends), np.ascontiguousarray(boxes), out)
 
 
 def _outside(box: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -261,9 +274,10 @@ def view_covered(game, frame, models: np.ndarray, alpha: float) -> bool:
     if not len(b):
         return False
     cam = frame.camera
-    inv = np.linalg.inv(cam.projection_matrix(CULL_ASPECT) @ cam.view_matrix())
-    far = _FAR_CORNERS @ inv.T
-    far = far[:, :3] / far[:, 3:]
+    # The view's corners on the far plane: eye space (+-far t aspect, +-far t, -far), t the
+    # tangent of half the vertical field of view.
+    t = np.tan(np.radians(cam.fov_y_deg) / 2.0)
     eye = np.asarray(cam.position, np.float64)
-    crossed = _crossed(eye, np.tile(far, (len(b), 1)), np.repeat(b, 4, axis=0)).reshape(-1, 4)
-    return bool(crossed.all(axis=1).any())
+    far = eye + cam.far * ((_CORNER_SIGNS * (t * CULL_ASPECT, t, 1.0)) @ cam.axes())
+    crossed, anyone = _ahead(eye, far, b)
+    return anyone and bool(crossed.all(axis=0).any())
