@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .entities import Scripted
+from .entities import Placed, Scripted
 from .poses import angle_rows, poses
 
 #: Kinds never drawn as 4D matter: the camera's own indicators stand in slice space.
@@ -88,10 +88,31 @@ class EntityModels:
             position, rotation, spin, scale = self._arrays
             t = game.time if alpha is None else game.time - (1.0 - alpha) * game.dt
             out[self._scripted] = poses(position, np.radians(rotation + spin * t), scale)
-        for i in self._others:
-            out[i] = self.entities[i].model(game, alpha)
+        if alpha is None:
+            for i in self._others:
+                out[i] = self.entities[i].model(game, alpha)
+        else:
+            self._blend_placed(game, alpha, out)
         self._memo = (key, out)
         return out
+
+    def _blend_placed(self, game, alpha: float, out: np.ndarray) -> None:
+        """Into ``out``, the models of the entities not scripted: those a system places
+        (:class:`~.entities.Placed`, blended between ticks) in one pass, the same bits as
+        :meth:`~.entities.Placed.model` one by one; the rest (rigid bodies) one by one."""
+        blend, rest = [], []
+        for i in self._others:
+            m = self.entities[i].motion
+            if isinstance(m, Placed) and m.previous is not None:
+                blend.append(i)
+            else:
+                rest.append(i)
+        if blend:
+            pose = np.array([self.entities[i].motion.pose for i in blend])
+            prev = np.array([self.entities[i].motion.previous for i in blend])
+            out[blend] = prev + alpha * (pose - prev)
+        for i in rest:
+            out[i] = self.entities[i].model(game, alpha)
 
 
 __all__ = ["EntityModels", "INDICATOR_KINDS"]
