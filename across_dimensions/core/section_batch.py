@@ -344,17 +344,7 @@ class SectionBatch:
         n = len(keys)
         models = np.asarray(models, np.float64).reshape(n, 5, 5)
         mvs = np.ascontiguousarray(np.matmul(self._view_for(camera_pose), models))
-        meshes = list(meshes)
-        by_id = list(map(id, meshes))
-        if by_id != self._mesh_ids[0]:  # the same meshes as last time (most frames): the same numbers
-            if len(self._pool.meshes) > max(16, 2 * len(set(by_id))):
-                # Mostly meshes no longer drawn: start the pool again (and slice everything anew),
-                # so a long game spawning objects of new shapes does not grow it forever.
-                self._pool = _Pool(self._by_cells)
-                self._last, self._keys, self._pos = None, [], {}
-                self._start = np.zeros(1, np.int64)
-            ids = np.array([self._pool.add(m) for m in meshes], np.int64)
-            self._mesh_ids = (by_id, ids, self._pool.center[ids], self._pool.radius[ids])
+        self._number_meshes(list(meshes))
         mesh_ids = self._mesh_ids[1]
         in_slice, visible, flips = self._visible(mvs, *self._mesh_ids[2:], planes)
         self.culled = n - int(np.count_nonzero(visible))
@@ -393,6 +383,21 @@ class SectionBatch:
         self.sliced = n - first
         self.revision += 1
         return True
+
+    def _number_meshes(self, meshes: list) -> None:
+        """The meshes' numbers in the pool and their bounding spheres into ``self._mesh_ids``,
+        added to the pool if new (the same meshes as last time, most frames: nothing to do)."""
+        by_id = list(map(id, meshes))
+        if by_id == self._mesh_ids[0]:
+            return
+        if len(self._pool.meshes) > max(16, 2 * len(set(by_id))):
+            # Mostly meshes no longer drawn: start the pool again (and slice everything anew),
+            # so a long game spawning objects of new shapes does not grow it forever.
+            self._pool = _Pool(self._by_cells)
+            self._last, self._keys, self._pos = None, [], {}
+            self._start = np.zeros(1, np.int64)
+        ids = np.array([self._pool.add(m) for m in meshes], np.int64)
+        self._mesh_ids = (by_id, ids, self._pool.center[ids], self._pool.radius[ids])
 
     def _view_for(self, camera_pose) -> np.ndarray:
         """:func:`_view_of` the pose, made again only when the pose changes."""
