@@ -6,8 +6,9 @@ cache (bakes, settings) are new empty folders, with the kernels compiled for a
 generic x86-64 (``NUMBA_CPU_NAME=generic``: no AVX, no FMA) as on a player's
 older or different CPU, and every state hash must match. The first process
 compiles every kernel (about two minutes on the shared 2-core machine); the
-others load them from this test's own cache. Kernels compiled for this CPU are
-checked by ``tests/test_replay_cli.py``, which plays each shipped replay in a
+others load them from this test's own cache, so it is marked slow (CI runs it with
+``pytest -m slow``). Kernels compiled for this CPU are checked by
+``tests/test_replay_cli.py`` in the default run, which plays each shipped replay in a
 fresh process too (CI starts with an empty cache).
 """
 
@@ -38,6 +39,7 @@ def _fresh_env(env: dict, tmp: Path, cpu: str) -> dict:
     return e
 
 
+@pytest.mark.slow
 def test_every_shipped_replay_matches_with_generic_x86_64_kernels_and_fresh_caches(env, tmp_path):
     if platform.machine().lower() not in ("x86_64", "amd64"):
         pytest.skip("the generic target named here is x86-64's")
