@@ -130,7 +130,7 @@ def _crossed(eye: np.ndarray, ends: np.ndarray, boxes: np.ndarray) -> np.ndarray
     """``(m,) bool``: does the segment from ``eye`` to each of ``ends (m, 3)`` cross the box
     beside it in ``boxes (m, 2, 3)``?"""
     out = np.empty(len(ends), bool)
-    segments_cross_their_boxes(eye, np.ascontiguousarray(ends), np.ascontiguousarray(boxes), out)
+    segments_cross_their_boxes(_c(eye), _c(ends), _c(boxes), out)
     return out
 
 
@@ -138,7 +138,12 @@ def _ahead(eye: np.ndarray, ends: np.ndarray, boxes: np.ndarray) -> tuple[np.nda
     """``(m, k) bool``: does the segment from ``eye`` to each of ``ends (m, 3)`` cross each of
     ``boxes (k, 2, 3)``; and does any?"""
     out = np.empty((len(ends), len(boxes)), bool)
-    return out, segments_cross_boxes(eye, np.ascontiguousarray(ends), np.ascontiguousarray(boxes), out)
+    return out, segments_cross_boxes(_c(eye), _c(ends), _c(boxes), out)
+
+
+def _c(a) -> np.ndarray:
+    """``a`` as a contiguous float64 array: the kernels' one signature (a view would compile another)."""
+    return np.ascontiguousarray(a, np.float64)
 
 
 def _outside(box: np.ndarray, b: np.ndarray) -> np.ndarray:
