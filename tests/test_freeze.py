@@ -369,7 +369,9 @@ def test_the_window_and_its_sound_run_no_other_program(built, display, tmp_path)
 
 @pytest.mark.slow
 def test_plays_replays_in_a_debian_11_root(built, tmp_path):
-    """The folder built for glibc 2.31 plays inside Debian 11 (made by packaging/build-debian11.sh)."""
+    """The folder built for glibc 2.31 plays every shipped replay inside Debian 11 (made by
+    packaging/build-debian11.sh) with its hashes: the C library's maths must agree with the
+    newer glibc the replays were recorded on (its ``hypot`` did not, for Crossfire)."""
     if os.geteuid() != 0 or not (DEBIAN11 / "lib" / "x86_64-linux-gnu" / "libc-2.31.so").exists():
         pytest.skip(f"needs root and the Debian 11 root ({DEBIAN11_ENV}, made by packaging/build-debian11.sh)")
     folder, _, _ = built
@@ -380,11 +382,11 @@ def test_plays_replays_in_a_debian_11_root(built, tmp_path):
         (player / "home").mkdir()
         inside = "/" + str(player.relative_to(DEBIAN11))
         env = ["env", "-i", f"HOME={inside}/home", "PATH=/nonexistent", "LANG=C.UTF-8"]
-        for replay in REPLAYS[:3]:
+        for replay in REPLAYS:
             shipped = f"{inside}/across-dimensions/_internal/levels/replays/{replay.name}"
             cmd = ["chroot", str(DEBIAN11), *env, f"{inside}/across-dimensions/across-dimensions"]
             done = subprocess.run([*cmd, "replay", replay.stem, shipped, "--json"], capture_output=True, text=True)
-            assert done.returncode == 0, done.stderr
+            assert done.returncode == 0, f"{replay.name}: {done.stderr}"
             result, final = json.loads(done.stdout), json.loads(replay.read_text())["final"]
             assert (result["hash"], result["ticks"]) == (final["hash"], final["ticks"])
         assert not list((player / "home").rglob("*.nbi")), "kernels were compiled inside Debian 11"

@@ -93,10 +93,28 @@ def check() -> list[str]:
     if manifest is None:
         return [f"{folder}: no shipped kernels for {shipped.platform_key()} (run {PROG})"]
     current = shipped.current_groups(manifest)
-    return [
+    problems = [
         f"{folder}: the {g} kernels were compiled from other sources: stale, never loaded (run {PROG})"
         for g in shipped.GROUPS
         if g not in current
+    ]
+    if not problems:
+        # A kernel that nothing of the runs above calls is missing from the folder and compiles
+        # on a player's first use of it, in the middle of a frame.
+        problems = [f"{folder}: {k} is not shipped (no run reaches it; add it to the warm-up)" for k in missing()]
+    return problems
+
+
+def missing() -> list[str]:
+    """The game's kernels (:func:`~.freeze.cached_kernels`) that this platform's shipped folder lacks,
+    as their cache indexes' paths inside the folder (``physics/sightlines.segments_cross_boxes-33.py311.nbi``)."""
+    from .freeze import UNUSED_IN_PLAY, cached_kernels
+
+    prefix = "across_dimensions/"
+    return [
+        k.removeprefix(prefix)
+        for k in cached_kernels()
+        if not k.startswith(UNUSED_IN_PLAY) and not (shipped.shipped_dir() / k.removeprefix(prefix)).is_file()
     ]
 
 

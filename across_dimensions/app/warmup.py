@@ -115,6 +115,19 @@ def _queries() -> None:
     world.raycast((0.0, 3.0, 0.0, 0.0), (0.0, -1.0, 0.0, 0.0))
 
 
+def _sightlines() -> None:
+    # The occlusion test calls the second kernel only when a sightline crosses a wall, which a
+    # few ticks of a level may never see.
+    import numpy as np
+
+    from ..physics.sightlines import segments_cross_boxes, segments_cross_their_boxes
+
+    eye, ends = np.zeros(3), np.array([[0.0, 0.0, 3.0]])
+    boxes = np.array([[[-1.0, -1.0, 1.0], [1.0, 1.0, 2.0]]])
+    segments_cross_boxes(eye, ends, boxes, np.empty((1, 1), bool))
+    segments_cross_their_boxes(eye, ends, boxes, np.empty(1, bool))
+
+
 def _game() -> None:
     from ..game.actions import Actions
     from ..game.sim import Game
@@ -136,6 +149,7 @@ STEPS: tuple[tuple[str, Callable[[], None]], ...] = (
     ("the 4D camera", _frustum),
     ("4D physics", _contacts),
     ("collision queries", _queries),
+    ("sightlines", _sightlines),
     ("a first level", _game),
 )
 

@@ -11,6 +11,8 @@ Polygons are ``(p, 2) float64`` corner arrays, counter-clockwise, no closing rep
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .flat_section import Solid3, signed_area
@@ -223,7 +225,7 @@ def convex_overlaps_box(piece, low, high, slop: float = OVERLAP_SLOP) -> bool:
     edges = np.roll(p, -1, axis=0) - p
     normals = np.c_[edges[:, 1], -edges[:, 0]]  # outward for a counter-clockwise piece
     for n, a in zip(normals, p):
-        if np.dot(corners - a, n).min() >= -slop * np.hypot(*n):
+        if np.dot(corners - a, n).min() >= -slop * _length(n):
             return False
     return True
 
@@ -232,4 +234,10 @@ def circle_overlaps_box(center, radius: float, low, high, slop: float = OVERLAP_
     """Whether a circle and the box ``low (2,) .. high (2,)`` overlap by more than ``slop``."""
     c = np.asarray(center, np.float64)
     nearest = np.clip(c, np.asarray(low, np.float64), np.asarray(high, np.float64))
-    return radius > slop and float(np.hypot(*(c - nearest))) < radius - slop
+    return radius > slop and _length(c - nearest) < radius - slop
+
+
+def _length(v) -> float:
+    """The length of a 2-vector as IEEE arithmetic gives it everywhere (the C library's
+    ``hypot``, which numpy calls, rounds differently from one glibc version to the next)."""
+    return math.sqrt(float(v[0]) * float(v[0]) + float(v[1]) * float(v[1]))

@@ -14,6 +14,7 @@ so a death costs the walk back, never progress.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -75,7 +76,10 @@ def damage(game, amount: float, source_xz, source: int) -> bool:
     if h is None or amount <= 0 or game.tick < h.safe_until:
         return False
     d = np.asarray(source_xz, np.float64) - game.player.position[[0, 2]]
-    n = float(np.hypot(*d))
+    # sqrt, never hypot: the C library's hypot rounds differently from one glibc to the next
+    # (Debian 11's 2.31 and Debian 12's 2.36 differ in the last bit), and the hit's direction
+    # is hashed state.
+    n = math.sqrt(d[0] * d[0] + d[1] * d[1])
     h.hit_dir = d / n if n > 1e-9 else np.array([0.0, 1.0])
     h.value = max(0.0, h.value - float(amount))
     h.hit_tick = game.tick

@@ -114,7 +114,8 @@ def candidates(game) -> list:
     for e, c in zip(table.entities, table.centers):
         if e.kind not in KINDS:
             continue
-        if np.hypot(c[0] - p[0], c[2] - p[2]) > reach:
+        dx, dz = c[0] - p[0], c[2] - p[2]
+        if dx * dx + dz * dz > reach * reach:  # no hypot: glibc versions round it differently
             continue
         found.append((float(np.linalg.norm(c - p)), e.id, e.id))
     g = game.level.goal
