@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from across_dimensions.core import transform as T
@@ -81,11 +81,32 @@ def test_rigid_inverse_matches_general_inverse(a, position):
     assert np.allclose(T.rigid_inverse(m), T.inverse(m), atol=1e-10)
 
 
+def _general_inverse(m):
+    """:func:`T.inverse`'s general path (LAPACK's inverse of the linear part)."""
+    out = np.eye(5)
+    inv = np.linalg.inv(m[:4, :4])
+    out[:4, :4] = inv
+    out[:4, 4] = -inv @ m[:4, 4]
+    return out
+
+
+@pytest.mark.parametrize(
+    "t", [(0.0, 0.0, 0.0, 0.013), (1.5, -2.0, 0.0, -0.5), (-0.0, 0.0, -0.0, 0.0), (3e-17, -1e300, 7.0, -0.0)]
+)
+def test_inverse_of_a_translation_is_the_general_paths_bits(t):
+    # The fast path for a plain slice's pose must give the very bits the general one gives
+    # (zeros' signs included): sections and replays are compared bit for bit.
+    m = T.translation(t)
+    assert T.inverse(m).tobytes() == _general_inverse(m).tobytes()
+    assert (T.inverse(m) @ m == np.eye(5)).all()
+
+
 def test_hyper_depth_scaling_scales_only_w():
     p = np.array([[1.0, 2.0, 3.0, 4.0]])
     assert np.allclose(T.apply(T.scaling([1, 1, 1, 2.5]), p), [[1, 2, 3, 10]])
 
 
+@settings(deadline=None)  # the first example imports scipy (a third of a second), run alone
 @given(st.lists(st.floats(-3, 3), min_size=6, max_size=6), st.floats(0.01, 2))
 def test_bivector_rotation_is_exponential_of_skew(omega, dt):
     from scipy.linalg import expm

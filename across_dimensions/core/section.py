@@ -31,7 +31,7 @@ from .cases import (  # noqa: F401  (the case table, read here by tests and tool
 )
 from .layout import Layout, layout_colors, layout_edges, layout_normals, mesh_clusters
 from .mesh import TetMesh4, TriMesh3, cross4
-from .section_kernels import Slicer, _emit, _find_cut, normal_transform  # noqa: F401
+from .section_kernels import Slicer, _emit, _find_cut, normal_transform, orientation  # noqa: F401
 from .transform import inverse
 
 _IDENTITY = np.eye(5)
@@ -74,7 +74,9 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
     # Bound on how far a unit object-space step moves camera-space w (np.linalg.norm's
     # own sum, without its checks).
     w_gain = float(np.sqrt(a[3].dot(a[3])))
-    flip = 1.0 if np.linalg.det(a) > 0 else -1.0
+    flip = orientation(mv)
+    if flip == 0.0:  # too close to tell by cofactors: LU's sign, as ever
+        flip = 1.0 if np.linalg.det(a) > 0 else -1.0
     ws = _workspace(mesh, layout)
     with ws.lock:
         slicer = ws.slicer(mesh)

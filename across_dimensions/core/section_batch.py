@@ -55,17 +55,7 @@ def _capacity(rows: int, minimum: int) -> int:
 
 def _view_of(camera_pose) -> np.ndarray:
     """World-to-camera ``(5, 5)`` of a camera-to-world pose (None: the identity)."""
-    if camera_pose is None:
-        return np.eye(5)
-    pose = np.asarray(camera_pose, np.float64)
-    if (pose[:4, :4] == _EYE4).all():  # a plain slice (ghost layers, an unturned slice): no solve needed
-        view = np.eye(5)
-        view[:4, 4] = -pose[:4, 4]  # what inverse() gives, up to the sign of a zero
-        return view
-    return inverse(pose)
-
-
-_EYE4 = np.eye(4)
+    return np.eye(5) if camera_pose is None else inverse(camera_pose)
 
 
 #: Tets per chunk, the unit the tet slicer culls by: its layout's clusters (spatially

@@ -17,6 +17,7 @@ import numpy as np
 
 from ._jit import njit
 from .section_batch_tets import _cut_tets, _tet_rows
+from .section_kernels import _orientation
 
 #: Floats per output vertex: position 3, normal 3, colour 4 (the renderer's layout).
 ROW = 10
@@ -271,30 +272,6 @@ def _instances_in_view(mvs, center, radius, planes, in_slice, visible, flips):
         flips[k] = _orientation(a)
         unsure += flips[k] == 0.0
     return unsure
-
-
-@njit(inline="always")
-def _orientation(a):
-    """``1.0`` where ``det(a[:4, :4]) > 0``, ``-1.0`` where it is < 0, ``0.0`` where it is too
-    close to zero to tell whatever the arithmetic (under 1e-9 of Hadamard's bound, the product
-    of the rows' lengths): a cofactor expansion, without the LU solve of ``np.linalg.det``."""
-    s01 = a[2, 0] * a[3, 1] - a[2, 1] * a[3, 0]
-    s02 = a[2, 0] * a[3, 2] - a[2, 2] * a[3, 0]
-    s03 = a[2, 0] * a[3, 3] - a[2, 3] * a[3, 0]
-    s12 = a[2, 1] * a[3, 2] - a[2, 2] * a[3, 1]
-    s13 = a[2, 1] * a[3, 3] - a[2, 3] * a[3, 1]
-    s23 = a[2, 2] * a[3, 3] - a[2, 3] * a[3, 2]
-    c0 = a[1, 1] * s23 - a[1, 2] * s13 + a[1, 3] * s12
-    c1 = a[1, 0] * s23 - a[1, 2] * s03 + a[1, 3] * s02
-    c2 = a[1, 0] * s13 - a[1, 1] * s03 + a[1, 3] * s01
-    c3 = a[1, 0] * s12 - a[1, 1] * s02 + a[1, 2] * s01
-    det = a[0, 0] * c0 - a[0, 1] * c1 + a[0, 2] * c2 - a[0, 3] * c3
-    bound = 1.0
-    for i in range(4):
-        bound *= np.sqrt(a[i, 0] ** 2 + a[i, 1] ** 2 + a[i, 2] ** 2 + a[i, 3] ** 2)
-    if abs(det) <= 1e-9 * bound:
-        return 0.0
-    return 1.0 if det > 0.0 else -1.0
 
 
 @njit(inline="always")

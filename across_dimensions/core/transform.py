@@ -196,10 +196,20 @@ def inverse(m) -> np.ndarray:
     """Inverse of an affine 5x5 transform (exact for the linear part's inverse)."""
     m = np.asarray(m, dtype=np.float64)
     out = np.eye(5)
+    if m[:4, :4].tobytes() == _EYE4_BYTES:
+        # A pure translation (a plain slice's pose, every frame): the bits of the general path
+        # below, whose (-I) @ t is 0.0 - t_i (the other terms add zeros to +0.0: a zero comes
+        # out +0.0), without a LAPACK call, which after a large section costs tens of
+        # microseconds with the caches cold.
+        out[:4, 4] = 0.0 - m[:4, 4]
+        return out
     inv = np.linalg.inv(m[:4, :4])
     out[:4, :4] = inv
     out[:4, 4] = -inv @ m[:4, 4]
     return out
+
+
+_EYE4_BYTES = np.eye(4).tobytes()
 
 
 def rigid_inverse(m) -> np.ndarray:
