@@ -85,6 +85,13 @@ class EntitySections:
         for style in [s for s in self.batches if s not in by_style]:
             del self.batches[style]  # nothing of this style left: free its arrays
         self._sliced = {}
+        # The outlines first, the batches' kernels last: Python after a large kernel call runs
+        # with the caches cold.
+        sections.keep("draw:", {f"draw:{e.id}" for e, _ in wires})
+        for e, m in wires:
+            tri, rev = sections.section(f"draw:{e.id}", e.mesh, m, camera)
+            frame.drawables.append(Drawable(f"entity:{e.id}", rev, tri, style="wire"))
+            self._sliced[e.id] = not tri.is_empty
         for style, rows in by_style.items():
             batch = self.batches.get(style)
             if batch is None:
@@ -105,11 +112,6 @@ class EntitySections:
                     outside_only=True,
                 )
             )
-        sections.keep("draw:", {f"draw:{e.id}" for e, _ in wires})
-        for e, m in wires:
-            tri, rev = sections.section(f"draw:{e.id}", e.mesh, m, camera)
-            frame.drawables.append(Drawable(f"entity:{e.id}", rev, tri, style="wire"))
-            self._sliced[e.id] = not tri.is_empty
 
     def _note_sliced(self, batch: SectionBatch) -> None:
         """Record which of the batch's entities have a section (all at once: per-entity Python is

@@ -233,9 +233,6 @@ def draw(game, frame, alpha) -> None:
             things.append((f"{tag}:{e.id}", f"{tag}:entity:{e.id}", e.mesh, models[i], bool(may_block[i])))
         batched = shown[~solids[shown] & ~hidden[shown]]  # what a box hides: no ghost to draw
         per_layer.append((layer, things, [table.entities[i] for i in batched], models[batched]))
-    # The layers' batches cut back to back: Python after a large kernel call runs with cold caches.
-    for layer, _, entities, posed in per_layer:
-        game.entity_sections.ghost_layer(frame, layer, entities, posed, planes)
     for layer, things, _, _ in per_layer:
         tag = layer.tag
         worlds = enumerate(game.scene.worlds)
@@ -259,6 +256,10 @@ def draw(game, frame, alpha) -> None:
     frame.hud.w_blocked = tuple(blocked)
     game.sections.keep(PREFIX, used)  # layers or entities that went away
     game.entity_sections.keep_ghosts({layer.tag for layer in layers})
+    # The layers' batches last and back to back: Python after a large kernel call runs with
+    # the caches cold (the frame's and the batches' lists are apart: no order changes).
+    for layer, _, entities, posed in per_layer:
+        game.entity_sections.ghost_layer(frame, layer, entities, posed, planes)
 
 
 SYSTEM = System("ghosts", draw=draw)
