@@ -152,52 +152,6 @@ def test_an_instance_cut_for_the_eye_is_cut_whole_again_once_the_eye_moves(meshe
     assert batch.sliced == 0
 
 
-@pytest.mark.parametrize("turned", [False, True])
-def test_a_layered_batch_cuts_each_layer_as_a_batch_of_its_own_bit_for_bit(meshes, turned):
-    # Three slices at once (the ghost layers' case: one pose moved along w, so the layers share
-    # the vertices' camera-space xyz), or with a turned first layer (nothing shared with it);
-    # members differ per layer, and a second update changes some models and members.
-    rng = np.random.default_rng(11)
-    n = 12
-    mesh_of = [meshes[i % len(meshes)] for i in range(n)]
-    poses = [translation((0.0, 0.0, 0.0, w)) for w in (0.05, 0.45, -0.35)]
-    if turned:
-        poses[0] = pose((0.1, 0.0, 0.0, 0.05), {"xw": 0.3})
-    planes = np.array([[0.0, 0.0, -1.0, 2.5], [1.0, 0.0, 0.0, 6.0]])
-    eye = np.array([0.3, 0.2, 4.0])
-    layered = SectionBatch(layers=3)
-    alone = [SectionBatch() for _ in poses]
-    models = random_models(rng, n, spread=2.0, w_spread=0.8)
-    members = rng.random((3, n)) < 0.7
-    for _ in range(3):
-        keys = list(range(n))
-        layered.update_layers(keys, mesh_of, models, poses, members, planes, w_cues=[True, False, False], eye=eye)
-        for y, batch in enumerate(alone):
-            rows = np.flatnonzero(members[y])
-            batch.update([keys[i] for i in rows], [mesh_of[i] for i in rows], models[rows], poses[y], planes,
-                         w_cue=y == 0, eye=eye)  # fmt: skip
-            got, want = layered.layer(y), batch
-            assert got.vertices.view(np.uint32).tobytes() == _by_key(want, got).view(np.uint32).tobytes()
-            cuts = dict(zip(got.instances()[0], got.cut_counts))
-            assert {k: cuts[k] for k in want.instances()[0]} == dict(zip(want.instances()[0], want.cut_counts))
-        assert sum(len(layered.layer_vertices(y)) for y in range(3)) > 0
-        moved = rng.random(n) < 0.4
-        models[moved] = random_models(rng, int(moved.sum()), spread=2.0, w_spread=0.8)
-        members[:, rng.integers(n)] ^= True
-
-
-def _by_key(batch, order_of) -> np.ndarray:
-    """``batch``'s rows with its instances in the order of ``order_of``'s (a batch or a layer)."""
-    keys, start, count, _ = batch.instances()
-    place = {k: i for i, k in enumerate(keys)}
-    parts = [
-        batch.vertices[start[place[k]] : start[place[k]] + count[place[k]]]
-        for k in order_of.instances()[0]
-        if k in place
-    ]
-    return np.concatenate(parts) if parts else batch.vertices[:0]
-
-
 def test_ghost_spans_say_what_same_as_slice_says_for_each_entity():
     rng = np.random.default_rng(2)
     slab, cell = tesseract(1.0), make_shape("24-cell")

@@ -28,10 +28,6 @@ A batch drawn with inner faces skipped may be given the eye: the instances it
 slices anyway then leave out the polygons that clearly face away from it (the
 rasterizer would skip them), about half their rows (see :meth:`SectionBatch.update`).
 
-A batch of several layers cuts its instances by as many slices at once, each into an output
-of its own (the ghost layers along w beside the slice: one kernel call, each instance cut in
-every layer in turn, its vertices moved into camera space once; see :meth:`SectionBatch.update_layers`).
-
 Instances that did not move keep their triangles: the batch re-slices only from
 the first changed instance on, and moves instances that change to the back of
 its order, so after a few frames the static ones form a prefix that is neither
@@ -220,11 +216,6 @@ class SectionBatch:
         batch.vertices      # (3 * triangles, 10) float32, ready to upload
         batch.changed_from  # rows before this are the same as last frame
 
-    With ``layers`` > 1, :meth:`update_layers` cuts the instances by several slices at once,
-    each into an output of its own (:meth:`layer_vertices`): ghost layers along w beside the
-    slice, each instance cut in every layer in turn (its data still in the caches, its
-    vertices moved into camera space once). The other attributes are layer 0's.
-
     Parameters
     ----------
     capacity_rows : int
@@ -233,8 +224,6 @@ class SectionBatch:
         Slice meshes made of convex cells cell by cell (fewer triangles, the same
         section); False slices every mesh tet by tet, exactly as
         :func:`~core.section.cross_section` does.
-    layers : int
-        Slices cut at once (:meth:`update_layers`).
 
     Attributes
     ----------
@@ -250,48 +239,35 @@ class SectionBatch:
         Instances re-sliced by the last update.
     """
 
-    def __init__(self, capacity_rows: int = 3 * 1024, by_cells: bool = True, layers: int = 1):
+    def __init__(self, capacity_rows: int = 3 * 1024, by_cells: bool = True):
         self._by_cells = by_cells
-        self._layers = int(layers)
         self._pool = _Pool(by_cells)
-        self._out = np.empty((self._layers, _capacity(0, capacity_rows), ROW), np.float32)
+        self._out = np.empty((_capacity(0, capacity_rows), ROW), np.float32)
         self._keys: list = []  # instance order (changed ones drift to the back)
         self._pos: dict | None = {}  # key -> its place in that order (None: not made yet)
         self._order = np.zeros(0, np.int64)  # that order as places in the last update's keys
-        self._view_culled: list = [set()] * self._layers  # per layer
+        self._view_culled: set = set()
         self._last = None  # (keys, mesh numbers, visible, model-views, sliced for an eye) of the last update
-        self._start = np.zeros((self._layers, 1), np.int64)
-        self._count = np.zeros((self._layers, 0), np.int64)
-        self._w_range = np.zeros((self._layers, 0, 2))
+        self._start = np.zeros(1, np.int64)
+        self._count = np.zeros(0, np.int64)
+        self._w_range = np.zeros((0, 2))
         # Of the last update: (id of each mesh, its number in the pool, its bounding sphere's centre and radius).
         self._mesh_ids: tuple = (None, None, None, None)
-        self._views: dict = {}  # camera pose's bytes -> its world-to-camera, of the last update
+        self._view: tuple = (b"", None)  # (camera pose's bytes, its world-to-camera) of the last update
         self._eye = None  # the last update's eye, as bytes
-        self._cut = np.zeros((self._layers, 0), np.int64)
+        self._cut = np.zeros(0, np.int64)
         self._scratch = None  # the kernel's BatchScratch, grown with the pool
         self._min_rows = int(capacity_rows)
         self._small = 0  # updates in a row the output could have been smaller
-        self._rows = np.zeros(self._layers, np.int64)
-        self._changed_from = np.zeros(self._layers, np.int64)
+        self._rows = 0
+        self.changed_from = 0
         self.revision = 0
         self.culled = 0
         self.sliced = 0
 
     @property
     def vertices(self) -> np.ndarray:
-        return self.layer_vertices(0)
-
-    @property
-    def changed_from(self) -> int:
-        return int(self._changed_from[0])
-
-    def layer_vertices(self, layer: int) -> np.ndarray:
-        """:attr:`vertices` of slice ``layer`` of :meth:`update_layers`."""
-        return self._out[layer, : self._rows[layer]]
-
-    def layer_changed_from(self, layer: int) -> int:
-        """:attr:`changed_from` of slice ``layer`` of :meth:`update_layers`."""
-        return int(self._changed_from[layer])
+        return self._out[: self._rows]
 
     @property
     def capacity_bytes(self) -> int:
@@ -300,33 +276,32 @@ class SectionBatch:
 
     def instance_rows(self, key) -> tuple[int, int]:
         """``(first row, row count)`` of an instance's triangles in :attr:`vertices`."""
-        return self.layer(0).instance_rows(key)
+        if self._pos is None:
+            self._pos = {k: i for i, k in enumerate(self._keys)}
+        i = self._pos[key]
+        return int(self._start[i]), int(self._count[i])
 
     def instances(self) -> tuple[list, np.ndarray, np.ndarray, np.ndarray]:
         """Every instance in the output's order, as arrays: ``(keys, start (k + 1,) int64,
         count (k,) int64, w_range (k, 2) float64)``: its rows ``start[i]`` to ``start[i] + count[i]``,
         and the least and greatest camera-space w of its posed vertices (how far it reaches
         either side of the slice). Valid until the next :meth:`update`."""
-        return self.layer(0).instances()
+        return self._keys, self._start, self._count, self._w_range
 
     @property
     def cut_counts(self) -> np.ndarray:
         """``(k,) int64`` in :meth:`instances`' order: each instance's cut tets (or cells), the
         polygons left out for facing away from the eye included: it has a section if > 0."""
-        return self._cut[0]
+        return self._cut
 
     @property
     def view_culled(self) -> set:
         """The keys :meth:`culled_by_view` says yes to."""
-        return self._view_culled[0]
+        return self._view_culled
 
     def culled_by_view(self, key) -> bool:
         """Was the instance skipped only because it is out of view (its sphere reaches the slice)?"""
-        return key in self._view_culled[0]
-
-    def layer(self, y: int) -> BatchLayer:
-        """Slice ``y`` of :meth:`update_layers`, read as a batch of its own."""
-        return BatchLayer(self, y)
+        return key in self._view_culled
 
     def update(self, keys, meshes, models, camera_pose=None, planes=None, w_cue: bool = False, eye=None) -> bool:
         """Slice every instance that changed; returns True if the output changed.
@@ -355,39 +330,15 @@ class SectionBatch:
             instance is sliced again, whole, once the eye has moved (:meth:`cut_counts` still
             says which instances have a section).
         """
-        return self.update_layers(keys, meshes, models, [camera_pose], None, planes, [w_cue], eye)
-
-    def update_layers(
-        self, keys, meshes, models, camera_poses, members=None, planes=None, w_cues=None, eye=None
-    ) -> bool:
-        """:meth:`update` by ``layers`` slices at once, each into its own output.
-
-        Parameters
-        ----------
-        camera_poses : sequence of (5, 5) float64 (or None), one per layer
-            Each layer's slice, as :meth:`update`'s ``camera_pose``.
-        members : (layers, k) bool, optional
-            Which instances each layer cuts (all: None); the others have no rows there.
-        w_cues : sequence of bool, one per layer, optional
-        Other parameters as :meth:`update`'s; ``planes`` and ``eye`` serve every layer.
-        """
         keys = list(keys)
-        n, nl = len(keys), self._layers
-        if len(camera_poses) != nl:
-            raise ValueError(f"{len(camera_poses)} camera poses for a batch of {nl} layers")
+        n = len(keys)
         models = np.asarray(models, np.float64).reshape(n, 5, 5)
-        views = [self._view_for(pose) for pose in camera_poses]
-        mvs = np.ascontiguousarray(np.matmul(np.stack(views)[:, None], models[None]))  # (L, n, 5, 5)
+        mvs = np.ascontiguousarray(np.matmul(self._view_for(camera_pose), models))
         self._number_meshes(list(meshes))
         mesh_ids = self._mesh_ids[1]
         in_slice, visible, flips = self._visible(mvs, *self._mesh_ids[2:], planes)
-        by_view = in_slice & ~visible
-        if members is not None:
-            members = np.asarray(members, bool).reshape(nl, n)
-            visible &= members
-            by_view &= members
-        self.culled = n - int(np.count_nonzero(visible[0]))
-        self._view_culled = [{keys[i] for i in np.flatnonzero(v)} if v.any() else set() for v in by_view]
+        self.culled = n - int(np.count_nonzero(visible))
+        self._view_culled = {keys[i] for i in np.flatnonzero(in_slice & ~visible)} if self.culled else set()
         old = self._old_order(keys)
         eye_key = None if eye is None else np.asarray(eye, np.float64).reshape(3).tobytes()
         moved, self._eye = eye_key != self._eye, eye_key
@@ -397,29 +348,25 @@ class SectionBatch:
             diff = diff | culled  # sliced for the eye where it was: whole again
         self._last = (*self._last[:4], np.where(diff, cull, culled))
         if not diff.any() and len(old) == n and (old >= 0).all():
-            self._changed_from = self._rows.copy()
+            self.changed_from = self._rows
             self.sliced = 0
             self._shrink_if_settled()
             return False
         # New order: unchanged instances in their old order, then the changed ones,
         # so the static ones settle into a prefix that is never touched again.
         seen_from = np.zeros(3) if eye is None else np.asarray(eye, np.float64).reshape(3)
-        alpha = np.empty((nl, n))
         every = bool(diff.all())
         if every:  # everything changed (animated things): the order of keys
             first, order = 0, np.arange(n)
-            inst = Instances(mesh_ids, mvs, flips, visible.view(np.uint8), alpha, cull.view(np.uint8), seen_from)
+            inst = Instances(mesh_ids, mvs, flips, visible.view(np.uint8), np.empty(n), cull.view(np.uint8), seen_from)
         else:
             kept = old[old >= 0]
             stay = kept[~diff[kept]]
             first = int(np.argmin(np.append(old[: len(stay)] == stay, False)))
             order = np.concatenate([stay, np.flatnonzero(diff)])
-            look = (alpha, cull[order].view(np.uint8), seen_from)
-            inst = Instances(mesh_ids[order], mvs[:, order], flips[:, order], visible[:, order].view(np.uint8), *look)
-        w_cues = np.zeros(nl, np.uint8) if w_cues is None else np.asarray(w_cues, np.uint8).reshape(nl)
-        # Layers whose model-views differ from layer 0's in their w row alone share its camera-space xyz.
-        shared = (mvs[:, :, :3] == mvs[:1, :, :3]).reshape(nl, -1).all(axis=1).view(np.uint8)
-        self._slice(inst, first, w_cues, shared)
+            look = (np.empty(n), cull[order].view(np.uint8), seen_from)
+            inst = Instances(mesh_ids[order], mvs[order], flips[order], visible[order].view(np.uint8), *look)
+        self._slice(inst, first, w_cue)
         self._keys = keys if every else list(map(keys.__getitem__, order.tolist()))
         self._order = order
         self._pos = None
@@ -438,19 +385,16 @@ class SectionBatch:
             # so a long game spawning objects of new shapes does not grow it forever.
             self._pool = _Pool(self._by_cells)
             self._last, self._keys, self._pos = None, [], {}
-            self._start = np.zeros((self._layers, 1), np.int64)
+            self._start = np.zeros(1, np.int64)
         ids = np.array([self._pool.add(m) for m in meshes], np.int64)
         self._mesh_ids = (by_id, ids, self._pool.center[ids], self._pool.radius[ids])
 
     def _view_for(self, camera_pose) -> np.ndarray:
         """:func:`_view_of` the pose, made again only when the pose changes."""
         key = None if camera_pose is None else np.asarray(camera_pose, np.float64).tobytes()
-        view = self._views.get(key)
-        if view is None:
-            if len(self._views) >= 2 * self._layers:  # poses that move every frame: keep the last ones
-                self._views.clear()
-            view = self._views[key] = _view_of(camera_pose)
-        return view
+        if key != self._view[0]:
+            self._view = (key, _view_of(camera_pose))
+        return self._view[1]
 
     def _old_order(self, keys: list) -> np.ndarray:
         """The last update's order as places in ``keys``, ``(k,) int64``, -1 for keys gone."""
@@ -461,15 +405,15 @@ class SectionBatch:
 
     def _changed(self, keys: list, mesh_ids: np.ndarray, visible: np.ndarray, mvs: np.ndarray):
         """``(n,) bool`` twice, by place in ``keys``: the instances that are new, moved, or entered
-        or left a layer's view; and those whose rows were made without the polygons facing away
-        from the last update's eye. ``visible (L, n)`` and ``mvs (L, n, 5, 5)`` are per layer.
+        or left the view; and those whose rows were made without the polygons facing away
+        from the last update's eye.
 
         Compared as arrays: per-key Python work is what the batch is here to avoid.
         """
         n = len(keys)
         last = self._last
         if last is not None and last[0] == keys:
-            diff = (last[2] != visible).any(axis=0) | (last[3] != mvs).reshape(len(mvs), n, 25).any(axis=(0, 2))
+            diff = (last[2] != visible) | (last[3] != mvs).reshape(n, 25).any(axis=1)
             if last[1] is not mesh_ids:  # the same meshes (most frames): the same array
                 diff |= last[1] != mesh_ids
             culled = last[4]
@@ -480,46 +424,41 @@ class SectionBatch:
                 for i, k in enumerate(keys):
                     j = where.get(k)
                     if j is not None:
-                        diff[i] = (
-                            last[1][j] != mesh_ids[i]
-                            or (last[2][:, j] != visible[:, i]).any()
-                            or (last[3][:, j] != mvs[:, i]).any()
-                        )
+                        diff[i] = last[1][j] != mesh_ids[i] or last[2][j] != visible[i] or (last[3][j] != mvs[i]).any()
                         culled[i] = last[4][j]
         self._last = (keys, mesh_ids, visible, mvs, culled)
         return diff, culled
 
-    def _slice(self, inst: Instances, first: int, w_cues: np.ndarray, shared: np.ndarray) -> None:
+    def _slice(self, inst: Instances, first: int, w_cue: bool) -> None:
         """Slice the instances from ``first`` on (those before keep their rows), growing the output if needed."""
-        n, nl = len(inst.mesh), self._layers
-        start_row = self._start[:, first].copy() if first else np.zeros(nl, np.int64)
+        n = len(inst.mesh)
+        start_row = int(self._start[first]) if first else 0
         self._scratch = self._pool.scratch(self._scratch)
-        if self._start.shape[1] == n + 1:  # as many instances as last time: the first ones' entries stand
+        if len(self._count) == n:  # as many instances as last time: the first ones' entries stand
             start, count, w_range, cut = self._start, self._count, self._w_range, self._cut
         else:
-            start = np.zeros((nl, n + 1), np.int64)
-            count = np.zeros((nl, n), np.int64)
-            start[:, : first + 1] = self._start[:, : first + 1]
-            count[:, :first] = self._count[:, :first]
-            w_range = np.empty((nl, n, 2))
-            w_range[:, :first] = self._w_range[:, :first]
-            cut = np.empty((nl, n), np.int64)
-            cut[:, :first] = self._cut[:, :first]
+            start = np.zeros(n + 1, np.int64)
+            count = np.zeros(n, np.int64)
+            start[: first + 1] = self._start[: first + 1]
+            count[:first] = self._count[:first]
+            w_range = np.empty((n, 2))
+            w_range[:first] = self._w_range[:first]
+            cut = np.empty(n, np.int64)
+            cut[:first] = self._cut[:first]
         while True:
             out = (self._out, start, count, w_range, cut)  # a Rows, as a plain tuple like the other bundles
             pool, ws = tuple(self._pool.arrays), tuple(self._scratch)
-            rows = _slice_batch(pool, tuple(inst), first, start_row, out, ws, w_cues, shared)
-            if rows <= self._out.shape[1]:
+            rows = _slice_batch(pool, tuple(inst), first, start_row, out, ws, w_cue)
+            if rows <= len(self._out):
                 break
             # Grow at once and slice again (rare: only when the scene grows).
-            grown = np.empty((nl, _capacity(rows, self._min_rows), ROW), np.float32)
-            for layer in range(nl):
-                grown[layer, : start_row[layer]] = self._out[layer, : start_row[layer]]
+            grown = np.empty((_capacity(rows, self._min_rows), ROW), np.float32)
+            grown[:start_row] = self._out[:start_row]
             self._out = grown
-        self._rows = start[:, n].copy()
+        self._rows = int(rows)
         self._shrink_if_settled()
         self._start, self._count, self._w_range, self._cut = start, count, w_range, cut
-        self._changed_from = start_row
+        self.changed_from = start_row
 
     def _shrink_if_settled(self) -> None:
         """Hold the next power of two of the rows in use, once that has been true for a while.
@@ -527,15 +466,14 @@ class SectionBatch:
         The capacity then depends on the scene, not on its history: objects
         spawned and removed for ten minutes leave the memory where it began.
         """
-        used = int(self._rows.max())
-        want = _capacity(used, self._min_rows)
-        if want >= self._out.shape[1]:
+        want = _capacity(self._rows, self._min_rows)
+        if want >= len(self._out):
             self._small = 0
             return
         self._small += 1
         if self._small >= SHRINK_AFTER:
-            small = np.empty((self._layers, want, ROW), np.float32)
-            small[:, :used] = self._out[:, :used]
+            small = np.empty((want, ROW), np.float32)
+            small[: self._rows] = self._out[: self._rows]
             self._out = small
             self._small = 0
 
@@ -544,56 +482,11 @@ class SectionBatch:
         mvs: np.ndarray, center: np.ndarray, radius: np.ndarray, planes
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Which instances' bounding spheres (``center (k, 4)``, ``radius (k,)`` in object space)
-        meet each layer's slice, and which meet both the slice and the view (two ``(L, k) bool``
-        arrays for ``mvs (L, k, 5, 5)``), and each one's orientation, ``(L, k) float64``: ``1.0``
-        where ``det(mv[:4, :4]) > 0``, else ``-1.0`` (the winding rule needs it)."""
+        meet the slice, and which meet both the slice and the view (two ``(k,) bool`` arrays), and
+        each one's orientation, ``(k,) float64``: ``1.0`` where ``det(mv[:4, :4]) > 0``, else
+        ``-1.0`` (the winding rule needs it)."""
         pl = np.zeros((0, 4)) if planes is None else np.ascontiguousarray(planes, np.float64).reshape(-1, 4)
-        shape = mvs.shape[:2]
-        in_slice, visible, flips = np.empty(shape, np.bool_), np.empty(shape, np.bool_), np.empty(shape)
-        for layer in range(shape[0]):
-            if _instances_in_view(mvs[layer], center, radius, pl, in_slice[layer], visible[layer], flips[layer]):
-                # Flat ones: the per-object slicer's call.
-                flips[layer] = np.where(np.linalg.det(mvs[layer, :, :4, :4]) > 0, 1.0, -1.0)
+        in_slice, visible, flips = np.empty(len(mvs), np.bool_), np.empty(len(mvs), np.bool_), np.empty(len(mvs))
+        if _instances_in_view(mvs, center, radius, pl, in_slice, visible, flips):
+            flips = np.where(np.linalg.det(mvs[:, :4, :4]) > 0, 1.0, -1.0)  # flat ones: the per-object slicer's call
         return in_slice, visible, flips
-
-
-class BatchLayer:
-    """One slice of a layered :class:`SectionBatch` (:meth:`SectionBatch.layer`), with a batch's
-    read-only API; valid until the batch's next update."""
-
-    def __init__(self, batch: SectionBatch, y: int):
-        self.batch, self.y = batch, y
-
-    @property
-    def vertices(self) -> np.ndarray:
-        return self.batch.layer_vertices(self.y)
-
-    @property
-    def changed_from(self) -> int:
-        return self.batch.layer_changed_from(self.y)
-
-    @property
-    def revision(self) -> int:
-        return self.batch.revision
-
-    @property
-    def sliced(self) -> int:
-        return self.batch.sliced
-
-    def instances(self) -> tuple[list, np.ndarray, np.ndarray, np.ndarray]:
-        b, y = self.batch, self.y
-        return b._keys, b._start[y], b._count[y], b._w_range[y]
-
-    @property
-    def cut_counts(self) -> np.ndarray:
-        return self.batch._cut[self.y]
-
-    def instance_rows(self, key) -> tuple[int, int]:
-        b = self.batch
-        if b._pos is None:
-            b._pos = {k: i for i, k in enumerate(b._keys)}
-        i = b._pos[key]
-        return int(b._start[self.y, i]), int(b._count[self.y, i])
-
-    def culled_by_view(self, key) -> bool:
-        return key in self.batch._view_culled[self.y]

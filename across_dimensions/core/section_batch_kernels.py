@@ -89,13 +89,13 @@ class Instances(NamedTuple):
     ----------
     mesh : (k,) int64
         Each one's mesh in the :class:`Pool`.
-    mvs : (L, k, 5, 5) float64
-        Model-view transforms, per layer (one slice each: see :func:`_slice_batch`).
-    flips : (L, k) float64
+    mvs : (k, 5, 5) float64
+        Model-view transforms.
+    flips : (k,) float64
         ``1.0`` where ``det(mv[:4, :4]) > 0``, else ``-1.0``.
-    visible : (L, k) uint8
-        0 for an instance culled whole (or not in the layer).
-    alpha : (L, k) float64
+    visible : (k,) uint8
+        0 for an instance culled whole.
+    alpha : (k,) float64
         What its rows' alpha is: NaN for its colours' own, else this value (see :func:`_w_side`).
     cull : (k,) uint8
         1: leave out the polygons that face away from ``eye`` (sliced tet by tet only).
@@ -113,19 +113,19 @@ class Instances(NamedTuple):
 
 
 class Rows(NamedTuple):
-    """The shared output, per layer.
+    """The shared output.
 
     Attributes
     ----------
-    out : (L, r, 10) float32
+    out : (r, 10) float32
         Three rows per triangle (:data:`ROW`).
-    start : (L, k + 1) int64
-        Instance ``i``'s first row; ``start[:, k]`` is one past the last.
-    count : (L, k) int64
+    start : (k + 1,) int64
+        Instance ``i``'s first row; ``start[k]`` is one past the last.
+    count : (k,) int64
         Instance ``i``'s rows.
-    w_range : (L, k, 2) float64
+    w_range : (k, 2) float64
         Instance ``i``'s least and greatest camera-space w.
-    cut : (L, k) int64
+    cut : (k,) int64
         Instance ``i``'s cut tets (or cells), polygons facing away included: has it a section?
     """
 
@@ -196,55 +196,39 @@ class BatchScratch(NamedTuple):
 
 
 @njit(cache=True)
-def _slice_batch(pool, inst, first, start_row, rows, ws, w_cue, shared):
-    """Slice instances ``first..`` into ``rows``, layer ``y`` from row ``start_row[y]``; returns
-    the most rows a layer needs. Each one's reach along w goes into ``rows.w_range``, with
-    ``w_cue[y]`` its rows' alpha too (:func:`_w_side`).
-
-    A layer is one slice of the instances (its own model-views, its own output): the ghost
-    layers along w beside the slice. An instance is cut in every layer before the next
-    instance, its data still in the caches; where ``shared[y]``, layer ``y``'s model-views
-    differ from layer 0's only in their w row (slices along w of one pose), and the instance's
-    vertices, moved into camera space by an earlier such layer, are not moved again: the same
-    sums, the same bits.
+def _slice_batch(pool, inst, first, start_row, rows, ws, w_cue):
+    """Slice instances ``first..`` into ``rows`` from row ``start_row``; returns the rows needed.
+    Each one's reach along w goes into ``rows.w_range``, with ``w_cue`` its rows' alpha too
+    (:func:`_w_side`).
 
     A mesh with a cell range in ``pool.mesh_cells`` is sliced cell by cell, any
-    other tet by tet. The rows needed may exceed ``rows.out.shape[1]``: then nothing
+    other tet by tet. The rows needed may exceed ``len(rows.out)``: then nothing
     past the end was written and the caller grows the output and calls again.
 
     The bundles come as plain tuples and are named again here: numba's dispatcher types a plain
     tuple of arrays in C, a named tuple in Python (about 10 us a call).
     """
     pool, inst, rows, ws = Pool(*pool), Instances(*inst), Rows(*rows), BatchScratch(*ws)
-    mesh_cells = pool.mesh_cells
-    layers = inst.mvs.shape[0]
-    ends = start_row.copy()
+    start, count, mesh_cells = rows.start, rows.count, pool.mesh_cells
+    o = start_row
     for k in range(first, inst.mesh.shape[0]):
+        start[k] = o
         m = inst.mesh[k]
-        moved = False  # ws.cam holds the instance's xyz as the shared layers move them
-        for y in range(layers):
-            li = Instances(inst.mesh, inst.mvs[y], inst.flips[y], inst.visible[y], inst.alpha[y], inst.cull, inst.eye)
-            out, start, count, cut = rows.out[y], rows.start[y], rows.count[y], rows.cut[y]
-            o = ends[y]
-            start[k] = o
-            visible = li.visible[k] != 0
-            _w_side(pool, li, k, ws, rows.w_range[y], w_cue[y] != 0, not (moved and shared[y] != 0))
-            if visible:
-                moved = shared[y] != 0
-                if mesh_cells[m, 1] > mesh_cells[m, 0]:
-                    ncut = _cut_cells(pool, li, k, ws)
-                    cut[k] = ncut
-                    o = _cell_rows(pool, li, k, ncut, out, o, ws)
-                else:
-                    cuts = _cut_tets(pool, li, k, ws)
-                    cut[k] = cuts[0]
-                    o = _tet_rows(pool, li, k, cuts, out, o, ws)
+        _w_side(pool, inst, k, ws, rows.w_range, w_cue)
+        if inst.visible[k]:
+            if mesh_cells[m, 1] > mesh_cells[m, 0]:
+                ncut = _cut_cells(pool, inst, k, ws)
+                rows.cut[k] = ncut
+                o = _cell_rows(pool, inst, k, ncut, rows.out, o, ws)
             else:
-                cut[k] = 0
-            count[k] = o - start[k]
-            start[k + 1] = o
-            ends[y] = o
-    return ends.max()
+                cuts = _cut_tets(pool, inst, k, ws)
+                rows.cut[k] = cuts[0]
+                o = _tet_rows(pool, inst, k, cuts, rows.out, o, ws)
+        else:
+            rows.cut[k] = 0
+        count[k] = o - start[k]
+        start[k + 1] = o
+    return o
 
 
 @njit(cache=True)
@@ -291,12 +275,11 @@ def _instances_in_view(mvs, center, radius, planes, in_slice, visible, flips):
 
 
 @njit(inline="always")
-def _w_side(pool, inst, k, ws, w_range, w_cue, xyz):
+def _w_side(pool, inst, k, ws, w_range, w_cue):
     """Instance ``k``'s least and greatest camera-space w of its vertices into ``w_range[k]``
     (``(k, 2) float64``): how far the posed mesh reaches either side of the slice. For an
     instance not culled whole, also its vertices in camera space (``ws.cam``, the per-object
-    slicer's sums; their xyz only with ``xyz``: else they are there already) and whether each
-    lies above the slice (``ws.above``): one pass for all.
+    slicer's sums) and whether each lies above the slice (``ws.above``): one pass for all.
 
     With ``w_cue``, also where the slice cuts it along that extent into ``inst.alpha[k]``, the
     alpha of its rows: 0 mid-way, -1 or 1 at its ends (the renderer's w cue, as
@@ -311,7 +294,7 @@ def _w_side(pool, inst, k, ws, w_range, w_cue, xyz):
     a20, a21, a22, a23, a24 = mv[2, 0], mv[2, 1], mv[2, 2], mv[2, 3], mv[2, 4]
     m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
     lo, hi = np.inf, -np.inf
-    if inst.visible[k] and xyz:
+    if inst.visible[k]:
         for vi in range(v_lo, pool.mesh_v[m, 1]):
             x, y, z, u = verts[vi, 0], verts[vi, 1], verts[vi, 2], verts[vi, 3]
             w = m0 * x + m1 * y + m2 * z + m3 * u + m4
@@ -319,14 +302,6 @@ def _w_side(pool, inst, k, ws, w_range, w_cue, xyz):
             cam[li, 0] = a00 * x + a01 * y + a02 * z + a03 * u + a04
             cam[li, 1] = a10 * x + a11 * y + a12 * z + a13 * u + a14
             cam[li, 2] = a20 * x + a21 * y + a22 * z + a23 * u + a24
-            cam[li, 3] = w
-            above[li] = w > 0.0
-            lo = min(lo, w)
-            hi = max(hi, w)
-    elif inst.visible[k]:
-        for vi in range(v_lo, pool.mesh_v[m, 1]):
-            w = m0 * verts[vi, 0] + m1 * verts[vi, 1] + m2 * verts[vi, 2] + m3 * verts[vi, 3] + m4
-            li = vi - v_lo
             cam[li, 3] = w
             above[li] = w > 0.0
             lo = min(lo, w)

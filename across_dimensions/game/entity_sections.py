@@ -63,10 +63,7 @@ class EntitySections:
 
     def __init__(self):
         self.batches: dict[str, SectionBatch] = {}
-        # The ghost layers' batch (all layers at once), for these layers' tags, and what its
-        # revisions start from (they only ever grow, whichever batch makes them).
-        self._ghosts: tuple = ((), None, 0)
-        self.ghost_batches: dict = {}  # per ghost layer (its tag): its slice of that batch
+        self.ghost_batches: dict[str, SectionBatch] = {}  # per ghost layer (its tag)
         self._sliced: dict[int, bool] = {}  # entity id -> its section is non-empty (or, culled by view: reaches w)
         self._planes: tuple = (None, None)  # (camera key, its view planes)
         self._names: dict = {}  # member name prefix -> (ids, their names)
@@ -141,37 +138,21 @@ class EntitySections:
             self._planes = (key, view_planes(camera))
         return self._planes[1]
 
-    def ghost_layers(self, frame: Frame, layers, entities, models, rows, planes: np.ndarray) -> None:
-        """Slice entities by the plain slice at each ghost layer's ``w`` into one ghost batch
-        per layer, in its tint, pattern and opacity (:class:`~.systems.ghosts.Layer`): layer
-        ``y`` cuts ``entities[i]`` (placed by ``models[i] (5, 5)``) for ``i`` in ``rows[y]``
-        (ascending). One kernel call cuts every layer, each entity in all its layers in turn
-        (its vertices moved into camera space once). ``planes`` are the view's
-        (:func:`view_planes`)."""
-        tags, batch, base = self._ghosts
-        if tuple(layer.tag for layer in layers) != tags:
-            base += batch.revision if batch is not None else 0
-            tags = tuple(layer.tag for layer in layers)
-            batch = SectionBatch(layers=len(layers)) if layers else None
-            self._ghosts = (tags, batch, base)
-            self.ghost_batches = {tag: batch.layer(y) for y, tag in enumerate(tags)} if layers else {}
+    def ghost_layer(self, frame: Frame, layer, entities, models, planes: np.ndarray) -> None:
+        """Slice ``entities`` (placed by ``models (k, 5, 5)``) by the plain slice at ``layer.w``
+        into one ghost batch in the layer's tint, pattern and opacity (a
+        :class:`~.systems.ghosts.Layer`); ``planes`` are the view's (:func:`view_planes`)."""
+        tag = layer.tag
+        batch = self.ghost_batches.get(tag)
         if batch is None:
-            return
-        union = np.unique(np.concatenate(rows)) if len(rows) else np.zeros(0, np.int64)
-        members = np.zeros((len(layers), len(union)), bool)
-        for y, r in enumerate(rows):
-            members[y, np.searchsorted(union, r)] = True
-        ids = [entities[i].id for i in union]
-        poses = [translation((0.0, 0.0, 0.0, layer.w)) for layer in layers]
-        meshes = [entities[i].mesh for i in union]
-        batch.update_layers(ids, meshes, models[union], poses, members, planes, eye=frame.camera.position)
-        for y, (layer, r) in enumerate(zip(layers, rows)):
-            look = {"tint": layer.tint, "pattern": layer.pattern, "opacity": layer.opacity, "outside_only": True}
-            members = self._members(f"{layer.tag}:entity:", [entities[i].id for i in r])
-            vertices, since = batch.layer_vertices(y), batch.layer_changed_from(y)
-            revision = base + batch.revision
-            frame.batches.append(TriangleBatch(f"{layer.tag}:entities", revision, vertices, "ghost", since, **look,
-                                               members=members))  # fmt: skip
+            batch = self.ghost_batches[tag] = SectionBatch()
+        ids = [e.id for e in entities]
+        pose = translation((0.0, 0.0, 0.0, layer.w))
+        batch.update(ids, [e.mesh for e in entities], models, pose, planes, eye=frame.camera.position)
+        look = {"tint": layer.tint, "pattern": layer.pattern, "opacity": layer.opacity, "outside_only": True}
+        members = self._members(f"{tag}:entity:", ids)
+        frame.batches.append(TriangleBatch(f"{tag}:entities", batch.revision, batch.vertices, "ghost",
+                                           batch.changed_from, **look, members=members))  # fmt: skip
 
     def _members(self, prefix: str, ids: list) -> tuple:
         """``prefix + id`` of each of ``ids``, made again only when the ids change."""
@@ -179,6 +160,11 @@ class EntitySections:
         if last is None or last[0] != ids:
             last = self._names[prefix] = (ids, tuple(f"{prefix}{i}" for i in ids))
         return last[1]
+
+    def keep_ghosts(self, tags) -> None:
+        """Free the batches of ghost layers not drawn this frame."""
+        for tag in [t for t in self.ghost_batches if t not in tags]:
+            del self.ghost_batches[tag]
 
     def has_section(self, entity_id: int) -> bool:
         """Was the entity's section non-empty in the last frame drawn?

@@ -232,8 +232,8 @@ def draw(game, frame, alpha) -> None:
             e = table.entities[i]
             things.append((f"{tag}:{e.id}", f"{tag}:entity:{e.id}", e.mesh, models[i], bool(may_block[i])))
         batched = shown[~solids[shown] & ~hidden[shown]]  # what a box hides: no ghost to draw
-        per_layer.append((layer, things, batched))
-    for layer, things, _ in per_layer:
+        per_layer.append((layer, things, [table.entities[i] for i in batched], models[batched]))
+    for layer, things, _, _ in per_layer:
         tag = layer.tag
         worlds = enumerate(game.scene.worlds)
         things += [(f"{tag}:world:{i}", f"{tag}:world:{i}", wd.mesh, np.eye(5), True) for i, wd in worlds]
@@ -255,10 +255,11 @@ def draw(game, frame, alpha) -> None:
             frame.drawables.append(Drawable(draw_key, rev, tri, style="ghost", **look))
     frame.hud.w_blocked = tuple(blocked)
     game.sections.keep(PREFIX, used)  # layers or entities that went away
-    # The layers' batch last, all layers in one kernel call: Python after a large kernel call
-    # runs with the caches cold (the frame's and the batches' lists are apart: no order changes).
-    rows = [batched for _, _, batched in per_layer]
-    game.entity_sections.ghost_layers(frame, layers, table.entities, models, rows, planes)
+    game.entity_sections.keep_ghosts({layer.tag for layer in layers})
+    # The layers' batches last and back to back: Python after a large kernel call runs with
+    # the caches cold (the frame's and the batches' lists are apart: no order changes).
+    for layer, _, entities, posed in per_layer:
+        game.entity_sections.ghost_layer(frame, layer, entities, posed, planes)
 
 
 SYSTEM = System("ghosts", draw=draw)
