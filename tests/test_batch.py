@@ -146,6 +146,9 @@ def test_meshes_no_longer_drawn_are_let_go():
         mesh = make_shape("5-cell").with_color((0.1 * (i % 10), 0.5, 0.5, 1.0))  # a new mesh each time
         batch.update([i], [mesh], [pose((0.0, 0.0, 0.0, 0.05))])
         assert_same_triangles(rows_of(batch, i), cross_section(mesh, None, pose((0.0, 0.0, 0.0, 0.05))))
+        # One start per instance and one past the last, after the pool starts again too (the
+        # kernel does not check bounds: a start array left one entry long was written past).
+        assert len(batch.instances()[1]) == 2
     assert len(batch._pool.meshes) <= 17
 
 

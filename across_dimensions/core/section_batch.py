@@ -434,7 +434,10 @@ class SectionBatch:
         n = len(inst.mesh)
         start_row = int(self._start[first]) if first else 0
         self._scratch = self._pool.scratch(self._scratch)
-        if len(self._count) == n:  # as many instances as last time: the first ones' entries stand
+        # As many instances as last time: the first ones' entries stand. (The start array is
+        # checked: after the pool was started again it is one entry long, and the kernel,
+        # which never checks bounds, would write past it.)
+        if len(self._count) == n and len(self._start) == n + 1:
             start, count, w_range, cut = self._start, self._count, self._w_range, self._cut
         else:
             start = np.zeros(n + 1, np.int64)
