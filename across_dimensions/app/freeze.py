@@ -238,9 +238,14 @@ UNUSED_IN_PLAY = tuple(
 )
 
 
-def unshipped_kernels(shipped: Path) -> list[str]:
-    """The game's kernels (:func:`cached_kernels`) that the shipped cache ``shipped`` lacks."""
-    return [k for k in cached_kernels() if not k.startswith(UNUSED_IN_PLAY) and not (shipped / k).is_file()]
+def unshipped_kernels(shipped: Path, in_package: bool = False) -> list[str]:
+    """The game's kernels (:func:`cached_kernels`) that the shipped cache ``shipped`` lacks.
+
+    ``in_package``: the cache is laid out by paths inside the package (``physics/...``, as
+    ``across_dimensions/kernels/`` is), not by paths from its parent (the frozen game's)."""
+    prefix = "across_dimensions/" if in_package else ""
+    wanted = [k.removeprefix(prefix) for k in cached_kernels() if not k.startswith(UNUSED_IN_PLAY)]
+    return [k for k in wanted if not (shipped / k).is_file()]
 
 
 def compile_kernels(folder: Path, log=print) -> Path | None:

@@ -106,16 +106,11 @@ def check() -> list[str]:
 
 
 def missing() -> list[str]:
-    """The game's kernels (:func:`~.freeze.cached_kernels`) that this platform's shipped folder lacks,
-    as their cache indexes' paths inside the folder (``physics/sightlines.segments_cross_boxes-33.py311.nbi``)."""
-    from .freeze import UNUSED_IN_PLAY, cached_kernels
+    """The game's kernels that this platform's shipped folder lacks, as their cache indexes'
+    paths inside it (``physics/sightlines.segments_cross_boxes-33.py311.nbi``)."""
+    from .freeze import unshipped_kernels
 
-    prefix = "across_dimensions/"
-    return [
-        k.removeprefix(prefix)
-        for k in cached_kernels()
-        if not k.startswith(UNUSED_IN_PLAY) and not (shipped.shipped_dir() / k.removeprefix(prefix)).is_file()
-    ]
+    return unshipped_kernels(shipped.shipped_dir(), in_package=True)
 
 
 def main(argv=None) -> int:
