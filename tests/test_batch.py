@@ -139,6 +139,32 @@ def test_only_changed_instances_are_resliced_and_the_rest_kept(meshes):
         assert_same_section(rows_of(batch, k), cross_section(ms[k], None, models[k]), ms[k])
 
 
+def test_a_deferred_update_slices_when_finished_or_read(meshes):
+    rng = np.random.default_rng(9)
+    keys = list(range(9))
+    ms = [meshes[i % 3] for i in keys]
+    models = random_models(rng, 9, w_spread=0.3)
+    now, later = SectionBatch(), SectionBatch()
+    now.update(keys, ms, models)
+    later.update(keys, ms, models, defer=True)
+    assert later._pending is not None  # nothing sliced yet
+    assert later.revision == now.revision and later.changed_from == now.changed_from
+    assert np.array_equal(later.vertices, now.vertices)  # reading the rows slices them
+    # A second update finishes the first before it starts from its rows.
+    models[4] = models[4] @ translation((0.0, 0.0, 0.0, 0.05))
+    now.update(keys, ms, models)
+    later.update(keys, ms, models, defer=True)
+    models[5] = models[5] @ translation((0.0, 0.0, 0.0, -0.05))
+    now.update(keys, ms, models)
+    later.update(keys, ms, models, defer=True)
+    later.finish()
+    assert later._pending is None and later.changed_from == now.changed_from
+    assert np.array_equal(later.vertices, now.vertices)
+    assert np.array_equal(later.cut_counts, now.cut_counts)
+    for k in keys:
+        assert_same_section(rows_of(later, k), cross_section(ms[k], None, models[k]), ms[k])
+
+
 def test_meshes_no_longer_drawn_are_let_go():
     """Objects of ever new shapes spawned and removed: the batch does not keep every mesh it saw."""
     batch = SectionBatch()

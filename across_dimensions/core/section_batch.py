@@ -216,6 +216,11 @@ class SectionBatch:
         batch.vertices      # (3 * triangles, 10) float32, ready to upload
         batch.changed_from  # rows before this are the same as last frame
 
+    ``update(..., defer=True)`` leaves the slicing itself for :meth:`finish` (the
+    outputs finish it when read): a frame can do all its Python first and run its
+    batches' kernels back to back, since Python right after a large kernel call runs
+    with cold caches.
+
     Parameters
     ----------
     capacity_rows : int
@@ -260,6 +265,7 @@ class SectionBatch:
         self._min_rows = int(capacity_rows)
         self._small = 0  # updates in a row the output could have been smaller
         self._rows = 0
+        self._pending: tuple | None = None  # (instances, first, w_cue) a deferred update left to slice
         self.changed_from = 0
         self.revision = 0
         self.culled = 0
@@ -267,6 +273,7 @@ class SectionBatch:
 
     @property
     def vertices(self) -> np.ndarray:
+        self.finish()
         return self._out[: self._rows]
 
     @property
@@ -276,6 +283,7 @@ class SectionBatch:
 
     def instance_rows(self, key) -> tuple[int, int]:
         """``(first row, row count)`` of an instance's triangles in :attr:`vertices`."""
+        self.finish()
         if self._pos is None:
             self._pos = {k: i for i, k in enumerate(self._keys)}
         i = self._pos[key]
@@ -286,12 +294,14 @@ class SectionBatch:
         count (k,) int64, w_range (k, 2) float64)``: its rows ``start[i]`` to ``start[i] + count[i]``,
         and the least and greatest camera-space w of its posed vertices (how far it reaches
         either side of the slice). Valid until the next :meth:`update`."""
+        self.finish()
         return self._keys, self._start, self._count, self._w_range
 
     @property
     def cut_counts(self) -> np.ndarray:
         """``(k,) int64`` in :meth:`instances`' order: each instance's cut tets (or cells), the
         polygons left out for facing away from the eye included: it has a section if > 0."""
+        self.finish()
         return self._cut
 
     @property
@@ -303,7 +313,9 @@ class SectionBatch:
         """Was the instance skipped only because it is out of view (its sphere reaches the slice)?"""
         return key in self._view_culled
 
-    def update(self, keys, meshes, models, camera_pose=None, planes=None, w_cue: bool = False, eye=None) -> bool:
+    def update(
+        self, keys, meshes, models, camera_pose=None, planes=None, w_cue: bool = False, eye=None, defer: bool = False
+    ) -> bool:
         """Slice every instance that changed; returns True if the output changed.
 
         Parameters
@@ -329,7 +341,11 @@ class SectionBatch:
             the rasterizer would skip them (half the rows to write and to upload). Such an
             instance is sliced again, whole, once the eye has moved (:meth:`cut_counts` still
             says which instances have a section).
+        defer : bool
+            Leave the slicing for :meth:`finish` (or the first read of the outputs);
+            :attr:`changed_from`, :attr:`revision` and :attr:`sliced` are already this update's.
         """
+        self.finish()  # a deferred update's rows are where this one starts from
         keys = list(keys)
         n = len(keys)
         models = np.asarray(models, np.float64).reshape(n, 5, 5)
@@ -366,13 +382,23 @@ class SectionBatch:
             order = np.concatenate([stay, np.flatnonzero(diff)])
             look = (np.empty(n), cull[order].view(np.uint8), seen_from)
             inst = Instances(mesh_ids[order], mvs[order], flips[order], visible[order].view(np.uint8), *look)
-        self._slice(inst, first, w_cue)
         self._keys = keys if every else list(map(keys.__getitem__, order.tolist()))
         self._order = order
         self._pos = None
         self.sliced = n - first
         self.revision += 1
+        self.changed_from = int(self._start[first]) if first else 0
+        self._pending = (inst, first, w_cue)
+        if not defer:
+            self.finish()
         return True
+
+    def finish(self) -> None:
+        """Slice what a deferred :meth:`update` left (nothing if none is pending)."""
+        if self._pending is not None:
+            inst, first, w_cue = self._pending
+            self._pending = None
+            self._slice(inst, first, w_cue)
 
     def _number_meshes(self, meshes: list) -> None:
         """The meshes' numbers in the pool and their bounding spheres into ``self._mesh_ids``,
@@ -461,7 +487,6 @@ class SectionBatch:
         self._rows = int(rows)
         self._shrink_if_settled()
         self._start, self._count, self._w_range, self._cut = start, count, w_range, cut
-        self.changed_from = start_row
 
     def _shrink_if_settled(self) -> None:
         """Hold the next power of two of the rows in use, once that has been true for a while.

@@ -12,6 +12,11 @@ The triangles are exactly those :func:`core.section.cross_section` gives for
 each entity, less those of a changing entity that clearly face away from the
 eye: the batches are drawn with inner faces skipped, so the renderer would skip
 them too (tests compare the frames pixel by pixel).
+
+The batches' kernels run last, back to back (:meth:`EntitySections.flush`, which
+``Game.frame`` calls after every system's draw and :meth:`~EntitySections.has_section`
+before it answers): Python right after a large kernel call runs with cold caches, so
+the frame's Python goes first.
 """
 
 from __future__ import annotations
@@ -67,11 +72,12 @@ class EntitySections:
         self._sliced: dict[int, bool] = {}  # entity id -> its section is non-empty (or, culled by view: reaches w)
         self._planes: tuple = (None, None)  # (camera key, its view planes)
         self._names: dict = {}  # member name prefix -> (ids, their names)
+        self._pending: list = []  # (frame, batch, its TriangleBatch's fields) to slice and add in flush
 
     def draw(self, frame: Frame, entities, models, camera: np.ndarray, sections) -> None:
         """Slice ``entities`` (placed by ``models``) by the slice whose camera-to-world pose is
-        ``camera`` (``(5, 5)``; ``translation((0, 0, 0, w))`` for the plain slice at ``w``) and add
-        one batch per style to ``frame``.
+        ``camera`` (``(5, 5)``; ``translation((0, 0, 0, w))`` for the plain slice at ``w``): one
+        batch per style, added to ``frame`` by :meth:`flush`.
 
         ``"wire"`` entities (outlines) are drawn one drawable each, sliced through
         ``sections`` (a :class:`~across_dimensions.world.scene.SectionCache`): the
@@ -85,8 +91,6 @@ class EntitySections:
         for style in [s for s in self.batches if s not in by_style]:
             del self.batches[style]  # nothing of this style left: free its arrays
         self._sliced = {}
-        # The outlines first, the batches' kernels last: Python after a large kernel call runs
-        # with the caches cold.
         sections.keep("draw:", {f"draw:{e.id}" for e, _ in wires})
         for e, m in wires:
             tri, rev = sections.section(f"draw:{e.id}", e.mesh, m, camera)
@@ -98,20 +102,23 @@ class EntitySections:
                 batch = self.batches[style] = SectionBatch()
             ids = [entities[i].id for i in rows]
             meshes, eye = [entities[i].mesh for i in rows], frame.camera.position
-            batch.update(ids, meshes, models[rows], camera, planes, w_cue=style in W_CUED, eye=eye)
-            self._note_sliced(batch)
+            batch.update(ids, meshes, models[rows], camera, planes, w_cue=style in W_CUED, eye=eye, defer=True)
+            look = {"style": style, "members": self._members("entity:", ids), "w_cue": style in W_CUED}
+            self._pending.append((frame, batch, f"entities:{style}", look, True))
+
+    def flush(self) -> None:
+        """Slice what :meth:`draw` and :meth:`ghost_layer` left, batch after batch, and add their
+        triangle batches to their frames in the order they were asked for."""
+        pending, self._pending = self._pending, []
+        for _, batch, _, _, _ in pending:
+            batch.finish()
+        for frame, batch, key, look, noted in pending:
+            if noted:
+                self._note_sliced(batch)
             frame.batches.append(
-                TriangleBatch(
-                    f"entities:{style}",
-                    batch.revision,
-                    batch.vertices,
-                    style,
-                    batch.changed_from,
-                    members=self._members("entity:", ids),
-                    w_cue=style in W_CUED,
-                    outside_only=True,
-                )
-            )
+                TriangleBatch(key, batch.revision, batch.vertices, changed_from=batch.changed_from,
+                              outside_only=True, **look)
+            )  # fmt: skip
 
     def _note_sliced(self, batch: SectionBatch) -> None:
         """Record which of the batch's entities have a section (all at once: per-entity Python is
@@ -141,18 +148,18 @@ class EntitySections:
     def ghost_layer(self, frame: Frame, layer, entities, models, planes: np.ndarray) -> None:
         """Slice ``entities`` (placed by ``models (k, 5, 5)``) by the plain slice at ``layer.w``
         into one ghost batch in the layer's tint, pattern and opacity (a
-        :class:`~.systems.ghosts.Layer`); ``planes`` are the view's (:func:`view_planes`)."""
+        :class:`~.systems.ghosts.Layer`), added to ``frame`` by :meth:`flush`; ``planes`` are the
+        view's (:func:`view_planes`)."""
         tag = layer.tag
         batch = self.ghost_batches.get(tag)
         if batch is None:
             batch = self.ghost_batches[tag] = SectionBatch()
         ids = [e.id for e in entities]
         pose = translation((0.0, 0.0, 0.0, layer.w))
-        batch.update(ids, [e.mesh for e in entities], models, pose, planes, eye=frame.camera.position)
-        look = {"tint": layer.tint, "pattern": layer.pattern, "opacity": layer.opacity, "outside_only": True}
-        members = self._members(f"{tag}:entity:", ids)
-        frame.batches.append(TriangleBatch(f"{tag}:entities", batch.revision, batch.vertices, "ghost",
-                                           batch.changed_from, **look, members=members))  # fmt: skip
+        batch.update(ids, [e.mesh for e in entities], models, pose, planes, eye=frame.camera.position, defer=True)
+        look = {"style": "ghost", "tint": layer.tint, "pattern": layer.pattern, "opacity": layer.opacity}
+        look["members"] = self._members(f"{tag}:entity:", ids)
+        self._pending.append((frame, batch, f"{tag}:entities", look, False))
 
     def _members(self, prefix: str, ids: list) -> tuple:
         """``prefix + id`` of each of ``ids``, made again only when the ids change."""
@@ -171,4 +178,5 @@ class EntitySections:
 
         For an entity outside the view (not sliced), whether its bounding sphere reaches the slice.
         """
+        self.flush()
         return self._sliced.get(entity_id, False)

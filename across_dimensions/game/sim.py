@@ -410,6 +410,7 @@ class Game:
         for system in SYSTEMS:
             if system.draw is not None:
                 system.draw(self, frame, alpha)
+        self.entity_sections.flush()  # the entity batches' kernels, left for last
         if pip:
             frame.pip = project(self, self.camera, items(self, alpha), eye, other=True)
         return frame

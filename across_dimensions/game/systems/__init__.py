@@ -72,8 +72,8 @@ SYSTEMS = (
     secrets.SYSTEM,
     scenery.SYSTEM,
     sections.SYSTEM,
-    radar.SYSTEM,
     ghosts.SYSTEM,
+    radar.SYSTEM,
 )
 
 __all__ = ["SYSTEMS"]

@@ -218,7 +218,7 @@ def draw(game, frame, alpha) -> None:
     if layers:
         hidden = hidden_rows(game, frame, models, alpha)
         spans = slice_spans(table.column("ghost_w_caps", lambda e: _caps(e.mesh)).reshape(-1, 2), models)
-    per_layer = []
+    game.entity_sections.keep_ghosts({layer.tag for layer in layers})
     for layer in layers:
         tag = layer.tag
         # Solid things are drawn one by one (the ghost of one that would block the player is
@@ -232,9 +232,7 @@ def draw(game, frame, alpha) -> None:
             e = table.entities[i]
             things.append((f"{tag}:{e.id}", f"{tag}:entity:{e.id}", e.mesh, models[i], bool(may_block[i])))
         batched = shown[~solids[shown] & ~hidden[shown]]  # what a box hides: no ghost to draw
-        per_layer.append((layer, things, [table.entities[i] for i in batched], models[batched]))
-    for layer, things, _, _ in per_layer:
-        tag = layer.tag
+        game.entity_sections.ghost_layer(frame, layer, [table.entities[i] for i in batched], models[batched], planes)
         worlds = enumerate(game.scene.worlds)
         things += [(f"{tag}:world:{i}", f"{tag}:world:{i}", wd.mesh, np.eye(5), True) for i, wd in worlds]
         for key, draw_key, mesh, model, solid in things:
@@ -255,11 +253,6 @@ def draw(game, frame, alpha) -> None:
             frame.drawables.append(Drawable(draw_key, rev, tri, style="ghost", **look))
     frame.hud.w_blocked = tuple(blocked)
     game.sections.keep(PREFIX, used)  # layers or entities that went away
-    game.entity_sections.keep_ghosts({layer.tag for layer in layers})
-    # The layers' batches last and back to back: Python after a large kernel call runs with
-    # the caches cold (the frame's and the batches' lists are apart: no order changes).
-    for layer, _, entities, posed in per_layer:
-        game.entity_sections.ghost_layer(frame, layer, entities, posed, planes)
 
 
 SYSTEM = System("ghosts", draw=draw)

@@ -35,7 +35,6 @@ def draw(game, frame, alpha) -> None:
     hidden = reach & hidden_rows(game, frame, models, alpha)
     shown = np.flatnonzero(reach & ~hidden)
     entities = [table.entities[i] for i in shown]
-    # The sky's test before the slicing: Python after a large kernel call runs with cold caches.
     frame.sky_hidden = frame.sky == "dome" and view_covered(game, frame, models, alpha)
     game.entity_sections.draw(frame, entities, models[shown], rig.slice_pose(s), game.sections)
     rows = np.flatnonzero(hidden)
