@@ -16,11 +16,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ._jit import njit
-from .section_batch_tets import _cut_tets, _tet_rows
-from .section_kernels import _orientation
-
-#: Floats per output vertex: position 3, normal 3, colour 4 (the renderer's layout).
-ROW = 10
+from .section_batch_tets import ROW, _cut_tets, _tet_rows  # noqa: F401  (ROW: for the batches)
+from .section_kernels import U, _orientation
 
 
 class Pool(NamedTuple):
@@ -295,15 +292,20 @@ def _w_side(pool, inst, k, ws, w_range, w_cue):
     m0, m1, m2, m3, m4 = mv[3, 0], mv[3, 1], mv[3, 2], mv[3, 3], mv[3, 4]
     lo, hi = np.inf, -np.inf
     if inst.visible[k]:
-        for vi in range(v_lo, pool.mesh_v[m, 1]):
-            x, y, z, u = verts[vi, 0], verts[vi, 1], verts[vi, 2], verts[vi, 3]
-            w = m0 * x + m1 * y + m2 * z + m3 * u + m4
-            li = vi - v_lo
-            cam[li, 0] = a00 * x + a01 * y + a02 * z + a03 * u + a04
-            cam[li, 1] = a10 * x + a11 * y + a12 * z + a13 * u + a14
-            cam[li, 2] = a20 * x + a21 * y + a22 * z + a23 * u + a24
-            cam[li, 3] = w
-            above[li] = w > 0.0
+        # Flat views and unsigned indices, the extent along w in a loop of its own: the
+        # compiler then moves the vertices as vectors (a min/max reduction keeps a loop scalar).
+        vf, cf = verts.reshape(-1), cam.reshape(-1)
+        vb = U(4) * U(v_lo)
+        for i in range(U(pool.mesh_v[m, 1] - v_lo)):
+            j = vb + U(4) * i
+            x, y, z, u = vf[j], vf[j + U(1)], vf[j + U(2)], vf[j + U(3)]
+            cf[U(4) * i] = a00 * x + a01 * y + a02 * z + a03 * u + a04
+            cf[U(4) * i + U(1)] = a10 * x + a11 * y + a12 * z + a13 * u + a14
+            cf[U(4) * i + U(2)] = a20 * x + a21 * y + a22 * z + a23 * u + a24
+            cf[U(4) * i + U(3)] = m0 * x + m1 * y + m2 * z + m3 * u + m4
+        for i in range(U(pool.mesh_v[m, 1] - v_lo)):
+            w = cf[U(4) * i + U(3)]
+            above[i] = w > 0.0
             lo = min(lo, w)
             hi = max(hi, w)
     else:

@@ -24,6 +24,9 @@ from ._jit import njit
 from .cases import CASE_COUNT, CASE_LOCAL_FLAT, CASE_REVERSED, CASE_TRIANGLES
 from .section_kernels import U, _unit_normals, normal_transform
 
+#: Floats per output vertex: position 3, normal 3, colour 4 (the renderer's layout).
+ROW = 10
+
 
 @njit(inline="always")
 def _cut_tets(pool, inst, k, ws):
@@ -224,41 +227,48 @@ def _rows(pool, inst, k, ncut, out, o, ws):
     corner, wound outward (the case's :data:`~.cases.CASE_REVERSED`); returns the next row.
 
     Copies only: a one-coloured tet's rows take its first vertex's colour, the alpha is
-    ``inst.alpha[k]`` unless that is NaN.
+    ``inst.alpha[k]`` unless that is NaN. Flat views and unsigned indices (``U``): a row's
+    ten floats are then stored with constant offsets.
     """
-    tets, colors, cut, cmask, tj, rec, recc = pool.tets, pool.colors, ws.cut, ws.cmask, ws.tj, ws.rec, ws.recc
+    cut, cmask, tj, rec, recc = ws.cut, ws.cmask, ws.tj, ws.rec, ws.recc
     tx, ty, tz = ws.tn[0], ws.tn[1], ws.tn[2]
+    of, cf, tf = out.reshape(-1), pool.colors.reshape(-1), pool.tets.reshape(-1)
     flat = pool.flat[inst.mesh[k]] != 0
     reverse = CASE_REVERSED[1 if inst.flips[k] < 0.0 else 0]
     keep_alpha = np.isnan(inst.alpha[k])
     alpha = np.float32(inst.alpha[k])
-    for i in range(ncut):
-        mask = cmask[i]
+    row = U(o)
+    for idx in range(ncut):
+        i = U(idx)
+        mask = U(cmask[i])
         four = CASE_COUNT[mask] == 4
         rev = reverse[mask] != 0
         fx, fy, fz = tx[i], ty[i], tz[i]
-        c0 = tets[cut[i], 0]
-        cr, cg, cb, ca = colors[c0, 0], colors[c0, 1], colors[c0, 2], colors[c0, 3]
+        c0 = U(4) * U(tf[U(4) * U(cut[i])])
+        cr, cg, cb, ca = cf[c0], cf[c0 + U(1)], cf[c0 + U(2)], cf[c0 + U(3)]
+        ca = ca if keep_alpha else alpha
+        j0, j1, j2, j3 = U(tj[U(4) * i]), U(tj[U(4) * i + U(1)]), U(tj[U(4) * i + U(2)]), U(tj[U(4) * i + U(3)])
         # Fan from corner 0: triangles (0, 1, 2) and (0, 2, 3), their last two swapped when reversed.
         for kk in range(6 if four else 3):
-            e = 0
+            j = j0
             if kk == 1 or kk == 2:
-                e = 2 if rev == (kk == 1) else 1
+                j = j2 if rev == (kk == 1) else j1
             elif kk == 4 or kk == 5:
-                e = 3 if rev == (kk == 4) else 2
-            b = 4 * tj[4 * i + e]
+                j = j3 if rev == (kk == 4) else j2
+            b = U(4) * j
             if not flat:
-                cr, cg, cb, ca = recc[b], recc[b + 1], recc[b + 2], recc[b + 3]
-            r = o + kk
-            out[r, 0] = rec[b]
-            out[r, 1] = rec[b + 1]
-            out[r, 2] = rec[b + 2]
-            out[r, 3] = fx
-            out[r, 4] = fy
-            out[r, 5] = fz
-            out[r, 6] = cr
-            out[r, 7] = cg
-            out[r, 8] = cb
-            out[r, 9] = ca if keep_alpha else alpha
-        o += 6 if four else 3
-    return o
+                cr, cg, cb, ca = recc[b], recc[b + U(1)], recc[b + U(2)], recc[b + U(3)]
+                ca = ca if keep_alpha else alpha
+            r = U(ROW) * (row + U(kk))
+            of[r] = rec[b]
+            of[r + U(1)] = rec[b + U(1)]
+            of[r + U(2)] = rec[b + U(2)]
+            of[r + U(3)] = fx
+            of[r + U(4)] = fy
+            of[r + U(5)] = fz
+            of[r + U(6)] = cr
+            of[r + U(7)] = cg
+            of[r + U(8)] = cb
+            of[r + U(9)] = ca
+        row += U(6) if four else U(3)
+    return np.int64(row)
