@@ -108,11 +108,10 @@ def _corners(pool, inst, k, ncut, ws):
     (:func:`_faces_away`). ``ws.point`` numbers the instance's cut edges (-1 on entry and on
     return), ``ws.elist`` lists them. A point is interpolated from its edge's lower vertex
     index, as the per-object slicer does (:func:`~.section_kernels._points_by_edge`), so the
-    same to the bit.
+    same to the bit. Flat views and unsigned indices (``U``), as in :func:`_rows`.
     """
-    tet_normals, tet_edges, tets, cut, cmask, point, elist, tj, g, cam = (
-        pool.tet_normals, pool.tet_edges, pool.tets, ws.cut, ws.cmask, ws.point, ws.elist, ws.tj, ws.g, ws.cam
-    )  # fmt: skip
+    cut, cmask, point, elist, tj, g = ws.cut, ws.cmask, ws.point, ws.elist, ws.tj, ws.g
+    nf, ef, tf, cf = pool.tet_normals.reshape(-1), pool.tet_edges.reshape(-1), pool.tets.reshape(-1), ws.cam.reshape(-1)
     mv = inst.mvs[k]
     normal_transform(mv, inst.flips[k], g)
     g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
@@ -120,47 +119,51 @@ def _corners(pool, inst, k, ncut, ws):
     h0, h1, h2, h3 = _w_cofactors(mv, inst.flips[k])
     cull = inst.cull[k] != 0
     ex, ey, ez = inst.eye[0], inst.eye[1], inst.eye[2]
-    v_lo = pool.mesh_v[inst.mesh[k], 0]
+    v_lo = U(pool.mesh_v[inst.mesh[k], 0])
     nx, ny, nz = ws.n64[0], ws.n64[1], ws.n64[2]
-    npt = 0
-    kept = 0
-    for i in range(ncut):
-        t = cut[i]
+    npt = U(0)
+    kept = U(0)
+    for idx in range(ncut):
+        i = U(idx)
+        t = U(cut[i])
         mask = U(cmask[i])
-        n0, n1, n2, n3 = tet_normals[t, 0], tet_normals[t, 1], tet_normals[t, 2], tet_normals[t, 3]
+        t4 = U(4) * t
+        n0, n1, n2, n3 = nf[t4], nf[t4 + U(1)], nf[t4 + U(2)], nf[t4 + U(3)]
         x = g0 * n0 + g1 * n1 + g2 * n2 + g3 * n3
         y = g4 * n0 + g5 * n1 + g6 * n2 + g7 * n3
         z = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
         if cull:
-            v = tets[t, 0] - v_lo
+            v = U(4) * (U(tf[t4]) - v_lo)
             w = h0 * n0 + h1 * n1 + h2 * n2 + h3 * n3
-            if _faces_away(ex - cam[v, 0], ey - cam[v, 1], ez - cam[v, 2], cam[v, 3], x, y, z, w):
+            if _faces_away(ex - cf[v], ey - cf[v + U(1)], ez - cf[v + U(2)], cf[v + U(3)], x, y, z, w):
                 continue
         cut[kept] = t  # compacted in place: kept <= i
         cmask[kept] = mask
         nx[kept], ny[kept], nz[kept] = x, y, z
         for e in range(4):
             # Number the edge's point if it has none yet, without a branch.
-            eid = U(tet_edges[t, CASE_LOCAL_FLAT[U(4) * mask + U(e)]])
+            eid = U(ef[U(6) * t + U(CASE_LOCAL_FLAT[U(4) * mask + U(e)])])
             j = point[eid]
             new = j < 0
             j = npt if new else j
             point[eid] = j
             elist[npt] = eid
-            npt += new
-            tj[4 * kept + e] = j
-        kept += 1
-    ends, rec, sj = pool.edge_ends, ws.rec, ws.sj
-    e_lo = pool.mesh_e[inst.mesh[k], 0]
-    for j in range(npt):
-        eid = elist[j]
+            npt += U(new)
+            tj[U(4) * kept + U(e)] = j
+        kept += U(1)
+    ends, rec, sj = pool.edge_ends.reshape(-1), ws.rec, ws.sj
+    e_lo = U(pool.mesh_e[inst.mesh[k], 0])
+    for jj in range(npt):
+        j = U(jj)
+        eid = U(elist[j])
         point[eid] = -1
-        a, b = ends[e_lo + eid, 0], ends[e_lo + eid, 1]
-        s = cam[a, 3] / (cam[a, 3] - cam[b, 3])
+        a = U(4) * U(ends[U(2) * (e_lo + eid)])
+        b = U(4) * U(ends[U(2) * (e_lo + eid) + U(1)])
+        s = cf[a + U(3)] / (cf[a + U(3)] - cf[b + U(3)])
         sj[j] = s
         for r in range(3):
-            rec[4 * j + r] = np.float32(cam[a, r] + s * (cam[b, r] - cam[a, r]))
-    return kept, npt
+            rec[U(4) * j + U(r)] = np.float32(cf[a + U(r)] + s * (cf[b + U(r)] - cf[a + U(r)]))
+    return np.int64(kept), np.int64(npt)
 
 
 #: A polygon is left out when the eye lies behind its plane by more than this fraction of its
