@@ -121,7 +121,7 @@ def _corners(pool, inst, k, ncut, ws):
     ex, ey, ez = inst.eye[0], inst.eye[1], inst.eye[2]
     v_lo = U(pool.mesh_v[inst.mesh[k], 0])
     nx, ny, nz = ws.n64[0], ws.n64[1], ws.n64[2]
-    npt = U(0)
+    npt = 0  # signed, as the point numbers it is chosen among (a signed and an unsigned make a float)
     kept = U(0)
     for idx in range(ncut):
         i = U(idx)
@@ -148,7 +148,7 @@ def _corners(pool, inst, k, ncut, ws):
             j = npt if new else j
             point[eid] = j
             elist[npt] = eid
-            npt += U(new)
+            npt += new
             tj[U(4) * kept + U(e)] = j
         kept += U(1)
     ends, rec, sj = pool.edge_ends.reshape(-1), ws.rec, ws.sj
@@ -163,7 +163,7 @@ def _corners(pool, inst, k, ncut, ws):
         sj[j] = s
         for r in range(3):
             rec[U(4) * j + U(r)] = np.float32(cf[a + U(r)] + s * (cf[b + U(r)] - cf[a + U(r)]))
-    return np.int64(kept), np.int64(npt)
+    return np.int64(kept), npt
 
 
 #: A polygon is left out when the eye lies behind its plane by more than this fraction of its
