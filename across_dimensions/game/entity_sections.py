@@ -72,7 +72,8 @@ class EntitySections:
         self._sliced: dict[int, bool] = {}  # entity id -> its section is non-empty (or, culled by view: reaches w)
         self._planes: tuple = (None, None)  # (camera key, its view planes)
         self._names: dict = {}  # member name prefix -> (ids, their names)
-        self._pending: list = []  # (frame, batch, its TriangleBatch's fields) to slice and add in flush
+        # What flush slices and adds: (frame, batch, key, look, noted: has_section answers for its entities)
+        self._pending: list = []
 
     def draw(self, frame: Frame, entities, models, camera: np.ndarray, sections) -> None:
         """Slice ``entities`` (placed by ``models``) by the slice whose camera-to-world pose is
