@@ -119,16 +119,21 @@ def insert_entry(text: str, kind: str, values: dict, world: int | None = None) -
 def set_new_key(table, key: str, item) -> None:
     """Add ``key`` to the tomlkit ``table`` after its last field (tomlkit would put it after the
     comments that close the table, i.e. under the next section's heading)."""
-    body = table.value.body
     last = None
-    for k, v in body:
+    for i, (k, v) in enumerate(table.value.body):
         if k is not None and not isinstance(v, (tomlkit.items.Table, tomlkit.items.AoT)):
-            last = k
+            last = i, k
     if last is None:
         table[key] = item
         return
-    indent = table.value.item(last).trivia.indent
-    table.value._insert_after(last, key, item)  # noqa: SLF001 - tomlkit's own ordered insert
+    at, last_key = last
+    indent = table.value.item(last_key).trivia.indent
+    if at + 1 < len(table.value.body):
+        # tomlkit has no public ordered insert; ``_insert_at`` is the one its own ``append`` uses
+        # (its ``_insert_after`` went away in 0.15.3, so the index is found here).
+        table.value._insert_at(at + 1, key, item)  # noqa: SLF001
+    else:
+        table[key] = item  # nothing follows the last field: appending is in order
     table.value.item(key).trivia.indent = indent
 
 
