@@ -1,10 +1,10 @@
 """The design probe: ``[design] needs``, the bots, the soft-lock proofs and the command.
 
-The probe runs on every shipped level once per test session (the module's ``rows``
-fixture, both cores, a few minutes). Each level must show no bypass and no soft-lock; the
-levels that fail today are expected failures (``xfail(strict=True)``) listing what the probe
-finds, so fixing a level turns its test from XFAIL to a strict XPASS failure that asks for
-the mark to go.
+Each shipped level must show no bypass and no soft-lock. The default run probes the
+:data:`QUICK` levels (seconds); the others take minutes between them on both cores, so they are
+``slow`` (``pytest -m slow``, which CI runs too). Levels that fail today are expected failures
+(``xfail(strict=True)``) listing what the probe finds, so fixing a level turns its test from
+XFAIL to a strict XPASS failure that asks for the mark to go.
 """
 
 from __future__ import annotations
@@ -34,6 +34,8 @@ TIMEOUT = 600
 
 #: What the probe finds on the shipped levels today (issue: levels that demand what they teach).
 KNOWN: dict = {}
+#: The levels probed in the default run: a few seconds each (Crossfire alone takes two minutes).
+QUICK = ("00_arrival", "01_first_steps", "02_crystal_cache")
 
 
 def corridor(needs) -> LevelBuilder:
@@ -54,26 +56,34 @@ def run(env, *args) -> subprocess.CompletedProcess:
     )
 
 
+def _probed(paths) -> dict:
+    return {r["level"]: r for r in probe(paths, workers=2)}
+
+
 @pytest.fixture(scope="module")
-def rows() -> dict:
-    return {r["level"]: r for r in probe(prologue_files() + level_files(), workers=2)}
+def quick_rows() -> dict:
+    return _probed([p for p in level_files() if p.stem in QUICK])
 
 
-@pytest.mark.parametrize(
-    "stem",
-    [
-        pytest.param(p.stem, marks=pytest.mark.xfail(strict=True, reason=KNOWN[p.stem])) if p.stem in KNOWN else p.stem
-        for p in prologue_files() + level_files()
-    ],
-)
-def test_each_level_demands_what_it_teaches_and_never_traps(rows, stem):
-    row = rows[stem]
+@pytest.fixture(scope="module")
+def slow_rows() -> dict:
+    return _probed([p for p in prologue_files() + level_files() if p.stem not in QUICK])
+
+
+def _param(stem: str):
+    marks = [pytest.mark.xfail(strict=True, reason=KNOWN[stem])] if stem in KNOWN else []
+    return pytest.param(stem, marks=marks if stem in QUICK else [*marks, pytest.mark.slow])
+
+
+@pytest.mark.parametrize("stem", [_param(p.stem) for p in prologue_files() + level_files()])
+def test_each_level_demands_what_it_teaches_and_never_traps(request, stem):
+    row = request.getfixturevalue("quick_rows" if stem in QUICK else "slow_rows")[stem]
     assert row["strategies_run"]
     assert not row["bypasses"] and not row["softlocks"], json.dumps(row, indent=1)
 
 
-def test_rows_name_strategies_and_what_they_avoided(rows):
-    for row in rows.values():
+def test_rows_name_strategies_and_what_they_avoided(quick_rows):
+    for row in quick_rows.values():
         assert set(row) == {"level", "needs", "strategies_run", "bypasses", "softlocks", "seconds"}
         for b in row["bypasses"]:
             assert b["strategy"] in row["strategies_run"] and set(b["avoided"]) <= set(row["needs"])
