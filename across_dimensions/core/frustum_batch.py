@@ -27,7 +27,7 @@ import numpy as np
 from ._jit import njit
 from .frustum import focal_length
 from .mesh import TetMesh4
-from .section_batch_kernels import ROW
+from .section_batch_tets import ROW
 
 
 def solid_edges(mesh: TetMesh4, angle_tol: float = 1e-4) -> np.ndarray:

@@ -41,7 +41,8 @@ import numpy as np
 from .cells import Cells, mesh_cells
 from .layout import layout_colors, layout_edges, layout_normals, mesh_clusters
 from .mesh import TetMesh4
-from .section_batch_kernels import ROW, BatchScratch, Instances, Pool, _instances_in_view, _slice_batch
+from .section_batch_kernels import BatchScratch, Instances, Pool, _instances_in_view, _slice_batch
+from .section_batch_tets import ROW
 from .transform import inverse
 
 #: Updates the output must have fitted half its capacity before it shrinks.

@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ._jit import njit
-from .section_batch_tets import ROW, _cut_tets, _tet_rows  # noqa: F401  (ROW: for the batches)
+from .section_batch_tets import _cut_tets, _tet_rows
 from .section_kernels import U, _orientation
 
 
@@ -115,7 +115,7 @@ class Rows(NamedTuple):
     Attributes
     ----------
     out : (r, 10) float32
-        Three rows per triangle (:data:`ROW`).
+        Three rows per triangle (:data:`~.section_batch_tets.ROW`).
     start : (k + 1,) int64
         Instance ``i``'s first row; ``start[k]`` is one past the last.
     count : (k,) int64
