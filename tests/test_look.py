@@ -200,6 +200,30 @@ def test_walls_carry_an_emissive_trim_near_the_floor(gl_ctx, target, renderer):
     assert trim[2] > trim[0]
 
 
+@pytest.mark.gl
+def test_the_palettes_light_colours_are_compiled_in_and_follow_a_new_palette(gl_ctx, target, renderer):
+    # The trim's colour is a constant of the scene's programs (an input less per triangle):
+    # a new palette builds its own programs, and going back finds the first ones again.
+    cam = Camera3(position=np.array([0.0, 0.4, -2.0]), pitch=-0.1)
+    wall = Drawable("w", 0, box_mesh((0.0, 1.5, 0.0), (6.0, 3.0, 0.2), (0.3, 0.3, 0.3, 1.0)))
+    frame = Frame(cam, [wall], hud=Hud(crosshair=False), light_dir=(0.0, 0.3, 1.0))
+
+    def trim_pixel():
+        col = draw(renderer, target, frame)[:, W // 3]
+        return col[int(np.argmax(col.sum(axis=1)))]
+
+    default = trim_pixel()
+    first = renderer._programs
+    renderer.palette = materials.palette("default", trim=(1.0, 0.1, 0.0))
+    red = trim_pixel()
+    assert red[0] > red[2] + 60 and default[2] > default[0] + 60, (red, default)
+    assert renderer._programs is not first
+    renderer.palette = materials.palette("default")
+    assert np.array_equal(trim_pixel(), default) and renderer._programs is first
+    _, fs = program_source("solid", "scifi", renderer.palette)
+    assert "uniform " not in fs and "#define TRIM vec3(0.1, 0.75, 1)" in fs
+
+
 # ------------------------------------------------------------------ the w cue
 def _cued(w_offset: float, time: float = 0.0) -> Frame:
     cam = Camera3(position=np.array([0.0, 1.0, -2.2]))

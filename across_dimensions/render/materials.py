@@ -1,9 +1,10 @@
 """The game's look as data: named colours (palettes) and the uniforms they become.
 
-The scene shaders (:mod:`.shaders`) and the sky (:mod:`.sky`) read every colour of the
-sci-fi look from uniforms named ``u_<colour name>``, so a palette is a plain dict and
-switching palettes (a colour-blind-safe option, a level's mood) costs nothing but a
-uniform upload. The renderer keeps one palette (:attr:`Renderer.palette
+A palette is a plain dict of named colours. The sky (:mod:`.sky`) and the scene's fog read
+the sky colours from uniforms named ``u_<colour name>``; the scene's fragment shaders have the
+light colours compiled in as constants (:func:`.shaders.palette_constants`: on llvmpipe every
+input a fragment shader reads costs per triangle or per pixel), so the renderer builds its
+programs once per palette it draws with. The renderer keeps one palette (:attr:`Renderer.palette
 <across_dimensions.render.renderer.Renderer.palette>`); settings replace it with
 :func:`palette`.
 

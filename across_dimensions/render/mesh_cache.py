@@ -175,8 +175,10 @@ class MeshCache:
         return gm.n_edge_indices
 
     def vao(self, gm: GpuMesh, prog: moderngl.Program, look: str, style: str) -> moderngl.VertexArray:
-        """The vertex array of ``gm`` for ``prog``, the program of ``style`` in ``look``."""
-        vao = gm.vaos.get((look, style))
+        """The vertex array of ``gm`` for ``prog``, the program of ``style`` in ``look`` (one per
+        palette: a vertex array is bound to its program)."""
+        key = (look, style, prog.glo)
+        vao = gm.vaos.get(key)
         if vao is None:
             # Attributes a program doesn't use are optimised away by the GLSL
             # compiler; skip their bytes instead of binding them.
@@ -189,5 +191,5 @@ class MeshCache:
                     fmt.append(f"{size}x")
             ibo = gm.ebo if style == "wire" else gm.ibo
             vao = self.ctx.vertex_array(prog, [(gm.vbo, " ".join(fmt), *names)], index_buffer=ibo, index_element_size=4)
-            gm.vaos[(look, style)] = vao
+            gm.vaos[key] = vao
         return vao

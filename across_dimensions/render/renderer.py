@@ -59,7 +59,7 @@ from .mesh_cache import GpuMesh, MeshCache
 from .passes import PassProfile, RenderStats
 from .radar import RadarRenderer
 from .radar_yield import YIELD_ALPHA, interest_on_screen, radar_yields
-from .shaders import PROGRAMS, program_source
+from .shaders import PROGRAMS, palette_constants, program_source
 from .sky import SkyRenderer
 
 STYLES = ("solid", "floor", "wire", "ghost", "glow")
@@ -127,7 +127,8 @@ class Renderer:
         self.ghost_alpha = float(ghost_alpha)
         self.stats = RenderStats()
         self.meshes = MeshCache(ctx, self.stats)
-        self._all_programs: dict[str, dict[str, moderngl.Program]] = {}  # look -> program name -> program
+        # (look, the palette's constants) -> program name -> program
+        self._all_programs: dict[tuple, dict[str, moderngl.Program]] = {}
         self.palette = materials.palette()
         self.look = look
         self._programs = self._look_programs(look)
@@ -153,14 +154,17 @@ class Renderer:
         w_cues.use("colour_blind" if name == "colorblind" else name)  # the overlays' w cues follow
 
     def _look_programs(self, look: str) -> dict[str, moderngl.Program]:
-        """The programs of ``look``, built on first use (a look not used costs nothing)."""
+        """The programs of ``look`` with :attr:`palette`'s light colours compiled in (see
+        :func:`.shaders.program_source`), built on first use: a look or palette not used costs
+        nothing, and one used before costs nothing again."""
         if look not in materials.LOOKS:
             raise RenderError(f"unknown look {look!r}; expected one of {', '.join(materials.LOOKS)}")
-        progs = self._all_programs.get(look)
+        key = (look, palette_constants(self.palette) if look == "scifi" else ())
+        progs = self._all_programs.get(key)
         if progs is None:
-            progs = self._all_programs[look] = {}
+            progs = self._all_programs[key] = {}
             for name in PROGRAMS:
-                vs, fs = program_source(name, look)
+                vs, fs = program_source(name, look, self.palette)
                 try:
                     progs[name] = self.ctx.program(vertex_shader=vs, fragment_shader=fs)
                 except Exception as e:  # compile/link errors carry the driver's log

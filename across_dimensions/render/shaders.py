@@ -8,8 +8,12 @@ What llvmpipe charges for, measured over a full 1280x720 view (CPU ms of all its
 reading a uniform in a fragment shader (lane by lane, with a bounds check; about 0.25 ms per
 component), ``exp`` and ``pow`` (about 1 ms each), and every branch's body (a branch only masks
 lanes). So the vertex shader reads every uniform and hands the fragment shader flat inputs
-(the palette's colours, the eye, the light, the w cue of a 4D thing), and fog and highlights
-use a few multiplies instead of ``exp`` and ``pow`` (within 0.02 of them).
+(the eye, the light, the w cue of a 4D thing), and fog and highlights use a few multiplies
+instead of ``exp`` and ``pow`` (within 0.02 of them). A flat input is not free either: llvmpipe
+sets up every input of every triangle and stores it with the triangle's bin, so each one costs
+per triangle (four fewer took 2 ms off a hundred sliced 120-cells, 20,000 triangles). The
+palette's light colours, which change only with the settings, are therefore compiled into the
+fragment shader as constants (:func:`program_source`), one build of the programs per palette.
 
 Colour pipeline: vertex colours are linear RGB; lighting happens in linear
 space; the result goes through a soft shoulder (so highlights don't clip
@@ -18,6 +22,12 @@ harshly) and a gamma of 2 (``sqrt``: close to sRGB's ~2.2 and cheaper than
 sky colour, which is a *display* colour (the framebuffer is cleared with it
 unchanged), so distant surfaces fade exactly into the sky.
 """
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from . import materials
 
 #: The sky dome's colour by view direction (display space): ground below the horizon, a
 #: bright horizon band, the zenith above. Shared by the sky and by fog, so fog fades a
@@ -46,10 +56,12 @@ in vec4 in_color;
 out vec3 v_world;
 out vec3 v_normal;
 out vec4 v_color;
-// What is the same for every pixel goes to the fragment shader as flat varyings, not
-// uniforms: llvmpipe reads a uniform in a fragment shader lane by lane, with a bounds check
-// (about 0.25 ms of CPU per component over a full 1280x720 view), a flat input once a
-// triangle. xyz the eye and the light, w the fog's density squared and the trims' pulse.
+// What is the same for every pixel and changes every frame goes to the fragment shader as
+// flat varyings, not uniforms: llvmpipe reads a uniform in a fragment shader lane by lane,
+// with a bounds check (about 0.25 ms of CPU per component over a full 1280x720 view), a flat
+// input once a triangle. xyz the eye and the light; w the fog's density squared, and the
+// trims' pulse (the crystals' own in theirs, a ghost's opacity in the ghosts'). The
+// palette's colours are the fragment shader's constants (see program_source).
 flat out vec4 v_eye;
 flat out vec4 v_sun;
 #ifdef LOOK_SCIFI
@@ -58,43 +70,24 @@ uniform float u_pulse;      // the trims' slow breathing, 0.8 to 1 (set once a f
 uniform vec3 u_sky_zenith;  // display colours of the sky dome (fog goes to its horizon)
 uniform vec3 u_sky_horizon;
 uniform vec3 u_sky_ground;
-out vec3 v_fog_color;  // the sky behind the vertex: smooth, so per vertex is enough
+// xyz the sky behind the vertex (smooth, so per vertex is enough); w the iridescence's drift
+// of 4D matter, or a ghost's pattern, the same at every vertex: an input of its own would
+// cost every triangle's setup.
+out vec4 v_fog_color;
 SKY_GRADIENT
 #else
 uniform vec3 u_sky;         // display-space sky colour (fog target)
-flat out vec3 v_fog_color;
-#endif
-#if defined(LOOK_SCIFI) && !defined(STYLE_WIRE) && !defined(STYLE_GHOST) && !defined(STYLE_GLOW)
-uniform vec3 u_key_light;   // linear light colours
-uniform vec3 u_ambient_sky;
-uniform vec3 u_ambient_ground;
-flat out vec3 v_key;
-flat out vec3 v_ambient;    // the hemisphere ambient at a vertical face
-flat out vec3 v_ambient_up; // what facing straight up adds to it (facing down takes away)
-#endif
-#if defined(LOOK_SCIFI) && defined(STYLE_SOLID)
-uniform vec3 u_trim;
-flat out vec3 v_trim;       // the trim's light, pulse included
-#endif
-#if defined(LOOK_SCIFI) && defined(STYLE_FLOOR)
-uniform vec3 u_floor_line;
-flat out vec3 v_floor_line;
+flat out vec4 v_fog_color;  // xyz that colour, w as in the sci-fi look
 #endif
 #if defined(LOOK_SCIFI) && (defined(STYLE_HYPER) || defined(STYLE_GLOW))
-uniform float u_glow_pulse; // the crystals' faster pulse (set once a frame)
+uniform float u_glow_pulse; // the crystals' faster pulse (set once a frame; v_sun.w in their program)
 uniform float u_w_offset;
 uniform float u_band_scale;
 uniform float u_w_from_alpha;
-uniform vec3 u_ana;
-uniform vec3 u_kata;
-uniform vec3 u_hyper_rim;
 // The w cue's parameters, one thing's throughout (its w offset is a uniform, or every vertex
 // of a batched thing carries the same one): x bands per metre, y their drift, z the side
-// (1 ana, -1 kata), w their strength; the side's colour; the rim's colour.
+// (1 ana, -1 kata), w their strength.
 flat out vec4 v_band;
-flat out vec3 v_side_tint;
-flat out vec3 v_rim;
-flat out vec2 v_anim;       // x the iridescence's drift, y the crystals' pulse
 #endif
 #ifdef STYLE_GHOST
 uniform float u_alpha;      // ghost opacity
@@ -102,7 +95,6 @@ uniform vec4 u_tint;        // rgb the ghost's colour is pulled to, and how far 
 uniform int u_pattern;      // 0 plain, 1 stripes, 2 dots (screen space)
 uniform float u_opacity;    // per-drawable factor (fading along w, preview emphasis)
 flat out vec4 v_tint;
-flat out vec2 v_ghost;      // x opacity, y pattern
 #endif
 
 void main() {
@@ -111,21 +103,14 @@ void main() {
     v_eye = vec4(u_eye, u_fog_density * u_fog_density);
     v_sun = vec4(u_light_dir, 0.0);
 #ifdef LOOK_SCIFI
-    v_fog_color = sky_gradient(normalize(world.xyz - u_eye));
+    v_fog_color = vec4(sky_gradient(normalize(world.xyz - u_eye)), 0.05 * u_time);
+  #ifdef STYLE_GLOW
+    v_sun.w = u_glow_pulse;
+  #else
     v_sun.w = u_pulse;
+  #endif
 #else
-    v_fog_color = u_sky;
-#endif
-#if defined(LOOK_SCIFI) && !defined(STYLE_WIRE) && !defined(STYLE_GHOST) && !defined(STYLE_GLOW)
-    v_key = u_key_light;
-    v_ambient = 0.5 * (u_ambient_sky + u_ambient_ground);
-    v_ambient_up = 0.5 * (u_ambient_sky - u_ambient_ground);
-#endif
-#if defined(LOOK_SCIFI) && defined(STYLE_SOLID)
-    v_trim = u_trim * u_pulse;
-#endif
-#if defined(LOOK_SCIFI) && defined(STYLE_FLOOR)
-    v_floor_line = u_floor_line;
+    v_fog_color = vec4(u_sky, 0.0);
 #endif
 #if defined(LOOK_SCIFI) && (defined(STYLE_HYPER) || defined(STYLE_GLOW))
     // Bands whose spacing shrinks as the slice nears the edge of the thing along w (see
@@ -136,13 +121,11 @@ void main() {
     float period = u_band_scale * mix(0.9, 0.14, a);
     // No bands right at the centre (nothing to warn about).
     v_band = vec4(1.0 / period, side * u_time * (0.25 + 0.9 * a), side, smoothstep(0.06, 0.22, a));
-    v_side_tint = side > 0.0 ? u_ana : u_kata;
-    v_rim = u_hyper_rim;
-    v_anim = vec2(0.05 * u_time, u_glow_pulse);
 #endif
 #ifdef STYLE_GHOST
     v_tint = u_tint;
-    v_ghost = vec2(u_alpha * u_opacity, float(u_pattern));
+    v_sun.w = u_alpha * u_opacity;  // the ghost's opacity
+    v_fog_color.w = float(u_pattern);
 #endif
     v_normal = u_normal_mat * in_normal;
     v_color = in_color;
@@ -160,32 +143,17 @@ in vec3 v_world;
 in vec3 v_normal;
 in vec4 v_color;
 flat in vec4 v_eye;         // xyz the eye, w the fog's density squared
-flat in vec4 v_sun;         // xyz toward the light, w the trims' pulse (see the vertex shader)
+flat in vec4 v_sun;         // xyz toward the light, w the pulse or a ghost's opacity (see the vertex shader)
 #ifdef LOOK_SCIFI
-in vec3 v_fog_color;
+in vec4 v_fog_color;       // xyz the sky behind, w the iridescence's drift or the ghost's pattern
 #else
-flat in vec3 v_fog_color;
-#endif
-#if defined(LOOK_SCIFI) && !defined(STYLE_WIRE) && !defined(STYLE_GHOST) && !defined(STYLE_GLOW)
-flat in vec3 v_key;
-flat in vec3 v_ambient;
-flat in vec3 v_ambient_up;
-#endif
-#if defined(LOOK_SCIFI) && defined(STYLE_SOLID)
-flat in vec3 v_trim;
-#endif
-#if defined(LOOK_SCIFI) && defined(STYLE_FLOOR)
-flat in vec3 v_floor_line;
+flat in vec4 v_fog_color;
 #endif
 #if defined(LOOK_SCIFI) && (defined(STYLE_HYPER) || defined(STYLE_GLOW))
 flat in vec4 v_band;        // the w cue, per thing (see the vertex shader)
-flat in vec3 v_side_tint;
-flat in vec3 v_rim;
-flat in vec2 v_anim;
 #endif
 #ifdef STYLE_GHOST
 flat in vec4 v_tint;
-flat in vec2 v_ghost;
 #endif
 
 out vec4 f_color;
@@ -277,13 +245,15 @@ float w_bands(vec3 an) {
 // hue (never colour alone) at any distance and on any surface. 1 on the pattern's
 // marks, a faint floor between them so the ghost's shape still reads.
 float ghost_pattern(vec2 px) {
-    if (v_ghost.y == 1.0) {
+    // The pattern's number, interpolated (the same at every vertex, so within rounding of it).
+    float pattern = v_fog_color.w;
+    if (abs(pattern - 1.0) < 0.5) {
         // Diagonal stripes, 9 px period, 4 px wide, anti-aliased by fwidth.
         float t = (px.x + px.y) / 9.0;
         float d = abs(fract(t) - 0.5) * 9.0;
         return 0.35 + 0.65 * (1.0 - smoothstep(1.5, 2.5, d));
     }
-    if (v_ghost.y == 2.0) {
+    if (abs(pattern - 2.0) < 0.5) {
         // Dots on an 8 px grid, radius 2.2 px.
         vec2 c = (fract(px / 8.0) - 0.5) * 8.0;
         return 0.35 + 0.65 * (1.0 - smoothstep(1.7, 2.7, length(c)));
@@ -346,7 +316,7 @@ void main() {
     #ifdef STYLE_FLOOR
     // Lit lines every 10 m (every fifth seam): wayfinding at a glance, and scale.
     vec2 major = step(mod(floor(p + 0.5), 5.0), vec2(0.5)) * seams;
-    emit += v_floor_line * (0.9 * max(major.x, major.y));
+    emit += FLOOR_LINE * (0.9 * max(major.x, major.y));
     #else
     // An emissive trim a hand above the floor (y 0.10 to 0.16), breathing slowly, over a
     // dark kick plate; walls darken upward, away from the trim and the floor's bounce.
@@ -355,7 +325,7 @@ void main() {
     float trim = clamp((y - 0.10) * rfy + 0.5, 0.0, 1.0) * clamp((0.16 - y) * rfy + 0.5, 0.0, 1.0);
     float kick = clamp((0.10 - y) * rfy + 0.5, 0.0, 1.0);
     albedo *= 1.0 - wall * (0.5 * kick + 0.35 * clamp((y - 0.3) * (1.0 / 3.7), 0.0, 1.0));
-    emit += v_trim * (wall * trim);
+    emit += TRIM * (v_sun.w * wall * trim);
     #endif
   #elif defined(STYLE_FLOOR)
     // Grid on the plane most facing the normal: world xz for floors.
@@ -370,7 +340,7 @@ void main() {
     // hue turns with the view angle, and the w bands cut into it as light.
     float fres = (1.0 - ndv) * (1.0 - ndv);
     // Three phase-shifted triangle waves: a cosine palette's hues without three cosines.
-    vec3 irid = abs(fract(vec3(0.0, 0.33, 0.67) + 1.3 * fres + v_anim.x) * 2.0 - 1.0);
+    vec3 irid = abs(fract(vec3(0.0, 0.33, 0.67) + 1.3 * fres + v_fog_color.w) * 2.0 - 1.0);
     float bands = w_bands(an);
     // A lattice of glowing diagonal lines: nothing in the scenery looks like it, and it
     // shows the surface's shape where the rim light cannot (faces seen head on).
@@ -382,9 +352,9 @@ void main() {
         * clamp(1.4 - 4.0 / min(rfq.x, rfq.y), 0.0, 1.0);
     albedo *= 0.6;
     gloss = 2.5;
-    emit += albedo * 0.25 + fres * mix(v_rim, irid, 0.5) * 0.6;
+    emit += albedo * 0.25 + fres * mix(HYPER_RIM, irid, 0.5) * 0.6;
     emit += lattice * v_sun.w * (v_color.rgb * 0.5 + 0.1);
-    emit += bands * (0.35 * v_side_tint + 0.25 * albedo);
+    emit += bands * (0.35 * (v_band.z > 0.0 ? ANA : KATA) + 0.25 * albedo);
     albedo *= 1.0 - 0.45 * bands;
   #endif
 
@@ -399,7 +369,7 @@ void main() {
     vec3 lit = albedo * (0.75 + 1.6 * (1.0 - ndv) * (1.0 - ndv)) + vec3(0.06);
     #ifdef LOOK_SCIFI
     // A slow pulse, facets catching the light (x^24 by squaring), and the w bands as darker rings.
-    lit *= v_anim.y;
+    lit *= v_sun.w;
     float r = max(dot(reflect(-V, N), v_sun.xyz), 0.0);
     float r2 = r * r;
     float r8 = r2 * r2;
@@ -411,8 +381,8 @@ void main() {
     vec3 L = v_sun.xyz;
     float diffuse = max(dot(N, L), 0.0);
     #ifdef LOOK_SCIFI
-    vec3 key = v_key;
-    vec3 ambient = v_ambient + v_ambient_up * N.y;
+    vec3 key = KEY_LIGHT;
+    vec3 ambient = AMBIENT + AMBIENT_UP * N.y;
     #else
     vec3 key = vec3(1.0, 0.96, 0.90);
     // Hemisphere ambient: cool from above, dark from below, so faces facing
@@ -442,12 +412,12 @@ void main() {
 #endif
     // Atmospheric depth: distant things fade into the sky behind them (in the sci-fi look,
     // the dome's colour there; in the flat look, the one sky colour).
-    color = mix(color, v_fog_color, fog);
+    color = mix(color, v_fog_color.rgb, fog);
 
 #ifdef STYLE_GHOST
     // Slightly more opaque at grazing angles so a ghost's silhouette reads.
     float graze = (1.0 - ndv) * (1.0 - ndv);
-    float alpha = v_ghost.x * v_color.a * (1.0 + 0.6 * graze) * ghost_pattern(gl_FragCoord.xy);
+    float alpha = v_sun.w * v_color.a * (1.0 + 0.6 * graze) * ghost_pattern(gl_FragCoord.xy);
     f_color = vec4(color, clamp(alpha, 0.0, 1.0));
 #else
     f_color = vec4(color, 1.0);
@@ -460,17 +430,45 @@ void main() {
 PROGRAMS = ("solid", "floor", "wire", "ghost", "glow", "hyper")
 
 
-def program_source(style: str, look: str = "flat") -> tuple[str, str]:
+def program_source(style: str, look: str = "flat", palette: Mapping | None = None) -> tuple[str, str]:
     """Vertex and fragment source for a program of :data:`PROGRAMS` in a look (``scifi`` or ``flat``).
 
-    ``hyper`` in the flat look is the solid program.
+    ``hyper`` in the flat look is the solid program. In the sci-fi look the light colours of
+    ``palette`` (default :data:`.materials.DEFAULT`; see :func:`palette_constants`) are
+    compiled in; its sky colours stay uniforms.
     """
     if style == "hyper" and look != "scifi":
         style = "solid"
     header = f"#version 330\n#define STYLE_{style.upper()}\n"
     if look == "scifi":
         header += "#define LOOK_SCIFI\n"
+        header += "".join(f"#define {name} {value}\n" for name, value in palette_constants(palette))
     return header + VERTEX, header + FRAGMENT
+
+
+def palette_constants(palette: Mapping | None = None) -> tuple[tuple[str, str], ...]:
+    """The sci-fi fragment shader's colour constants from ``palette``: ``(name, GLSL vec3)`` pairs.
+
+    The key light, the hemisphere ambient (at a vertical face, and what facing up adds), the
+    trims, the floor's lines, ana and kata and the rim of 4D matter, all linear RGB. The same
+    palette gives the same text, so it also names the programs built from it.
+    """
+    c = materials.DEFAULT if palette is None else palette
+
+    def vec3(rgb) -> str:
+        return "vec3({:.7g}, {:.7g}, {:.7g})".format(*(float(x) for x in rgb))
+
+    sky, ground = c["ambient_sky"], c["ambient_ground"]
+    return (
+        ("KEY_LIGHT", vec3(c["key_light"])),
+        ("AMBIENT", vec3(0.5 * (float(s) + float(g)) for s, g in zip(sky, ground))),
+        ("AMBIENT_UP", vec3(0.5 * (float(s) - float(g)) for s, g in zip(sky, ground))),
+        ("TRIM", vec3(c["trim"])),
+        ("FLOOR_LINE", vec3(c["floor_line"])),
+        ("ANA", vec3(c["ana"])),
+        ("KATA", vec3(c["kata"])),
+        ("HYPER_RIM", vec3(c["hyper_rim"])),
+    )
 
 
 #: Unlit lines and triangles in one colour per vertex (the radar's disc and pins' stems, the
