@@ -193,6 +193,7 @@ class _Pool:
             g=np.empty(12),
             q=np.empty((c, 3)),
             qc=np.empty((c, 4)),
+            qe=np.empty(c, np.int64),
             ang=np.empty(c),
             order=np.empty(c, np.int64),
             keep=np.empty(self.max_clusters, np.int64),
