@@ -5,7 +5,8 @@ grid, each turning in xw, yw and zw every frame, and are drawn
 
 - ``section``: as their cross-sections by the player's hyperplane, sliced by one
   :class:`~across_dimensions.core.section_batch.SectionBatch` call (each cut
-  dodecahedral cell one polygon), solid;
+  dodecahedral cell one polygon; those facing away from the eye left out, as the
+  game's batches do, since the rasterizer would cull them), solid;
 - ``frustum``: through their own 4D frustums (a 4D camera 3 units along -w),
   projected by one :class:`~across_dimensions.core.frustum_batch.FrustumBatch`
   call, drawn as solid faces with their edges. Only the faces on the outline of
@@ -153,7 +154,7 @@ class _Scene:
         if self.mode == "section":
             models = rot.copy()
             models[:, :3, 4] = self.centers
-            self.batch.update(self.keys, self.meshes, models, None, planes)
+            self.batch.update(self.keys, self.meshes, models, None, planes, eye=self.camera.position)
             b = self.batch
             return TriangleBatch("bench", b.revision, b.vertices, "solid", b.changed_from, outside_only=True)
         b = self.batch

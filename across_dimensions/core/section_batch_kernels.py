@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ._jit import njit
-from .section_batch_tets import _cut_tets, _tet_rows
+from .section_batch_tets import _cut_tets, _faces_away, _tet_rows
 from .section_kernels import U, _orientation
 
 
@@ -95,7 +95,7 @@ class Instances(NamedTuple):
     alpha : (k,) float64
         What its rows' alpha is: NaN for its colours' own, else this value (see :func:`_w_side`).
     cull : (k,) uint8
-        1: leave out the polygons that face away from ``eye`` (sliced tet by tet only).
+        1: leave out the polygons that face away from ``eye``.
     eye : (3,) float64
         Where the picture is seen from, in the output's frame.
     """
@@ -385,7 +385,10 @@ def _cell_rows(pool, inst, k, npoly, out, o, ws):
     returns the next row (rows past ``len(out)`` are counted, not written).
 
     A polygon's corners are put in order by their angle about their centroid,
-    counter-clockwise seen from outside (along the cell's outward normal).
+    counter-clockwise seen from outside (along the cell's outward normal). With
+    ``inst.cull[k]``, a polygon that faces away from ``inst.eye`` is left out, as the
+    tet slicer does (:func:`~.section_batch_tets._faces_away`): a convex section's far
+    half, which the rasterizer would set up only to cull it.
     """
     cell_tet, cut, first, q, qc, ang, order, cam = (
         pool.cell_tet,
@@ -402,13 +405,12 @@ def _cell_rows(pool, inst, k, npoly, out, o, ws):
     alpha = inst.alpha[k]
     keep_alpha = np.isnan(alpha)
     v_lo = pool.mesh_v[inst.mesh[k], 0]
+    cull = inst.cull[k] != 0
+    ex, ey, ez = inst.eye[0], inst.eye[1], inst.eye[2]
     for i in range(npoly):
         c = cut[i]
         f0 = first[i]
         n = first[i + 1] - f0
-        if o + 3 * (n - 2) > cap:
-            o += 3 * (n - 2)
-            continue
         a, b, d, e = cell_tet[c, 0] - v_lo, cell_tet[c, 1] - v_lo, cell_tet[c, 2] - v_lo, cell_tet[c, 3] - v_lo
         nx, ny, nz = _normal_of(
             cam[b, 0] - cam[a, 0], cam[b, 1] - cam[a, 1], cam[b, 2] - cam[a, 2], cam[b, 3] - cam[a, 3],
@@ -416,6 +418,12 @@ def _cell_rows(pool, inst, k, npoly, out, o, ws):
             cam[e, 0] - cam[a, 0], cam[e, 1] - cam[a, 1], cam[e, 2] - cam[a, 2], cam[e, 3] - cam[a, 3],
             flip,
         )  # fmt: skip
+        # The polygon lies in the slice (w = 0): its plane holds its corners, so one tells the eye's side.
+        if cull and _faces_away(ex - q[f0, 0], ey - q[f0, 1], ez - q[f0, 2], 0.0, nx, ny, nz, 0.0):
+            continue
+        if o + 3 * (n - 2) > cap:
+            o += 3 * (n - 2)
+            continue
         # Angles in the polygon's plane about the centroid, in the basis (u, n x u).
         mx = my = mz = 0.0
         for j in range(f0, f0 + n):
