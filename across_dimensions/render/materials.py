@@ -1,4 +1,4 @@
-"""The game's look as data: named colours (palettes) and the uniforms they become.
+"""The game's look as data: named colours (palettes), which become uniforms and shader constants.
 
 A palette is a plain dict of named colours. The sky (:mod:`.sky`) and the scene's fog read
 the sky colours from uniforms named ``u_<colour name>``; the scene's fragment shaders have the
