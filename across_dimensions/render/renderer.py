@@ -59,7 +59,7 @@ from .mesh_cache import GpuMesh, MeshCache
 from .passes import PassProfile, RenderStats
 from .radar import RadarRenderer
 from .radar_yield import YIELD_ALPHA, interest_on_screen, radar_yields
-from .shaders import PROGRAMS, palette_constants, program_source
+from .shaders import PROGRAMS, program_source
 from .sky import SkyRenderer
 
 STYLES = ("solid", "floor", "wire", "ghost", "glow")
@@ -127,7 +127,7 @@ class Renderer:
         self.ghost_alpha = float(ghost_alpha)
         self.stats = RenderStats()
         self.meshes = MeshCache(ctx, self.stats)
-        # (look, the palette's constants) -> program name -> program
+        # (look, the palette's colours) -> program name -> program
         self._all_programs: dict[tuple, dict[str, moderngl.Program]] = {}
         self.palette = materials.palette()
         self.look = look
@@ -159,7 +159,9 @@ class Renderer:
         nothing, and one used before costs nothing again."""
         if look not in materials.LOOKS:
             raise RenderError(f"unknown look {look!r}; expected one of {', '.join(materials.LOOKS)}")
-        key = (look, palette_constants(self.palette) if look == "scifi" else ())
+        # Keyed by the palette's colours, which are cheap to compare every frame; its constants
+        # (string formatting) are made only when a program set is built.
+        key = (look, tuple((k, tuple(v)) for k, v in self.palette.items()) if look == "scifi" else ())
         progs = self._all_programs.get(key)
         if progs is None:
             progs = self._all_programs[key] = {}

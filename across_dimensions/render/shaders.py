@@ -450,8 +450,7 @@ def palette_constants(palette: Mapping | None = None) -> tuple[tuple[str, str], 
     """The sci-fi fragment shader's colour constants from ``palette``: ``(name, GLSL vec3)`` pairs.
 
     The key light, the hemisphere ambient (at a vertical face, and what facing up adds), the
-    trims, the floor's lines, ana and kata and the rim of 4D matter, all linear RGB. The same
-    palette gives the same text, so it also names the programs built from it.
+    trims, the floor's lines, ana and kata and the rim of 4D matter, all linear RGB.
     """
     c = materials.DEFAULT if palette is None else palette
 
