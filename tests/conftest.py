@@ -18,6 +18,17 @@ import across_dimensions  # noqa: F401
 GOLDEN_DIR = Path(__file__).parent / "golden"
 REPO = Path(__file__).resolve().parents[1]
 
+#: The shipped levels whose whole-level runs take longest (the longest replays, the most
+#: entities): a test run once per level runs these with the slow tests, so the default run
+#: stays within 15 minutes on a slow 2-core machine and every level is still covered by CI.
+HEAVY_LEVELS = frozenset({"05_blast_and_field", "07_orthogonal_worlds", "09_hive", "10_cloister", "11_crossfire"})
+
+
+def per_level(values, stem=lambda v: Path(v).stem) -> list:
+    """``pytest.param`` per level (a name or a path), with the stem as its id; those of
+    :data:`HEAVY_LEVELS` marked ``slow``."""
+    return [pytest.param(v, id=stem(v), marks=[pytest.mark.slow] if stem(v) in HEAVY_LEVELS else []) for v in values]
+
 
 @pytest.fixture(scope="module")
 def env() -> dict:

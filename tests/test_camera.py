@@ -30,6 +30,7 @@ def _run(game: Game, n: int, **kw) -> None:
         game.step(Actions(**kw))
 
 
+@pytest.mark.slow
 # ----------------------------------------------------------------------- the rig
 def test_pose_stays_orthonormal_over_a_long_run():
     """100 000 ticks (28 minutes of play) of random turning in all three planes: the rotation

@@ -101,6 +101,7 @@ def _switch_hits(level: Path, spots) -> int:
     return hits
 
 
+@pytest.mark.slow
 def test_armory_switch_is_reached_only_by_knocking_its_hidden_block(tmp_path):
     # Shots from near and far, either side, in front of the switch and beside it, at every w
     # the player can take: without the block some hit the switch; with the block fixed in place
@@ -146,6 +147,7 @@ def test_armory_replay_pushes_the_crate_and_without_the_crate_does_not_finish(tm
     assert game.outcome is None
 
 
+@pytest.mark.slow
 # ---------------------------------------------------------------- 5: Blast and Field
 def test_blast_and_field_replay_finishes_with_both_new_weapons():
     summary = _replay_cli(BLAST_FIELD, BLAST_FIELD_REPLAY)
@@ -154,6 +156,7 @@ def test_blast_and_field_replay_finishes_with_both_new_weapons():
     assert ev["blast"] >= 1 and ev["field"] >= 1 and ev["target_hit"] == 2
 
 
+@pytest.mark.slow
 def test_without_the_blast_the_kata_switch_is_never_hit(tmp_path):
     replay = Replay.load(BLAST_FIELD_REPLAY)
     text = BLAST_FIELD.read_text(encoding="utf-8")
@@ -176,6 +179,7 @@ def _shelf_looks(game):
     return crate.style, crate.mesh.colors[0, :3].tolist(), len(pins)
 
 
+@pytest.mark.slow
 def test_the_odd_crate_looks_like_the_others_until_the_field_shows_it():
     level = load_level(BLAST_FIELD)
     plain = {tuple(np.round(b.color[:3], 6)) for b in level.boxes if np.allclose(b.size, 0.8)}

@@ -324,6 +324,7 @@ def outcome_line(out: str) -> str:
     return m.group(0)
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not SHIPPED_REPLAY.exists(), reason="levels/replays/01_first_steps.json has not been recorded yet")
 def test_shipped_replay_is_deterministic(cli):
     first = ok(cli("replay", LEVEL, SHIPPED_REPLAY))

@@ -173,6 +173,7 @@ def test_ghost_spans_say_what_same_as_slice_says_for_each_entity():
     assert same.any() and not same.all()
 
 
+@pytest.mark.slow
 def test_animated_enemies_in_the_frames_batches_are_each_enemys_own_sections(tmp_path):
     """Ten held enemies (lifted trees and swarms of hyperspheres) at several animation poses: the
     frame's batches (the slice, and the ghost layers on either side) hold for each enemy the

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import per_level
 
 pytest.importorskip("tomlkit")
 
@@ -63,7 +64,7 @@ def test_round_trip_of_every_shipped_level(path, tmp_path):
     assert _meaning(load_level(out)) == _meaning(load_level(path))
 
 
-@pytest.mark.parametrize("path", LEVELS, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", per_level(LEVELS))
 def test_every_edit_then_undo_restores_the_exact_level(path):
     ed = LevelEditor(path)
     original = ed.text()

@@ -48,6 +48,7 @@ def test_the_replay_plays_in_process_with_the_same_hashes():
     assert result.divergence is None and result.outcome == "complete"
 
 
+@pytest.mark.slow
 def test_a_changed_action_is_caught_as_a_divergence(tmp_path, env):
     data = json.loads(REPLAY.read_text())
     i = next(i for i, (count, row) in enumerate(data["actions"]) if row[1] == 1.0 and count > 30)
@@ -59,6 +60,7 @@ def test_a_changed_action_is_caught_as_a_divergence(tmp_path, env):
     assert r.returncode == 3 and "replay diverges at tick" in r.stderr, r.stderr
 
 
+@pytest.mark.slow
 def test_update_hashes_keeps_a_replay_that_still_holds(tmp_path, env):
     copy = tmp_path / "prologue.json"
     shutil.copy(REPLAY, copy)
@@ -67,6 +69,7 @@ def test_update_hashes_keeps_a_replay_that_still_holds(tmp_path, env):
     assert copy.read_bytes() == REPLAY.read_bytes()
 
 
+@pytest.mark.slow
 @pytest.mark.gl
 def test_screenshots_of_a_prologue_replay(tmp_path, env):
     shots = tmp_path / "shots"

@@ -70,6 +70,7 @@ print("finished:", sorted(s.progress.finished), "current:", s.progress.current)
 """
 
 
+@pytest.mark.slow
 def test_a_new_player_starts_with_the_prologue_and_goes_on_to_arrival(tmp_path):
     env = dict(os.environ, ACROSS_DIMENSIONS_DATA_DIR=str(tmp_path), ACROSS_DIMENSIONS_CONFIG_DIR=str(tmp_path))
     env.pop("DISPLAY", None)

@@ -131,6 +131,7 @@ def test_the_level_reader_checks_the_field(tmp_path):
         load_level(path)
 
 
+@pytest.mark.slow
 def test_the_folded_stairs_replay_climbs_the_image_and_frees_the_loot_with_the_camera():
     """Level 12's shipped replay, through the command a player types: the stair is walked as an
     image and the crystal for the climb came out for the camera."""

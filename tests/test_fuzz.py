@@ -171,6 +171,7 @@ def test_worker_survives_hangs_and_huge_allocations(fuzz_worker):
     assert p["steps"][0]["stdout"] == "to stdout\n" and p["steps"][0]["stderr"] == "to fd 2\n"
 
 
+@pytest.mark.slow
 def test_worker_stuck_outside_python_is_killed_and_replaced(tmp_path):
     worker = Worker(tmp_path / "worker.log", timeout=1.0, grace=1.0)
     try:

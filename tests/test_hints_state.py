@@ -11,6 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from conftest import per_level
 
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.events import event_kinds
@@ -36,7 +37,7 @@ def test_hint_events_are_game_events():
     assert set(world_hints.EVENTS) <= set(event_kinds())
 
 
-@pytest.mark.parametrize("path", _shipped_with_until(), ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", per_level(_shipped_with_until()))
 def test_a_hint_waiting_for_an_outcome_is_done_on_the_tick_it_happens(path):
     level = load_level(path)
     game = Game(level, seed=0)

@@ -555,7 +555,12 @@ def test_shipped_level_plays_finite(path):
 
 
 @pytest.mark.parametrize(
-    "gravity", [(0.0, -100.0, 0.0), (0.0, 100.0, 0.0), (70.0, -70.0, 10.0)], ids=["down", "up", "sideways"]
+    "gravity",
+    [
+        pytest.param((0.0, -100.0, 0.0), id="down", marks=pytest.mark.slow),  # the longest fall: 30 s and more
+        pytest.param((0.0, 100.0, 0.0), id="up"),
+        pytest.param((70.0, -70.0, 10.0), id="sideways"),
+    ],
 )
 def test_largest_accepted_values_play_finite(tmp_path, gravity):
     from across_dimensions.game.sim import Game

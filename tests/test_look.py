@@ -8,6 +8,7 @@ from pathlib import Path
 import moderngl
 import numpy as np
 import pytest
+from conftest import per_level
 
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.frame import Camera3, Drawable, Frame, Hud
@@ -305,7 +306,7 @@ def test_game_frames_ask_for_the_dome_and_cue_4d_things_by_w():
 
 
 @pytest.mark.gl
-@pytest.mark.parametrize("level", [p.stem for p in level_files()])
+@pytest.mark.parametrize("level", per_level(p.stem for p in level_files()))
 def test_skipping_inner_faces_of_4d_things_changes_no_pixel_a_player_sees(gl_ctx, level, monkeypatch):
     """Sections of 4D things and the level's boxes are closed surfaces wound counter-clockwise
     from outside, so culling their inner faces must leave every view along the level's replay

@@ -164,6 +164,7 @@ def _manipulation_free(replay: Replay) -> Replay:
     return dataclasses.replace(replay, actions=acts, hashes={}, final_hash="")
 
 
+@pytest.mark.slow
 def test_the_bridge_replay_finishes_and_without_manipulation_does_not():
     replay = Replay.load(BRIDGE_REPLAY)
     game = Game(load_level(BRIDGE), seed=replay.seed)

@@ -175,6 +175,7 @@ def xvfb():
         yield display
 
 
+@pytest.mark.slow
 def test_play_from_the_command_line_never_moves_continue_to_a_locked_level(tmp_path, env, xvfb):
     data = tmp_path / "data"
     data.mkdir()

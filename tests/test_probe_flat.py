@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from across_dimensions.game.flatland import FlatGame
 from across_dimensions.probe.flat import flat_library, flat_route
 from across_dimensions.world.flat_level import load_flat_level
@@ -40,6 +42,7 @@ def narrowed(tmp_path) -> Path:
     return path
 
 
+@pytest.mark.slow
 def test_no_bodies_crosses_a_pit_a_late_jump_can_clear(tmp_path):
     # The shortcut is real: where the pit is narrow enough, it wins without the ball.
     level = load_flat_level(narrowed(tmp_path))
@@ -49,6 +52,7 @@ def test_no_bodies_crosses_a_pit_a_late_jump_can_clear(tmp_path):
     assert route.on_ball.any()  # the replay rides the ball; the bot never does
 
 
+@pytest.mark.slow
 def test_the_shipped_prologue_needs_its_ball_its_key_and_its_z():
     level = load_flat_level(PROLOGUE)
     route = flat_route(level)
@@ -57,6 +61,7 @@ def test_the_shipped_prologue_needs_its_ball_its_key_and_its_z():
         assert play(level, route, name, limit=2 * route.ticks).outcome is None, name
 
 
+@pytest.mark.slow
 def test_after_a_fall_into_the_pit_the_bot_gets_back_on_the_route():
     level = load_flat_level(PROLOGUE)
     route = flat_route(level)

@@ -85,6 +85,7 @@ def _hidden(renderer, target, frame) -> tuple[int, int]:
     return behind, hidden
 
 
+@pytest.mark.slow
 @pytest.mark.gl
 def test_the_hud_hides_no_target_of_interest_at_any_pose(gl_ctx, monkeypatch):
     renderer = Renderer(gl_ctx)

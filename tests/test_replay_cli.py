@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 import pytest
-from conftest import xvfb_display
+from conftest import per_level, xvfb_display
 
 from across_dimensions.game.replay import MAX_TICKS, Replay
 
@@ -65,7 +65,7 @@ def replay_json(r) -> dict:
 
 
 # ------------------------------------------------------------------ --json
-@pytest.mark.parametrize("name", SHIPPED)
+@pytest.mark.parametrize("name", per_level(SHIPPED))
 def test_replay_json_for_the_shipped_replays(env, tmp_path, name):
     r = run(env, tmp_path, "replay", name, SHIPPED[name], "--json")
     assert r.returncode == 0, describe(r)

@@ -179,6 +179,7 @@ def test_replay_json_prints_every_error_as_json_too(env, tmp_path):
     assert r.returncode == 2 and r.stdout == ""
 
 
+@pytest.mark.slow
 def test_a_replay_recorded_with_another_bake_names_the_asset(env, tmp_path):
     import hashlib
 

@@ -21,6 +21,7 @@ def _compact(data: dict) -> str:
     return json.dumps(data, separators=(",", ":")) + "\n"
 
 
+@pytest.mark.slow
 def test_update_hashes_repairs_a_wrong_hash_and_keeps_the_actions(env, tmp_path):
     data = json.loads(SOURCE.read_text())
     data["hashes"]["120"] = "0" * 16

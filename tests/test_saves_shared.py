@@ -15,6 +15,8 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
 from across_dimensions.app import saves
 from across_dimensions.app.saves import Progress, load_progress, save_progress
 
@@ -82,6 +84,7 @@ def test_temporary_files_of_killed_saves_are_removed_at_start(tmp_path):
     assert all(p.exists() for p in others)
 
 
+@pytest.mark.slow
 def test_a_killed_saver_leaves_nothing_after_the_next_start(env, tmp_path):
     e = dict(env, ACROSS_DIMENSIONS_DATA_DIR=str(tmp_path))
     for _ in range(5):  # killed at a random point of its saves, often mid-write

@@ -205,6 +205,7 @@ def _window(code, env) -> subprocess.CompletedProcess:
     return r
 
 
+@pytest.mark.slow
 def test_a_secret_found_in_the_window_is_saved_and_counted_on_the_level_select(tmp_path):
     env = dict(os.environ, ACROSS_DIMENSIONS_DATA_DIR=str(tmp_path), ACROSS_DIMENSIONS_CONFIG_DIR=str(tmp_path))
     env.pop("DISPLAY", None)

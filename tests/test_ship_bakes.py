@@ -42,6 +42,7 @@ print(next(Path(sys.argv[2]).glob("*.npz")))
 """
 
 
+@pytest.mark.slow
 def test_a_bake_gives_the_same_bytes_in_three_fresh_processes_and_those_shipped(env, tmp_path):
     files = []
     for i in range(3):

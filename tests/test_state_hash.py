@@ -18,6 +18,7 @@ from collections.abc import Iterator
 
 import numpy as np
 import pytest
+from conftest import per_level
 
 from across_dimensions.game import sim
 from across_dimensions.game.actions import Actions
@@ -190,7 +191,7 @@ def test_every_system_that_sets_up_state_hashes_it():
             assert state is None or system.state_bytes is not None, (name, system_name)
 
 
-@pytest.mark.parametrize("name", ["09_hive", *COVERING])
+@pytest.mark.parametrize("name", per_level(["09_hive", *COVERING]))
 def test_changing_any_state_changes_the_hash(name):
     for game in _checkpoints(name, (0.3, 0.7)):
         missed = every_uncovered(game)
@@ -234,7 +235,7 @@ def _unchanged(before: tuple) -> bool:
     return True
 
 
-@pytest.mark.parametrize("name", ["09_hive", *COVERING])
+@pytest.mark.parametrize("name", per_level(["09_hive", *COVERING]))
 def test_fixed_fields_never_change(name):
     """What the hash leaves out as fixed is set once and stays: over a whole shipped replay, for
     every state and entity there at the start and every entity spawned on the way."""

@@ -378,6 +378,7 @@ scale = [9.0, 4.0, 0.4, 3.0]
         assert (game.entities.named("door") is None) == bool(hits)
 
 
+@pytest.mark.slow
 def test_blast_and_field_replay_finishes_with_every_weapon_used():
     out = subprocess.run(
         [
