@@ -238,15 +238,28 @@ def test_frustum_silhouette_drops_only_hidden_faces(gl_ctx, meshes):
     from across_dimensions.bench.scene import FRUSTUM_FOV, _Scene, spin
 
     pictures, counts = {}, {}
-    for silhouette in (False, True):
+    for how in ("all", "outline", "facing"):
         scene = _Scene("frustum", 6, meshes[0])
         b = scene.batch
-        b.update(scene.meshes, scene.cam4 @ spin(6, 0.4), scene.place, FRUSTUM_FOV, silhouette=silhouette)
-        tb = TriangleBatch("f", 1, b.vertices, "solid", 0, b.faces, None, b.topology_revision)
-        pictures[silhouette] = _image(gl_ctx, Frame(scene.camera, batches=[tb]), (480, 270))
-        counts[silhouette] = len(b.faces)
-    assert counts[True] < 0.4 * counts[False]
-    assert _within_golden_tolerance(pictures[True], pictures[False])
+        eye = scene.camera.position if how == "facing" else None
+        b.update(scene.meshes, scene.cam4 @ spin(6, 0.4), scene.place, FRUSTUM_FOV, silhouette=how != "all", eye=eye)
+        tb = TriangleBatch("f", 1, b.vertices, "solid", 0, b.faces, b.edges, b.topology_revision)
+        pictures[how] = _image(gl_ctx, Frame(scene.camera, batches=[tb]), (480, 270))
+        counts[how] = len(b.faces), len(b.edges)
+    assert counts["outline"][0] < 0.4 * counts["all"][0]
+    assert _within_golden_tolerance(pictures["outline"], pictures["all"])
+    # The outline is closed: its side facing away from the 3D eye is hidden by the other.
+    assert 0.3 * counts["outline"][0] < counts["facing"][0] < 0.6 * counts["outline"][0]
+    assert counts["facing"][1] < 0.8 * counts["outline"][1]
+    assert _within_golden_tolerance(pictures["facing"], pictures["outline"])
+    assert (pictures["facing"] != pictures["facing"][0, 0]).any()
+    # An eye inside a projection's box may see its inside: every outline face is kept.
+    scene = _Scene("frustum", 1, meshes[0])
+    b = scene.batch
+    b.update(scene.meshes, scene.cam4, scene.place, FRUSTUM_FOV)
+    outline = len(b.faces)
+    b.update(scene.meshes, scene.cam4, scene.place, FRUSTUM_FOV, eye=scene.place[0, 1:])
+    assert len(b.faces) == outline
     # A camera inside the near hyperplane of an object sees into it: every face is kept.
     b = FrustumBatch()
     b.update([meshes[0]], [translation((0.0, 0.0, 0.0, 0.5))], [[1.0, 0.0, 0.0, 0.0]], 60.0)

@@ -11,8 +11,9 @@ grid, each turning in xw, yw and zw every frame, and are drawn
   projected by one :class:`~across_dimensions.core.frustum_batch.FrustumBatch`
   call, drawn as solid faces with their edges. Only the faces on the outline of
   each projected solid are kept (between a cell facing the 4D camera and one
-  facing away): drawn opaque, the others are hidden inside it, so dropping them
-  removes the overdraw without changing the picture. (A depth pre-pass,
+  facing away), and of those only the ones facing the 3D eye, with their edges:
+  drawn opaque, the others are hidden, so dropping them removes the overdraw
+  without changing the picture. (A depth pre-pass,
   ``TriangleBatch.prepass``, was measured slower on llvmpipe: its cost is
   setting up triangles, not shading them.)
 
@@ -158,7 +159,7 @@ class _Scene:
             b = self.batch
             return TriangleBatch("bench", b.revision, b.vertices, "solid", b.changed_from, outside_only=True)
         b = self.batch
-        b.update(self.meshes, self.cam4 @ rot, self.place, FRUSTUM_FOV)
+        b.update(self.meshes, self.cam4 @ rot, self.place, FRUSTUM_FOV, eye=self.camera.position)
         return TriangleBatch("bench", b.revision, b.vertices, "solid", 0, b.faces, b.edges, b.topology_revision)
 
     def per_object(self, rot: np.ndarray) -> list[Drawable]:

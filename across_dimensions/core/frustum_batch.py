@@ -27,7 +27,7 @@ import numpy as np
 from ._jit import njit
 from .frustum import focal_length
 from .mesh import TetMesh4
-from .section_batch_tets import ROW
+from .section_batch_tets import CULL_MARGIN, ROW
 
 
 def solid_edges(mesh: TetMesh4, angle_tol: float = 1e-4) -> np.ndarray:
@@ -83,6 +83,9 @@ def silhouette_data(mesh: TetMesh4, angle_tol: float = 1e-4):
         ``normal . vertex`` for a vertex of the tet: its hyperplane is ``normal . x = offset``.
     edge_ptr : (e + 1,) int64, edge_faces : (k,) int64
         For each edge of :func:`solid_edges`, the feature faces that contain it (CSR).
+    apex : (f,) int64
+        Per feature face, the vertex of its first tet that is not on it: projected, it lies
+        on the inner side of the face wherever the face is on the projection's outline.
     """
     key = ("silhouette", angle_tol)
     if key not in mesh._cache:
@@ -94,6 +97,9 @@ def silhouette_data(mesh: TetMesh4, angle_tol: float = 1e-4):
         feat = cos < np.cos(angle_tol)
         assert np.array_equal(faces[feat], mesh.feature_faces(angle_tol))
         owners = np.ascontiguousarray(owners[feat])
+        tet = mesh.tets[owners[:, 0]].astype(np.int64)
+        on_face = (tet[:, :, None] == faces[feat].astype(np.int64)[:, None, :]).any(axis=2)
+        apex = tet[~on_face]  # one vertex per row: a face is three of its tet's four
         offsets = np.einsum("ij,ij->i", n, mesh.vertices.astype(np.float64)[mesh.tets[:, 0]])
         # Edges -> the feature faces containing them.
         ff = mesh.feature_faces(angle_tol).astype(np.int64)
@@ -108,7 +114,8 @@ def silhouette_data(mesh: TetMesh4, angle_tol: float = 1e-4):
         hi = np.searchsorted(fcode[order], ecode, "right")
         edge_ptr = np.concatenate([[0], np.cumsum(hi - lo)]).astype(np.int64)
         edge_faces = np.concatenate([face_of[order[x:y]] for x, y in zip(lo, hi)] or [np.zeros(0, np.int64)])
-        mesh._cache[key] = (owners, np.ascontiguousarray(n), offsets, edge_ptr, edge_faces.astype(np.int64))
+        edge_faces = edge_faces.astype(np.int64)
+        mesh._cache[key] = (owners, np.ascontiguousarray(n), offsets, edge_ptr, edge_faces, apex)
     return mesh._cache[key]
 
 
@@ -132,6 +139,8 @@ class FrustumPool(NamedTuple):
         Per edge: its range in ``edge_faces``.
     edge_faces : (k,) int64
         Local face numbers.
+    apex : (f,) int64
+        Per face: a local vertex on its inner side (:func:`silhouette_data`).
     """
 
     vertices: np.ndarray
@@ -144,6 +153,7 @@ class FrustumPool(NamedTuple):
     edge_ptr: np.ndarray
     edge_end: np.ndarray
     edge_faces: np.ndarray
+    apex: np.ndarray
 
 
 class Placed(NamedTuple):
@@ -151,8 +161,9 @@ class Placed(NamedTuple):
 
     Attributes
     ----------
-    ranges : (k, 7) int64
-        Per instance, its mesh's vertex, face and edge ranges in the pool and its first tet.
+    ranges : (k, 8) int64
+        Per instance, its mesh's vertex, face and edge ranges in the pool, its first tet, and
+        1 if the mesh is closed (every face between two tets), else 0.
     mvs : (k, 5, 5) float64
         Object to 4D camera.
     place : (k, 4) float64
@@ -168,11 +179,15 @@ class Placed(NamedTuple):
 
 
 class Lens(NamedTuple):
-    """The 4D camera's focal length, near distance, and whether to keep only the silhouette."""
+    """The 4D camera's focal length, near distance, whether to keep only the silhouette, and
+    the 3D eye the projections are seen from (``eye (3,) float64``; ``facing``: whether it is
+    given, to leave out the outline's far side)."""
 
     focal: float
     near: float
     silhouette: bool
+    facing: bool
+    eye: np.ndarray
 
 
 class Projected(NamedTuple):
@@ -210,9 +225,10 @@ class _Pool:
             edge_ptr=np.zeros(0, np.int64),
             edge_end=np.zeros(0, np.int64),
             edge_faces=np.zeros(0, np.int64),
+            apex=np.zeros(0, np.int64),
         )
-        # per mesh: v lo, v hi, f lo, f hi, e lo, e hi, tet lo
-        self.ranges = np.zeros((0, 7), np.int64)
+        # per mesh: v lo, v hi, f lo, f hi, e lo, e hi, tet lo, closed
+        self.ranges = np.zeros((0, 8), np.int64)
         self.max_vertices, self.max_faces = 0, 0
 
     def add(self, mesh: TetMesh4) -> int:
@@ -220,10 +236,10 @@ class _Pool:
         if k is None:
             a = self.arrays
             f, e = mesh.feature_faces(), solid_edges(mesh)
-            owners, normals, offsets, edge_ptr, edge_faces = silhouette_data(mesh)
+            owners, normals, offsets, edge_ptr, edge_faces, apex = silhouette_data(mesh)
             r = [len(a.vertices), len(a.vertices) + len(mesh.vertices)]
             r += [len(a.faces), len(a.faces) + len(f), len(a.edges), len(a.edges) + len(e)]
-            r += [len(a.normals)]
+            r += [len(a.normals), int((owners[:, 1] >= 0).all())]
             # Edge ranges: one pointer per edge, into the pooled face lists.
             ptr = np.concatenate([a.edge_ptr, edge_ptr[:-1] + len(a.edge_faces)])
             all_faces = np.concatenate([a.edge_faces, edge_faces])
@@ -238,6 +254,7 @@ class _Pool:
                 edge_ptr=ptr,
                 edge_end=np.append(ptr[1:], len(all_faces)),
                 edge_faces=all_faces,
+                apex=np.concatenate([a.apex, apex]),
             )
             self.ranges = np.concatenate([self.ranges, [r]])
             self.max_vertices = max(self.max_vertices, len(mesh.vertices))
@@ -299,7 +316,14 @@ class FrustumBatch:
         return self._v.nbytes + self._f.nbytes + self._e.nbytes
 
     def update(
-        self, meshes, model_views, place, fov_deg: float = 90.0, near: float = 0.05, silhouette: bool = True
+        self,
+        meshes,
+        model_views,
+        place,
+        fov_deg: float = 90.0,
+        near: float = 0.05,
+        silhouette: bool = True,
+        eye=None,
     ) -> None:
         """Project every instance.
 
@@ -315,11 +339,16 @@ class FrustumBatch:
             edges): a face between a cell facing the 4D camera and one facing away.
             Drawn opaque, the others are hidden inside the projection anyway. An
             instance cut by the near hyperplane keeps every face (one can see into it).
+        eye : (3,) array_like, optional
+            Where the 3D camera sees the projections from. Given, the outline's faces that
+            face away from it are left out too, and the edges only they hold: the outline
+            is a closed surface, so its near side hides its far side. Not for an instance
+            whose projection's box holds the eye (one sees its inside then).
         """
         pool = self._pool
         ids = np.array([pool.add(m) for m in meshes], np.int64)
         self._scratch = pool.scratch(self._scratch)
-        r = pool.ranges[ids] if len(ids) else np.zeros((0, 7), np.int64)
+        r = pool.ranges[ids] if len(ids) else np.zeros((0, 8), np.int64)
         nv, nf, ne = r[:, 1] - r[:, 0], r[:, 3] - r[:, 2], r[:, 5] - r[:, 4]
         # Worst case: every face clipped into a quad with two new points.
         cap_v, cap_f, cap_e = int((nv + 2 * nf).sum()), int(2 * nf.sum()), int(ne.sum())
@@ -334,7 +363,9 @@ class FrustumBatch:
         # The 4D eye in each object's own coordinates: -L^-1 t for model-view [L t].
         eyes = -np.linalg.solve(mvs[:, :4, :4], mvs[:, :4, 4:5])[..., 0] if len(ids) else np.zeros((0, 4))
         placed = Placed(r, mvs, place, np.ascontiguousarray(eyes))
-        lens = Lens(focal_length(fov_deg), float(near), bool(silhouette))
+        facing = eye is not None
+        eye3 = np.asarray(eye if facing else (0.0, 0.0, 0.0), np.float64).reshape(3)
+        lens = Lens(focal_length(fov_deg), float(near), bool(silhouette), facing, eye3)
         counts = _project_batch(pool.arrays, placed, lens, Projected(self._v, self._f, self._e), self._scratch)
         nv_out, nf_out, ne_out, clipped = counts
         signature = (tuple(ids.tolist()), nv_out, nf_out, ne_out)
@@ -355,7 +386,9 @@ def _project_batch(pool, placed, lens, out, ws):
         base = counts[0]
         all_inside = _project_vertices(pool, placed, k, lens, out.vertices, ws)
         cull = lens.silhouette and all_inside
-        _project_faces(pool, placed, k, lens, cull, base, out, ws)
+        closed = placed.ranges[k, 7] != 0
+        facing = cull and lens.facing and closed and _eye_outside(out.vertices, base, counts[0], lens.eye)
+        _project_faces(pool, placed, k, lens, cull, facing, base, out, ws)
         _project_edges(pool, placed, k, cull, base, out.edges, ws)
     return counts[0], counts[1], counts[2], counts[3]
 
@@ -400,10 +433,48 @@ def _project_vertices(pool, placed, k, lens, out, ws):
     return all_inside
 
 
+#: A face of the outline turned away from the 3D eye by less than this (the cosine) keeps its edges.
+RIM_MARGIN = 0.3
+
+
 @njit(inline="always")
-def _project_faces(pool, placed, k, lens, cull, base, out, ws):
+def _eye_outside(rows, lo, hi, eye):
+    """Is ``eye`` outside the box of the projected points ``rows[lo:hi, :3]``?"""
+    inside = True
+    for r in range(3):
+        mn, mx = np.inf, -np.inf
+        for i in range(lo, hi):
+            mn = min(mn, rows[i, r])
+            mx = max(mx, rows[i, r])
+        inside = inside and mn <= eye[r] <= mx
+    return not inside
+
+
+@njit(inline="always")
+def _away(rows, a, b, c, q, eye):
+    """How clearly the projected triangle ``a, b, c`` (rows) faces away from the eye: 0 if it
+    does not (or its inner side is unclear), else the squared cosine between its outward
+    normal and the direction to the eye. ``q``: a row on the triangle's inner side (a thin
+    projected tet leaves it unclear). No root, no division: it runs for every outline face."""
+    ax, ay, az = np.float64(rows[a, 0]), np.float64(rows[a, 1]), np.float64(rows[a, 2])
+    ux, uy, uz = rows[b, 0] - ax, rows[b, 1] - ay, rows[b, 2] - az
+    vx, vy, vz = rows[c, 0] - ax, rows[c, 1] - ay, rows[c, 2] - az
+    nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+    qx, qy, qz = rows[q, 0] - ax, rows[q, 1] - ay, rows[q, 2] - az
+    ex, ey, ez = eye[0] - ax, eye[1] - ay, eye[2] - az
+    n2 = nx * nx + ny * ny + nz * nz
+    sq = nx * qx + ny * qy + nz * qz
+    se = nx * ex + ny * ey + nz * ez
+    clear = sq * sq > (CULL_MARGIN * CULL_MARGIN) * n2 * (qx * qx + qy * qy + qz * qz)
+    cos2 = se * se / max(n2 * (ex * ex + ey * ey + ez * ez), 1e-300)
+    return cos2 if clear and (sq > 0.0) == (se > 0.0) else 0.0  # the eye on the inner side
+
+
+@njit(inline="always")
+def _project_faces(pool, placed, k, lens, cull, facing, base, out, ws):
     """Instance ``k``'s faces into ``out.faces`` (rows from ``base`` on), clipped by the near
-    hyperplane (new points into ``out.vertices``); with ``cull``, only the silhouette's.
+    hyperplane (new points into ``out.vertices``); with ``cull``, only the silhouette's, and
+    with ``facing`` only those of them facing ``lens.eye`` (:func:`_away`).
 
     A face on the silhouette lies between a cell facing the eye and one facing away.
     Which faces are kept goes into ``ws.keep`` for :func:`_project_edges`.
@@ -427,6 +498,13 @@ def _project_faces(pool, placed, k, lens, cull, base, out, ws):
                 keep[fi - f_lo] = False
                 continue
         a0, a1, a2 = faces[fi, 0], faces[fi, 1], faces[fi, 2]
+        if facing:
+            away = _away(ov, base + a0, base + a1, base + a2, base + pool.apex[fi], lens.eye)
+            # A far face near the rim keeps its edges: drawn over the near side's rim, their
+            # lines' width shows past it, as when every face is drawn.
+            keep[fi - f_lo] = away < RIM_MARGIN * RIM_MARGIN
+            if away > CULL_MARGIN * CULL_MARGIN:
+                continue
         nin = np.int64(inside[a0]) + np.int64(inside[a1]) + np.int64(inside[a2])
         if nin == 3:
             out_f[of, 0] = base + a0
