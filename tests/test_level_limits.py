@@ -554,13 +554,9 @@ def test_shipped_level_plays_finite(path):
     _play_random(Game(load_level(path)), 600, seed=7)
 
 
+@pytest.mark.slow  # the first of them builds and plays the largest level: 30-50 s on a slow machine
 @pytest.mark.parametrize(
-    "gravity",
-    [
-        pytest.param((0.0, -100.0, 0.0), id="down", marks=pytest.mark.slow),  # the longest fall: 30 s and more
-        pytest.param((0.0, 100.0, 0.0), id="up"),
-        pytest.param((70.0, -70.0, 10.0), id="sideways"),
-    ],
+    "gravity", [(0.0, -100.0, 0.0), (0.0, 100.0, 0.0), (70.0, -70.0, 10.0)], ids=["down", "up", "sideways"]
 )
 def test_largest_accepted_values_play_finite(tmp_path, gravity):
     from across_dimensions.game.sim import Game

@@ -388,7 +388,7 @@ def _project_batch(pool, placed, lens, out, ws):
         cull = lens.silhouette and all_inside
         closed = placed.ranges[k, 7] != 0
         facing = cull and lens.facing and closed and _eye_outside(out.vertices, base, counts[0], lens.eye)
-        _project_faces(pool, placed, k, lens, cull, facing, base, out, ws)
+        _project_faces(pool, placed, k, lens, np.int64(cull) + np.int64(facing), base, out, ws)
         _project_edges(pool, placed, k, cull, base, out.edges, ws)
     return counts[0], counts[1], counts[2], counts[3]
 
@@ -471,10 +471,10 @@ def _away(rows, a, b, c, q, eye):
 
 
 @njit(inline="always")
-def _project_faces(pool, placed, k, lens, cull, facing, base, out, ws):
+def _project_faces(pool, placed, k, lens, cull, base, out, ws):
     """Instance ``k``'s faces into ``out.faces`` (rows from ``base`` on), clipped by the near
-    hyperplane (new points into ``out.vertices``); with ``cull``, only the silhouette's, and
-    with ``facing`` only those of them facing ``lens.eye`` (:func:`_away`).
+    hyperplane (new points into ``out.vertices``); with ``cull`` 1, only the silhouette's, and
+    with 2 only those of them facing ``lens.eye`` (:func:`_away`).
 
     A face on the silhouette lies between a cell facing the eye and one facing away.
     Which faces are kept goes into ``ws.keep`` for :func:`_project_edges`.
@@ -489,7 +489,7 @@ def _project_faces(pool, placed, k, lens, cull, facing, base, out, ws):
     o, of, clipped = counts[0], counts[1], counts[3]
     for fi in range(f_lo, f_hi):
         keep[fi - f_lo] = True
-        if cull and owners[fi, 1] >= 0:
+        if cull != 0 and owners[fi, 1] >= 0:
             ta = t_lo + owners[fi, 0]
             tb = t_lo + owners[fi, 1]
             fa = offsets[ta] - (normals[ta, 0] * e0 + normals[ta, 1] * e1 + normals[ta, 2] * e2 + normals[ta, 3] * e3)
@@ -498,7 +498,7 @@ def _project_faces(pool, placed, k, lens, cull, facing, base, out, ws):
                 keep[fi - f_lo] = False
                 continue
         a0, a1, a2 = faces[fi, 0], faces[fi, 1], faces[fi, 2]
-        if facing:
+        if cull == 2:
             away = _away(ov, base + a0, base + a1, base + a2, base + pool.apex[fi], lens.eye)
             # A far face near the rim keeps its edges: drawn over the near side's rim, their
             # lines' width shows past it, as when every face is drawn.
