@@ -152,6 +152,16 @@ def activate(environ=os.environ) -> bool:
     return True
 
 
+def for_child(environ=os.environ) -> dict:
+    """A copy of ``environ`` without what :func:`activate` set in it, so a child process started
+    with it decides afresh, as a player's first start does (and sees no CPU target chosen)."""
+    env = dict(environ)
+    if ACTIVE_ENV in env:  # the variables below came from activate(), not from the user
+        for k in (ACTIVE_ENV, "NUMBA_CPU_NAME", "NUMBA_CPU_FEATURES", "NUMBA_CACHE_LOCATOR_CLASSES"):
+            env.pop(k, None)
+    return env
+
+
 def active() -> bool:
     """True when this process loads kernels from the shipped cache (:func:`activate` ran)."""
     return bool(os.environ.get(ACTIVE_ENV)) and os.environ.get(FILL_ENV) != "1"

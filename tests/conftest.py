@@ -15,6 +15,13 @@ import pytest
 # replays played in this process match their recorded hashes on a CPU with AVX-512 too.
 import across_dimensions  # noqa: F401
 
+# Before numba is imported, as the game does at its start: this process loads the shipped
+# kernels instead of compiling them (minutes on two cores), and caches the rest where the caller
+# chose (``NUMBA_CACHE_DIR``), else in the player's cache folder. The `env` fixture gives child
+# processes the environment without this choice, so each starts as a player's would.
+import across_dimensions.app  # noqa: F401
+from across_dimensions import _shipped_kernels
+
 GOLDEN_DIR = Path(__file__).parent / "golden"
 REPO = Path(__file__).resolve().parents[1]
 
@@ -34,7 +41,7 @@ def per_level(values, stem=lambda v: Path(v).stem) -> list:
 def env() -> dict:
     """Environment for running the command as a subprocess: this checkout first on the path, the
     numba cache as the caller set it (a test module may define its own)."""
-    e = dict(os.environ)
+    e = _shipped_kernels.for_child()
     e["PYTHONPATH"] = os.pathsep.join(p for p in (str(REPO), e.get("PYTHONPATH")) if p)
     e.pop("PYTHONWARNINGS", None)
     return e

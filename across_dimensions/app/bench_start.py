@@ -33,10 +33,7 @@ _TIMING = re.compile(r"^timing: (.+?) at ([0-9.]+) s$")
 
 def fresh_env(home: str) -> dict:
     """The environment of a first start: this one's, with every folder the game writes new and empty."""
-    env = dict(os.environ)
-    if shipped.ACTIVE_ENV in env:  # set by this process's own start: the child decides afresh
-        for k in (shipped.ACTIVE_ENV, "NUMBA_CPU_NAME", "NUMBA_CPU_FEATURES", "NUMBA_CACHE_LOCATOR_CLASSES"):
-            env.pop(k, None)
+    env = shipped.for_child()  # this process's own start chose its kernels: the child decides afresh
     for name, sub in (
         ("NUMBA_CACHE_DIR", "numba"),
         ("ACROSS_DIMENSIONS_DATA_DIR", "data"),
