@@ -437,3 +437,22 @@ def test_add_body_takes_a_body_def_with_defaults():
     with pytest.raises(ValueError, match="position"):
         world.add_body(BodyDef(position=(1, 2, 3)))
     assert world.body_ids == [0, 1, 2]
+
+
+def test_the_static_world_is_kept_c_ordered_whatever_layout_it_is_given():
+    """The tick is compiled (and shipped) for C-ordered arrays: a solid's planes or tets given
+    transposed, as a hull or a lifted asset may give them, must not make numba compile it again."""
+    from numba import typeof
+
+    world = PhysicsWorld()
+    axes = np.vstack([np.eye(4), -np.eye(4)])
+    planes = np.asfortranarray(np.hstack([axes, np.ones((8, 1))]))  # the tesseract [-1, 1]^4
+    assert not planes.flags.c_contiguous
+    world.set_static_convex([(planes, -np.ones(4), np.ones(4))])
+    tet = np.array([[5, 0, 0, 0], [6, 0, 0, 0], [5, 1, 0, 0], [5, 0, 1, 0]], float)
+    world.set_static_tets([np.asfortranarray(tet[None])], motions=[np.asfortranarray(np.zeros((4, 5)))])
+    world.add_body(BodyDef("hypercube", size=0.5, position=(0.0, 1.6, 0.0, 0.0)))
+    for _ in range(60):
+        world.step(1 / 60)
+    assert all(typeof(a).layout == "C" for a in world.static), [str(typeof(a)) for a in world.static]
+    assert world.body_position(0)[1] == pytest.approx(1.25, abs=0.02)  # resting on the tesseract's top

@@ -455,7 +455,7 @@ def _away(rows, a, b, c, q, eye):
     """How clearly the projected triangle ``a, b, c`` (rows) faces away from the eye: 0 if it
     does not (or its inner side is unclear), else the squared cosine between its outward
     normal and the direction to the eye. ``q``: a row on the triangle's inner side (a thin
-    projected tet leaves it unclear). No root, no division: it runs for every outline face."""
+    projected tet leaves it unclear). No root and one division: it runs for every outline face."""
     ax, ay, az = np.float64(rows[a, 0]), np.float64(rows[a, 1]), np.float64(rows[a, 2])
     ux, uy, uz = rows[b, 0] - ax, rows[b, 1] - ay, rows[b, 2] - az
     vx, vy, vz = rows[c, 0] - ax, rows[c, 1] - ay, rows[c, 2] - az

@@ -118,6 +118,15 @@ class TetMeshes:
 class WorldStatic:
     """Methods on the static world of a :class:`~.world.PhysicsWorld` (see there for its state)."""
 
+    def _set_static(self, **fields: np.ndarray) -> None:
+        """Replace fields of the static world, each as a C-ordered array.
+
+        Numba compiles a kernel once per array layout: one Fortran-ordered field (a solid's
+        planes given transposed) would compile the whole tick again, minutes on two cores,
+        instead of loading the kernels shipped for C-ordered arrays.
+        """
+        self.static = self.static._replace(**{k: np.ascontiguousarray(v) for k, v in fields.items()})
+
     def add_half_space(self, normal, offset: float = 0.0) -> int:
         """Add the static solid ``{x : n . x <= offset}`` (``n`` is normalised).
 
@@ -129,7 +138,7 @@ class WorldStatic:
         if ln == 0:
             raise ValueError("normal must be non-zero")
         row = np.append(n / ln, float(offset) / ln)
-        self.static = self.static._replace(half_spaces=np.vstack([self.static.half_spaces, row[None]]))
+        self._set_static(half_spaces=np.vstack([self.static.half_spaces, row[None]]))
         self._forget_static_manifolds()
         self._wake_all()
         return self.static.half_spaces.shape[0] - 1
@@ -144,7 +153,7 @@ class WorldStatic:
             if np.any(h <= 0):
                 raise ValueError("world box half extents must be positive")
             rows.append(np.concatenate([c, h]))
-        self.static = self.static._replace(boxes=np.array(rows, dtype=np.float64).reshape(-1, 6))
+        self._set_static(boxes=np.array(rows, dtype=np.float64).reshape(-1, 6))
         self._forget_static_manifolds()
         self._wake_all()
 
@@ -171,7 +180,7 @@ class WorldStatic:
         old = self.static.solids
         if new.shape == old.shape and np.array_equal(new, old):
             return
-        self.static = self.static._replace(solids=new)
+        self._set_static(solids=new)
         self._forget_static_manifolds()
         changed = [r for r in old if not any(np.array_equal(r, q) for q in new)]
         changed += [r for r in new if not any(np.array_equal(r, q) for q in old)]
@@ -211,7 +220,7 @@ class WorldStatic:
         old = (st.convex_planes, st.convex_ranges, st.convex_bounds)
         if all(a.shape == b.shape and np.array_equal(a, b) for a, b in zip(new, old)):
             return
-        self.static = st._replace(convex_planes=new[0], convex_ranges=new[1], convex_bounds=new[2])
+        self._set_static(convex_planes=new[0], convex_ranges=new[1], convex_bounds=new[2])
         self._forget_static_manifolds()
         # Wake sleepers near every convex solid before and after (changes are rare: a door opens).
         self._wake_near_solids([_bounds_box(b) for b in old[2]] + [_bounds_box(b) for b in new[2]])
@@ -248,10 +257,10 @@ class WorldStatic:
                 raise ValueError(f"{len(inputs)} tet meshes but {len(motion)} motions")
         if self._tets.same(inputs):
             if not np.array_equal(motion, self.static.tet_motion):
-                self.static = self.static._replace(tet_motion=motion)
+                self._set_static(tet_motion=motion)
             return
         arrays, changed = self._tets.update(inputs)
-        self.static = self.static._replace(**arrays, tet_motion=motion)
+        self._set_static(**arrays, tet_motion=motion)
         # Wake sleepers near each mesh that moved, where it was and where it is now.
         self._wake_near_solids([_bounds_box(b) for b in changed if np.all(np.isfinite(b))])
 
