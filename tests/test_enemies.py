@@ -149,6 +149,33 @@ def test_swarm_is_ten_hyperspheres_and_its_section_changes_as_it_turns_in_zw():
     assert len(set(counts)) > 1  # translated along w and turned in zw, the slice shows another shape
 
 
+def test_body_models_pose_every_foe_as_body_model_does_bit_for_bit():
+    """The one-pass poses (:class:`Track`) against each foe's own: keys of both kinds, a still
+    animation, planes one key leaves out, integer degrees, negative zero, times past the loop."""
+    from types import SimpleNamespace
+
+    from across_dimensions.world.enemy_tables import KeySpec
+
+    rng = np.random.default_rng(7)
+    body = SimpleNamespace(scale=np.array([0.5, 0.7, 0.5, 0.4]), pivot=np.array([0.1, -0.2, 0.0, 0.05]))
+    tracks = [
+        en.default_keys("swarm"),
+        en.default_keys("morph"),
+        [KeySpec(0.0, np.array([-0.0, 0.2, 0.0, -0.0]), {"xw": 30})],  # still
+        [KeySpec(0.0, np.zeros(4), {"xy": 10}), KeySpec(1.0, np.ones(4), {"zw": -45.5}), KeySpec(1.0, np.ones(4), {})],
+    ]
+    foes, times, grows = [], [], []
+    for i in range(40):
+        keys = tracks[i % len(tracks)]
+        foes.append(SimpleNamespace(keys=keys, track=en.Track(keys), body=body, centre=rng.normal(size=4)))
+        times.append(float(rng.uniform(-3.0, 20.0)) if i % 5 else 1.0 * (i // 5))
+        grows.append(1.0 if i % 3 else float(rng.uniform(1.0, 2.5)))
+    models = en.body_models(foes, times, grows)
+    for foe, t, g, m in zip(foes, times, grows, models):
+        one = en.body_model(foe.body, foe.keys, foe.centre, t, g)
+        assert one.tobytes() == m.tobytes(), (t, foe.keys)
+
+
 # ------------------------------------------------------------------ the state machine
 def scout(level: LevelBuilder) -> LevelBuilder:
     """``level`` with a swarm posted 10 m ahead, 1.6 ana, that sees the player within 10 m."""

@@ -49,6 +49,7 @@ another w than the body, so only a bullet's w swing reaches it.
 from __future__ import annotations
 
 import bisect
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -134,7 +135,7 @@ def animation_at(keys: list[KeySpec], t: float) -> tuple[np.ndarray, dict]:
     (see :func:`animation_pose`)."""
     if len(keys) == 1 or keys[-1].time <= 0.0:
         k = keys[0]
-        return k.offset, {p: np.radians(a) for p, a in k.rotation_deg.items()}
+        return k.offset, {p: math.radians(a) for p, a in k.rotation_deg.items()}
     tm = float(t) % keys[-1].time
     j = max(0, bisect.bisect_right([k.time for k in keys], tm) - 1)
     a, b = keys[j], keys[min(j + 1, len(keys) - 1)]
@@ -143,7 +144,7 @@ def animation_at(keys: list[KeySpec], t: float) -> tuple[np.ndarray, dict]:
     s = s * s * (3.0 - 2.0 * s)
     planes = set(a.rotation_deg) | set(b.rotation_deg)
     angles = {
-        p: np.radians(a.rotation_deg.get(p, 0.0) + s * (b.rotation_deg.get(p, 0.0) - a.rotation_deg.get(p, 0.0)))
+        p: math.radians(a.rotation_deg.get(p, 0.0) + s * (b.rotation_deg.get(p, 0.0) - a.rotation_deg.get(p, 0.0)))
         for p in planes
     }
     return a.offset + s * (b.offset - a.offset), angles
@@ -210,18 +211,57 @@ def body_model(body: Body, keys, centre, t: float, grow: float = 1.0) -> np.ndar
     return translation(centre) @ animation_pose(keys, t) @ scaling(body.scale * grow) @ translation(-body.pivot)
 
 
+class Track:
+    """An animation's keyframes as arrays, to pose many foes in one pass (:func:`body_models`)
+    with the numbers :func:`animation_at` gives, bit for bit.
+
+    Attributes
+    ----------
+    offsets : (k, 4) float64
+        Each key's offset.
+    degrees : (k, 6) float64
+        Each key's angles in :data:`~core.transform.PLANES` order, degrees (a plane it leaves
+        out is 0, which interpolates as :func:`animation_at`'s ``get(plane, 0.0)`` does).
+    """
+
+    def __init__(self, keys: list[KeySpec]):
+        self.times = [k.time for k in keys]
+        self.still = len(keys) == 1 or keys[-1].time <= 0.0
+        self.offsets = np.array([k.offset for k in keys], np.float64).reshape(-1, 4)
+        self.degrees = angle_rows([k.rotation_deg for k in keys])
+
+    def segment(self, t: float) -> tuple[int, int, float]:
+        """The keys ``t`` seconds lies between and the smoothstep from the first to the second."""
+        if self.still:
+            return 0, 0, 0.0
+        times = self.times
+        tm = float(t) % times[-1]
+        j = max(0, bisect.bisect_right(times, tm) - 1)
+        b = min(j + 1, len(times) - 1)
+        span = times[b] - times[j]
+        s = 0.0 if span <= 0 else (tm - times[j]) / span
+        return j, b, s * s * (3.0 - 2.0 * s)
+
+
 def body_models(foes: list, times: list[float], grows: list[float]) -> np.ndarray:
     """Every foe's :func:`body_model` in one pass, ``(n, 5, 5) float64``, bit for bit the same:
     foe ``i`` (a :class:`Foe`) at ``times[i]`` seconds, grown by ``grows[i]``."""
     n = len(foes)
-    offsets, angles = np.zeros((n, 4)), []
+    first, second = np.zeros((n, 10)), np.zeros((n, 10))  # per foe: the two keys' offset, degrees
+    s, still = np.zeros((n, 1)), np.zeros(n, bool)
     for i, (foe, t) in enumerate(zip(foes, times)):
-        offsets[i], a = animation_at(foe.keys, t)
-        angles.append(a)
+        track = foe.track
+        j, b, s[i, 0] = track.segment(t)
+        first[i, :4], first[i, 4:] = track.offsets[j], track.degrees[j]
+        second[i, :4], second[i, 4:] = track.offsets[b], track.degrees[b]
+        still[i] = track.still
+    mix = first + s * (second - first)  # animation_at's a + s (b - a), every foe at once
+    offsets = np.where(still[:, None], first[:, :4], mix[:, :4])  # a still key's own offset, -0.0 kept
+    angles = np.radians(mix[:, 4:])
     centres = np.array([foe.centre for foe in foes], np.float64).reshape(n, 4)
     scales = np.array([foe.body.scale * g for foe, g in zip(foes, grows)], np.float64).reshape(n, 4)
     pivots = np.array([-foe.body.pivot for foe in foes], np.float64).reshape(n, 4)
-    animation = poses(offsets, angle_rows(angles), np.ones((n, 4)))
+    animation = poses(offsets, angles, np.ones((n, 4)))
     return translations(centres) @ animation @ scalings(scales) @ translations(pivots)
 
 
@@ -270,6 +310,7 @@ class Foe:
     weak: int | None = None  # entity id of its weak spot's marker
     phase: float = fixed(default=0.0)  # seconds its animation runs ahead of the clock (enemies do not move in step)
     eid: int = fixed(default=-1)  # its entity id
+    track: Track | None = fixed(default=None)  # ``keys`` as arrays, for body_models
 
     @property
     def alive(self) -> bool:

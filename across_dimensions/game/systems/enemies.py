@@ -8,6 +8,8 @@ the pause between shots), which the state hash covers.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ...world.gameplay import CrystalSpec
@@ -36,6 +38,7 @@ def setup(game) -> en.Hive | None:
         keys = spec.keys if spec.keys else en.default_keys(spec.kind)
         side = 1 if spec.position[3] >= spawn_w else -1
         foe = en.Foe(spec, body, keys, i, spec.position.astype(np.float64).copy(), side, spec.health)
+        foe.track = en.Track(keys)
         foe.phase = 0.9 * i
         foe.drift = spec.position.astype(np.float64).copy()
         model = en.body_model(body, keys, foe.centre, game.time + foe.phase)
@@ -113,7 +116,7 @@ def _move_all(game, moves: list) -> None:
     speed = np.array([sp for *_, sp, _ in moves]) * dt
     w_speed = np.array([ws for *_, ws in moves]) * dt
     d = target[:, :3] - c[:, :3]
-    n = np.array([float(np.linalg.norm(v)) for v in d])  # np.linalg.norm row by row: the same bits as one by one
+    n = np.sqrt((d * d).sum(axis=1))  # rounded as np.linalg.norm rounds each row: squares, summed in order
     far = n > speed
     step = d.copy()
     step[far] = d[far] * (speed[far] / n[far])[:, None]
@@ -156,11 +159,11 @@ def _think(game, foe: en.Foe, moves: list) -> None:
     """One tick of the state machine: transitions first, then the motion it asks for, added to
     ``moves`` (see :func:`_move_all`)."""
     p = game.player.position
-    pw = float(p[3])
+    px, pz, pw = float(p[0]), float(p[2]), float(p[3])
     spec = foe.spec
     home = spec.position
-    to_player = float(np.linalg.norm(p[[0, 2]] - foe.centre[[0, 2]]))
-    player_from_post = float(np.linalg.norm(p[[0, 2]] - home[[0, 2]]))
+    to_player = _length(px - float(foe.centre[0]), pz - float(foe.centre[2]))
+    player_from_post = _length(px - float(home[0]), pz - float(home[2]))
     s = foe.state
 
     if s == "hidden":
@@ -229,20 +232,30 @@ def _think(game, foe: en.Foe, moves: list) -> None:
         foe.next_shot = game.tick + _seconds(game, en.WINDUP)
 
 
+def _length(x: float, z: float) -> float:
+    """``|(x, z)|``, as ``np.linalg.norm`` of the pair rounds it (two products, one sum, one
+    root) without its cost: the enemies' state machine asks for a few per enemy and tick."""
+    return math.sqrt(x * x + z * z)
+
+
 def _post_target(foe: en.Foe, player_pos) -> np.ndarray:
     """Where it attacks from: its reach's standoff from the player, on the player's side of
     its post (so it comes towards a player far away and backs off from one too near), on a
-    leash from the post, at the post's height and the player's w."""
+    leash from the post, at the post's height and the player's w.
+
+    In plain floats, each operation the one numpy did on the pairs, so the same bits."""
     home = foe.spec.position
-    d = home[[0, 2]] - player_pos[[0, 2]]
-    n = float(np.linalg.norm(d))
-    u = d / n if n > 1e-9 else np.array([0.0, 1.0])
-    xz = player_pos[[0, 2]] + u * foe.spec.reach * en.STANDOFF
-    off = xz - home[[0, 2]]
-    k = float(np.linalg.norm(off))
+    hx, hz, px, pz = float(home[0]), float(home[2]), float(player_pos[0]), float(player_pos[2])
+    dx, dz = hx - px, hz - pz
+    n = _length(dx, dz)
+    ux, uz = (dx / n, dz / n) if n > 1e-9 else (0.0, 1.0)
+    stand = float(foe.spec.reach)
+    x, z = px + ux * stand * en.STANDOFF, pz + uz * stand * en.STANDOFF
+    ox, oz = x - hx, z - hz
+    k = _length(ox, oz)
     if k > en.LEASH:
-        xz = home[[0, 2]] + off * (en.LEASH / k)
-    return np.array([xz[0], home[1], xz[1], float(player_pos[3])])
+        x, z = hx + ox * (en.LEASH / k), hz + oz * (en.LEASH / k)
+    return np.array([x, float(home[1]), z, float(player_pos[3])])
 
 
 # ------------------------------------------------------------------ shots
