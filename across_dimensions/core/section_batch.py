@@ -447,13 +447,14 @@ class SectionBatch:
             culled = last[4]
         else:
             diff, culled = np.ones(n, bool), np.zeros(n, bool)
-            if last is not None:
+            if last is not None:  # other keys (a ghost layer's pick changes): match them by key
                 where = {k: i for i, k in enumerate(last[0])}
-                for i, k in enumerate(keys):
-                    j = where.get(k)
-                    if j is not None:
-                        diff[i] = last[1][j] != mesh_ids[i] or last[2][j] != visible[i] or (last[3][j] != mvs[i]).any()
-                        culled[i] = last[4][j]
+                was = np.fromiter((where.get(k, -1) for k in keys), np.int64, n)
+                now = np.flatnonzero(was >= 0)
+                j = was[now]
+                moved = (last[3][j] != mvs[now]).reshape(-1, 25).any(axis=1)
+                diff[now] = (last[1][j] != mesh_ids[now]) | (last[2][j] != visible[now]) | moved
+                culled[now] = last[4][j]
         self._last = (keys, mesh_ids, visible, mvs, culled)
         return diff, culled
 

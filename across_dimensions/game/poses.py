@@ -45,7 +45,10 @@ def rotations(angles: np.ndarray) -> np.ndarray:
         g[:, j, j] = c
         g[:, i, j] = -s
         g[:, j, i] = s
-        r[on] = r[on] @ g
+        if len(on) == n:  # every row turns in this plane (things spinning alike): no gather, no scatter
+            r = r @ g
+        else:
+            r[on] = r[on] @ g
     return r
 
 
