@@ -35,6 +35,7 @@ import numpy as np
 import pytest
 from conftest import xvfb_display
 
+from across_dimensions._shipped_kernels import for_child
 from across_dimensions.app.freeze import elf_facts, required_glibc, unshipped_kernels
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -56,7 +57,7 @@ def _freeze(*args, blocked_pyinstaller=False):
     if blocked_pyinstaller:
         code += "sys.modules['PyInstaller'] = None  # import PyInstaller now raises ImportError\n"
     code += "runpy.run_module('across_dimensions.app.freeze', run_name='__main__')\n"
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    env = dict(for_child(), PYTHONPATH=str(ROOT))
     return subprocess.run([sys.executable, "-c", code, *args], env=env, capture_output=True, text=True, timeout=120)
 
 
@@ -80,7 +81,7 @@ def built(tmp_path_factory):
     if not os.environ.get(PREBUILT_ENV):
         pytest.importorskip("PyInstaller", reason="the standalone extra (PyInstaller) is not installed")
         cmd = [sys.executable, "-m", "across_dimensions.app.freeze", "--dist", str(dist), "--work", str(tmp / "work")]
-        done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=3600)
+        done = subprocess.run(cmd, cwd=ROOT, env=for_child(), capture_output=True, text=True, timeout=3600)
         assert done.returncode == 0, done.stdout + done.stderr
     archives = list(dist.glob("across-dimensions-*.tar.gz"))
     assert len(archives) == 1, archives
@@ -123,7 +124,7 @@ def _pngs(home: Path) -> list[Path]:
 
 
 def _installed(*args):
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    env = dict(for_child(), PYTHONPATH=str(ROOT))
     return subprocess.run([sys.executable, "-m", "across_dimensions", *args], env=env, capture_output=True, text=True)
 
 
