@@ -133,15 +133,12 @@ def animation_pose(keys: list[KeySpec], t: float) -> np.ndarray:
 def animation_at(keys: list[KeySpec], t: float) -> tuple[np.ndarray, dict]:
     """The animation's offset ``(4,) float64`` and angles (plane to radians) at ``t`` seconds
     (see :func:`animation_pose`)."""
-    if len(keys) == 1 or keys[-1].time <= 0.0:
+    track = Track(keys)
+    if track.still:
         k = keys[0]
         return k.offset, {p: math.radians(a) for p, a in k.rotation_deg.items()}
-    tm = float(t) % keys[-1].time
-    j = max(0, bisect.bisect_right([k.time for k in keys], tm) - 1)
-    a, b = keys[j], keys[min(j + 1, len(keys) - 1)]
-    span = b.time - a.time
-    s = 0.0 if span <= 0 else (tm - a.time) / span
-    s = s * s * (3.0 - 2.0 * s)
+    j, i, s = track.segment(t)
+    a, b = keys[j], keys[i]
     planes = set(a.rotation_deg) | set(b.rotation_deg)
     angles = {
         p: math.radians(a.rotation_deg.get(p, 0.0) + s * (b.rotation_deg.get(p, 0.0) - a.rotation_deg.get(p, 0.0)))
