@@ -145,19 +145,26 @@ def activate(environ=os.environ) -> bool:
     """
     if why_not(environ) is not None:
         return False
-    environ["NUMBA_CPU_NAME"] = CPU
-    environ["NUMBA_CPU_FEATURES"] = ""  # the features the name implies, not this machine's
-    environ["NUMBA_CACHE_LOCATOR_CLASSES"] = f"{LOCATOR},numba.core.caching.UserProvidedCacheLocator"
-    environ[ACTIVE_ENV] = str(shipped_dir())
+    environ.update(_activation())
     return True
+
+
+def _activation() -> dict:
+    """The variables :func:`activate` sets, and their values."""
+    return {
+        "NUMBA_CPU_NAME": CPU,
+        "NUMBA_CPU_FEATURES": "",  # the features the name implies, not this machine's
+        "NUMBA_CACHE_LOCATOR_CLASSES": f"{LOCATOR},numba.core.caching.UserProvidedCacheLocator",
+        ACTIVE_ENV: str(shipped_dir()),
+    }
 
 
 def for_child(environ=os.environ) -> dict:
     """A copy of ``environ`` without what :func:`activate` set in it, so a child process started
     with it decides afresh, as a player's first start does (and sees no CPU target chosen)."""
     env = dict(environ)
-    if ACTIVE_ENV in env:  # the variables below came from activate(), not from the user
-        for k in (ACTIVE_ENV, "NUMBA_CPU_NAME", "NUMBA_CPU_FEATURES", "NUMBA_CACHE_LOCATOR_CLASSES"):
+    if ACTIVE_ENV in env:  # then activate() set these, not the user
+        for k in _activation():
             env.pop(k, None)
     return env
 
