@@ -425,6 +425,15 @@ def test_bench_levels_reports_the_worst_frame_of_a_level():
     passes = {p["pass"]: p for p in row["passes"]}
     assert passes["scenery"]["triangles"] > 0
     assert 0.8 < sum(passes[k]["overdraw"] for k in ("scenery", "matter", "sky")) < 3.0, passes
+    # At a render scale below 1 (llvmpipe's default), the same for its worst frame: the scene at
+    # that scale, then the upscale, a full-size pass of its own.
+    scaled = {p["pass"]: p for p in row["passes_at_scale"]}
+    if row["render_scale"] < 1.0:
+        assert scaled["scenery"]["triangles"] > 0 and scaled["upscale"]["ms"] > 0.0, scaled
+        assert 0.8 < sum(scaled[k]["overdraw"] for k in ("scenery", "matter", "sky")) < 3.0, scaled
+        assert f"render scale {row['render_scale']:g}, worst pose, CPU ms per pass" in r.stderr
+    else:
+        assert not scaled
     assert "[PASS]" in r.stderr or "[FAIL]" in r.stderr
     assert "full size" in r.stderr and "Peak memory" not in r.stderr
 

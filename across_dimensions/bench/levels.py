@@ -18,7 +18,9 @@ what lies beyond, about what a player pressed against it sees.)
 
 Beside each worst full-size frame's wall time is its CPU time (the whole
 process, llvmpipe's threads included), and under each level where that frame's
-time goes, pass by pass (:mod:`..render.passes`: CPU ms, triangles, overdraw).
+time goes, pass by pass (:mod:`..render.passes`: CPU ms, triangles, overdraw),
+then the same for the worst frame at the render scale, where the upscale to the
+window is a full-size pass of its own.
 The targets are printed for full size (with the render scale's figures, same
 run, as the baseline) and for the render scale; ``bench levels`` then measures
 the peak memory of ``play`` on the largest level (:mod:`.memory`).
@@ -38,7 +40,7 @@ from ..game.systems.ghosts import GhostView
 from ..render.context import Offscreen, create_offscreen_context
 from ..render.passes import PassProfile
 from ..render.renderer import Renderer
-from ..render.scale import ScaledTarget, resolve_render_scale
+from ..render.scale import ScaledTarget, resolve_render_scale, scaled_size
 from ..world.level import load_level
 from ..world.resources import level_files, resolve_level
 from .memory import TARGET_MB
@@ -106,20 +108,22 @@ def _geometry(game: Game) -> int:
     return tris + sum(len(w.mesh.tets) for w in scene.worlds) + sum(len(o.mesh.tets) for o in scene.objects)
 
 
-def _profile(game: Game, view: tuple, pose: tuple, feet: tuple, frames: int) -> list[dict]:
-    """Where the time of the frame at ``pose`` goes at full size, pass by pass (see
-    :mod:`..render.passes`): the mean of ``frames`` profiled frames."""
+def _profile(game: Game, view: tuple, pose: tuple, feet: tuple, frames: int, scale: float = 1.0) -> list[dict]:
+    """Where the time of the frame at ``pose`` goes at ``scale``, pass by pass (see
+    :mod:`..render.passes`): the mean of ``frames`` profiled frames. Overdraw is per pixel of
+    the scaled view."""
     renderer, size = view[1], view[4]
-    renderer.profile = PassProfile(view[0], size[0] * size[1])
+    w, h = scaled_size(size, scale)
+    renderer.profile = PassProfile(view[0], w * h)
     try:
         for _ in range(frames):
-            _draw_at(game, view, pose, feet, 1.0)
+            _draw_at(game, view, pose, feet, scale)
         return renderer.profile.rows(frames)
     finally:
         renderer.profile = None
 
 
-def _print_passes(rows: list[dict], out) -> None:
+def _print_passes(rows: list[dict], out, where: str = "full size") -> None:
     """One line of the passes that cost anything: ms, triangles (k) and overdraw (x the view)."""
     parts = []
     for r in rows:
@@ -127,7 +131,7 @@ def _print_passes(rows: list[dict], out) -> None:
             parts.append(f"{r['pass']} {r['ms']:.1f} ({r['triangles'] / 1e3:.1f}k tri, {r['overdraw']:.2f}x)")
         elif r["ms"] >= 0.05:
             parts.append(f"{r['pass']} {r['ms']:.1f}")
-    out("    full size, worst pose, CPU ms per pass: " + " | ".join(parts))
+    out(f"    {where}, worst pose, CPU ms per pass: " + " | ".join(parts))
 
 
 def _measure(game: Game, view: tuple, poses: list, feet: tuple, scale: float, frames: int) -> dict:
@@ -191,6 +195,8 @@ def run(levels=None, grid: int = 6, frames: int = 3, render_scale=None, size=(12
             worst, at, _ = max(per_pose[scale])
             worst_full, at_full, cpu_full = max(per_pose[1.0])
             passes = _profile(game, view, at_full, feet, frames)
+            # At the render scale the upscale to the window is a pass of its own, at full size.
+            passes_scaled = _profile(game, view, at, feet, frames, scale) if scale < 1.0 else []
             renderer.release()
             size_of_level = _geometry(game)
             med = statistics.median(t for t, _, _ in per_pose[scale])
@@ -209,6 +215,7 @@ def run(levels=None, grid: int = 6, frames: int = 3, render_scale=None, size=(12
                 "full_worst_cpu_ms": round(1e3 * cpu_full, 3),
                 "full_worst_at": [round(at_full[0], 2), round(at_full[1], 2), round(float(np.degrees(at_full[2])), 1)],
                 "passes": passes,
+                "passes_at_scale": passes_scaled,
                 "geometry": size_of_level,
             }
             rows.append(row)
@@ -219,6 +226,8 @@ def run(levels=None, grid: int = 6, frames: int = 3, render_scale=None, size=(12
                 f"({at[0]:.1f}, {at[1]:.1f}, {np.degrees(at[2]):.0f} deg)"
             )
             _print_passes(passes, out)
+            if passes_scaled:
+                _print_passes(passes_scaled, out, f"render scale {scale:g}")
         for t in scaled.values():
             t.release()
         screen.release()
