@@ -111,6 +111,51 @@ def test_sky_dome_is_a_gradient_behind_the_scene(gl_ctx, target, renderer):
 
 
 @pytest.mark.gl
+def test_a_dome_frame_writes_every_pixel_without_clearing_its_colour(gl_ctx, target, renderer):
+    """With the dome, the colour is not cleared (the sky shades every pixel the scene leaves):
+    a frame drawn over a framebuffer full of a marker colour is the frame drawn over a cleared
+    one, to the bit."""
+    cam = Camera3(position=np.array([0.0, 0.0, 0.0]), yaw=np.pi, pitch=0.2, fov_y_deg=70.0)
+    cubes = [
+        Drawable(f"c{i}", 0, box_mesh((x, 0.0, -4.0 - i), (1.0, 1.0, 1.0), (0.9, 0.2, 0.1, 1.0)))
+        for i, x in enumerate((-1.5, 0.0, 1.5))
+    ]  # boxes behind boxes: the pre-pass's depth decides which one is shaded
+    frame = Frame(cam, cubes, hud=Hud(crosshair=False), sky="dome")
+    target.fbo.clear(0.0, 0.0, 0.0, 1.0)
+    clean = draw(renderer, target, frame)
+    target.fbo.clear(1.0, 0.0, 1.0, 0.5)  # magenta, half transparent: left anywhere, it shows
+    over = draw(renderer, target, frame)
+    assert np.array_equal(over, clean)
+    assert (target.read_rgba()[..., 3] == 255).all()  # every pixel written, opaque
+    assert renderer.stats.depth_calls > 0 and (clean[..., 0] > clean[..., 2] + 40).any()  # cubes drawn
+
+
+def test_color_writes_turn_on_and_off_at_once(gl_ctx, target):
+    """A single-attachment framebuffer's colour mask, set through moderngl, takes effect at the
+    next clear or use only: :func:`color_writes` applies it at once, both ways."""
+    from across_dimensions.render.context import color_writes
+
+    prog = gl_ctx.program(
+        vertex_shader="#version 330\nvoid main() { gl_Position = vec4(vec2(gl_VertexID == 1 ? 3.0 : -1.0, "
+        "gl_VertexID == 2 ? 3.0 : -1.0), 0.0, 1.0); }",
+        fragment_shader="#version 330\nout vec4 f; void main() { f = vec4(0.0, 1.0, 0.0, 1.0); }",
+    )
+    vao = gl_ctx.vertex_array(prog, [])
+    fbo = target.fbo
+    gl_ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
+    fbo.clear(1.0, 0.0, 0.0, 1.0)
+    color_writes(fbo, False)
+    vao.render(moderngl.TRIANGLES, vertices=3)
+    assert tuple(target.read_rgb()[H // 2, W // 2]) == (255, 0, 0)  # nothing written
+    fbo.clear(0.0, 0.0, 1.0, 1.0)  # a clear under the mask: the colour stays
+    color_writes(fbo, True)
+    vao.render(moderngl.TRIANGLES, vertices=3)
+    assert tuple(target.read_rgb()[H // 2, W // 2]) == (0, 255, 0)  # written again
+    vao.release()
+    prog.release()
+
+
+@pytest.mark.gl
 def test_sky_has_stars(gl_ctx, target, renderer):
     cam = Camera3(position=np.zeros(3), yaw=np.pi, pitch=0.9, fov_y_deg=90.0)
     img = draw(renderer, target, Frame(cam, hud=Hud(crosshair=False), sky="dome"))

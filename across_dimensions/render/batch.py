@@ -17,6 +17,8 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
+from .context import color_writes
+
 #: Smallest buffer made (bytes): a few small sections without regrowing.
 MIN_BYTES = 64 * 1024
 
@@ -262,10 +264,10 @@ class BatchBuffers:
             self._depth_prog["u_model"].write(_EYE4)
             fbo = ctx.fbo
             depth_mask = fbo.depth_mask  # off in the ghost pass; the pre-pass must write depth
-            fbo.color_mask = False, False, False, False
+            color_writes(fbo, False)
             fbo.depth_mask = True
             self._render(g, "depth", self._depth_prog, indexed, n_tri)
-            fbo.color_mask = True, True, True, True
+            color_writes(fbo, True)
             fbo.depth_mask = depth_mask
             ctx.depth_func = "<="
             calls += 1

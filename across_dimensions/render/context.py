@@ -27,6 +27,19 @@ class RenderError(RuntimeError):
     """Rendering cannot happen: no usable OpenGL, bad input, or a GL failure."""
 
 
+def color_writes(fbo: moderngl.Framebuffer, on: bool) -> None:
+    """Turn the colour writes of ``fbo``, the bound framebuffer, on or off at once.
+
+    moderngl (5.13) only stores the colour mask of a framebuffer with one colour attachment
+    when it is set, and applies it at the framebuffer's next ``clear`` or ``use``: a depth-only
+    pass that only sets the mask writes its colour all the same, and once a masked clear has
+    applied it, setting it back does not turn colour writes on again. ``use`` applies it now,
+    with the framebuffer's viewport, scissor and depth mask, which are the current ones.
+    """
+    fbo.color_mask = (on,) * 4
+    fbo.use()
+
+
 def create_offscreen_context(require: int = REQUIRED_GL) -> moderngl.Context:
     """Create a standalone (windowless) OpenGL context through EGL.
 
