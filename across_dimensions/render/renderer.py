@@ -256,18 +256,9 @@ class Renderer:
         st.draw_calls = st.depth_calls = st.triangles = st.lines = st.upload_bytes = st.culled = 0
 
         self.ctx.viewport = viewport
-        fbo.depth_mask = True  # glClear honours the depth mask
         sky = tuple(float(x) for x in frame.sky_color)
         dome = scifi and frame.sky == "dome"
-        # The dome shades every pixel the scene leaves (all those still at the far depth), so its
-        # colour needs no clear: on llvmpipe that clear alone writes the whole view, about 1.7 ms
-        # of CPU at 1280x720. A frame whose sky a box hides, and so is not drawn, clears it as ever.
-        sky_drawn = dome and not frame.sky_hidden
-        if sky_drawn:
-            color_writes(fbo, False)
-        self.ctx.clear(sky[0], sky[1], sky[2], 1.0, depth=1.0, viewport=viewport)
-        if sky_drawn:
-            color_writes(fbo, True)
+        self._clear(fbo, viewport, sky, dome and not frame.sky_hidden)
 
         cam = frame.camera
         view_mat = cam.view_matrix()
@@ -299,6 +290,18 @@ class Renderer:
         self._lap("ghosts")
         if hud:
             self.draw_overlay(frame, viewport)
+
+    def _clear(self, fbo, viewport: tuple, sky: tuple, sky_drawn: bool) -> None:
+        """Clear ``viewport`` of ``fbo``: its depth to the far plane, its colour to ``sky``, unless
+        the dome will be drawn (``sky_drawn``). The dome shades every pixel the scene leaves (all
+        those still at the far depth), so the colour clear would write the whole view for nothing:
+        on llvmpipe about 1.7 ms of CPU at 1280x720."""
+        fbo.depth_mask = True  # glClear honours the depth mask
+        if sky_drawn:
+            color_writes(fbo, False)
+        self.ctx.clear(sky[0], sky[1], sky[2], 1.0, depth=1.0, viewport=viewport)
+        if sky_drawn:
+            color_writes(fbo, True)
 
     def _bucket(self, frame: Frame, planes: np.ndarray, eye: np.ndarray) -> tuple[set, list, list, list]:
         """Upload what changed, cull what is outside the view's ``planes (6, 4)``, and bucket the
