@@ -10,6 +10,7 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import moderngl
 import numpy as np
 import pytest
 
@@ -27,16 +28,21 @@ from across_dimensions.render.context import Offscreen, RenderError
 from across_dimensions.render.demo import box_mesh
 from across_dimensions.render.hud import HudMetrics
 from across_dimensions.render.radar import (
+    DISC_EXTENT,
     HEAD_SHAPES,
     HEIGHT_CLAMP,
     RADIUS,
     SHAPES,
+    _disc_view_proj,
+    disc_image_size,
     radar_geometry,
     radar_rect_gl,
     radar_view_proj,
     unit_shapes,
 )
+from across_dimensions.render.radar_shapes import disc_vertices
 from across_dimensions.render.renderer import Renderer
+from across_dimensions.render.shaders import FLAT_VERTEX
 
 SKY = (0.05, 0.06, 0.10)
 
@@ -262,6 +268,82 @@ def test_pins_above_and_below_show_where_expected(gl_ctx, renderer):
     assert abs(np.median(up) - screen_y([0, 0.5, 0])) < 6
     assert abs(np.median(down) - screen_y([0, -0.5, 0])) < 6
     assert np.median(up) < screen_y([0, 0, 0]) < np.median(down)
+
+
+def test_disc_image_has_two_texels_per_screen_pixel_within_bounds():
+    assert disc_image_size(100.0) == 512  # 2 x 1.2 x 2 x 100 = 480 texels, up to a multiple of 64
+    sizes = [disc_image_size(px) for px in (1.0, 50.0, 100.0, 200.0, 1e5)]
+    assert sizes == sorted(sizes) and sizes[0] == 128 and sizes[-1] == 2048
+    assert all(s % 64 == 0 for s in sizes)
+
+
+@pytest.mark.gl
+def test_disc_image_over_a_colour_equals_its_layers_drawn_one_over_another(gl_ctx, renderer):
+    """The disc is drawn as one premultiplied image: over any colour it must give what its
+    translucent layers give drawn one by one over that colour (to 8-bit rounding)."""
+    radar = renderer.radar
+    radar._bake_disc(100.0)
+    image = radar.disc_image
+    n = image.size[0]
+    back = (0.8, 0.3, 0.1)
+    layers = disc_vertices()
+    flat_fs = "#version 330\nin vec4 v_color;\nout vec4 f_color;\nvoid main() { f_color = v_color; }\n"
+    prog = gl_ctx.program(vertex_shader=FLAT_VERTEX, fragment_shader=flat_fs)
+    prog["u_view_proj"].write(np.ascontiguousarray(_disc_view_proj().T, np.float32).tobytes())
+    vbo = gl_ctx.buffer(layers.tobytes())
+    vao = gl_ctx.vertex_array(prog, [(vbo, "3f 4f", "in_pos", "in_color")])
+    with Offscreen(gl_ctx, n, n) as t:
+        t.use()
+        gl_ctx.clear(*back)
+        gl_ctx.enable(moderngl.BLEND)
+        gl_ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
+        gl_ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
+        vao.render(moderngl.TRIANGLES)
+        gl_ctx.disable(moderngl.BLEND)
+        want = t.read_rgb().astype(int)
+    for obj in (vao, vbo, prog):
+        obj.release()
+    texels = np.frombuffer(image.read(), np.uint8).reshape(n, n, 4).astype(float) / 255.0
+    got = texels[:, :, :3] + np.asarray(back) * (1.0 - texels[:, :, 3:4])
+    got = np.round(got[::-1] * 255.0).astype(int)  # read_rgb's rows run from the top
+    assert np.abs(got - want).max() <= 3
+    assert texels[:, :, 3].max() > 0.9 and texels[0, 0, 3] == 0.0  # the rim is there, the corners clear
+    assert (texels[:, :, :3] <= texels[:, :, 3:4] + 1e-6).all(), "not premultiplied"
+    assert DISC_EXTENT > 1.17  # the forward notch, the outermost piece, fits
+
+
+@pytest.mark.gl
+def test_disc_image_is_drawn_once_and_again_only_for_a_larger_radar(gl_ctx, renderer):
+    frame = _scene(Radar(30.0, 0.5, demo_pins()))
+    bakes = []
+    for w, h in ((1280, 720), (640, 360), (1280, 720), (2560, 1440)):
+        with Offscreen(gl_ctx, w, h) as t:
+            t.use()
+            renderer.draw(frame)
+        bakes.append(renderer.radar.disc_bakes)
+    assert bakes == [1, 1, 1, 2]
+
+
+@pytest.mark.gl
+def test_backdrop_darkens_the_middle_and_leaves_the_corners_of_the_rectangle(gl_ctx, renderer):
+    """The backdrop's glow fades out at 1.05 of the rectangle's half-size: its corners show the
+    scene as it was, its middle is darkened towards the backdrop's colour by half."""
+    w, h = 1280, 720
+    frame = Frame(Camera3(position=np.zeros(3)), hud=Hud(crosshair=False), sky_color=(0.9, 0.9, 0.9))
+    with Offscreen(gl_ctx, w, h) as t:
+        t.use()
+        renderer.draw(frame)
+        without = t.read_rgb().astype(int)
+        frame.radar = Radar(30.0, 0.5, [])
+        renderer.draw(frame)
+        with_radar = t.read_rgb().astype(int)
+    x, y, rw, rh = HudMetrics(w, h).radar_rect()
+    corners = [(y + 1, x + 1), (y + 1, x + rw - 2), (y + rh - 2, x + 1), (y + rh - 2, x + rw - 2)]
+    for r, c in corners:
+        assert np.abs(with_radar[r, c] - without[r, c]).max() <= 1
+    # Just inside the rim of the glow, left of the middle (the disc does not reach out there).
+    r, c = y + rh // 2, x + int(rw * 0.03)
+    assert with_radar[r, c].sum() < without[r, c].sum()
 
 
 @pytest.mark.gl
