@@ -28,18 +28,16 @@ from across_dimensions.render.context import Offscreen, RenderError
 from across_dimensions.render.demo import box_mesh
 from across_dimensions.render.hud import HudMetrics
 from across_dimensions.render.radar import (
-    DISC_EXTENT,
     HEAD_SHAPES,
     HEIGHT_CLAMP,
     RADIUS,
     SHAPES,
-    _disc_view_proj,
-    disc_image_size,
     radar_geometry,
     radar_rect_gl,
     radar_view_proj,
     unit_shapes,
 )
+from across_dimensions.render.radar_disc import DISC_EXTENT, disc_image_size, disc_view_proj
 from across_dimensions.render.radar_shapes import disc_vertices
 from across_dimensions.render.renderer import Renderer
 from across_dimensions.render.shaders import FLAT_VERTEX
@@ -282,14 +280,14 @@ def test_disc_image_over_a_colour_equals_its_layers_drawn_one_over_another(gl_ct
     """The disc is drawn as one premultiplied image: over any colour it must give what its
     translucent layers give drawn one by one over that colour (to 8-bit rounding)."""
     radar = renderer.radar
-    radar._bake_disc(100.0)
-    image = radar.disc_image
+    radar.disc.prepare(100.0)
+    image = radar.disc.image
     n = image.size[0]
     back = (0.8, 0.3, 0.1)
     layers = disc_vertices()
     flat_fs = "#version 330\nin vec4 v_color;\nout vec4 f_color;\nvoid main() { f_color = v_color; }\n"
     prog = gl_ctx.program(vertex_shader=FLAT_VERTEX, fragment_shader=flat_fs)
-    prog["u_view_proj"].write(np.ascontiguousarray(_disc_view_proj().T, np.float32).tobytes())
+    prog["u_view_proj"].write(np.ascontiguousarray(disc_view_proj().T, np.float32).tobytes())
     vbo = gl_ctx.buffer(layers.tobytes())
     vao = gl_ctx.vertex_array(prog, [(vbo, "3f 4f", "in_pos", "in_color")])
     with Offscreen(gl_ctx, n, n) as t:
@@ -320,7 +318,7 @@ def test_disc_image_is_drawn_once_and_again_only_for_a_larger_radar(gl_ctx, rend
         with Offscreen(gl_ctx, w, h) as t:
             t.use()
             renderer.draw(frame)
-        bakes.append(renderer.radar.disc_bakes)
+        bakes.append(renderer.radar.disc.bakes)
     assert bakes == [1, 1, 1, 2]
 
 

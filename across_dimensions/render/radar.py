@@ -55,8 +55,8 @@ from .context import RenderError
 from .gl_math import mat4_bytes
 from .hud import HudMetrics
 from .palette import current, pin
-from .radar_shapes import disc_vertices, unit_shapes, weld
-from .shaders import FLAT_VERTEX
+from .radar_disc import DiscImage
+from .radar_shapes import unit_shapes, weld
 
 #: The disc's radius in radar space; pin heights and positions are in these units.
 RADIUS = 1.0
@@ -309,9 +309,6 @@ void main() {
 }
 """
 
-#: Half the side of the square in the disc's plane that holds all of the static disc (its rim,
-#: the forward notch at 1.17), in disc radii: the disc image covers it.
-DISC_EXTENT = 1.2
 #: The backdrop sits at the far plane (depth test "always" writes it there).
 _FAR = 0.99999
 
@@ -341,63 +338,6 @@ void main() {
 }
 """.replace("BACKDROP", "vec4({:.6f}, {:.6f}, {:.6f}, {:.6f})".format(*BACKDROP_COLOR))
 
-#: The static disc, drawn as one square in its plane with the disc's image (see
-#: RadarRenderer._bake_disc): premultiplied colour, so one "over" with it equals drawing its
-#: translucent layers one over another. It stays a plane in the radar's 3D view, depth-tested
-#: against the pins: pins below it show through tinted, pins above stand in front.
-_DISC_VS = """
-#version 330
-uniform mat4 u_view_proj;
-out vec2 v_uv;
-void main() {
-    vec2 c = vec2(gl_VertexID == 1 || gl_VertexID == 3 ? 1.0 : 0.0, gl_VertexID >= 2 ? 1.0 : 0.0);
-    v_uv = c;
-    vec2 xz = (2.0 * c - 1.0) * EXTENT;
-    gl_Position = u_view_proj * vec4(xz.x, 0.0, xz.y, 1.0);
-}
-""".replace("EXTENT", repr(DISC_EXTENT))
-
-_DISC_FS = """
-#version 330
-uniform sampler2D u_disc;
-uniform float u_alpha;
-in vec2 v_uv;
-out vec4 f_color;
-void main() {
-    f_color = texture(u_disc, v_uv) * u_alpha;
-}
-"""
-
-#: The disc's layers into its image: premultiplied, so the image's alpha is their coverage.
-_BAKE_FS = """
-#version 330
-in vec4 v_color;
-out vec4 f_color;
-void main() {
-    f_color = vec4(v_color.rgb * v_color.a, v_color.a);
-}
-"""
-#: The disc's image has this many texels per disc radius for each pixel per radius on screen
-#: (at least :data:`DISC_MIN_TEXELS` across, at most :data:`DISC_MAX_TEXELS`): two, so its
-#: thin rings, sampled bilinearly, stay as crisp as the geometry was and never alias.
-DISC_SUPERSAMPLE = 2.0
-DISC_MIN_TEXELS, DISC_MAX_TEXELS = 128, 2048
-
-
-def disc_image_size(px_per_radius: float) -> int:
-    """Texels across the disc's image for a radar showing ``px_per_radius`` pixels per disc
-    radius: a multiple of 64."""
-    want = 2.0 * DISC_EXTENT * DISC_SUPERSAMPLE * float(px_per_radius)
-    return int(min(max(np.ceil(want / 64.0) * 64, DISC_MIN_TEXELS), DISC_MAX_TEXELS))
-
-
-def _disc_view_proj() -> np.ndarray:
-    """``(4, 4) float64``: the disc's square seen from above, x across and z up the image."""
-    m = np.zeros((4, 4))
-    m[0, 0] = m[1, 2] = 1.0 / DISC_EXTENT
-    m[3, 3] = 1.0
-    return m
-
 
 def radar_rect_gl(viewport: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
     """The radar's rectangle inside ``viewport`` (both ``(x, y, w, h)``, OpenGL origin bottom-left)."""
@@ -419,9 +359,8 @@ class RadarRenderer:
         Draw calls of the last :meth:`draw`.
     instance_writes : int
         Instance buffer writes over the renderer's life (the radar's only per-frame uploads).
-    disc_bakes : int
-        How many times the static disc was drawn into its image (:attr:`disc_image`): once,
-        and again when a larger radar needs a finer image.
+    disc : DiscImage
+        The static disc, drawn once into an image.
     driver_seconds : float
         Time spent inside the draw calls of the last :meth:`draw` (on llvmpipe this includes the
         vertex shading and triangle setup that a GPU would do), for the benchmark.
@@ -433,10 +372,10 @@ class RadarRenderer:
         try:
             self.shape_prog = ctx.program(vertex_shader=_SHAPE_VS, fragment_shader=_SHAPE_FS)
             self.back_prog = ctx.program(vertex_shader=_BACK_VS, fragment_shader=_BACK_FS)
-            self.disc_prog = ctx.program(vertex_shader=_DISC_VS, fragment_shader=_DISC_FS)
+            self.disc = DiscImage(ctx)
         except Exception as e:
             raise RenderError(f"radar shaders failed to build: {e}") from e
-        self._objects: list = [self.shape_prog, self.back_prog, self.disc_prog]
+        self._objects: list = [self.shape_prog, self.back_prog]
         self._shapes: dict[str, tuple[moderngl.Buffer, moderngl.VertexArray, int]] = {}
         for name, soup in unit_shapes().items():
             verts, idx = weld(soup)
@@ -455,10 +394,7 @@ class RadarRenderer:
         # "always", at the far plane); a masked glClear would reset the depth alone, but
         # moderngl applies a colour mask only at the next clear or use of a framebuffer.
         self._back_vao = ctx.vertex_array(self.back_prog, [])
-        self._disc_vao = ctx.vertex_array(self.disc_prog, [])
-        self.disc_prog["u_disc"].value = 0
-        self._objects += [self._back_vao, self._disc_vao]
-        self.disc_image: moderngl.Texture | None = None
+        self._objects.append(self._back_vao)
         self._vp_cache: dict[float, tuple[bytes, float]] = {}
         light = np.array([-0.35, 1.0, -0.55])
         self.shape_prog["u_light"].value = tuple(light / np.linalg.norm(light))
@@ -466,7 +402,6 @@ class RadarRenderer:
         self.shape_prog["u_to_eye"].value = (0.0, float(np.sin(p)), float(-np.cos(p)))
         self.draw_calls = 0
         self.instance_writes = 0
-        self.disc_bakes = 0
         self.driver_seconds = 0.0
         self.last_geometry: RadarGeometry | None = None
 
@@ -477,42 +412,6 @@ class RadarRenderer:
             vp, ndc_r = radar_view_proj(aspect)
             hit = self._vp_cache[key] = (mat4_bytes(vp), ndc_r)
         return hit
-
-    def _bake_disc(self, px_per_radius: float) -> None:
-        """Draw the static disc's layers into :attr:`disc_image`, when there is none yet or the
-        radar needs a finer one (never a coarser: a small view between two big ones, the
-        picture in picture or a benchmark's two scales, must not make it redraw every frame)."""
-        size = disc_image_size(px_per_radius)
-        if self.disc_image is not None and self.disc_image.size[0] >= size:
-            return
-        ctx = self.ctx
-        bound, viewport = ctx.fbo, ctx.viewport
-        layers = disc_vertices()
-        prog = ctx.program(vertex_shader=FLAT_VERTEX, fragment_shader=_BAKE_FS)
-        vbo = ctx.buffer(layers.tobytes())
-        vao = ctx.vertex_array(prog, [(vbo, "3f 4f", "in_pos", "in_color")])
-        image = ctx.texture((size, size), 4)
-        image.filter = (moderngl.LINEAR, moderngl.LINEAR)
-        image.repeat_x = image.repeat_y = False
-        fbo = ctx.framebuffer(color_attachments=[image])
-        fbo.use()
-        ctx.viewport = (0, 0, size, size)
-        ctx.clear(0.0, 0.0, 0.0, 0.0)
-        ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
-        ctx.enable(moderngl.BLEND)
-        # Premultiplied "over", colour and coverage alike: the layers in their order.
-        ctx.blend_func = (moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA)
-        prog["u_view_proj"].write(mat4_bytes(_disc_view_proj()))
-        vao.render(moderngl.TRIANGLES, vertices=len(layers))
-        for obj in (fbo, vao, vbo, prog):
-            obj.release()
-        if self.disc_image is not None:
-            self.disc_image.release()
-        self.disc_image = image
-        self.disc_bakes += 1
-        if bound is not None:
-            bound.use()
-        ctx.viewport = viewport
 
     def draw(self, radar: Radar, viewport: tuple[int, int, int, int], scale: float = 1.0, alpha: float = 1.0) -> None:
         """Draw ``radar`` into its corner of ``viewport`` (``(x, y, w, h)``, GL convention) of the bound framebuffer.
@@ -539,7 +438,7 @@ class RadarRenderer:
         vp_bytes, ndc_r = self._view_proj(rw / rh)
         geo = radar_geometry(radar, px_per_radius=ndc_r * rw / 2)
         self.last_geometry = geo
-        self._bake_disc(ndc_r * rw / 2)
+        self.disc.prepare(ndc_r * rw / 2)
 
         ctx.viewport = rect
         # The backdrop resets the depth in the rectangle (to the far plane) and darkens it; the
@@ -576,15 +475,10 @@ class RadarRenderer:
             spent += clock() - t0
             self.draw_calls += 1
 
-        # The disc over the pins, premultiplied (its image's colour is already weighted).
-        ctx.enable(moderngl.BLEND)
-        ctx.blend_func = (moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
+        # The disc over the pins, its depth tested but not written.
         fbo.depth_mask = False
-        self.disc_prog["u_view_proj"].write(vp_bytes)
-        self.disc_prog["u_alpha"].value = float(alpha)
-        self.disc_image.use(0)
         t0 = clock()
-        self._disc_vao.render(moderngl.TRIANGLE_STRIP, vertices=4)
+        self.disc.draw(vp_bytes, alpha)
         self.driver_seconds = spent + clock() - t0
         self.draw_calls += 1
         fbo.depth_mask = True
@@ -596,6 +490,4 @@ class RadarRenderer:
         for obj in self._objects:
             obj.release()
         self._objects.clear()
-        if self.disc_image is not None:
-            self.disc_image.release()
-            self.disc_image = None
+        self.disc.release()
