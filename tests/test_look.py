@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from conftest import per_level
 
+from across_dimensions.core.mesh import TriMesh3
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.frame import Camera3, Drawable, Frame, Hud
 from across_dimensions.render import materials
@@ -207,9 +208,34 @@ def test_scene_fragment_shaders_read_no_uniforms(gl_ctx):
     # pixel reaches the fragment shader as a flat input from the vertex shader instead.
     for look in materials.LOOKS:
         for name in PROGRAMS:
-            vs, fs = program_source(name, look)
-            assert "uniform " not in fs, (name, look)
-            gl_ctx.program(vertex_shader=vs, fragment_shader=fs).release()
+            for flat_normals in (False, True):
+                vs, fs = program_source(name, look, flat_normals=flat_normals)
+                assert "uniform " not in fs, (name, look)
+                gl_ctx.program(vertex_shader=vs, fragment_shader=fs).release()
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("style", ["solid", "ghost", "glow"])
+def test_a_mesh_without_normals_is_lit_by_its_faces_as_one_with_them(gl_ctx, target, style):
+    """A mesh whose normals are zero (a frustum projection's) is drawn by its style's program
+    for flat normals, which takes each face's normal from the screen: it must look like the
+    same mesh carrying its faces' normals, drawn by the program that reads them (which never
+    builds the other)."""
+    box = box_mesh((1.0, 0.8, 0.7))
+    bare = TriMesh3(box.vertices, box.faces, None, box.colors)
+    cam = Camera3(position=np.array([1.1, 1.3, -2.2]), yaw=-0.45, pitch=-0.45)
+    images = {}
+    for name, mesh in (("normals", box), ("none", bare)):
+        r = Renderer(gl_ctx)
+        frame = Frame(cam, [Drawable("box", 0, mesh, style=style)], hud=Hud(crosshair=False), sky_color=(0.1, 0.1, 0.1))
+        images[name] = draw(r, target, frame)
+        assert (style + "/flat" in r._programs) == (name == "none")
+        r.release()
+    lit = np.abs(images["normals"] - 0.1 * 255).max(axis=2) > 30
+    assert lit.mean() > 0.05, "the box is not in view"
+    diff = np.abs(images["normals"] - images["none"]).max(axis=2)
+    # The same light on every face; only pixels along the faces' edges may differ.
+    assert diff.mean() < 0.5 and (diff > 8).mean() < 0.005, (diff.mean(), (diff > 8).mean())
 
 
 # ------------------------------------------------------------------ scenery

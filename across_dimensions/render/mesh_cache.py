@@ -38,6 +38,9 @@ class GpuMesh:
         self.radius = 0.0
         self.vertices: np.ndarray | None = None  # kept only until edges are derived
         self.faces: np.ndarray | None = None
+        # A vertex without a normal (a frustum projection has none): the mesh is shaded flat
+        # with its faces' screen-space normals, by a program of its own (shaders.program_source).
+        self.flat_normals = False
 
     def release(self) -> None:
         for vao in self.vaos.values():
@@ -140,6 +143,7 @@ class MeshCache:
             # Nothing to draw; keep any old buffers for when the mesh comes back.
             gm.vertices = gm.faces = None
             return gm
+        gm.flat_normals = not n.any(axis=1).all()
         inter = np.empty((len(v), 10), np.float32)
         inter[:, 0:3] = v
         inter[:, 3:6] = n

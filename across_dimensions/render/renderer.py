@@ -57,15 +57,23 @@ from .gl_math import frustum_planes, mat4_bytes
 from .hud import HudRenderer
 from .mesh_cache import GpuMesh, MeshCache
 from .passes import PassProfile, RenderStats
+from .programs import FrameUniforms, StylePrograms, set_uniform
 from .radar import RadarRenderer
 from .radar_yield import YIELD_ALPHA, interest_on_screen, radar_yields
-from .shaders import PROGRAMS, program_source
 from .sky import SkyRenderer
 
 STYLES = ("solid", "floor", "wire", "ghost", "glow")
 #: Ghost patterns by name, as the shader's ``u_pattern`` codes.
 GHOST_PATTERNS = {"": 0, "stripes": 1, "dots": 2}
 _NO_TINT = (0.0, 0.0, 0.0, 0.0)
+
+
+def flat_batch(tb) -> bool:
+    """Whether a batch's vertices have no normals (see :class:`~..game.frame.TriangleBatch`): a
+    frustum image's, the indexed kind, have none; a section's, three rows a triangle, have them."""
+    return tb.faces is not None
+
+
 #: A batch with more triangles than this is left out of the depth pre-pass (see
 #: :meth:`Renderer._depth_prepass`): many small triangles draw faster without it, a
 #: level's 4D things (hundreds) in front of its scenery faster with it.
@@ -127,11 +135,10 @@ class Renderer:
         self.ghost_alpha = float(ghost_alpha)
         self.stats = RenderStats()
         self.meshes = MeshCache(ctx, self.stats)
-        # (look, the palette's colours) -> program name -> program
-        self._all_programs: dict[tuple, dict[str, moderngl.Program]] = {}
         self.palette = materials.palette()
         self.look = look
-        self._programs = self._look_programs(look)
+        self.programs = StylePrograms(ctx)
+        self._programs = self.programs.use(look, self.palette)
         self._sky: SkyRenderer | None = None
         self._view_mirrored = True  # set per frame from the camera (see draw)
         self._depth_prog: moderngl.Program | None = None
@@ -142,7 +149,6 @@ class Renderer:
         self.batches = BatchBuffers(ctx, self._programs)
         self._batch_views: dict[str, tuple[int, set[str]]] = {}  # view -> (draw number, batch keys)
         self._views: dict[str, tuple[int, set[str]]] = {}  # view -> (draw number, keys it used)
-        self._constants: dict[int, tuple] = {}  # program -> the rarely changing uniforms it holds
         #: When set, each pass is finished and charged to it (:mod:`.passes`; the benchmark's breakdown).
         self.profile: PassProfile | None = None
 
@@ -152,26 +158,6 @@ class Renderer:
         ``"high_contrast"``; the overlays' w cues (:mod:`.palette`) follow."""
         self.palette = materials.palette("colorblind" if name in ("colour_blind", "colorblind") else name)
         w_cues.use("colour_blind" if name == "colorblind" else name)  # the overlays' w cues follow
-
-    def _look_programs(self, look: str) -> dict[str, moderngl.Program]:
-        """The programs of ``look`` with :attr:`palette`'s light colours compiled in (see
-        :func:`.shaders.program_source`), built on first use: a look or palette not used costs
-        nothing, and one used before costs nothing again."""
-        if look not in materials.LOOKS:
-            raise RenderError(f"unknown look {look!r}; expected one of {', '.join(materials.LOOKS)}")
-        # Keyed by the palette's colours, which are cheap to compare every frame; its constants
-        # (string formatting) are made only when a program set is built.
-        key = (look, tuple((k, tuple(v)) for k, v in self.palette.items()) if look == "scifi" else ())
-        progs = self._all_programs.get(key)
-        if progs is None:
-            progs = self._all_programs[key] = {}
-            for name in PROGRAMS:
-                vs, fs = program_source(name, look, self.palette)
-                try:
-                    progs[name] = self.ctx.program(vertex_shader=vs, fragment_shader=fs)
-                except Exception as e:  # compile/link errors carry the driver's log
-                    raise RenderError(f"shader for style {name!r} ({look} look) failed to build: {e}") from e
-        return progs
 
     # ----------------------------------------------------------------- caching
     def cached_keys(self) -> list[str]:
@@ -185,10 +171,7 @@ class Renderer:
     def release(self) -> None:
         """Free every GPU object this renderer made."""
         self.meshes.release()
-        for progs in self._all_programs.values():
-            for p in progs.values():
-                p.release()
-        self._all_programs.clear()
+        self.programs.release()
         self._programs = {}
         if self._sky is not None:
             self._sky.release()
@@ -249,7 +232,7 @@ class Renderer:
         _, _, w, h = viewport
         if w <= 0 or h <= 0:
             return
-        self._programs = self._look_programs(self.look)
+        self._programs = self.programs.use(self.look, self.palette)
         scifi = self.look == "scifi"
         st = self.stats
         st.frames += 1
@@ -275,7 +258,9 @@ class Renderer:
         # the view (the camera's is a mirror: x right, z forward) and a model mirror space.
         self._view_mirrored = bool(np.linalg.det(view_mat[:3, :3]) < 0.0)
         vp_bytes = mat4_bytes(view_proj)
-        self._set_frame_uniforms(frame, vp_bytes, eye, light, sky, dome)
+        fog, alpha = self.fog_density, self.ghost_alpha
+        uniforms = FrameUniforms(float(frame.time), vp_bytes, tuple(eye), tuple(light), sky, dome, fog, alpha)
+        self.programs.set_frame_uniforms(uniforms)
         self._lap("setup")
 
         self._draw_opaque(frame, opaque, wires, vp_bytes)
@@ -364,34 +349,6 @@ class Renderer:
         st.batch_sync_cpu_ms = 1e3 * (time.thread_time() - t0)
         st.upload_bytes += self.batches.upload_bytes
 
-    def _set_frame_uniforms(self, frame: Frame, vp_bytes: bytes, eye, light, sky: tuple, dome: bool) -> None:
-        """Set every program's per-frame uniforms, and the rarely changing ones (palette, fog,
-        sky) only when they did: a hundred uniform writes a frame are a tenth of a millisecond
-        of the main thread's time."""
-        scifi = self.look == "scifi"
-        constants = (sky, dome, self.fog_density, self.ghost_alpha, tuple(self.palette.items()))
-        for prog in self._programs.values():
-            self._set(prog, "u_view_proj", vp_bytes)
-            self._set(prog, "u_eye", tuple(eye))
-            self._set(prog, "u_light_dir", tuple(light))
-            if scifi:
-                self._set(prog, "u_time", float(frame.time))
-                self._set(prog, "u_pulse", 0.9 + 0.1 * float(np.sin(1.3 * frame.time)))
-                self._set(prog, "u_glow_pulse", 0.9 + 0.15 * float(np.sin(2.4 * frame.time)))
-                self._set(prog, "u_w_offset", 0.0)
-                self._set(prog, "u_band_scale", 1.0)
-            if self._constants.get(prog.glo) == constants:
-                continue
-            self._constants[prog.glo] = constants
-            self._set(prog, "u_sky", sky)
-            self._set(prog, "u_fog_density", self.fog_density)
-            self._set(prog, "u_alpha", self.ghost_alpha)
-            if scifi:
-                materials.upload(prog, self.palette, self._set)
-                if not dome:  # a one-colour sky: fog fades to it, as in the flat look
-                    for name in ("sky_zenith", "sky_horizon", "sky_ground"):
-                        self._set(prog, f"u_{name}", sky)
-
     def _draw_opaque(self, frame: Frame, opaque: list, wires: list, vp_bytes: bytes) -> None:
         """The opaque drawables (front to back), the frame's solid batches and the wires."""
         ctx = self.ctx
@@ -438,13 +395,14 @@ class Renderer:
         # Keep destination alpha at 1 so screenshots stay opaque.
         ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
         fbo.depth_mask = False
-        prog = self._programs["ghost"]
         for _, d, gm, model in ghosts:
+            _, prog = self.programs.get("ghost", gm.flat_normals)
             self._set(prog, "u_tint", tuple(float(x) for x in (w_cues.ghost_tint(d.tint, d.pattern) or _NO_TINT)))
             self._set(prog, "u_pattern", GHOST_PATTERNS[d.pattern])
             self._set(prog, "u_opacity", max(0.0, float(d.opacity)))
             self._draw_mesh("ghost", gm, model, moderngl.TRIANGLES, gm.n_indices, d)
         for tb in ghost_batches:
+            _, prog = self.programs.get("ghost", flat_batch(tb))
             self._set(prog, "u_tint", tuple(float(x) for x in (w_cues.ghost_tint(tb.tint, tb.pattern) or _NO_TINT)))
             self._set(prog, "u_pattern", GHOST_PATTERNS[tb.pattern])
             self._set(prog, "u_opacity", max(0.0, float(tb.opacity)))
@@ -528,8 +486,7 @@ class Renderer:
         # and each vertex's colour alpha carries its thing's w offset (the w cue; see
         # game/entity_sections.py), since one uniform cannot hold one per thing.
         cued = scifi and tb.w_cue and tb.style in ("solid", "glow")
-        name = "hyper" if cued and tb.style == "solid" else tb.style
-        prog = self._programs[name]
+        name, prog = self.programs.get("hyper" if cued and tb.style == "solid" else tb.style, flat_batch(tb))
         if cued:
             self._set(prog, "u_w_from_alpha", 1.0)
         self.batches.programs = self._programs
@@ -543,7 +500,7 @@ class Renderer:
         self.stats.lines += lines
 
     def _draw_mesh(self, style: str, gm: GpuMesh, model: np.ndarray, mode: int, count: int, d=None) -> None:
-        prog = self._programs[style]
+        style, prog = self.programs.get(style, gm.flat_normals)
         self._set(prog, "u_model", mat4_bytes(model))
         if isinstance(d, _Cued):
             self._set(prog, "u_w_offset", float(d.w_offset))
@@ -574,13 +531,4 @@ class Renderer:
         if self.profile is not None:
             self.profile.mark(name)
 
-    @staticmethod
-    def _set(prog: moderngl.Program, name: str, value) -> None:
-        # The compiler drops unused uniforms (e.g. u_light_dir in the wire
-        # program); setting them must not fail.
-        if name in prog:
-            u = prog[name]
-            if isinstance(value, bytes):
-                u.write(value)
-            else:
-                u.value = value
+    _set = staticmethod(set_uniform)
