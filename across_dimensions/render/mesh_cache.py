@@ -38,7 +38,7 @@ class GpuMesh:
         self.radius = 0.0
         self.vertices: np.ndarray | None = None  # kept only until edges are derived
         self.faces: np.ndarray | None = None
-        # A vertex without a normal (a frustum projection has none): the mesh is shaded flat
+        # Some vertex has no normal (a frustum projection's have none): the mesh is shaded flat
         # with its faces' screen-space normals, by a program of its own (shaders.program_source).
         self.flat_normals = False
 

@@ -277,8 +277,9 @@ void main() {
 #else
   #ifdef FLAT_NORMALS
     // A mesh without normals (a frustum projection) is shaded flat, with the face normal taken
-    // from screen-space derivatives of the position. Its own program: computed and thrown away
-    // in every other program, they cost 7-9 % of the scenery's shading (a select pays both sides).
+    // from screen-space derivatives of the position. A program of its own: computed in every
+    // program and thrown away where normals exist, that normal cost 7-9 % of the scenery's
+    // shading (llvmpipe pays both sides of a select).
     vec3 N = cross(dFdx(v_world), dFdy(v_world));
   #else
     vec3 N = v_normal;
