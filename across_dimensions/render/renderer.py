@@ -138,7 +138,7 @@ class Renderer:
         self.palette = materials.palette()
         self.look = look
         self.programs = StylePrograms(ctx)
-        self._programs = self.programs.use(look, self.palette)
+        self.programs.use(look, self.palette)
         self._sky: SkyRenderer | None = None
         self._view_mirrored = True  # set per frame from the camera (see draw)
         self._depth_prog: moderngl.Program | None = None
@@ -159,6 +159,11 @@ class Renderer:
         self.palette = materials.palette("colorblind" if name in ("colour_blind", "colorblind") else name)
         w_cues.use("colour_blind" if name == "colorblind" else name)  # the overlays' w cues follow
 
+    @property
+    def _programs(self) -> dict[str, moderngl.Program]:
+        """The style programs of the current look and palette (:attr:`StylePrograms.current`)."""
+        return self.programs.current
+
     # ----------------------------------------------------------------- caching
     def cached_keys(self) -> list[str]:
         """Keys that currently hold GPU buffers."""
@@ -172,7 +177,6 @@ class Renderer:
         """Free every GPU object this renderer made."""
         self.meshes.release()
         self.programs.release()
-        self._programs = {}
         if self._sky is not None:
             self._sky.release()
             self._sky = None
@@ -232,7 +236,7 @@ class Renderer:
         _, _, w, h = viewport
         if w <= 0 or h <= 0:
             return
-        self._programs = self.programs.use(self.look, self.palette)
+        self.programs.use(self.look, self.palette)
         scifi = self.look == "scifi"
         st = self.stats
         st.frames += 1
