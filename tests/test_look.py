@@ -18,7 +18,7 @@ from across_dimensions.render.context import Offscreen, RenderError
 from across_dimensions.render.demo import box_mesh, plane_mesh
 from across_dimensions.render.renderer import Renderer
 from across_dimensions.render.shaders import PROGRAMS, program_source
-from across_dimensions.render.sky import build_dome, gradient
+from across_dimensions.render.sky import SCREEN_TRIANGLE, build_dome, gradient, open_triangles
 from across_dimensions.world.resources import level_files
 
 LEVELS = Path(__file__).resolve().parent.parent / "levels"
@@ -164,6 +164,55 @@ def test_sky_has_stars(gl_ctx, target, renderer):
     # Points far brighter than the sky around them, a pixel or two each.
     bright = lum > np.median(lum) + 60
     assert 50 < bright.sum() < 0.05 * lum.size, bright.sum()
+
+
+def test_the_sky_rectangles_become_triangles_on_the_screen():
+    assert open_triangles(None, 16 / 9) is SCREEN_TRIANGLE
+    rects = np.array([[-3.0, -1.0, 3.0, -0.5], [-5.0, 0.0, -4.5, 0.5], [0.5, 0.5, 1.0, 1.0]])
+    tri = open_triangles(rects, 2.0).reshape(-1, 6, 2)
+    # The first clipped to the screen's width, the second off the screen, the third halved in x.
+    assert len(tri) == 2
+    assert np.allclose(tri[0].min(axis=0), [-1.0, -1.0]) and np.allclose(tri[0].max(axis=0), [1.0, -0.5])
+    assert np.allclose(tri[1].min(axis=0), [0.25, 0.5]) and np.allclose(tri[1].max(axis=0), [0.5, 1.0])
+    # Each rectangle two counter-clockwise triangles covering it, half each.
+    for quad in tri:
+        for a, b, c in (quad[:3], quad[3:]):
+            (ux, uy), (vx, vy) = b - a, c - a
+            assert ux * vy - uy * vx > 0
+    assert len(open_triangles(np.zeros((0, 4)), 1.0)) == 0
+    # Rectangles holding most of the screen: the screen's one triangle costs less than their edges.
+    most = np.array([[-2.0, -1.0, 2.0, 0.6]])  # 80 %
+    assert open_triangles(most, 2.0) is SCREEN_TRIANGLE
+    assert len(open_triangles(most * [1, 1, 1, 0.5], 2.0)) == 6
+
+
+@pytest.mark.gl
+def test_the_sky_over_rectangles_is_the_whole_sky_there_and_nothing_elsewhere(gl_ctx):
+    """Drawn over rectangles, the sky's pixels are those of the sky drawn over the whole view, in
+    a viewport anywhere in its framebuffer, but for a few a texel apart (a direction interpolated
+    over other triangles may differ in its last bit); outside them nothing is written."""
+    cam = Camera3(position=np.zeros(3), yaw=2.5, pitch=0.6, fov_y_deg=70.0)
+    renderer = Renderer(gl_ctx)
+    whole = Frame(cam, hud=Hud(crosshair=False), sky="dome")
+    rects = np.array([[-2.0, -1.0, -0.2, -0.3], [0.1, 0.2, 0.9, 0.8]])
+    parts = Frame(cam, hud=Hud(crosshair=False), sky="dome", sky_open=rects)
+    with Offscreen(gl_ctx, 2 * W, H) as t:
+        t.use()
+        for frame, x in ((whole, 0), (parts, W)):  # the left half, then the right half
+            renderer.draw(frame, (x, 0, W, H), hud=False)
+        img = t.read_rgb().astype(int)
+    renderer.release()
+    left, right = img[:, :W], img[:, W:]
+    # Which pixels the rectangles hold (pixel centres, rows from the top; x in units of the height).
+    x = ((np.arange(W) + 0.5) / W * 2.0 - 1.0) * (W / H)
+    y = 1.0 - (np.arange(H) + 0.5) / H * 2.0
+    inside = np.zeros((H, W), bool)
+    for x0, y0, x1, y1 in rects:
+        inside |= ((x0 < x) & (x < x1))[None, :] & ((y0 < y) & (y < y1))[:, None]
+    assert inside.sum() > 0.1 * inside.size
+    assert (right[inside] != left[inside]).any(axis=1).sum() <= 0.002 * inside.sum()
+    assert (right[~inside] == 0).all()  # the offscreen target starts black: never written
+    assert (left.sum(axis=2) > 0).all()
 
 
 @pytest.mark.gl

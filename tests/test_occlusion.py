@@ -3,7 +3,8 @@
 What must hold: a ball called hidden is hidden from every point of it (each segment from the
 eye to a point of the ball crosses the box), a box the eye stands in hides nothing, and in a
 level the picture is the one drawn with nothing left out, while the radar still says the
-hidden things reach the slice.
+hidden things reach the slice. Where the sky is left out, every ray meets a box before the far
+plane, and the picture is the one with the sky drawn everywhere.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ import numpy as np
 import pytest
 
 from across_dimensions.game.actions import Actions
-from across_dimensions.game.occlusion import BIG, EYE_MARGIN, box_sections, hidden
+from across_dimensions.game.occlusion import BIG, EYE_MARGIN, SKY_ROWS, box_sections, hidden, open_rectangles
 from across_dimensions.game.sim import Game
 from across_dimensions.game.systems import sections
 from across_dimensions.world.level import load_level
@@ -141,12 +142,67 @@ def test_an_open_gate_hides_nothing():
     assert any(f"entity:{e.id}" in members for e in enemies)
 
 
+def _covered_area(rects) -> float:
+    """How much of a 16:9 view ``rects`` (the view's units) leave to the sky, as a fraction."""
+    r = np.asarray(rects).reshape(-1, 4)
+    aspect = 16 / 9
+    width = np.clip(r[:, 2], -aspect, aspect) - np.clip(r[:, 0], -aspect, aspect)
+    return float((width * (r[:, 3] - r[:, 1])).sum() / (4 * aspect))
+
+
+def test_where_the_sky_is_left_out_every_ray_meets_a_box_before_the_far_plane():
+    rng = np.random.default_rng(3)
+    eye = np.array([0.0, 1.5, 0.0])
+    yaw = 0.4
+    axes = np.array([[np.cos(yaw), 0.0, -np.sin(yaw)], [0.0, 1.0, 0.0], [np.sin(yaw), 0.0, np.cos(yaw)]])
+    t, far = np.tan(np.radians(37.5)), 60.0
+    # A room's walls seen from inside, a pillar, and a wall beyond the far plane (hides nothing).
+    boxes = np.array([
+        [[-8.0, -1.0, 6.0], [8.0, 3.0, 7.0]], [[6.0, -1.0, -8.0], [7.0, 3.0, 7.0]],
+        [[-8.0, -1.0, -1.0], [8.0, 0.0, 7.0]], [[-0.5, 0.0, 3.0], [0.5, 5.0, 3.5]],
+        [[-500.0, 3.0, 200.0], [500.0, 500.0, 201.0]],
+    ])  # fmt: skip
+    rects = open_rectangles(eye, axes, t, far, boxes)
+    assert rects is not None and 0.05 < _covered_area(rects) < 0.95  # some of the view, not all
+    # Rays through random points of the view: inside a rectangle, or meeting a box before the far plane.
+    pts = rng.uniform([-3.0, -1.0], [3.0, 1.0], (4000, 2))
+    inside = np.zeros(len(pts), bool)
+    for x0, y0, x1, y1 in rects:
+        inside |= (x0 <= pts[:, 0]) & (pts[:, 0] <= x1) & (y0 <= pts[:, 1]) & (pts[:, 1] <= y1)
+    ends = eye + far * (np.column_stack([pts * t, np.ones(len(pts))]) @ axes)
+    for p in ends[~inside]:
+        assert any(_segment_hits(eye, p, lo, hi) for lo, hi in boxes)
+    assert (~inside).sum() > 1000
+    # And the rectangles leave out every cell that one box covers: a cell none covers stays.
+    assert open_rectangles(eye, axes, t, far, boxes[4:]) is None  # beyond the far plane: no help
+    assert open_rectangles(eye, axes, t, far, boxes[:0]) is None
+
+
+def test_the_sky_cells_are_square_and_tile_the_view():
+    eye, axes = np.zeros(3), np.eye(3)
+    wall = np.array([[[-1.0, -100.0, 5.0], [100.0, 100.0, 6.0]]])  # the right half of the view, and more
+    rects = open_rectangles(eye, axes, 1.0, 100.0, wall)
+    cell = 2.0 / SKY_ROWS
+    # The open run of every row is the same: one rectangle, the view's height, from its left
+    # edge to the first cell wholly right of the wall's edge (x = -1/5 in the view).
+    assert len(rects) == 1
+    x0, y0, x1, y1 = rects[0]
+    assert (x0, y0, y1) == (-3.0, -1.0, 1.0) and -0.2 <= x1 < -0.2 + cell
+    assert np.isclose((x1 + 3.0) / cell % 1.0, 0.0) or np.isclose((x1 + 3.0) / cell % 1.0, 1.0)  # on the grid
+    # A wall over the lower half of the view only: open rows above it, the same across.
+    floor_wall = np.array([[[-100.0, -100.0, 5.0], [100.0, -1.0, 6.0]]])
+    rects = open_rectangles(eye, axes, 1.0, 100.0, floor_wall)
+    assert len(rects) == 1 and tuple(rects[0]) == (-3.0, rects[0, 1], 3.0, 1.0)
+    assert -0.2 <= rects[0, 1] < -0.2 + cell  # the wall's top edge is at y = -1/5
+
+
 @pytest.mark.parametrize(
     "level, pose, covered",
     [
         ("11_crossfire", (-7.0, -17.0, 90.0), True),  # outside the armoury, facing its wall
         ("10_cloister", (0.0, 10.333, 180.0), True),  # against the veil
         ("11_crossfire", (0.0, 0.0, 0.0), False),  # the arena, the sky over its walls
+        ("04_armory", (3.3, 0.0, 225.0), False),  # a room's corner: sky only where the walls meet
     ],
 )
 def test_a_box_covering_the_view_hides_the_sky_and_no_pixel_changes(gl_ctx, level, pose, covered):
@@ -157,8 +213,14 @@ def test_a_box_covering_the_view_hides_the_sky_and_no_pixel_changes(gl_ctx, leve
     x, z, yaw = pose
     game.place_player((x, float(game.player.position[1]), z, 0.0), np.radians(yaw), 0.0)
     frame = game.frame()
-    assert frame.sky_hidden == covered
-    if covered:
-        drawn = _image(gl_ctx, frame)
-        frame.sky_hidden = False
-        assert np.array_equal(drawn, _image(gl_ctx, frame))
+    assert frame.sky_open is not None
+    left = _covered_area(frame.sky_open)
+    assert left == 0.0 if covered else 0.0 < left < 1.0
+    drawn = _image(gl_ctx, frame)
+    frame.sky_open = None  # the sky over the whole view
+    whole = _image(gl_ctx, frame)
+    # The same picture: nothing left unwritten (the target starts black, the sky never is), and
+    # at most a few sky pixels a star's texel apart (the sky's direction is interpolated over
+    # other triangles: a last-bit difference can pick the texel next door).
+    assert not (drawn == 0).all(axis=2).any() and not (whole == 0).all(axis=2).any()
+    assert (drawn != whole).any(axis=2).sum() <= 0.001 * drawn.shape[0] * drawn.shape[1]

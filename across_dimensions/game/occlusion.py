@@ -18,8 +18,10 @@ eight corners crosses ``B``: the directions that meet ``B`` form a convex cone h
 of all of ``T``, and every separating plane of the two leaves the eye on ``B``'s side (else a
 segment from the eye to ``T`` could not reach ``B``), so ``B`` is met before ``T``.
 
-The same boxes tell when the sky shows nowhere (:func:`view_covered`): a wall seen from close by
-covers the whole view, and the sky's depth test over it would cost a millisecond for no pixel.
+The same boxes tell where the sky cannot show (:func:`sky_open`): the view is cut into square
+cells, and a cell that one box covers gets no sky. On llvmpipe the sky's depth test costs about
+half of a whole sky on every pixel it covers, even where the scene hides it: a wall seen from
+close by, or the walls of a room, would cost a millisecond or more for no pixel.
 """
 
 from __future__ import annotations
@@ -47,8 +49,8 @@ BIG = 1.0
 MAX_PIECES = 8
 #: Offsets of a box's eight corners from its centre, in units of its half sizes.
 _CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], np.float64)
-#: The view's four corners, as signs of the eye's x and y axes (and its view direction).
-_CORNER_SIGNS = np.array([[x, y, 1.0] for x in (-1.0, 1.0) for y in (-1.0, 1.0)])
+#: Rows of cells :func:`sky_open` cuts the view into (square cells: 60 pixels at 720 lines).
+SKY_ROWS = 12
 
 
 def hidden(eye, centers, radii, boxes) -> np.ndarray:
@@ -268,21 +270,73 @@ def _frame_occluders(game, frame, models: np.ndarray, alpha: float) -> np.ndarra
     return table.occluder_memo[1]
 
 
-def view_covered(game, frame, models: np.ndarray, alpha: float) -> bool:
-    """Does one box solid in the slice cover the whole of ``frame``'s view, for any window up to
-    :data:`.entity_sections.CULL_ASPECT` wide? Then the sky shows nowhere. The view's four
-    corner rays, out to the far plane, must all cross the box: its outline on screen is convex,
-    so it then holds the whole rectangle, and nearer than the far plane."""
+def sky_open(game, frame, models: np.ndarray, alpha: float) -> np.ndarray | None:
+    """Where the sky may show in ``frame``'s view (:func:`open_rectangles` of the boxes solid in
+    its slice); None for anywhere, as while the slice is turned or the camera detached (the
+    occluders are world boxes)."""
     if not game.camera.aligned or game.camera.detached:
-        return False
-    b = _frame_occluders(game, frame, models, alpha)
-    if not len(b):
-        return False
+        return None
     cam = frame.camera
-    # The view's corners on the far plane: eye space (+-far t aspect, +-far t, -far), t the
-    # tangent of half the vertical field of view.
     t = np.tan(np.radians(cam.fov_y_deg) / 2.0)
     eye = np.asarray(cam.position, np.float64)
-    far = eye + cam.far * ((_CORNER_SIGNS * (t * CULL_ASPECT, t, 1.0)) @ cam.axes())
-    crossed, anyone = _ahead(eye, far, b)
-    return anyone and bool(crossed.all(axis=0).any())
+    return open_rectangles(eye, cam.axes(), t, cam.far, _frame_occluders(game, frame, models, alpha))
+
+
+def open_rectangles(eye, axes, t: float, far: float, boxes: np.ndarray) -> np.ndarray | None:
+    """Where the sky may show in a view: rectangles ``(k, 4) float64``, each ``x0, y0, x1, y1``
+    in the view's own units (its height spans -1 to 1, its width -aspect to aspect for any
+    window up to :data:`.entity_sections.CULL_ASPECT` wide); None for anywhere (no box is in
+    the way).
+
+    The view is cut into square cells, :data:`SKY_ROWS` high, and a cell that one of the
+    ``boxes`` covers is left out: the four rays through its corners, out to the far plane, all
+    cross the box. The rays that meet a convex box from outside it form a convex cone, so
+    every ray through the cell meets the box too, nearer than the far plane where the sky is
+    drawn. Runs of open cells, along a row and down the rows where they recur, are one
+    rectangle each; no rectangle at all when every cell is covered (a wall seen from close by).
+
+    Parameters
+    ----------
+    eye : (3,) float64
+    axes : (3, 3) float64
+        The view's x, y and forward directions, rows (:meth:`.frame.Camera3.axes`).
+    t : float
+        The tangent of half the vertical field of view.
+    far : float
+        The far plane's distance.
+    boxes : (k, 2, 3) float64
+        Lower and upper corners, none holding the eye (:func:`_occluders`).
+    """
+    if not len(boxes):
+        return None
+    rows, cols = SKY_ROWS, round(SKY_ROWS * CULL_ASPECT)
+    xs = np.linspace(-CULL_ASPECT, CULL_ASPECT, cols + 1)
+    ys = np.linspace(-1.0, 1.0, rows + 1)
+    # The cells' corners on the far plane: eye space (x t, y t, 1) times far.
+    gx, gy = np.meshgrid(xs * t, ys * t)
+    corners = np.stack([gx.ravel(), gy.ravel(), np.ones(gx.size)], axis=1)
+    eye = np.asarray(eye, np.float64)
+    crossed, anyone = _ahead(eye, eye + far * (corners @ np.asarray(axes, np.float64)), boxes)
+    if not anyone:
+        return None
+    c = crossed.reshape(rows + 1, cols + 1, len(boxes))
+    covered = (c[:-1, :-1] & c[:-1, 1:] & c[1:, :-1] & c[1:, 1:]).any(axis=2)  # (rows, cols)
+    # Runs of open cells along each row: where the padded row steps up, and where it steps down.
+    step = np.diff(np.pad(~covered, ((0, 0), (1, 1))).astype(np.int8), axis=1)
+    r0, c0 = np.nonzero(step == 1)
+    _, c1 = np.nonzero(step == -1)  # row-major like the starts: the n-th end closes the n-th run
+    # A run the row below has too grows down into one rectangle (the open sky over a wall
+    # is one): fewer edges across llvmpipe's tiles, each of which it rasterizes pixel by pixel.
+    rects: dict = {}  # (first column, end column) -> [first row, end row] of the rectangle growing down
+    done = []
+    for r, a, b in zip(r0.tolist(), c0.tolist(), c1.tolist()):
+        last = rects.get((a, b))
+        if last is not None and last[1] == r:
+            last[1] = r + 1
+            continue
+        if last is not None:
+            done.append((a, b, *last))
+        rects[(a, b)] = [r, r + 1]
+    done += [(a, b, *rows_) for (a, b), rows_ in rects.items()]
+    i = np.array(done, np.int64).reshape(-1, 4)
+    return np.stack([xs[i[:, 0]], ys[i[:, 2]], xs[i[:, 1]], ys[i[:, 3]]], axis=1)

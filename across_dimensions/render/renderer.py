@@ -245,7 +245,10 @@ class Renderer:
         self.ctx.viewport = viewport
         sky = tuple(float(x) for x in frame.sky_color)
         dome = scifi and frame.sky == "dome"
-        self._clear(fbo, viewport, sky, dome and not frame.sky_hidden)
+        # The dome is drawn unless a box covers the whole view (then its depth test alone costs
+        # a millisecond on llvmpipe), and only where none may (see game/occlusion.py).
+        sky_drawn = dome and (frame.sky_open is None or len(frame.sky_open) > 0)
+        self._clear(fbo, viewport, sky, sky_drawn)
 
         cam = frame.camera
         view_mat = cam.view_matrix()
@@ -268,12 +271,11 @@ class Renderer:
         self._lap("setup")
 
         self._draw_opaque(frame, opaque, wires, vp_bytes)
-        if dome and not frame.sky_hidden:
-            # After the opaque scene: the sky shades only the pixels nothing covered (none, when
-            # one box covers the view: then its depth test alone would cost a millisecond).
+        if sky_drawn:
+            # After the opaque scene: the sky shades only the pixels nothing covered.
             if self._sky is None:
                 self._sky = SkyRenderer(self.ctx)
-            st.draw_calls += self._sky.draw(view_proj, eye, light, self.palette, self._set)
+            st.draw_calls += self._sky.draw(view_proj, eye, light, self.palette, self._set, frame.sky_open, w / h)
             self._lap("sky")
         self._draw_ghosts(frame, ghosts, vp_bytes)
         self._lap("ghosts")

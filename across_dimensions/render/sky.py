@@ -211,25 +211,52 @@ CUBE_MAX = 1024
 CUBE_VERTEX = """
 #version 330
 uniform mat3 u_dir_from_ndc;  // screen (x, y, 1) to a world direction (see SkyRenderer.draw)
-out vec3 v_dir;
+in vec2 in_ndc;  // a corner of the screen's triangle or of a rectangle where the sky may show
+noperspective out vec3 v_dir;
 void main() {
-    // One triangle covering the screen, at the far plane (z = w).
-    vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
-    // Linear in screen space, so interpolating it per pixel is exact.
-    v_dir = u_dir_from_ndc * vec3(p, 1.0);
-    gl_Position = vec4(p, 1.0, 1.0);
+    // Linear in screen space, so interpolating it per pixel is exact; without perspective
+    // (every corner's w is 1), which spares llvmpipe a division per pixel: a tenth of the sky.
+    v_dir = u_dir_from_ndc * vec3(in_ndc, 1.0);
+    gl_Position = vec4(in_ndc, 1.0, 1.0);  // at the far plane (z = w)
 }
 """
 
 CUBE_FRAGMENT = """
 #version 330
 uniform samplerCube u_sky;
-in vec3 v_dir;
+noperspective in vec3 v_dir;
 out vec4 f_color;
 void main() {
     f_color = vec4(texture(u_sky, v_dir).rgb, 1.0);
 }
 """
+
+#: One triangle covering the screen (normalized device coordinates), the sky's when it may show anywhere.
+SCREEN_TRIANGLE = np.array([[-1.0, -1.0], [3.0, -1.0], [-1.0, 3.0]], np.float32)
+
+
+#: Rectangles leaving the sky more than this fraction of the screen are drawn as the whole
+#: screen: their edges across llvmpipe's tiles then cost more than the depth test they spare.
+OPEN_ENOUGH = 0.75
+
+
+def open_triangles(rects: np.ndarray | None, aspect: float) -> np.ndarray:
+    """The triangles ``(3 t, 2) float32`` (normalized device coordinates) to draw the sky over:
+    two per rectangle ``x0, y0, x1, y1`` of ``rects (k, 4)`` (the view's units,
+    :attr:`~across_dimensions.game.frame.Frame.sky_open`: x spans -``aspect`` to ``aspect``)
+    that reaches the screen, clipped to it; :data:`SCREEN_TRIANGLE` for None, or when they
+    hold more than :data:`OPEN_ENOUGH` of the screen."""
+    if rects is None:
+        return SCREEN_TRIANGLE
+    r = np.asarray(rects, np.float64).reshape(-1, 4) / (aspect, 1.0, aspect, 1.0)
+    x0, y0 = np.maximum(r[:, 0], -1.0), np.maximum(r[:, 1], -1.0)
+    x1, y1 = np.minimum(r[:, 2], 1.0), np.minimum(r[:, 3], 1.0)
+    on = (x0 < x1) & (y0 < y1)
+    x0, y0, x1, y1 = x0[on], y0[on], x1[on], y1[on]
+    if ((x1 - x0) * (y1 - y0)).sum() > 4.0 * OPEN_ENOUGH:  # the screen is 2 by 2
+        return SCREEN_TRIANGLE
+    corners = [(x0, y0), (x1, y0), (x1, y1), (x0, y0), (x1, y1), (x0, y1)]  # counter-clockwise
+    return np.stack([np.stack(c, axis=1) for c in corners], axis=1).reshape(-1, 2).astype(np.float32)
 
 
 def cube_face_size(view_proj: np.ndarray, height: int) -> int:
@@ -282,7 +309,9 @@ class SkyRenderer:
         self.ctx = ctx
         self.prog = ctx.program(vertex_shader=SKY_VERTEX, fragment_shader=SKY_FRAGMENT)
         self.cube_prog = ctx.program(vertex_shader=CUBE_VERTEX, fragment_shader=CUBE_FRAGMENT)
-        self.cube_vao = ctx.vertex_array(self.cube_prog, [])
+        self.corners = ctx.buffer(reserve=SCREEN_TRIANGLE.nbytes, dynamic=True)
+        self.cube_vao = ctx.vertex_array(self.cube_prog, [(self.corners, "2f", "in_ndc")])
+        self._drawn_over = b""  # the corners in the buffer
         self.cube: moderngl.TextureCube | None = None
         self._built_for = None
         self.builds = 0
@@ -335,8 +364,11 @@ class SkyRenderer:
         self._built_for = key
         self.builds += 1
 
-    def draw(self, view_proj: np.ndarray, eye: np.ndarray, light_dir, colours, set_uniform) -> int:
-        """Draw the sky where the depth buffer is still clear (depth test on, cleared to 1.0).
+    def draw(
+        self, view_proj: np.ndarray, eye: np.ndarray, light_dir, colours, set_uniform, rects=None, aspect: float = 1.0
+    ) -> int:
+        """Draw the sky where the depth buffer is still clear (depth test on, cleared to 1.0),
+        over the whole screen or only over ``rects``.
 
         Parameters
         ----------
@@ -350,12 +382,20 @@ class SkyRenderer:
             The palette (:mod:`.materials`).
         set_uniform : callable
             ``set_uniform(prog, name, value)``, tolerant of names the compiler dropped.
+        rects : (k, 4) float64, optional
+            Where the sky may show (:attr:`~across_dimensions.game.frame.Frame.sky_open`):
+            elsewhere a box covers the view, and even a depth test there costs on llvmpipe.
+        aspect : float
+            The view's width over its height (``rects`` are in units of its height).
 
         Returns
         -------
         int
             Draw calls made.
         """
+        corners = open_triangles(rects, aspect)
+        if not len(corners):
+            return 0  # none reaches the screen: the boxes cover all of it
         ctx = self.ctx
         vp = np.asarray(view_proj, np.float64)
         size = cube_face_size(vp, ctx.viewport[3])
@@ -372,16 +412,21 @@ class SkyRenderer:
         set_uniform(self.cube_prog, "u_sky", 0)
         ctx.depth_func = "<="
         ctx.fbo.depth_mask = False
-        self.cube_vao.render(moderngl.TRIANGLES, vertices=3)
+        if corners.tobytes() != self._drawn_over:
+            if corners.nbytes > self.corners.size:
+                self.corners.orphan(corners.nbytes)
+            self.corners.write(corners)
+            self._drawn_over = corners.tobytes()
+        self.cube_vao.render(moderngl.TRIANGLES, vertices=len(corners))
         ctx.fbo.depth_mask = True
         ctx.depth_func = "<"
         return 1
 
     def release(self) -> None:
-        for obj in (self.cube, self.cube_vao, self.cube_prog, self.prog):
+        for obj in (self.cube, self.cube_vao, self.corners, self.cube_prog, self.prog):
             if obj is not None:
                 obj.release()
         self.cube = None
 
 
-__all__ = ["SkyRenderer", "build_dome", "gradient", "SKY_VERTEX", "SKY_FRAGMENT"]
+__all__ = ["SkyRenderer", "build_dome", "gradient", "open_triangles", "SKY_VERTEX", "SKY_FRAGMENT"]
