@@ -270,6 +270,26 @@ def _frame_occluders(game, frame, models: np.ndarray, alpha: float) -> np.ndarra
     return table.occluder_memo[1]
 
 
+def _sky_grid(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The cells' edges ``xs (cols + 1,)`` and ``ys (rows + 1,)`` in the view's units, and their
+    corners on the far plane in eye space, ``(x t, y t, 1)``, ``(m, 3)``: made once per field of
+    view (``t``, the tangent of half of it)."""
+    grid = _SKY_GRIDS.get(t)
+    if grid is None:
+        cols = round(SKY_ROWS * CULL_ASPECT)
+        xs = np.linspace(-CULL_ASPECT, CULL_ASPECT, cols + 1)
+        ys = np.linspace(-1.0, 1.0, SKY_ROWS + 1)
+        gx, gy = np.meshgrid(xs * t, ys * t)
+        grid = (xs, ys, np.stack([gx.ravel(), gy.ravel(), np.ones(gx.size)], axis=1))
+        if len(_SKY_GRIDS) >= 8:  # a zoom sweeping the field of view: keep a few
+            _SKY_GRIDS.clear()
+        _SKY_GRIDS[t] = grid
+    return grid
+
+
+_SKY_GRIDS: dict = {}
+
+
 def sky_open(game, frame, models: np.ndarray, alpha: float) -> np.ndarray | None:
     """Where the sky may show in ``frame``'s view (:func:`open_rectangles` of the boxes solid in
     its slice); None for anywhere, as while the slice is turned or the camera detached (the
@@ -309,22 +329,21 @@ def open_rectangles(eye, axes, t: float, far: float, boxes: np.ndarray) -> np.nd
     """
     if not len(boxes):
         return None
-    rows, cols = SKY_ROWS, round(SKY_ROWS * CULL_ASPECT)
-    xs = np.linspace(-CULL_ASPECT, CULL_ASPECT, cols + 1)
-    ys = np.linspace(-1.0, 1.0, rows + 1)
-    # The cells' corners on the far plane: eye space (x t, y t, 1) times far.
-    gx, gy = np.meshgrid(xs * t, ys * t)
-    corners = np.stack([gx.ravel(), gy.ravel(), np.ones(gx.size)], axis=1)
+    xs, ys, corners = _sky_grid(float(t))
     eye = np.asarray(eye, np.float64)
     crossed, anyone = _ahead(eye, eye + far * (corners @ np.asarray(axes, np.float64)), boxes)
     if not anyone:
         return None
-    c = crossed.reshape(rows + 1, cols + 1, len(boxes))
+    c = crossed.reshape(len(ys), len(xs), len(boxes))
     covered = (c[:-1, :-1] & c[:-1, 1:] & c[1:, :-1] & c[1:, 1:]).any(axis=2)  # (rows, cols)
-    # Runs of open cells along each row: where the padded row steps up, and where it steps down.
-    step = np.diff(np.pad(~covered, ((0, 0), (1, 1))).astype(np.int8), axis=1)
-    r0, c0 = np.nonzero(step == 1)
-    _, c1 = np.nonzero(step == -1)  # row-major like the starts: the n-th end closes the n-th run
+    if not covered.any():
+        return None
+    # Runs of open cells along each row: where the row, padded with covered cells, steps up,
+    # and where it steps down (row-major, like the starts: the n-th end closes the n-th run).
+    padded = np.zeros((len(ys) - 1, len(xs) + 1), bool)
+    padded[:, 1:-1] = ~covered
+    r0, c0 = np.nonzero(padded[:, 1:] & ~padded[:, :-1])
+    _, c1 = np.nonzero(padded[:, :-1] & ~padded[:, 1:])
     # A run the row below has too grows down into one rectangle (the open sky over a wall
     # is one): fewer edges across llvmpipe's tiles, each of which it rasterizes pixel by pixel.
     rects: dict = {}  # (first column, end column) -> [first row, end row] of the rectangle growing down
