@@ -213,6 +213,13 @@ def test_the_sky_over_rectangles_is_the_whole_sky_there_and_nothing_elsewhere(gl
     assert (right[inside] != left[inside]).any(axis=1).sum() <= 0.002 * inside.sum()
     assert (right[~inside] == 0).all()  # the offscreen target starts black: never written
     assert (left.sum(axis=2) > 0).all()
+    # A window wider than a frame is made for: its sides were never tested, the sky is drawn everywhere.
+    renderer = Renderer(gl_ctx)
+    with Offscreen(gl_ctx, 4 * H, H) as t:
+        t.use()
+        renderer.draw(parts, hud=False)
+        assert (t.read_rgb().sum(axis=2) > 0).all()
+    renderer.release()
 
 
 @pytest.mark.gl

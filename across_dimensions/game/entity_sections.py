@@ -25,11 +25,11 @@ import numpy as np
 
 from ..core.section_batch import SectionBatch
 from ..core.transform import translation
-from .frame import Drawable, Frame, TriangleBatch
+from .frame import WIDEST_VIEW, Drawable, Frame, TriangleBatch
 
 #: Widest window shape culling allows for (width / height): the frame does not
 #: know the window's, so entities are culled against a view at least this wide.
-CULL_ASPECT = 3.0
+CULL_ASPECT = WIDEST_VIEW
 
 
 #: Styles whose vertex colour alpha carries the thing's w offset (the renderer's w cue:

@@ -16,6 +16,11 @@ import numpy as np
 
 from ..core.mesh import TriMesh3
 
+#: Widest window (width / height) a frame is made for: the game does not know the window's, so
+#: what it culls from the view, and where it leaves the sky out, holds for any view up to this
+#: wide. The renderer draws a wider window's sky everywhere.
+WIDEST_VIEW = 3.0
+
 
 @dataclass
 class Camera3:
@@ -330,8 +335,9 @@ class Frame:
     light_dir: tuple[float, float, float] = (0.4, 1.0, 0.25)
     sky: str = "flat"  # "flat": one colour (sky_color); "dome": the renderer's procedural sky
     #: Where the dome may show, ``(k, 4) float64`` rectangles ``x0, y0, x1, y1`` in the view's
-    #: units (its height spans -1 to 1, its width -aspect to aspect); None: anywhere. Elsewhere
-    #: an opaque box covers the view (game/occlusion.py): the renderer draws no sky there.
+    #: units (its height spans -1 to 1, its width -aspect to aspect, up to :data:`WIDEST_VIEW`);
+    #: None: anywhere. Elsewhere an opaque box covers the view (game/occlusion.py): the renderer
+    #: draws no sky there.
     sky_open: np.ndarray | None = None
     time: float = 0.0  # seconds of play, for animated shading (pulses, bands); never read by the game
     batches: list = field(default_factory=list)  # TriangleBatch: many objects, one draw call per pass

@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..physics.sightlines import segments_cross_boxes, segments_cross_their_boxes
-from .entity_sections import CULL_ASPECT
+from .frame import WIDEST_VIEW
 
 #: A box whose bounds, grown by this (m), hold the eye hides nothing (its faces are culled from
 #: inside, and the near plane may cut the one in front of the eye).
@@ -276,8 +276,8 @@ def _sky_grid(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     view (``t``, the tangent of half of it)."""
     grid = _SKY_GRIDS.get(t)
     if grid is None:
-        cols = round(SKY_ROWS * CULL_ASPECT)
-        xs = np.linspace(-CULL_ASPECT, CULL_ASPECT, cols + 1)
+        cols = round(SKY_ROWS * WIDEST_VIEW)
+        xs = np.linspace(-WIDEST_VIEW, WIDEST_VIEW, cols + 1)
         ys = np.linspace(-1.0, 1.0, SKY_ROWS + 1)
         gx, gy = np.meshgrid(xs * t, ys * t)
         grid = (xs, ys, np.stack([gx.ravel(), gy.ravel(), np.ones(gx.size)], axis=1))
@@ -305,7 +305,7 @@ def sky_open(game, frame, models: np.ndarray, alpha: float) -> np.ndarray | None
 def open_rectangles(eye, axes, t: float, far: float, boxes: np.ndarray) -> np.ndarray | None:
     """Where the sky may show in a view: rectangles ``(k, 4) float64``, each ``x0, y0, x1, y1``
     in the view's own units (its height spans -1 to 1, its width -aspect to aspect for any
-    window up to :data:`.entity_sections.CULL_ASPECT` wide); None for anywhere (no box is in
+    window up to :data:`.frame.WIDEST_VIEW` wide); None for anywhere (no box is in
     the way).
 
     The view is cut into square cells, :data:`SKY_ROWS` high, and a cell that one of the

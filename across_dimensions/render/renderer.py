@@ -48,7 +48,7 @@ import time
 import moderngl
 import numpy as np
 
-from ..game.frame import Drawable, Frame
+from ..game.frame import WIDEST_VIEW, Drawable, Frame
 from . import materials
 from . import palette as w_cues
 from .batch import DEPTH_FRAGMENT, DEPTH_VERTEX, BatchBuffers
@@ -246,8 +246,10 @@ class Renderer:
         sky = tuple(float(x) for x in frame.sky_color)
         dome = scifi and frame.sky == "dome"
         # The dome is drawn unless a box covers the whole view (then its depth test alone costs
-        # a millisecond on llvmpipe), and only where none may (see game/occlusion.py).
-        sky_drawn = dome and (frame.sky_open is None or len(frame.sky_open) > 0)
+        # a millisecond on llvmpipe), and only where none may (see game/occlusion.py): anywhere
+        # in a window wider than the frame was made for.
+        sky_open = frame.sky_open if w / h <= WIDEST_VIEW else None
+        sky_drawn = dome and (sky_open is None or len(sky_open) > 0)
         self._clear(fbo, viewport, sky, sky_drawn)
 
         cam = frame.camera
@@ -275,7 +277,7 @@ class Renderer:
             # After the opaque scene: the sky shades only the pixels nothing covered.
             if self._sky is None:
                 self._sky = SkyRenderer(self.ctx)
-            st.draw_calls += self._sky.draw(view_proj, eye, light, self.palette, self._set, frame.sky_open, w / h)
+            st.draw_calls += self._sky.draw(view_proj, eye, light, self.palette, self._set, sky_open, w / h)
             self._lap("sky")
         self._draw_ghosts(frame, ghosts, vp_bytes)
         self._lap("ghosts")
