@@ -270,6 +270,9 @@ def _frame_occluders(game, frame, models: np.ndarray, alpha: float) -> np.ndarra
     return table.occluder_memo[1]
 
 
+_SKY_GRIDS: dict = {}  # the tangent of half a field of view -> its cells (:func:`_sky_grid`)
+
+
 def _sky_grid(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The cells' edges ``xs (cols + 1,)`` and ``ys (rows + 1,)`` in the view's units, and their
     corners on the far plane in eye space, ``(x t, y t, 1)``, ``(m, 3)``: made once per field of
@@ -285,9 +288,6 @@ def _sky_grid(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             _SKY_GRIDS.clear()
         _SKY_GRIDS[t] = grid
     return grid
-
-
-_SKY_GRIDS: dict = {}
 
 
 def sky_open(game, frame, models: np.ndarray, alpha: float) -> np.ndarray | None:
@@ -327,11 +327,14 @@ def open_rectangles(eye, axes, t: float, far: float, boxes: np.ndarray) -> np.nd
     boxes : (k, 2, 3) float64
         Lower and upper corners, none holding the eye (:func:`_occluders`).
     """
+    eye, axes = np.asarray(eye, np.float64), np.asarray(axes, np.float64)
+    # A box wholly behind the eye covers nothing (about half of a level's walls in any view).
+    mid, half = 0.5 * (boxes[:, 0] + boxes[:, 1]), 0.5 * (boxes[:, 1] - boxes[:, 0])
+    boxes = boxes[(mid - eye) @ axes[2] + half @ np.abs(axes[2]) > 0.0]
     if not len(boxes):
         return None
     xs, ys, corners = _sky_grid(float(t))
-    eye = np.asarray(eye, np.float64)
-    crossed, anyone = _ahead(eye, eye + far * (corners @ np.asarray(axes, np.float64)), boxes)
+    crossed, anyone = _ahead(eye, eye + far * (corners @ axes), boxes)
     if not anyone:
         return None
     c = crossed.reshape(len(ys), len(xs), len(boxes))
@@ -356,6 +359,6 @@ def open_rectangles(eye, axes, t: float, far: float, boxes: np.ndarray) -> np.nd
         if last is not None:
             done.append((a, b, *last))
         rects[(a, b)] = [r, r + 1]
-    done += [(a, b, *rows_) for (a, b), rows_ in rects.items()]
+    done += [(a, b, *span) for (a, b), span in rects.items()]
     i = np.array(done, np.int64).reshape(-1, 4)
     return np.stack([xs[i[:, 0]], ys[i[:, 2]], xs[i[:, 1]], ys[i[:, 3]]], axis=1)

@@ -412,11 +412,12 @@ class SkyRenderer:
         set_uniform(self.cube_prog, "u_sky", 0)
         ctx.depth_func = "<="
         ctx.fbo.depth_mask = False
-        if corners.tobytes() != self._drawn_over:
-            if corners.nbytes > self.corners.size:
-                self.corners.orphan(corners.nbytes)
-            self.corners.write(corners)
-            self._drawn_over = corners.tobytes()
+        data = corners.tobytes()
+        if data != self._drawn_over:
+            if len(data) > self.corners.size:
+                self.corners.orphan(len(data))
+            self.corners.write(data)
+            self._drawn_over = data
         self.cube_vao.render(moderngl.TRIANGLES, vertices=len(corners))
         ctx.fbo.depth_mask = True
         ctx.depth_func = "<"
