@@ -13,12 +13,20 @@ from conftest import per_level
 from across_dimensions.core.mesh import TriMesh3
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.frame import Camera3, Drawable, Frame, Hud
+from across_dimensions.game.occlusion import SKY_ROWS
 from across_dimensions.render import materials
 from across_dimensions.render.context import Offscreen, RenderError
 from across_dimensions.render.demo import box_mesh, plane_mesh
 from across_dimensions.render.renderer import Renderer
 from across_dimensions.render.shaders import PROGRAMS, program_source
-from across_dimensions.render.sky import SCREEN_TRIANGLE, build_dome, gradient, open_triangles
+from across_dimensions.render.sky import (
+    FINE_CELLS_PIXELS,
+    SCREEN_TRIANGLE,
+    build_dome,
+    gradient,
+    open_sky,
+    open_triangles,
+)
 from across_dimensions.world.resources import level_files
 
 LEVELS = Path(__file__).resolve().parent.parent / "levels"
@@ -187,15 +195,18 @@ def test_the_sky_rectangles_become_triangles_on_the_screen():
 
 
 @pytest.mark.gl
-def test_the_sky_over_rectangles_is_the_whole_sky_there_and_nothing_elsewhere(gl_ctx):
+def test_the_sky_over_rectangles_is_the_whole_sky_there_and_nothing_elsewhere(gl_ctx, monkeypatch):
     """Drawn over rectangles, the sky's pixels are those of the sky drawn over the whole view, in
     a viewport anywhere in its framebuffer, but for a few a texel apart (a direction interpolated
     over other triangles may differ in its last bit); outside them nothing is written."""
+    from across_dimensions.render import renderer as renderer_module
+
     cam = Camera3(position=np.zeros(3), yaw=2.5, pitch=0.6, fov_y_deg=70.0)
     renderer = Renderer(gl_ctx)
     whole = Frame(cam, hud=Hud(crosshair=False), sky="dome")
+    parts = Frame(cam, hud=Hud(crosshair=False), sky="dome")
     rects = np.array([[-2.0, -1.0, -0.2, -0.3], [0.1, 0.2, 0.9, 0.8]])
-    parts = Frame(cam, hud=Hud(crosshair=False), sky="dome", sky_open=rects)
+    monkeypatch.setattr(renderer_module, "open_sky", lambda frame, w, h: rects if frame is parts else None)
     with Offscreen(gl_ctx, 2 * W, H) as t:
         t.use()
         for frame, x in ((whole, 0), (parts, W)):  # the left half, then the right half
@@ -213,13 +224,23 @@ def test_the_sky_over_rectangles_is_the_whole_sky_there_and_nothing_elsewhere(gl
     assert (right[inside] != left[inside]).any(axis=1).sum() <= 0.002 * inside.sum()
     assert (right[~inside] == 0).all()  # the offscreen target starts black: never written
     assert (left.sum(axis=2) > 0).all()
-    # A window wider than a frame is made for: its sides were never tested, the sky is drawn everywhere.
-    renderer = Renderer(gl_ctx)
-    with Offscreen(gl_ctx, 4 * H, H) as t:
-        t.use()
-        renderer.draw(parts, hud=False)
-        assert (t.read_rgb().sum(axis=2) > 0).all()
-    renderer.release()
+
+
+def test_large_views_test_the_sky_in_fine_cells_small_ones_in_three_and_wide_ones_not_at_all():
+    # Looking along +z (the view's x is the world's) at a wall over the left of the view: world
+    # x < 1 at z = 5, the view's x < 0.2 in its units.
+    cam = Camera3(position=np.zeros(3), yaw=0.0, fov_y_deg=90.0, far=100.0)
+    frame = Frame(cam, sky="dome", sky_boxes=np.array([[[-100.0, -100.0, 5.0], [1.0, 100.0, 6.0]]]))
+    assert open_sky(Frame(cam, sky="dome"), 1280, 720) is None  # no boxes: anywhere
+    fine, coarse = open_sky(frame, 1280, 720), open_sky(frame, 640, 360)
+    assert FINE_CELLS_PIXELS > 640 * 360
+    # Fine cells leave the sky from the first cell wholly right of the wall's edge.
+    assert len(fine) == 1 and np.allclose(fine[0, 1:], [-1.0, 3.0, 1.0])
+    assert 0.2 - 2.0 / SKY_ROWS < fine[0, 0] <= 0.2
+    # Three cells: the middle one (x in -1..1) is not wholly covered, so the sky may show from x = -1.
+    assert len(coarse) == 1 and np.allclose(coarse[0], [-1.0, -1.0, 3.0, 1.0])
+    # A window wider than a frame is made for: its sides were never tested, the sky is anywhere.
+    assert open_sky(frame, 4 * 720, 720) is None
 
 
 @pytest.mark.gl

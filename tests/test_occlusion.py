@@ -205,7 +205,8 @@ def test_the_sky_cells_are_square_and_tile_the_view():
         ("04_armory", (3.3, 0.0, 225.0), False),  # a room's corner: sky only where the walls meet
     ],
 )
-def test_a_box_covering_the_view_hides_the_sky_and_no_pixel_changes(gl_ctx, level, pose, covered):
+def test_a_box_covering_the_view_hides_the_sky_and_no_pixel_changes(gl_ctx, monkeypatch, level, pose, covered):
+    from across_dimensions.render import sky
     from tests.test_batch import _image
 
     game = Game(load_level(resolve_level(level)))
@@ -213,14 +214,17 @@ def test_a_box_covering_the_view_hides_the_sky_and_no_pixel_changes(gl_ctx, leve
     x, z, yaw = pose
     game.place_player((x, float(game.player.position[1]), z, 0.0), np.radians(yaw), 0.0)
     frame = game.frame()
-    assert frame.sky_open is not None
-    left = _covered_area(frame.sky_open)
+    assert frame.sky_boxes is not None
+    left = _covered_area(sky.open_sky(frame, 1280, 720))
     assert left == 0.0 if covered else 0.0 < left < 1.0
-    drawn = _image(gl_ctx, frame)
-    frame.sky_open = None  # the sky over the whole view
-    whole = _image(gl_ctx, frame)
-    # The same picture: nothing left unwritten (the target starts black, the sky never is), and
-    # at most a few sky pixels a star's texel apart (the sky's direction is interpolated over
-    # other triangles: a last-bit difference can pick the texel next door).
-    assert not (drawn == 0).all(axis=2).any() and not (whole == 0).all(axis=2).any()
-    assert (drawn != whole).any(axis=2).sum() <= 0.001 * drawn.shape[0] * drawn.shape[1]
+    for fine in (0, sky.FINE_CELLS_PIXELS):  # the small test image in fine cells, then in three
+        monkeypatch.setattr(sky, "FINE_CELLS_PIXELS", fine)
+        drawn = _image(gl_ctx, frame)
+        boxes, frame.sky_boxes = frame.sky_boxes, None  # the sky over the whole view
+        whole = _image(gl_ctx, frame)
+        frame.sky_boxes = boxes
+        # The same picture: nothing left unwritten (the target starts black, the sky never is),
+        # and at most a few sky pixels a star's texel apart (the sky's direction is interpolated
+        # over other triangles: a last-bit difference can pick the texel next door).
+        assert not (drawn == 0).all(axis=2).any() and not (whole == 0).all(axis=2).any()
+        assert (drawn != whole).any(axis=2).sum() <= 0.001 * drawn.shape[0] * drawn.shape[1]

@@ -334,11 +334,10 @@ class Frame:
     sky_color: tuple[float, float, float] = (0.05, 0.06, 0.10)
     light_dir: tuple[float, float, float] = (0.4, 1.0, 0.25)
     sky: str = "flat"  # "flat": one colour (sky_color); "dome": the renderer's procedural sky
-    #: Where the dome may show, ``(k, 4) float64`` rectangles ``x0, y0, x1, y1`` in the view's
-    #: units (its height spans -1 to 1, its width -aspect to aspect, up to :data:`WIDEST_VIEW`);
-    #: None: anywhere. Elsewhere an opaque box covers the view (game/occlusion.py): the renderer
-    #: draws no sky there.
-    sky_open: np.ndarray | None = None
+    #: The boxes solid in the slice that may hide the dome, ``(k, 2, 3) float64`` lower and upper
+    #: corners, none holding the eye (game/occlusion.py); None: the dome may show anywhere (the
+    #: slice is turned or the camera detached). The renderer draws no sky where one covers the view.
+    sky_boxes: np.ndarray | None = None
     time: float = 0.0  # seconds of play, for animated shading (pulses, bands); never read by the game
     batches: list = field(default_factory=list)  # TriangleBatch: many objects, one draw call per pass
     pip: list[Drawable] | None = None  # the other projection of the same moment (picture in picture), if asked

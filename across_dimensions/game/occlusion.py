@@ -18,10 +18,11 @@ eight corners crosses ``B``: the directions that meet ``B`` form a convex cone h
 of all of ``T``, and every separating plane of the two leaves the eye on ``B``'s side (else a
 segment from the eye to ``T`` could not reach ``B``), so ``B`` is met before ``T``.
 
-The same boxes tell where the sky cannot show (:func:`sky_open`): the view is cut into square
-cells, and a cell that one box covers gets no sky. On llvmpipe the sky's depth test costs about
-half of a whole sky on every pixel it covers, even where the scene hides it: a wall seen from
-close by, or the walls of a room, would cost a millisecond or more for no pixel.
+The same boxes tell where the sky cannot show (:func:`open_rectangles`, which the renderer asks
+of the frame's :func:`sky_boxes`): the view is cut into cells, and a cell that one box covers
+gets no sky. On llvmpipe the sky's depth test costs about half of a whole sky on every pixel it
+covers, even where the scene hides it: a wall seen from close by, or the walls of a room, would
+cost a millisecond or more for no pixel.
 """
 
 from __future__ import annotations
@@ -49,7 +50,8 @@ BIG = 1.0
 MAX_PIECES = 8
 #: Offsets of a box's eight corners from its centre, in units of its half sizes.
 _CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], np.float64)
-#: Rows of cells :func:`sky_open` cuts the view into (square cells: 60 pixels at 720 lines).
+#: Rows of cells :func:`open_rectangles` cuts the view into by default (square cells: 60 pixels
+#: at 720 lines).
 SKY_ROWS = 12
 
 
@@ -270,45 +272,41 @@ def _frame_occluders(game, frame, models: np.ndarray, alpha: float) -> np.ndarra
     return table.occluder_memo[1]
 
 
-_SKY_GRIDS: dict = {}  # the tangent of half a field of view -> its cells (:func:`_sky_grid`)
+_SKY_GRIDS: dict = {}  # (the tangent of half a field of view, rows) -> its cells (:func:`_sky_grid`)
 
 
-def _sky_grid(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The cells' edges ``xs (cols + 1,)`` and ``ys (rows + 1,)`` in the view's units, and their
-    corners on the far plane in eye space, ``(x t, y t, 1)``, ``(m, 3)``: made once per field of
-    view (``t``, the tangent of half of it)."""
-    grid = _SKY_GRIDS.get(t)
+def _sky_grid(t: float, rows: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The edges ``xs (cols + 1,)`` and ``ys (rows + 1,)`` of ``rows`` rows of square cells in
+    the view's units, and their corners on the far plane in eye space, ``(x t, y t, 1)``,
+    ``(m, 3)``: made once per field of view (``t``, the tangent of half of it) and rows."""
+    grid = _SKY_GRIDS.get((t, rows))
     if grid is None:
-        cols = round(SKY_ROWS * WIDEST_VIEW)
-        xs = np.linspace(-WIDEST_VIEW, WIDEST_VIEW, cols + 1)
-        ys = np.linspace(-1.0, 1.0, SKY_ROWS + 1)
+        xs = np.linspace(-WIDEST_VIEW, WIDEST_VIEW, round(rows * WIDEST_VIEW) + 1)
+        ys = np.linspace(-1.0, 1.0, rows + 1)
         gx, gy = np.meshgrid(xs * t, ys * t)
         grid = (xs, ys, np.stack([gx.ravel(), gy.ravel(), np.ones(gx.size)], axis=1))
         if len(_SKY_GRIDS) >= 8:  # a zoom sweeping the field of view: keep a few
             _SKY_GRIDS.clear()
-        _SKY_GRIDS[t] = grid
+        _SKY_GRIDS[(t, rows)] = grid
     return grid
 
 
-def sky_open(game, frame, models: np.ndarray, alpha: float) -> np.ndarray | None:
-    """Where the sky may show in ``frame``'s view (:func:`open_rectangles` of the boxes solid in
-    its slice); None for anywhere, as while the slice is turned or the camera detached (the
-    occluders are world boxes)."""
+def sky_boxes(game, frame, models: np.ndarray, alpha: float) -> np.ndarray | None:
+    """The boxes that may hide the sky in ``frame``'s view, ``(k, 2, 3)`` (the boxes solid in its
+    slice, as :func:`hidden_rows` takes them); None while the slice is turned or the camera
+    detached (the occluders are world boxes)."""
     if not game.camera.aligned or game.camera.detached:
         return None
-    cam = frame.camera
-    t = np.tan(np.radians(cam.fov_y_deg) / 2.0)
-    eye = np.asarray(cam.position, np.float64)
-    return open_rectangles(eye, cam.axes(), t, cam.far, _frame_occluders(game, frame, models, alpha))
+    return _frame_occluders(game, frame, models, alpha)
 
 
-def open_rectangles(eye, axes, t: float, far: float, boxes: np.ndarray) -> np.ndarray | None:
+def open_rectangles(eye, axes, t: float, far: float, boxes: np.ndarray, rows: int = SKY_ROWS) -> np.ndarray | None:
     """Where the sky may show in a view: rectangles ``(k, 4) float64``, each ``x0, y0, x1, y1``
     in the view's own units (its height spans -1 to 1, its width -aspect to aspect for any
     window up to :data:`.frame.WIDEST_VIEW` wide); None for anywhere (no box is in
     the way).
 
-    The view is cut into square cells, :data:`SKY_ROWS` high, and a cell that one of the
+    The view is cut into square cells, ``rows`` high, and a cell that one of the
     ``boxes`` covers is left out: the four rays through its corners, out to the far plane, all
     cross the box. The rays that meet a convex box from outside it form a convex cone, so
     every ray through the cell meets the box too, nearer than the far plane where the sky is
@@ -326,6 +324,9 @@ def open_rectangles(eye, axes, t: float, far: float, boxes: np.ndarray) -> np.nd
         The far plane's distance.
     boxes : (k, 2, 3) float64
         Lower and upper corners, none holding the eye (:func:`_occluders`).
+    rows : int
+        Rows of cells: finer leaves out more of the sky's pixels, for more rays to test
+        (``(rows + 1) (3 rows + 1)``: 481 for 12, 8 for 1, the whole view in three cells).
     """
     eye, axes = np.asarray(eye, np.float64), np.asarray(axes, np.float64)
     # A box wholly behind the eye covers nothing (about half of a level's walls in any view).
@@ -333,7 +334,7 @@ def open_rectangles(eye, axes, t: float, far: float, boxes: np.ndarray) -> np.nd
     boxes = boxes[(mid - eye) @ axes[2] + half @ np.abs(axes[2]) > 0.0]
     if not len(boxes):
         return None
-    xs, ys, corners = _sky_grid(float(t))
+    xs, ys, corners = _sky_grid(float(t), int(rows))
     crossed, anyone = _ahead(eye, eye + far * (corners @ axes), boxes)
     if not anyone:
         return None

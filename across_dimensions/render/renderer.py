@@ -48,7 +48,7 @@ import time
 import moderngl
 import numpy as np
 
-from ..game.frame import WIDEST_VIEW, Drawable, Frame
+from ..game.frame import Drawable, Frame
 from . import materials
 from . import palette as w_cues
 from .batch import DEPTH_FRAGMENT, DEPTH_VERTEX, BatchBuffers
@@ -60,7 +60,7 @@ from .passes import PassProfile, RenderStats
 from .programs import FrameUniforms, StylePrograms, set_uniform
 from .radar import RadarRenderer
 from .radar_yield import YIELD_ALPHA, interest_on_screen, radar_yields
-from .sky import SkyRenderer
+from .sky import SkyRenderer, open_sky
 
 STYLES = ("solid", "floor", "wire", "ghost", "glow")
 #: Ghost patterns by name, as the shader's ``u_pattern`` codes.
@@ -245,10 +245,9 @@ class Renderer:
         self.ctx.viewport = viewport
         sky = tuple(float(x) for x in frame.sky_color)
         dome = scifi and frame.sky == "dome"
-        # The dome is drawn unless a box covers the whole view (then its depth test alone costs
-        # a millisecond on llvmpipe), and only where none may (see game/occlusion.py): anywhere
-        # in a window wider than the frame was made for.
-        sky_open = frame.sky_open if w / h <= WIDEST_VIEW else None
+        # The dome is drawn only where no box may cover the view (game/occlusion.py), and not at
+        # all when boxes cover all of it: there even its depth test costs on llvmpipe.
+        sky_open = open_sky(frame, w, h) if dome else None
         sky_drawn = dome and (sky_open is None or len(sky_open) > 0)
         self._clear(fbo, viewport, sky, sky_drawn)
 

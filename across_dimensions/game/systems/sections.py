@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..occlusion import hidden_rows, sky_open
+from ..occlusion import hidden_rows, sky_boxes
 from ..projection import items, project, world_items
 from ..system import System
 
@@ -35,7 +35,7 @@ def draw(game, frame, alpha) -> None:
     hidden = reach & hidden_rows(game, frame, models, alpha)
     shown = np.flatnonzero(reach & ~hidden)
     entities = [table.entities[i] for i in shown]
-    frame.sky_open = sky_open(game, frame, models, alpha) if frame.sky == "dome" else None
+    frame.sky_boxes = sky_boxes(game, frame, models, alpha) if frame.sky == "dome" else None
     game.entity_sections.draw(frame, entities, models[shown], rig.slice_pose(s), game.sections)
     rows = np.flatnonzero(hidden)
     game.entity_sections.note_reaching([table.entities[i] for i in rows], models[rows], s)
