@@ -201,6 +201,13 @@ def test_render_package_layering():
     assert subprocess.run([sys.executable, "-c", code], cwd=Path(__file__).parents[1]).returncode == 0
 
 
+def test_the_renderer_loads_no_physics_before_a_level_needs_it():
+    """The title and the menus draw with the renderer: loading it must not load the physics
+    package (and its kernels' modules), a tenth of a second of the first start."""
+    code = "import sys, across_dimensions.render.renderer as r; sys.exit('across_dimensions.physics' in sys.modules)"
+    assert subprocess.run([sys.executable, "-c", code], cwd=Path(__file__).parents[1]).returncode == 0
+
+
 # ----------------------------------------------------------------------- GL
 @pytest.mark.gl
 def test_cube_is_drawn_lit_and_on_the_correct_side(gl_ctx, target, renderer):

@@ -28,7 +28,6 @@ import moderngl
 import numpy as np
 
 from ..game.frame import WIDEST_VIEW, Frame
-from ..game.occlusion import SKY_ROWS, open_rectangles
 
 SKY_VERTEX = """
 #version 330
@@ -238,7 +237,7 @@ void main() {
 SCREEN_TRIANGLE = np.array([[-1.0, -1.0], [3.0, -1.0], [-1.0, 3.0]], np.float32)
 
 
-#: Views of at least this many pixels test the sky's cells finely (:data:`SKY_ROWS` rows); smaller
+#: Views of at least this many pixels test the sky's cells finely (``SKY_ROWS`` rows); smaller
 #: ones in three cells, the middle one square: there a sky pixel costs too little for the finer
 #: test's 0.05-0.1 ms of the main thread to pay (at half of 1280x720 it lost 0.03-0.18 ms a frame,
 #: at 1280x720 it saves 0.2-0.6 ms).
@@ -253,6 +252,10 @@ def open_sky(frame: Frame, width: int, height: int) -> np.ndarray | None:
     boxes = frame.sky_boxes
     if boxes is None or width > WIDEST_VIEW * height:
         return None
+    # Here, not at the top: only a level's frame has boxes, and the title and menus, drawn by
+    # this module too, would otherwise load the physics package first (a tenth of a second).
+    from ..game.occlusion import SKY_ROWS, open_rectangles
+
     cam = frame.camera
     rows = SKY_ROWS if width * height >= FINE_CELLS_PIXELS else 1
     t = np.tan(np.radians(cam.fov_y_deg) / 2.0)
