@@ -134,6 +134,14 @@ def test_frustum_view_keeps_the_slice_size_and_shrinks_ana(game):
     np.testing.assert_allclose(d.model[:3, 3], game.level.crystals[0].position[:3])
 
 
+def test_the_frustum_view_lets_the_sky_show_wherever_the_slice_did_not_hide_it(game):
+    """The frustum view takes the 4D entities' sections out of the frame: a door's box, gone from
+    where it stood, must not keep the sky out there (the renderer would leave those pixels unwritten)."""
+    cam = view.EditorCamera(np.array([0.0, 1.6, -6.0]), 0.0, 0.1, 0.0)
+    assert view.editor_frame(game, cam).sky_boxes is not None
+    assert view.editor_frame(game, cam, frustum=True).sky_boxes is None
+
+
 def test_play_from_here_starts_at_the_camera_and_plays(cache_level):
     cam = view.EditorCamera(np.array([2.0, 1.6 + 0.5, -2.0]), 0.7, 0.2, 0.4)
     game = view.game_at(cache_level, cam)

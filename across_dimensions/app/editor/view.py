@@ -146,6 +146,7 @@ def editor_frame(game, cam: EditorCamera, selected=None, frustum: bool = False, 
     if frustum:
         frame.drawables = [d for d in frame.drawables if not d.key.startswith("entity:")]
         frame.batches = [b for b in frame.batches if not b.key.startswith("entities:")]
+        frame.sky_boxes = None  # a door's box no longer drawn where it stood must not hide the sky
         frame.drawables.extend(frustum_drawables(game, cam.w))
     if selected is not None:
         frame.drawables.extend(outline(game, selected, cam.w))
