@@ -109,6 +109,11 @@ def test_the_closed_gate_hides_the_arena_and_the_radar_still_knows_it(monkeypatc
     table = game.entity_models
     gate = box_sections(table, table.models(game, 1.0), frame.camera.w)
     assert np.allclose(gate[1], [[-6.25, 0.0, 11.8], [6.25, 4.0, 12.2]])
+    # Shown as a wireframe (the field weapon), it hides nothing: neither what is behind it nor the sky.
+    wired = next(e for e in table.entities if e.name == "arena gate")
+    wired.style = "wire"
+    assert len(box_sections(table, table.models(game, 1.0), frame.camera.w)) == len(gate) - 1
+    wired.style = "solid"
     members = {m for b in frame.batches for m in b.members}
     enemies = [e for e in table.entities if e.kind == "enemy"]
     assert enemies and not any(f"entity:{e.id}" in members for e in enemies)

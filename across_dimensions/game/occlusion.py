@@ -188,13 +188,18 @@ def _occluders(eye: np.ndarray, boxes: np.ndarray) -> np.ndarray:
     return b[np.all(b[:, 1] > b[:, 0], axis=1)]
 
 
+#: Styles the renderer draws see-through (outlines, ghosts): an entity drawn so hides nothing.
+SEE_THROUGH = ("wire", "ghost")
+
+
 def box_sections(table, models: np.ndarray, w: float) -> np.ndarray:
     """Bounds ``(m, 2, 3)`` of the sections at ``w`` of the solid entities of ``table`` (a
-    :class:`.entity_models.EntityModels`, posed by ``models (n, 5, 5)``) that are boxes:
-    a mesh whose every vertex is a corner of its bounds, posed without a turn, cut inside its
-    extent along w."""
+    :class:`.entity_models.EntityModels`, posed by ``models (n, 5, 5)``) that are boxes drawn
+    opaque: a mesh whose every vertex is a corner of its bounds, posed without a turn, cut
+    inside its extent along w, in a style not :data:`SEE_THROUGH`."""
     boxy = table.column("occluder", lambda e: e.solid and _is_box(e.mesh)).astype(bool)
-    rows = np.flatnonzero(boxy)
+    # Drawn opaque now: a box the field weapon shows as a wireframe, or a ghost, hides nothing.
+    rows = np.array([i for i in np.flatnonzero(boxy) if table.entities[i].style not in SEE_THROUGH], np.int64)
     if not len(rows):
         return np.zeros((0, 2, 3))
     m = models[rows]
