@@ -27,11 +27,6 @@ from ..core.section_batch import SectionBatch
 from ..core.transform import translation
 from .frame import WIDEST_VIEW, Drawable, Frame, TriangleBatch
 
-#: Widest window shape culling allows for (width / height): the frame does not
-#: know the window's, so entities are culled against a view at least this wide.
-CULL_ASPECT = WIDEST_VIEW
-
-
 #: Styles whose vertex colour alpha carries the thing's w offset (the renderer's w cue:
 #: opaque, so alpha is free): see :func:`w_offset`.
 W_CUED = ("solid", "glow")
@@ -53,7 +48,7 @@ def w_offset(mesh, model: np.ndarray, camera: np.ndarray) -> float:
     return 0.5 * (lo + hi) / half if half > 0.0 else 0.0
 
 
-def view_planes(camera, aspect: float = CULL_ASPECT) -> np.ndarray:
+def view_planes(camera, aspect: float = WIDEST_VIEW) -> np.ndarray:
     """The six planes ``(6, 4) float64`` of ``camera``'s view at ``aspect`` (inside: ``n . x + d >= 0``)."""
     m = camera.projection_matrix(aspect) @ camera.view_matrix()
     return np.array([m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[3] + m[2], m[3] - m[2]])

@@ -60,7 +60,7 @@ from .passes import PassProfile, RenderStats
 from .programs import FrameUniforms, StylePrograms, set_uniform
 from .radar import RadarRenderer
 from .radar_yield import YIELD_ALPHA, interest_on_screen, radar_yields
-from .sky import SkyRenderer, open_sky
+from .sky import SkyRenderer, open_sky, open_triangles
 
 STYLES = ("solid", "floor", "wire", "ghost", "glow")
 #: Ghost patterns by name, as the shader's ``u_pattern`` codes.
@@ -247,8 +247,8 @@ class Renderer:
         dome = scifi and frame.sky == "dome"
         # The dome is drawn only where no box may cover the view (game/occlusion.py), and not at
         # all when boxes cover all of it: there even its depth test costs on llvmpipe.
-        sky_open = open_sky(frame, w, h) if dome else None
-        sky_drawn = dome and (sky_open is None or len(sky_open) > 0)
+        sky_corners = open_triangles(open_sky(frame, w, h), w / h) if dome else None
+        sky_drawn = dome and len(sky_corners) > 0
         self._clear(fbo, viewport, sky, sky_drawn)
 
         cam = frame.camera
@@ -276,7 +276,7 @@ class Renderer:
             # After the opaque scene: the sky shades only the pixels nothing covered.
             if self._sky is None:
                 self._sky = SkyRenderer(self.ctx)
-            st.draw_calls += self._sky.draw(view_proj, eye, light, self.palette, self._set, sky_open, w / h)
+            st.draw_calls += self._sky.draw(view_proj, eye, light, self.palette, self._set, sky_corners)
             self._lap("sky")
         self._draw_ghosts(frame, ghosts, vp_bytes)
         self._lap("ghosts")

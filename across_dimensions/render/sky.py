@@ -391,11 +391,9 @@ class SkyRenderer:
         self._built_for = key
         self.builds += 1
 
-    def draw(
-        self, view_proj: np.ndarray, eye: np.ndarray, light_dir, colours, set_uniform, rects=None, aspect: float = 1.0
-    ) -> int:
+    def draw(self, view_proj: np.ndarray, eye: np.ndarray, light_dir, colours, set_uniform, corners=None) -> int:
         """Draw the sky where the depth buffer is still clear (depth test on, cleared to 1.0),
-        over the whole screen or only over ``rects``.
+        over the whole screen or only over the triangles ``corners``.
 
         Parameters
         ----------
@@ -409,20 +407,17 @@ class SkyRenderer:
             The palette (:mod:`.materials`).
         set_uniform : callable
             ``set_uniform(prog, name, value)``, tolerant of names the compiler dropped.
-        rects : (k, 4) float64, optional
-            Where the sky may show (:func:`open_sky`):
-            elsewhere a box covers the view, and even a depth test there costs on llvmpipe.
-        aspect : float
-            The view's width over its height (``rects`` are in units of its height).
+        corners : (3 t, 2) float32, optional
+            Triangles in normalized device coordinates where the sky may show
+            (:func:`open_triangles` of :func:`open_sky`; elsewhere a box covers the view, and
+            even a depth test there costs on llvmpipe); the whole screen by default.
 
         Returns
         -------
         int
             Draw calls made.
         """
-        corners = open_triangles(rects, aspect)
-        if not len(corners):
-            return 0  # none reaches the screen: the boxes cover all of it
+        corners = SCREEN_TRIANGLE if corners is None else corners
         ctx = self.ctx
         vp = np.asarray(view_proj, np.float64)
         size = cube_face_size(vp, ctx.viewport[3])
