@@ -17,6 +17,7 @@ from across_dimensions.game.occlusion import SKY_ROWS
 from across_dimensions.render import materials
 from across_dimensions.render.context import Offscreen, RenderError
 from across_dimensions.render.demo import box_mesh, plane_mesh
+from across_dimensions.render.mesh_cache import faceted
 from across_dimensions.render.renderer import Renderer
 from across_dimensions.render.shaders import PROGRAMS, program_source
 from across_dimensions.render.sky import (
@@ -285,8 +286,8 @@ def test_scene_fragment_shaders_read_no_uniforms(gl_ctx):
     # pixel reaches the fragment shader as a flat input from the vertex shader instead.
     for look in materials.LOOKS:
         for name in PROGRAMS:
-            for flat_normals in (False, True):
-                vs, fs = program_source(name, look, flat_normals=flat_normals)
+            for flat_normals, per_face in ((False, False), (True, False), (False, True)):
+                vs, fs = program_source(name, look, flat_normals=flat_normals, faceted=per_face)
                 assert "uniform " not in fs, (name, look)
                 gl_ctx.program(vertex_shader=vs, fragment_shader=fs).release()
 
@@ -313,6 +314,96 @@ def test_a_mesh_without_normals_is_lit_by_its_faces_as_one_with_them(gl_ctx, tar
     diff = np.abs(images["normals"] - images["none"]).max(axis=2)
     # The same light on every face; only pixels along the faces' edges may differ.
     assert diff.mean() < 0.5 and (diff > 8).mean() < 0.005, (diff.mean(), (diff > 8).mean())
+
+
+def _smooth(mesh: TriMesh3) -> TriMesh3:
+    """``mesh`` with each vertex's normal pulled a little toward the box's centre direction:
+    the same surface, no longer one normal a triangle."""
+    n = mesh.normals + 0.3 * mesh.vertices / np.linalg.norm(mesh.vertices, axis=1, keepdims=True)
+    return TriMesh3(mesh.vertices, mesh.faces, n / np.linalg.norm(n, axis=1, keepdims=True), mesh.colors)
+
+
+def test_faceted_meshes_are_those_of_one_normal_a_triangle():
+    box = box_mesh((1.0, 0.8, 0.7))
+    assert faceted(np.asarray(box.normals, np.float32), np.asarray(box.faces))
+    smooth = _smooth(box)
+    assert not faceted(np.asarray(smooth.normals, np.float32), np.asarray(smooth.faces))
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("style", ["solid", "floor"])
+def test_a_faceted_mesh_looks_the_same_lit_per_face(gl_ctx, target, style):
+    """The level's boxes (one normal a triangle) are drawn by the program that works out per
+    vertex what depends on the normal alone (the side facing the eye, the panels' plane, the
+    ambient and diffuse light): the picture must be the one the per-pixel program draws, seen
+    from outside and from inside (two-sided lighting), and a mesh whose normals vary over its
+    triangles keeps the per-pixel program."""
+    box = box_mesh((0.0, 0.0, 0.0), (6.0, 3.0, 5.0), (0.55, 0.6, 0.7, 1.0))
+    views = [
+        Camera3(position=np.array([4.1, 2.3, -6.2]), yaw=-0.6, pitch=-0.3),
+        Camera3(position=np.array([0.4, 0.2, 0.3]), yaw=2.2, pitch=0.2),  # inside: its inner faces
+        Camera3(position=np.array([-7.0, 0.5, 1.0]), yaw=1.4, pitch=-0.05),
+    ]
+    r = Renderer(gl_ctx)
+    try:
+        for cam in views:
+            drawables = [Drawable("box", 0, box, style=style)]
+            frame = Frame(cam, drawables, hud=Hud(crosshair=False), sky_color=(0.1, 0.1, 0.1))
+            per_face = draw(r, target, frame)
+            assert style + "/faceted" in r._programs
+            r.meshes.meshes["box"].faceted = False  # the per-pixel program
+            per_pixel = draw(r, target, frame)
+            r.meshes.meshes["box"].faceted = True
+            assert (np.abs(per_pixel - 0.1 * 255).max(axis=2) > 30).mean() > 0.1, "the box is not in view"
+            diff = np.abs(per_face - per_pixel).max(axis=2)
+            assert diff.max() <= 4 and (diff > 2).mean() < 1e-3, (diff.max(), (diff > 2).mean())
+        smooth = Renderer(gl_ctx)
+        frame = Frame(views[0], [Drawable("s", 0, _smooth(box), style=style)], hud=Hud(crosshair=False))
+        draw(smooth, target, frame)
+        assert not smooth.meshes.meshes["s"].faceted and style + "/faceted" not in smooth._programs
+        smooth.release()
+        flat_look = Renderer(gl_ctx, look="flat")  # no panels there: nothing to work out per face
+        draw(flat_look, target, Frame(views[0], [Drawable("box", 0, box, style=style)], hud=Hud(crosshair=False)))
+        assert not any(name.endswith("/faceted") for name in flat_look._programs)
+        flat_look.release()
+    finally:
+        r.release()
+
+
+@pytest.mark.gl
+def test_the_levels_boxes_look_the_same_lit_per_face(gl_ctx):
+    """Crossfire's and the Tumbling Hall's scenery from standing points over their floors (walls
+    close up, the floor, 4D matter in front), drawn with the boxes' faceted program and with the
+    per-pixel one: the same picture to the rounding."""
+    from across_dimensions.bench.levels import _poses
+    from across_dimensions.game.sim import Game
+    from across_dimensions.world.level import load_level
+    from across_dimensions.world.resources import resolve_level
+
+    target = Offscreen(gl_ctx, 320, 180)
+    r = Renderer(gl_ctx)
+    try:
+        for level in ("11_crossfire", "03_tumbling_hall"):
+            game = Game(load_level(resolve_level(level)))
+            feet = game.player.position[[1, 3]]
+            for x, z, yaw in _poses(game, 2)[::3]:
+                game.place_player((x, feet[0], z, feet[1]), yaw, 0.0)
+                frame = game.frame()
+                target.use()
+                r.draw(frame, hud=False)
+                boxes = [gm for gm in r.meshes.meshes.values() if gm.faceted]
+                assert {"static", "floor"} <= {gm.key for gm in boxes}
+                per_face = target.read_rgb().astype(int)
+                for gm in boxes:
+                    gm.faceted = False
+                r.draw(frame, hud=False)
+                for gm in boxes:
+                    gm.faceted = True
+                diff = np.abs(per_face - target.read_rgb()).max(axis=2)
+                assert diff.max() <= 4 and (diff > 2).mean() < 1e-3, (level, x, z, yaw, diff.max())
+    finally:
+        r.release()
+        target.release()
 
 
 # ------------------------------------------------------------------ scenery

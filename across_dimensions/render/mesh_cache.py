@@ -41,6 +41,9 @@ class GpuMesh:
         # Some vertex has no normal (a frustum projection's have none): the mesh is shaded flat
         # with its faces' screen-space normals, by a program of its own (shaders.program_source).
         self.flat_normals = False
+        # Every triangle has one normal at its three vertices (a box's faces): shaded by a
+        # program that works out per vertex what depends on the normal alone.
+        self.faceted = False
 
     def release(self) -> None:
         for vao in self.vaos.values():
@@ -66,6 +69,13 @@ def write_buffer(ctx: moderngl.Context, buf: moderngl.Buffer | None, data: bytes
         buf.orphan(int(len(data) * 1.5))
     buf.write(data)
     return buf, False
+
+
+def faceted(normals: np.ndarray, faces: np.ndarray) -> bool:
+    """Whether each triangle of ``faces (m, 3)`` has the same normal (of ``normals (n, 3)``) at
+    its three vertices."""
+    corners = normals[faces]
+    return bool((corners == corners[:, :1]).all())
 
 
 def check_mesh(key: str, mesh: TriMesh3) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -144,6 +154,7 @@ class MeshCache:
             gm.vertices = gm.faces = None
             return gm
         gm.flat_normals = not n.any(axis=1).all()
+        gm.faceted = not gm.flat_normals and faceted(n, f)
         inter = np.empty((len(v), 10), np.float32)
         inter[:, 0:3] = v
         inter[:, 3:6] = n

@@ -21,10 +21,12 @@ import numpy as np
 
 from . import materials
 from .context import RenderError
-from .shaders import PROGRAMS, program_source
+from .shaders import FACETED_STYLES, PROGRAMS, program_source
 
 #: Suffix of a style's program for meshes without normals (see :meth:`StylePrograms.get`).
 FLAT = "/flat"
+#: Suffix of a style's program for faceted meshes, one normal a triangle (the level's boxes).
+FACETED = "/faceted"
 
 
 def set_uniform(prog: moderngl.Program, name: str, value) -> None:
@@ -76,7 +78,8 @@ class StylePrograms:
     Attributes
     ----------
     current : dict of str to moderngl.Program
-        The programs of the look and palette last :meth:`use`-d, by style (and ``style + FLAT``).
+        The programs of the look and palette last :meth:`use`-d, by style (and ``style + FLAT``,
+        ``style + FACETED``).
     """
 
     def __init__(self, ctx: moderngl.Context):
@@ -102,22 +105,26 @@ class StylePrograms:
         self.current = progs
         return progs
 
-    def get(self, style: str, flat_normals: bool = False) -> tuple[str, moderngl.Program]:
+    def get(self, style: str, flat_normals: bool = False, faceted: bool = False) -> tuple[str, moderngl.Program]:
         """The name and program of the current set that shade ``style``; with ``flat_normals``,
-        its variant for meshes without normals (``style + FLAT``), built on first use and given
-        the frame's uniforms at once."""
-        if not flat_normals or style == "wire":  # lines are unlit
+        its variant for meshes without normals (``style + FLAT``), with ``faceted`` for meshes of
+        one normal a triangle (``style + FACETED``, the sci-fi look's scenery styles only), built
+        on first use and given the frame's uniforms at once."""
+        if flat_normals and style != "wire":  # lines are unlit
+            name = style + FLAT
+        elif faceted and self._look == "scifi" and style in FACETED_STYLES:
+            name = style + FACETED
+        else:
             return style, self.current[style]
-        name = style + FLAT
         prog = self.current.get(name)
         if prog is None:
-            prog = self.current[name] = self._build(style, flat_normals=True)
+            prog = self.current[name] = self._build(style, flat_normals, faceted)
             if self._frame is not None:
                 self._set_uniforms(prog, self._frame)
         return name, prog
 
-    def _build(self, style: str, flat_normals: bool = False) -> moderngl.Program:
-        vs, fs = program_source(style, self._look, self._palette, flat_normals)
+    def _build(self, style: str, flat_normals: bool = False, faceted: bool = False) -> moderngl.Program:
+        vs, fs = program_source(style, self._look, self._palette, flat_normals, faceted)
         try:
             return self.ctx.program(vertex_shader=vs, fragment_shader=fs)
         except Exception as e:  # compile/link errors carry the driver's log

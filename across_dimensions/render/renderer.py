@@ -507,7 +507,7 @@ class Renderer:
         self.stats.lines += lines
 
     def _draw_mesh(self, style: str, gm: GpuMesh, model: np.ndarray, mode: int, count: int, d=None) -> None:
-        style, prog = self.programs.get(style, gm.flat_normals)
+        style, prog = self.programs.get(style, gm.flat_normals, gm.faceted)
         self._set(prog, "u_model", mat4_bytes(model))
         if isinstance(d, _Cued):
             self._set(prog, "u_w_offset", float(d.w_offset))
