@@ -130,6 +130,12 @@ class Drawable:
         always hidden behind outer ones. That halves the triangles a software rasterizer sets
         up and the pixels it shades twice; for ghosts it makes a translucent layer one film,
         not two, and a ghost around the player does not veil the whole view.
+    parts : (k + 1,) int array or None
+        Opaque scenery only: the mesh's faces in ``k`` runs, run ``i`` the faces
+        ``parts[i]:parts[i + 1]`` of one piece (a box, a surface), ``parts[-1]`` their count.
+        The renderer draws the pieces nearest the eye first, so that the depth test, not a
+        depth pre-pass, keeps it from shading what lies behind; such drawables are drawn
+        before the other opaque ones, in the frame's order.
     """
 
     key: str
@@ -142,6 +148,7 @@ class Drawable:
     opacity: float = 1.0
     w_offset: float | None = None  # 4D things: (w of the thing - w of the slice) / its half extent in w (the w cue)
     outside_only: bool = False
+    parts: np.ndarray | None = None
 
 
 @dataclass

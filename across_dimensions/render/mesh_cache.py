@@ -15,6 +15,7 @@ from ..core.edges import feature_edges
 from ..core.mesh import TriMesh3
 from ..game.frame import Drawable
 from .context import RenderError
+from .near_first import piece_boxes
 
 #: Bytes per vertex in the interleaved buffer: position 3f, normal 3f, colour 4f.
 _STRIDE = 40
@@ -44,6 +45,12 @@ class GpuMesh:
         # Every triangle has one normal at its three vertices (a box's faces): shaded by a
         # program that works out per vertex what depends on the normal alone.
         self.faceted = False
+        # A drawable with parts (see Drawable.parts): its pieces' boxes, where their faces
+        # start, its faces as uploaded, and the order the index buffer holds them in.
+        self.piece_boxes: np.ndarray | None = None
+        self.parts: np.ndarray | None = None
+        self.piece_faces: np.ndarray | None = None
+        self.piece_order: np.ndarray | None = None
 
     def release(self) -> None:
         for vao in self.vaos.values():
@@ -76,6 +83,14 @@ def faceted(normals: np.ndarray, faces: np.ndarray) -> bool:
     its three vertices."""
     corners = normals[faces]
     return bool((corners == corners[:, :1]).all())
+
+
+def check_parts(key: str, parts, n_faces: int) -> np.ndarray:
+    """``parts`` of a drawable (see ``Drawable.parts``) as ``(k + 1,) int64``, checked."""
+    p = np.asarray(parts)
+    if p.ndim != 1 or len(p) < 2 or p[0] != 0 or p[-1] != n_faces or (np.diff(p) <= 0).any():
+        raise RenderError(f"drawable {key!r}: parts must rise strictly from 0 to the face count {n_faces}, got {p!r}")
+    return p.astype(np.int64)
 
 
 def check_mesh(key: str, mesh: TriMesh3) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -144,6 +159,7 @@ class MeshCache:
         if gm.revision == d.revision and gm.revision is not None:
             return gm
         v, f, n, c = check_mesh(d.key, d.mesh)
+        parts = None if d.parts is None else check_parts(d.key, d.parts, len(f))
         gm.revision = d.revision
         gm.n_vertices, gm.n_indices = len(v), f.size
         gm.n_edge_indices = -1
@@ -155,6 +171,9 @@ class MeshCache:
             return gm
         gm.flat_normals = not n.any(axis=1).all()
         gm.faceted = not gm.flat_normals and faceted(n, f)
+        gm.parts, gm.piece_boxes, gm.piece_faces, gm.piece_order = None, None, None, None
+        if parts is not None:
+            gm.parts, gm.piece_boxes, gm.piece_faces = parts, piece_boxes(v, f, parts), f
         inter = np.empty((len(v), 10), np.float32)
         inter[:, 0:3] = v
         inter[:, 3:6] = n

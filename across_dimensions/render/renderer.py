@@ -56,6 +56,7 @@ from .context import RenderError, color_writes
 from .gl_math import frustum_planes, mat4_bytes
 from .hud import HudRenderer
 from .mesh_cache import GpuMesh, MeshCache
+from .near_first import faces_in_order, nearest_first
 from .passes import PassProfile, RenderStats
 from .programs import FrameUniforms, StylePrograms, set_uniform
 from .radar import RadarRenderer
@@ -271,7 +272,7 @@ class Renderer:
         self.programs.set_frame_uniforms(uniforms)
         self._lap("setup")
 
-        self._draw_opaque(frame, opaque, wires, vp_bytes)
+        self._draw_opaque(frame, opaque, wires, vp_bytes, eye)
         if sky_drawn:
             # After the opaque scene: the sky shades only the pixels nothing covered.
             if self._sky is None:
@@ -356,25 +357,38 @@ class Renderer:
         st.batch_sync_cpu_ms = 1e3 * (time.thread_time() - t0)
         st.upload_bytes += self.batches.upload_bytes
 
-    def _draw_opaque(self, frame: Frame, opaque: list, wires: list, vp_bytes: bytes) -> None:
-        """The opaque drawables (front to back), the frame's solid batches and the wires."""
+    def _draw_opaque(self, frame: Frame, opaque: list, wires: list, vp_bytes: bytes, eye: np.ndarray) -> None:
+        """The opaque drawables (the scenery's pieces nearest first, then the rest front to
+        back), the frame's solid batches and the wires."""
         ctx = self.ctx
         scifi = self.look == "scifi"
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
         ctx.depth_func = "<"
-        # Opaque front to back, so early depth rejection skips shading hidden
-        # fragments (the fragment shader is the main cost on a CPU rasterizer).
-        opaque.sort(key=lambda o: o[0])
+        # The scenery in pieces (Drawable.parts), in the frame's order, each drawn nearest piece
+        # first: the depth test rejects what they hide before it is shaded, with no pre-pass
+        # (see near_first.py). The rest front to back, for the same reason, as whole drawables.
+        pieces = [o for o in opaque if o[2].parts is not None]
+        for _, _d, gm, model in pieces:
+            self._order_pieces(gm, model, eye)
+        rest = sorted((o for o in opaque if o[2].parts is None), key=lambda o: o[0])
         solid_batches = [tb for tb in frame.batches if tb.style != "ghost"]
-        # Only opaque drawables (the scenery: walls behind walls) make a pre-pass pay. Batches
-        # alone are closed surfaces drawn outside only, with little to hide from each other:
-        # a hundred 120-cells drew 10-30 % slower with it.
-        prepass = self.depth_prepass and bool(opaque)
+        # With scenery in view, 4D things may stand in front of it: their depth first keeps the
+        # walls they hide from being shaded. Batches alone are closed surfaces drawn outside
+        # only, with little to hide from each other: a hundred 120-cells drew 10-30 % slower
+        # with it.
+        prepass = self.depth_prepass and bool(opaque) and bool(rest or solid_batches)
         if prepass:
-            self._depth_prepass(opaque, solid_batches, vp_bytes)
+            self._depth_prepass(rest, solid_batches, vp_bytes)
             self._lap("prepass")
-        for _, d, gm, model in opaque:
+        # Two pieces' faces in one plane (a box flush with a floor) go to the one drawn last, with
+        # or without a pre-pass, as they did when the whole scenery was in it.
+        ctx.depth_func = "<="
+        for _, d, gm, model in pieces:
+            self._draw_mesh(d.style, gm, model, moderngl.TRIANGLES, gm.n_indices, d)
+            self._lap("scenery")
+        ctx.depth_func = "<=" if prepass else "<"
+        for _, d, gm, model in rest:
             self._draw_mesh(d.style, gm, model, moderngl.TRIANGLES, gm.n_indices, d)
             self._lap("matter" if isinstance(d, _Cued) else "scenery")
         for tb in solid_batches:
@@ -447,13 +461,28 @@ class Renderer:
             self.stats.draw_calls += self.radar.draw_calls
             self._lap("radar")
 
+    def _order_pieces(self, gm: GpuMesh, model: np.ndarray, eye: np.ndarray) -> None:
+        """Hold ``gm``'s pieces nearest ``eye`` (world) first in its index buffer, rewritten
+        only when that order changes (see :mod:`.near_first`)."""
+        try:
+            local = np.linalg.solve(model[:3, :3], eye - model[:3, 3])
+        except np.linalg.LinAlgError:
+            return  # a flattened model: any order will do
+        order = nearest_first(gm.piece_boxes, local)
+        if gm.piece_order is not None and np.array_equal(order, gm.piece_order):
+            return
+        gm.piece_order = order
+        faces = gm.piece_faces[faces_in_order(gm.parts, order)]
+        gm.ibo.write(faces.tobytes())
+        self.stats.upload_bytes += faces.nbytes
+
     def _depth_prepass(self, opaque: list, batches: list, vp_bytes: bytes) -> None:
-        """Lay down the opaque drawables' depth with an empty shader, then let the shading
-        pass (``<=``) colour each pixel once: one drawable (the level's scenery) holds walls
-        behind walls, which sorting whole drawables cannot order, and a 4D thing in front
-        (a batch, drawn after the scenery) would otherwise be shaded over shaded walls.
-        Batches of many small triangles (:data:`PREPASS_MAX_TRIANGLES`) are left out: there
-        llvmpipe's cost is setting triangles up, which a pre-pass would pay twice."""
+        """Lay down the depth of ``opaque`` (the drawables not drawn in pieces: sections of 4D
+        worlds) and of the 4D things' ``batches`` with an empty shader, then let the shading pass
+        (``<=``) colour each pixel once: a 4D thing in front of the scenery, drawn after it,
+        would otherwise be shaded over shaded walls. Batches of many small triangles
+        (:data:`PREPASS_MAX_TRIANGLES`) are left out: there llvmpipe's cost is setting
+        triangles up, which a pre-pass would pay twice."""
         ctx, fbo = self.ctx, self.ctx.fbo
         if self._depth_prog is None:
             self._depth_prog = ctx.program(vertex_shader=DEPTH_VERTEX, fragment_shader=DEPTH_FRAGMENT)

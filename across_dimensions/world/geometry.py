@@ -70,6 +70,12 @@ def surface_trimesh(vertices, faces, color, model=None) -> TriMesh3:
     )
 
 
+def face_runs(meshes) -> np.ndarray:
+    """``(k + 1,) int64``: where the faces of each non-empty one of ``meshes`` start in
+    :func:`merge_trimeshes` of them, then their count (see ``Drawable.parts``)."""
+    return np.cumsum([0] + [len(m.faces) for m in meshes if not m.is_empty], dtype=np.int64)
+
+
 def merge_trimeshes(meshes) -> TriMesh3:
     """Concatenate triangle soups (depth is dropped)."""
     meshes = [m for m in meshes if not m.is_empty]

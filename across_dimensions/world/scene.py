@@ -12,7 +12,7 @@ from ..core import lift, shapes
 from ..core.mesh import TetMesh4, TriMesh3, concatenate
 from ..core.section import cross_section
 from ..core.transform import pose, translation
-from .geometry import box_trimesh, merge_trimeshes, placement_matrix, surface_trimesh
+from .geometry import box_trimesh, face_runs, merge_trimeshes, placement_matrix, surface_trimesh
 from .level import Level, MeshSpec
 
 WORLD_LAYERS = 9  # w-layers of an extended world; more makes the shrinking smoother
@@ -111,6 +111,11 @@ class Scene:
     #: are closed, wound counter-clockwise seen from outside (an asset still open after repair
     #: is refused: ``bake.load_surface``; placements never mirror, their scales are positive).
     open_mesh: TriMesh3 = field(default_factory=TriMesh3.empty)
+    #: Where each box of ``static_mesh`` and ``floor_mesh`` and each surface of ``open_mesh``
+    #: starts among the mesh's faces, then their count (``Drawable.parts``): ``(k + 1,) int64``.
+    static_parts: np.ndarray | None = None
+    floor_parts: np.ndarray | None = None
+    open_parts: np.ndarray | None = None
 
     def world_boxes_at(self, w: float) -> np.ndarray:
         """Boxes ``(k, 2, 3)`` of the extended worlds in the slice at ``w`` (NaN where absent)."""
@@ -153,7 +158,16 @@ def build_scene(level: Level) -> Scene:
     meshes: dict = {}  # objects of the same shape and colour share one mesh (drawn as instances of it)
     objects = [_build_object(o, meshes) for o in level.objects]
     return Scene(
-        level, merge_trimeshes(tris), static_boxes, merge_trimeshes(floors), worlds, objects, merge_trimeshes(surfaces)
+        level,
+        merge_trimeshes(tris),
+        static_boxes,
+        merge_trimeshes(floors),
+        worlds,
+        objects,
+        merge_trimeshes(surfaces),
+        face_runs(tris),
+        face_runs(floors),
+        face_runs(surfaces),
     )
 
 
