@@ -331,14 +331,20 @@ def test_faceted_meshes_are_those_of_one_normal_a_triangle():
 
 
 @pytest.mark.gl
-@pytest.mark.parametrize("style", ["solid", "floor"])
+@pytest.mark.parametrize("style", ["solid", "floor", "hyper"])
 def test_a_faceted_mesh_looks_the_same_lit_per_face(gl_ctx, target, style):
     """The level's boxes (one normal a triangle) are drawn by the program that works out per
     vertex what depends on the normal alone (the side facing the eye, the panels' plane, the
     ambient and diffuse light): the picture must be the one the per-pixel program draws, seen
     from outside and from inside (two-sided lighting), and a mesh whose normals vary over its
-    triangles keeps the per-pixel program."""
+    triangles keeps the per-pixel program. ``hyper``: 4D matter (a section of a 4D world), with
+    its w bands and lattice."""
     box = box_mesh((0.0, 0.0, 0.0), (6.0, 3.0, 5.0), (0.55, 0.6, 0.7, 1.0))
+    w_offset = 0.45 if style == "hyper" else None
+
+    def drawable(key, mesh):
+        return Drawable(key, 0, mesh, style="solid" if style == "hyper" else style, w_offset=w_offset)
+
     views = [
         Camera3(position=np.array([4.1, 2.3, -6.2]), yaw=-0.6, pitch=-0.3),
         Camera3(position=np.array([0.4, 0.2, 0.3]), yaw=2.2, pitch=0.2),  # inside: its inner faces
@@ -347,7 +353,7 @@ def test_a_faceted_mesh_looks_the_same_lit_per_face(gl_ctx, target, style):
     r = Renderer(gl_ctx)
     try:
         for cam in views:
-            drawables = [Drawable("box", 0, box, style=style)]
+            drawables = [drawable("box", box)]
             frame = Frame(cam, drawables, hud=Hud(crosshair=False), sky_color=(0.1, 0.1, 0.1))
             per_face = draw(r, target, frame)
             assert style + "/faceted" in r._programs
@@ -358,12 +364,12 @@ def test_a_faceted_mesh_looks_the_same_lit_per_face(gl_ctx, target, style):
             diff = np.abs(per_face - per_pixel).max(axis=2)
             assert diff.max() <= 4 and (diff > 2).mean() < 1e-3, (diff.max(), (diff > 2).mean())
         smooth = Renderer(gl_ctx)
-        frame = Frame(views[0], [Drawable("s", 0, _smooth(box), style=style)], hud=Hud(crosshair=False))
+        frame = Frame(views[0], [drawable("s", _smooth(box))], hud=Hud(crosshair=False))
         draw(smooth, target, frame)
         assert not smooth.meshes.meshes["s"].faceted and style + "/faceted" not in smooth._programs
         smooth.release()
         flat_look = Renderer(gl_ctx, look="flat")  # no panels there: nothing to work out per face
-        draw(flat_look, target, Frame(views[0], [Drawable("box", 0, box, style=style)], hud=Hud(crosshair=False)))
+        draw(flat_look, target, Frame(views[0], [drawable("box", box)], hud=Hud(crosshair=False)))
         assert not any(name.endswith("/faceted") for name in flat_look._programs)
         flat_look.release()
     finally:

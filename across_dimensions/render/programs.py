@@ -108,7 +108,7 @@ class StylePrograms:
     def get(self, style: str, flat_normals: bool = False, faceted: bool = False) -> tuple[str, moderngl.Program]:
         """The name and program of the current set that shade ``style``; with ``flat_normals``,
         its variant for meshes without normals (``style + FLAT``), with ``faceted`` for meshes of
-        one normal a triangle (``style + FACETED``, the sci-fi look's scenery styles only), built
+        one normal a triangle (``style + FACETED``, the sci-fi look's scenery and 4D matter), built
         on first use and given the frame's uniforms at once."""
         if flat_normals and style != "wire":  # lines are unlit
             name = style + FLAT

@@ -14,9 +14,10 @@ sets up every input of every triangle and stores it with the triangle's bin, so 
 per triangle (four fewer took 2 ms off a hundred sliced 120-cells, 20,000 triangles). The
 palette's light colours, which change only with the settings, are therefore compiled into the
 fragment shader as constants (:func:`program_source`), one build of the programs per palette.
-The level's boxes have one normal a triangle, so what depends on the normal alone (the side
-facing the eye, the panels' plane, the ambient and diffuse light) is the same over a face: their
-program of its own works it out per vertex (``FACETED``; 7-9 % of the scenery's shading).
+The level's boxes and the sections of 4D worlds have one normal a triangle, so what depends on
+the normal alone (the side facing the eye, the plane of the panels or of the w bands, the
+ambient and diffuse light) is the same over a face: a program of their own works it out per
+vertex (``FACETED``; 7-9 % of the scenery's shading, 3-4 % of 4D matter's).
 
 Colour pipeline: vertex colours are linear RGB; lighting happens in linear
 space; the result goes through a soft shoulder (so highlights don't clip
@@ -44,6 +45,20 @@ vec3 sky_gradient(vec3 d) {
 }
 """
 
+#: Where the w bands and the lattice of 4D matter lie on a surface (the vertex shader's, per
+#: vertex, for faceted meshes; else the fragment shader's).
+MATTER_COORDS = """
+// At ``p`` on a surface whose normal has magnitudes ``an``: x across the w bands (levels of
+// height on vertical faces, diagonals on horizontal ones), y along them, zw the lattice's
+// diagonal grid on the plane the surface faces.
+vec4 matter_coords(vec3 an, vec3 p) {
+    float s = an.y > 0.7 ? (p.x + p.z) * 0.7071 : p.y;
+    float u = an.x > an.z ? p.z : p.x;
+    vec2 huv = an.y > 0.7 ? p.xz : (an.x > an.z ? p.zy : p.xy);
+    return vec4(s, u, vec2(huv.x + huv.y, huv.x - huv.y) * 2.0);
+}
+"""
+
 VERTEX = """
 uniform mat4 u_view_proj;
 uniform mat4 u_model;
@@ -66,8 +81,14 @@ out vec4 v_color;
 flat out vec4 v_face;
 // rgb the hemisphere ambient plus the sun's diffuse light, w the diffuse factor.
 flat out vec4 v_face_light;
-// The surface's panel coordinates: linear in the position over a plane, so interpolated exactly.
+// Coordinates linear in the position over a plane, so interpolated exactly: the panels' of
+// scenery, or where the w bands and the lattice of 4D matter lie (see matter_coords).
+  #ifdef STYLE_HYPER
+out vec4 v_planes;
+MATTER_COORDS
+  #else
 out vec2 v_panel;
+  #endif
 #endif
 // What is the same for every pixel and changes every frame goes to the fragment shader as
 // flat varyings, not uniforms: llvmpipe reads a uniform in a fragment shader lane by lane,
@@ -150,7 +171,11 @@ void main() {
     vec3 an = abs(n);
     bool level_face = an.y >= max(an.x, an.z);
     v_face = vec4(n, level_face ? 0.0 : 1.0);
+  #ifdef STYLE_HYPER
+    v_planes = matter_coords(an, world.xyz);
+  #else
     v_panel = level_face ? world.xz * 0.5 : (an.x >= an.z ? world.zy : world.xy) * vec2(1.0 / 1.5, 1.0);
+  #endif
     float diffuse = max(dot(n, u_light_dir), 0.0);
     v_face_light = vec4(AMBIENT + AMBIENT_UP * n.y + diffuse * KEY_LIGHT, diffuse);
 #endif
@@ -161,7 +186,7 @@ void main() {
     gl_Position.z -= 2e-4 * gl_Position.w;
 #endif
 }
-""".replace("SKY_GRADIENT", SKY_GRADIENT)
+""".replace("SKY_GRADIENT", SKY_GRADIENT).replace("MATTER_COORDS", MATTER_COORDS)
 
 FRAGMENT = """
 in vec3 v_world;
@@ -170,7 +195,11 @@ in vec4 v_color;
 #ifdef FACETED
 flat in vec4 v_face;        // the normal facing the eye, w 1 on walls (see the vertex shader)
 flat in vec4 v_face_light;  // ambient plus diffuse sunlight, w the diffuse factor
+  #ifdef STYLE_HYPER
+in vec4 v_planes;           // where the w bands and the lattice lie (see matter_coords)
+  #else
 in vec2 v_panel;
+  #endif
 #endif
 flat in vec4 v_eye;         // xyz the eye, w the fog's density squared
 flat in vec4 v_sun;         // xyz toward the light, w the pulse or a ghost's opacity (see the vertex shader)
@@ -245,15 +274,15 @@ float grid_lines(vec2 uv, float spacing) {
 #endif
 
 #if defined(LOOK_SCIFI) && (defined(STYLE_HYPER) || defined(STYLE_GLOW))
+MATTER_COORDS
 // The w cue of 4D matter, in pattern and motion rather than colour: bands across the
 // surface whose spacing shrinks as the slice nears the edge of the thing along w (sparse
 // and faint at its centre, dense at the edge), solid lines rising when the thing lies ana
 // (+w) of the slice and dotted lines sinking when it lies kata (-w), the same sides as
-// the ghosts' stripes and dots. Returns the band mask in 0-1. ``an``: |normal|.
-float w_bands(vec3 an) {
-    // Across vertical faces the bands are levels of height; on horizontal faces, diagonals.
-    float s = an.y > 0.7 ? (v_world.x + v_world.z) * 0.7071 : v_world.y;
-    float t = s * v_band.x - v_band.y;
+// the ghosts' stripes and dots. Returns the band mask in 0-1. ``su``: where the surface
+// point lies across and along the bands (matter_coords).
+float w_bands(vec2 su) {
+    float t = su.x * v_band.x - v_band.y;
     float fw = max(fwidth(t), 1e-5);
     float rfw = 0.5 / fw;
     float d = abs(fract(t) - 0.5);  // 0.5 at a band's middle
@@ -261,7 +290,7 @@ float w_bands(vec3 an) {
     float band = clamp((d - 0.34) * rfw + 0.5, 0.0, 1.0);
     // kata: dotted, the dots as long as the bands are wide (computed on both sides: a branch
     // costs as much as its body on llvmpipe)
-    float u = (an.x > an.z ? v_world.z : v_world.x) * v_band.x;
+    float u = su.y * v_band.x;
     float du = abs(fract(u) - 0.5);
     float dots = clamp((du - 0.25) * (0.5 / max(fwidth(u), 1e-5)) + 0.5, 0.0, 1.0);
     band *= v_band.z < 0.0 ? dots : 1.0;
@@ -387,11 +416,15 @@ void main() {
     float fres = (1.0 - ndv) * (1.0 - ndv);
     // Three phase-shifted triangle waves: a cosine palette's hues without three cosines.
     vec3 irid = abs(fract(vec3(0.0, 0.33, 0.67) + 1.3 * fres + v_fog_color.w) * 2.0 - 1.0);
-    float bands = w_bands(an);
+    #ifdef FACETED
+    vec4 planes = v_planes;
+    #else
+    vec4 planes = matter_coords(an, v_world);
+    #endif
+    float bands = w_bands(planes.xy);
     // A lattice of glowing diagonal lines: nothing in the scenery looks like it, and it
     // shows the surface's shape where the rim light cannot (faces seen head on).
-    vec2 huv = an.y > 0.7 ? v_world.xz : (an.x > an.z ? v_world.zy : v_world.xy);
-    vec2 q = vec2(huv.x + huv.y, huv.x - huv.y) * 2.0;
+    vec2 q = planes.zw;
     vec2 rfq = 1.0 / max(fwidth(q), vec2(1e-5));
     vec2 gq = (0.5 - abs(fract(q) - 0.5)) * rfq;
     float lattice = (1.0 - min(min(gq.x, gq.y) * (1.0 / 1.2), 1.0))
@@ -421,7 +454,7 @@ void main() {
     float r8 = r2 * r2;
     r8 *= r8;
     lit += vec3(0.5) * (r8 * r8 * r8);
-    lit *= 1.0 - 0.5 * w_bands(an);
+    lit *= 1.0 - 0.5 * w_bands(matter_coords(an, v_world).xy);
     #endif
   #else
     vec3 L = v_sun.xyz;
@@ -473,15 +506,16 @@ void main() {
     f_color = vec4(color, 1.0);
 #endif
 }
-"""
+""".replace("MATTER_COORDS", MATTER_COORDS)
 
 #: Program names: the drawable styles, and ``hyper``, the solid style of 4D cross-sections
 #: in the sci-fi look (the renderer picks it for drawables that carry a ``w_offset``).
 PROGRAMS = ("solid", "floor", "wire", "ghost", "glow", "hyper")
 
 
-#: The styles with a program for faceted meshes (see :func:`program_source`): the scenery's.
-FACETED_STYLES = ("solid", "floor")
+#: The styles with a program for faceted meshes (see :func:`program_source`): the scenery's and
+#: 4D matter's (batches of 4D things keep the general one: a flat input costs every triangle).
+FACETED_STYLES = ("solid", "floor", "hyper")
 
 
 def program_source(
@@ -494,8 +528,9 @@ def program_source(
     compiled in; its sky colours stay uniforms. ``flat_normals``: the program for meshes whose
     normals are zero (frustum projections), which shades each face with its screen-space normal.
     ``faceted``: the program of a :data:`FACETED_STYLES` style in the sci-fi look for meshes whose
-    every triangle has one normal (the level's boxes): the side facing the eye, the panels' plane
-    and the ambient and diffuse light are worked out per vertex (the same pixels, less work each).
+    every triangle has one normal (the level's boxes, sections of 4D worlds): the side facing the
+    eye, the plane of the panels or w bands and the ambient and diffuse light are worked out per
+    vertex (the same pixels, less work each).
     """
     if style == "hyper" and look != "scifi":
         style = "solid"
