@@ -75,7 +75,7 @@ out vec3 v_world;
 out vec3 v_normal;
 out vec4 v_color;
 #ifdef FACETED
-// A mesh whose every triangle has one normal (the level's boxes): what depends on the normal
+// A mesh whose every triangle has one normal (boxes, sections of 4D worlds): what depends on the normal
 // alone is the same over a face and is worked out here, per vertex, instead of per pixel.
 // xyz the normal of the side facing the eye, w 1 on walls (0 on floors and ceilings).
 flat out vec4 v_face;
