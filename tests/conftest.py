@@ -37,6 +37,23 @@ def per_level(values, stem=lambda v: Path(v).stem) -> list:
     return [pytest.param(v, id=stem(v), marks=[pytest.mark.slow] if stem(v) in HEAVY_LEVELS else []) for v in values]
 
 
+def standing_frames(levels, grid: int = 2, every: int = 3):
+    """``(level, (x, z, yaw), frame)``: each shipped level of ``levels`` seen from every
+    ``every``-th of ``bench levels``' standing poses on a ``grid x grid`` lattice (walls close
+    up, the floor, 4D matter in front), the player placed there and the frame built."""
+    from across_dimensions.bench.levels import _poses
+    from across_dimensions.game.sim import Game
+    from across_dimensions.world.level import load_level
+    from across_dimensions.world.resources import resolve_level
+
+    for level in levels:
+        game = Game(load_level(resolve_level(level)))
+        feet = game.player.position[[1, 3]]
+        for x, z, yaw in _poses(game, grid)[::every]:
+            game.place_player((x, feet[0], z, feet[1]), yaw, 0.0)
+            yield level, (x, z, yaw), game.frame()
+
+
 @pytest.fixture(scope="module")
 def env() -> dict:
     """Environment for running the command as a subprocess: this checkout first on the path, the

@@ -8,7 +8,7 @@ from pathlib import Path
 import moderngl
 import numpy as np
 import pytest
-from conftest import per_level
+from conftest import per_level, standing_frames
 
 from across_dimensions.core.mesh import TriMesh3
 from across_dimensions.game.actions import Actions
@@ -381,32 +381,22 @@ def test_the_levels_boxes_look_the_same_lit_per_face(gl_ctx):
     """Crossfire's and the Tumbling Hall's scenery from standing points over their floors (walls
     close up, the floor, 4D matter in front), drawn with the boxes' faceted program and with the
     per-pixel one: the same picture to the rounding."""
-    from across_dimensions.bench.levels import _poses
-    from across_dimensions.game.sim import Game
-    from across_dimensions.world.level import load_level
-    from across_dimensions.world.resources import resolve_level
-
     target = Offscreen(gl_ctx, 320, 180)
     r = Renderer(gl_ctx)
     try:
-        for level in ("11_crossfire", "03_tumbling_hall"):
-            game = Game(load_level(resolve_level(level)))
-            feet = game.player.position[[1, 3]]
-            for x, z, yaw in _poses(game, 2)[::3]:
-                game.place_player((x, feet[0], z, feet[1]), yaw, 0.0)
-                frame = game.frame()
-                target.use()
-                r.draw(frame, hud=False)
-                boxes = [gm for gm in r.meshes.meshes.values() if gm.faceted]
-                assert {"static", "floor"} <= {gm.key for gm in boxes}
-                per_face = target.read_rgb().astype(int)
-                for gm in boxes:
-                    gm.faceted = False
-                r.draw(frame, hud=False)
-                for gm in boxes:
-                    gm.faceted = True
-                diff = np.abs(per_face - target.read_rgb()).max(axis=2)
-                assert diff.max() <= 4 and (diff > 2).mean() < 1e-3, (level, x, z, yaw, diff.max())
+        for level, pose, frame in standing_frames(("11_crossfire", "03_tumbling_hall")):
+            target.use()
+            r.draw(frame, hud=False)
+            boxes = [gm for gm in r.meshes.meshes.values() if gm.faceted]
+            assert {"static", "floor"} <= {gm.key for gm in boxes}
+            per_face = target.read_rgb().astype(int)
+            for gm in boxes:
+                gm.faceted = False
+            r.draw(frame, hud=False)
+            for gm in boxes:
+                gm.faceted = True
+            diff = np.abs(per_face - target.read_rgb()).max(axis=2)
+            assert diff.max() <= 4 and (diff > 2).mean() < 1e-3, (level, pose, diff.max())
     finally:
         r.release()
         target.release()

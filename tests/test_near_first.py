@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import standing_frames
 
 from across_dimensions.game.frame import Camera3, Drawable, Frame, Hud
 from across_dimensions.render.context import Offscreen, RenderError
@@ -111,32 +112,22 @@ def test_the_levels_drawn_in_pieces_look_as_with_the_pre_pass(gl_ctx):
     over their floors, drawn in pieces nearest first and, as before, with the whole scenery in
     the depth pre-pass: the same picture but for a few pixels where two faces meet at the same
     depth (the order decides which is drawn)."""
-    from across_dimensions.bench.levels import _poses
-    from across_dimensions.game.sim import Game
-    from across_dimensions.world.level import load_level
-    from across_dimensions.world.resources import resolve_level
-
     target = Offscreen(gl_ctx, 320, 180)
     r = Renderer(gl_ctx)
     try:
-        for level in ("10_cloister", "11_crossfire", "03_tumbling_hall"):
-            game = Game(load_level(resolve_level(level)))
-            feet = game.player.position[[1, 3]]
-            for x, z, yaw in _poses(game, 2)[::3]:
-                game.place_player((x, feet[0], z, feet[1]), yaw, 0.0)
-                frame = game.frame()
-                target.use()
-                r.draw(frame, hud=False)
-                pieces = {key: gm.parts for key, gm in r.meshes.meshes.items() if gm.parts is not None}
-                assert {"static", "floor"} <= set(pieces)
-                in_pieces = target.read_rgb().astype(int)
-                for key in pieces:
-                    r.meshes.meshes[key].parts = None
-                r.draw(frame, hud=False)
-                for key, parts in pieces.items():
-                    r.meshes.meshes[key].parts = parts
-                diff = np.abs(in_pieces - target.read_rgb()).max(axis=2)
-                assert (diff > 2).mean() < 1e-3, (level, x, z, yaw, (diff > 2).sum())
+        for level, pose, frame in standing_frames(("10_cloister", "11_crossfire", "03_tumbling_hall")):
+            target.use()
+            r.draw(frame, hud=False)
+            pieces = {key: gm.parts for key, gm in r.meshes.meshes.items() if gm.parts is not None}
+            assert {"static", "floor"} <= set(pieces)
+            in_pieces = target.read_rgb().astype(int)
+            for key in pieces:
+                r.meshes.meshes[key].parts = None
+            r.draw(frame, hud=False)
+            for key, parts in pieces.items():
+                r.meshes.meshes[key].parts = parts
+            diff = np.abs(in_pieces - target.read_rgb()).max(axis=2)
+            assert (diff > 2).mean() < 1e-3, (level, pose, (diff > 2).sum())
     finally:
         r.release()
         target.release()
