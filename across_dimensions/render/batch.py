@@ -59,6 +59,7 @@ void main() { f_color = vec4(0.0); }
 """
 
 _EYE4 = np.eye(4, dtype=np.float32).tobytes()
+_EYE3 = np.eye(3, dtype=np.float32).tobytes()
 
 
 def capacity_for(n: int, minimum: int) -> int:
@@ -238,10 +239,10 @@ class BatchBuffers:
         return vao
 
     def _set_identity_model(self, prog: moderngl.Program) -> None:
-        if "u_model" in prog:
-            prog["u_model"].write(_EYE4)
-        if "u_normal_mat" in prog:
-            prog["u_normal_mat"].write(np.eye(3, dtype=np.float32).tobytes())
+        for name, value in (("u_model", _EYE4), ("u_normal_mat", _EYE3)):
+            u = prog.get(name, None)  # not ``in``: a Program walks its members for that
+            if u is not None:
+                u.write(value)
 
     def draw(self, tb, view_proj_bytes: bytes, program: str | None = None) -> tuple[int, int, int]:
         """Draw one batch's triangles (and edges): returns ``(draw calls, triangles, lines)``.

@@ -244,8 +244,9 @@ class FlatRenderer:
             for name, value in (("u_center", center), ("u_half", half), ("u_alpha", alpha)):
                 prog[name].value = value
             for name in ("u_ana", "u_kata"):
-                if name in prog:  # only the shaders that band use them
-                    prog[name].value = tuple(pal[name[2:]])
+                u = prog.get(name, None)  # only the shaders that band use them
+                if u is not None:
+                    u.value = tuple(pal[name[2:]])
         for layer in LAYERS:
             ctx.enable(moderngl.BLEND)
             ctx.blend_func = (
