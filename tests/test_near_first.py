@@ -89,6 +89,9 @@ def test_parts_that_do_not_cover_the_faces_are_refused(gl_ctx):
             frame = Frame(Camera3(position=np.zeros(3)), [Drawable("s", 0, mesh, parts=np.array(parts))], hud=Hud())
             with pytest.raises(RenderError, match="'s': parts must rise strictly from 0 to the face count 36"):
                 r.draw(frame, hud=False)
+        # A level without walls: no faces, in no parts.
+        empty = Drawable("none", 0, merge_trimeshes([]), parts=face_runs([]))
+        r.draw(Frame(Camera3(position=np.zeros(3)), [empty], hud=Hud()), hud=False)
     finally:
         r.release()
         target.release()

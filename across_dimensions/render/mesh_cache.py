@@ -159,7 +159,8 @@ class MeshCache:
         if gm.revision == d.revision and gm.revision is not None:
             return gm
         v, f, n, c = check_mesh(d.key, d.mesh)
-        parts = None if d.parts is None else check_parts(d.key, d.parts, len(f))
+        # (A level without walls has a static mesh of no faces, in no parts.)
+        parts = None if d.parts is None or len(f) == 0 else check_parts(d.key, d.parts, len(f))
         gm.revision = d.revision
         gm.n_vertices, gm.n_indices = len(v), f.size
         gm.n_edge_indices = -1

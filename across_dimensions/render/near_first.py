@@ -6,8 +6,8 @@ used to lay the whole scene's depth down first (a depth pre-pass) and shade it i
 On llvmpipe that pre-pass is a second rasterization of every triangle, about 1.3 ms of CPU per
 layer of a 1280x720 view. Drawn nearest piece first (pieces ordered by the distance from the eye
 to their bounding boxes), the depth test itself rejects what lies behind before it is shaded, and
-the pieces need no pre-pass: 0.3-1.3 ms of CPU less per full-size frame over the levels' standing
-points. The order is made per view from the eye, and the index buffer rewritten only when the
+the pieces need no pre-pass: 0.35-1.7 ms of CPU less per full-size frame over the levels'
+standing points. The order is made per view from the eye, and the index buffer rewritten only when the
 order changes.
 """
 
