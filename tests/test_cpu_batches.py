@@ -196,6 +196,7 @@ def test_animated_enemies_in_the_frames_batches_are_each_enemys_own_sections(tmp
     for ticks in (30, 95, 130, 200):  # poses across both kinds' keyframes (4.5 s and 6 s loops)
         for _ in range(ticks):
             game.step(Actions())
+        game.frame(0.5)  # the ghost layers take turns: after two frames of one tick, each had its turn
         frame = game.frame(0.5)
         eye = np.asarray(frame.camera.position, np.float64)
         table = game.entity_models

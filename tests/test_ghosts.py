@@ -232,3 +232,57 @@ def test_standing_against_a_4d_wall_is_not_being_inside_its_ghost():
     frame = game.frame()
     assert any(d.style == "ghost" for d in frame.drawables)  # its ghosts are drawn beside the player
     assert frame.hud.w_blocked == ()  # but a step along w is free: the gauge says nothing
+
+
+def test_ghost_layers_of_moving_things_take_turns_a_frame_behind_at_most(tmp_path):
+    """Animated things cut together for their ghosts: each layer is cut again every other frame,
+    ana and kata in turn, and in between shows exactly its cut of the frame before; a step along w
+    cuts every layer at once; two frames of one tick leave every layer that tick's."""
+    from across_dimensions.bench.systems import enemy_level_text
+    from across_dimensions.game.systems import enemies
+
+    path = tmp_path / "enemies.toml"
+    path.write_text(enemy_level_text(2), encoding="utf-8")
+    game = Game(load_level(path))
+    game.step(Actions())
+    enemies.hold(game, 0.0, 10**9)
+    es = game.entity_sections
+
+    def cuts():
+        return {tag: (b.revision, b.vertices.copy()) for tag, b in es.ghost_batches.items()}
+
+    game.step(Actions())
+    game.frame()
+    turns = []
+    for _ in range(4):
+        before = cuts()
+        game.step(Actions())
+        game.frame()
+        after = cuts()
+        assert set(after) == {"ghost+1", "ghost-1"}
+        cut = [tag for tag in after if after[tag][0] != before[tag][0]]
+        assert len(cut) == 1, "one layer is cut again a frame, the other waits"
+        (waiting,) = set(after) - set(cut)
+        np.testing.assert_array_equal(after[waiting][1], before[waiting][1])
+        turns += cut
+    assert turns[::2] == [turns[0]] * 2 and turns[1::2] == [turns[1]] * 2 and turns[0] != turns[1]
+
+    before = cuts()
+    p = game.player
+    game.place_player((*p.position[:3], p.position[3] + 0.05), p.yaw, p.pitch)
+    game.frame()
+    assert all(b.revision != before[tag][0] for tag, b in es.ghost_batches.items()), "a step along w cuts both"
+
+    game.step(Actions())
+    game.frame()
+    game.frame()
+    models = dict(zip((e.id for e in game.entity_models.entities), game.entity_models.models(game, 1.0)))
+    for layer in ghosts.layers_of(game, game.player.position[3]):
+        batch = es.ghost_batches[layer.tag]
+        assert batch.instances()[0], "both enemies reach both layers"
+        for key in batch.instances()[0]:
+            e = game.entities.get(key)
+            truth = cross_section(e.mesh, translation((0.0, 0.0, 0.0, layer.w)), models[key])
+            start, count = batch.instance_rows(key)
+            got = {tuple(np.round(v, 4)) for v in batch.vertices[start : start + count, :3]}
+            assert got and got <= {tuple(np.round(v, 4)) for v in truth.vertices}

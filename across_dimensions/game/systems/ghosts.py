@@ -218,7 +218,7 @@ def draw(game, frame, alpha) -> None:
     if layers:
         hidden = hidden_rows(game, frame, models, alpha)
         spans = slice_spans(table.column("ghost_w_caps", lambda e: _caps(e.mesh)).reshape(-1, 2), models)
-    game.entity_sections.keep_ghosts({layer.tag for layer in layers})
+    game.entity_sections.begin_ghosts({layer.tag for layer in layers})
     for layer in layers:
         tag = layer.tag
         # Solid things are drawn one by one (the ghost of one that would block the player is
