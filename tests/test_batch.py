@@ -23,7 +23,7 @@ from across_dimensions.core.cells import mesh_cells
 from across_dimensions.core.frustum import frustum_project
 from across_dimensions.core.frustum_batch import FrustumBatch, solid_edges
 from across_dimensions.core.section import cross_section
-from across_dimensions.core.section_batch import SHRINK_AFTER, SectionBatch
+from across_dimensions.core.section_batch import SHRINK_AFTER, SectionBatch, pool_part
 from across_dimensions.core.shapes import make_shape
 from across_dimensions.core.transform import PLANES, inverse, pose, translation
 from across_dimensions.game.actions import Actions
@@ -176,6 +176,25 @@ def test_meshes_no_longer_drawn_are_let_go():
         # kernel does not check bounds: a start array left one entry long was written past).
         assert len(batch.instances()[1]) == 2
     assert len(batch._pool.meshes) <= 17
+
+
+def test_a_mesh_met_again_by_another_batch_brings_what_it_brought_the_first(meshes):
+    """A mesh's pooled arrays are made once and kept on it (for another batch, a pool started
+    again, or made at a level's start ahead of play); the sections are the same either way,
+    and a mesh of other colours brings its own."""
+    mesh = make_shape("16-cell")
+    first = SectionBatch()
+    first.update([0], [mesh], [pose((0.0, 0.0, 0.0, 0.05))])
+    part = pool_part(mesh)
+    second = SectionBatch()
+    second.update([0], [mesh], [pose((0.0, 0.0, 0.0, 0.05))])
+    assert pool_part(mesh) is part
+    assert np.array_equal(second.vertices, first.vertices)
+    tinted = mesh.with_color((0.9, 0.2, 0.1, 1.0))
+    assert pool_part(tinted).colors[0].tolist() == pytest.approx([0.9, 0.2, 0.1, 1.0])
+    third = SectionBatch()
+    third.update([0], [tinted], [pose((0.0, 0.0, 0.0, 0.05))])
+    assert_same_section(rows_of(third, 0), cross_section(tinted, None, pose((0.0, 0.0, 0.0, 0.05))), tinted)
 
 
 def test_culling_never_drops_an_object_with_a_triangle_in_view(meshes):

@@ -36,10 +36,12 @@ re-sliced nor re-uploaded (:attr:`SectionBatch.changed_from`).
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from .cells import Cells, mesh_cells
-from .layout import layout_colors, layout_edges, layout_normals, mesh_clusters
+from .layout import Layout, layout_colors, layout_edges, layout_normals, mesh_clusters
 from .mesh import TetMesh4
 from .section_batch_kernels import BatchScratch, Instances, Pool, _instances_in_view, _slice_batch
 from .section_batch_tets import ROW
@@ -86,6 +88,40 @@ def _one_colour_tets(tets: np.ndarray, colors: np.ndarray) -> bool:
     return bool((c == c[:, :1]).all()) and not (np.signbit(colors) & (colors == 0)).any()
 
 
+class PoolPart(NamedTuple):
+    """What a mesh brings to a batch's pool, in its own numbering (see :func:`pool_part`)."""
+
+    layout: Layout
+    chunks: tuple  # _chunks(layout)
+    edges: tuple  # layout_edges(layout)
+    colors: np.ndarray  # (n, 4) float32, in the layout's order
+    flat: bool  # each tet of one colour (_one_colour_tets)
+    center: np.ndarray  # (4,) float64, the middle of its box (object space)
+    radius: float  # of the sphere about it holding every vertex
+
+
+def pool_part(mesh: TetMesh4) -> PoolPart:
+    """The arrays :class:`SectionBatch` pools for ``mesh``, made once and cached on it (a
+    shot or an enemy met again by another batch, or after a pool starts again, costs a few
+    copies instead of 4-7 ms of sorting), made again when its colours change. Call it ahead
+    of play (a level's start) to spare the first frame that meets the mesh its making."""
+    layout = mesh_clusters(mesh)
+    colors = layout_colors(mesh, layout)
+    key = ("batch_pool_part", id(layout))
+    part = mesh._cache.get(key)
+    if part is None or part[0] is not colors:
+        colors32 = colors.astype(np.float32)
+        v = layout.vertices.astype(np.float64)
+        ctr = 0.5 * (v.min(axis=0) + v.max(axis=0))
+        radius = float(np.sqrt(((v - ctr) ** 2).sum(axis=1).max()))
+        flat = _one_colour_tets(layout.tets, colors32)
+        made = PoolPart(layout, _chunks(layout), layout_edges(layout), colors32, flat, ctr, radius)
+        layout_normals(mesh, layout)
+        mesh_cells(mesh)
+        part = mesh._cache[key] = (colors, made)
+    return part[1]
+
+
 class _Pool:
     """Every distinct mesh's slicing layout, concatenated: :attr:`arrays` is the kernels'
     :class:`~.section_batch_kernels.Pool`."""
@@ -126,18 +162,18 @@ class _Pool:
         k = self.index.get(id(mesh))
         if k is not None:
             return k
-        layout = mesh_clusters(mesh)
+        part = pool_part(mesh)
+        layout = part.layout
         a = self.arrays
         v0, c0, t0 = len(a.vertices), len(a.clo), len(a.tets)
-        lo, hi, center, half = _chunks(layout)
-        colors = layout_colors(mesh, layout).astype(np.float32)
-        tet_edges, edge_lo, edge_hi = layout_edges(layout)
+        lo, hi, center, half = part.chunks
+        tet_edges, edge_lo, edge_hi = part.edges
         e0 = len(a.edge_ends)
         self.arrays = a._replace(
             vertices=np.concatenate([a.vertices, layout.vertices]),
             tets=np.concatenate([a.tets, layout.tets + np.uint32(v0)]),
             tet_normals=np.concatenate([a.tet_normals, layout_normals(mesh, layout)]),
-            colors=np.concatenate([a.colors, colors]),
+            colors=np.concatenate([a.colors, part.colors]),
             mesh_v=np.concatenate([a.mesh_v, [[v0, v0 + len(layout.vertices)]]]),
             mesh_c=np.concatenate([a.mesh_c, [[c0, c0 + len(lo)]]]),
             clo=np.concatenate([a.clo, lo + t0]),
@@ -147,12 +183,10 @@ class _Pool:
             tet_edges=np.concatenate([a.tet_edges, tet_edges]),
             edge_ends=np.concatenate([a.edge_ends, np.column_stack([edge_lo, edge_hi])]),
             mesh_e=np.concatenate([a.mesh_e, [[e0, e0 + len(edge_lo)]]]),
-            flat=np.append(a.flat, np.uint8(_one_colour_tets(layout.tets, colors))),
+            flat=np.append(a.flat, np.uint8(part.flat)),
         )
-        v = layout.vertices.astype(np.float64)
-        ctr = 0.5 * (v.min(axis=0) + v.max(axis=0))
-        self.center = np.concatenate([self.center, ctr[None]])
-        self.radius = np.append(self.radius, float(np.sqrt(((v - ctr) ** 2).sum(axis=1).max())))
+        self.center = np.concatenate([self.center, part.center[None]])
+        self.radius = np.append(self.radius, part.radius)
         self.max_vertices = max(self.max_vertices, len(layout.vertices))
         self.max_tets = max(self.max_tets, len(layout.tets) + 1)
         self.max_edges = max(self.max_edges, len(edge_lo))

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.section_batch import SectionBatch
+from ..core.section_batch import SectionBatch, pool_part
 from ..core.transform import translation
 from .frame import WIDEST_VIEW, Drawable, Frame, TriangleBatch
 
@@ -77,6 +77,13 @@ class EntitySections:
         self._names: dict = {}  # member name prefix -> (ids, their names)
         # What flush slices and adds: (frame, batch, key, look, noted: has_section answers for its entities)
         self._pending: list = []
+
+    @staticmethod
+    def prepare(entities) -> None:
+        """Make what the batches need of each entity's mesh now (at a level's start) rather
+        than on the frame that first cuts it: 20-30 ms for an enemy's body, a dropped frame."""
+        for mesh in {id(e.mesh): e.mesh for e in entities if e.mesh is not None}.values():
+            pool_part(mesh)
 
     def draw(self, frame: Frame, entities, models, camera: np.ndarray, sections) -> None:
         """Slice ``entities`` (placed by ``models``) by the slice whose camera-to-world pose is

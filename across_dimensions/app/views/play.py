@@ -98,6 +98,7 @@ class PlayView(View):
         self.game.show_ghosts = st.ghosts  # a view option: not part of the simulation's state
         self.game.ghost_view = s.options.ghosts  # drawing only: never part of a replay
         s.onboarding.level_started(self.game.level.hints)
+        self.game.entity_sections.prepare(self.game.entities)  # no first-sight stalls either
         heap.settle()  # no collector stalls mid-level (see core/heap.py)
         s.sound_director.reset()
         s.captions.clear()
