@@ -422,6 +422,31 @@ def test_scifi_scenery_is_panelled_and_the_flat_look_is_not(gl_ctx, target):
 
 
 @pytest.mark.gl
+@pytest.mark.parametrize("elevation", [0.45, 1.0])
+def test_the_suns_highlight_lies_where_a_mirror_in_the_floor_would_show_the_sun(gl_ctx, target, elevation):
+    """The sun's specular highlight on a flat floor peaks where the sun's reflection reaches the
+    eye: at ``eye - h (L / L.y)`` projected onto the floor, for an eye ``h`` above it. Two
+    pictures with the sun at one height, ahead and behind, differ only by the highlight."""
+    h = 2.0
+    ahead = np.array([0.0, elevation, 1.0]) / np.hypot(elevation, 1.0)
+    mirror = np.array([0.0, 0.0, h * ahead[2] / ahead[1]])  # the reflection's point on the floor
+    cam = Camera3(position=np.array([0.0, h, 0.0]), pitch=-float(np.arctan2(h, mirror[2])))
+    r = Renderer(gl_ctx, fog_density=0.0, look="flat")  # one colour, no fog: the light alone
+    floor = [Drawable("f", 0, plane_mesh(60.0, color=(0.3, 0.3, 0.3, 1.0)))]
+    shots = [
+        luminance(draw(r, target, Frame(cam, floor, hud=Hud(crosshair=False), light_dir=tuple(sun))))
+        for sun in (ahead, ahead * [1.0, 1.0, -1.0])
+    ]
+    r.release()
+    spec = shots[0] - shots[1]
+    top = spec.max()
+    ys, xs = np.nonzero(spec >= 0.9 * top)  # the peak's pixels (flat where the colour saturates)
+    assert top > 12.0, top  # a highlight...
+    assert abs(xs.mean() - W / 2) <= 1.5 and abs(ys.mean() - H / 2) <= 0.03 * H, (xs.mean(), ys.mean())
+    assert np.percentile(spec, 50) < 0.25 * top  # ...at the mirror point, and not a sheen
+
+
+@pytest.mark.gl
 def test_walls_carry_an_emissive_trim_near_the_floor(gl_ctx, target, renderer):
     # A wall facing the camera, lit from behind it (the sun does not reach its face).
     cam = Camera3(position=np.array([0.0, 0.4, -2.0]), pitch=-0.1)

@@ -9,7 +9,7 @@ shrink, while the key lives).
 Styles
 ------
 ``"solid"``
-    Opaque, lit: Lambert + hemisphere ambient + small Blinn specular + rim,
+    Opaque, lit: Lambert + hemisphere ambient + small Phong specular + rim,
     two-sided (the normal is flipped toward the eye).
 ``"floor"``
     Like solid, plus a procedural anti-aliased grid (1 m minor, 10 m major
