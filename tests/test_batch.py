@@ -466,6 +466,24 @@ def test_bench_levels_measures_the_peak_memory_of_play():
     assert "00_arrival" in line and "MB" in line and ("[PASS]" in line or "[FAIL]" in line), line
 
 
+@pytest.mark.skipif(not os.path.exists("/proc/self/status"), reason="reads /proc")
+def test_a_childs_peak_memory_is_its_own_not_its_parents():
+    """Started by a process holding 300 MB, a child that holds 60 MB peaks at about 60 MB. The
+    kernel's figure at its exit (``ru_maxrss``) says 300: Linux carries the parent's peak
+    across ``exec``, which is how ``bench levels`` once measured itself after every level."""
+    from across_dimensions.bench.memory import _wait_watching
+
+    ballast = np.ones(300 * 2**20 // 8)  # 300 MB, every page touched
+    code = "import time; b = bytearray(60 * 2**20); time.sleep(0.6)"
+    child = subprocess.Popen([sys.executable, "-c", code])
+    status, usage, peak_kb = _wait_watching(child.pid)
+    child.returncode = 0  # reaped
+    assert os.waitstatus_to_exitcode(status) == 0
+    assert 60 <= peak_kb / 1024 < 150, peak_kb
+    assert usage.ru_maxrss / 1024 >= 300, usage.ru_maxrss  # what it measured before
+    del ballast
+
+
 def test_render_scale_setting_is_checked(tmp_path):
     from across_dimensions.app.settings import Settings, load_settings
 
