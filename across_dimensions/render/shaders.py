@@ -476,7 +476,7 @@ void main() {
     // 2 (N.L)(N.V) - L.V (where it counts, N.L >= 0). Blinn's N.H to the power 40 made the
     // same highlight as this power of 14 (all but 0.15 % of a frame's pixels within 4 of 255,
     // none more than 22 apart), but normalising H, one more inverse square root a pixel, was
-    // a sixth of the floor's shading and a tenth of the walls' on llvmpipe.
+    // a sixth of the floor's shading and 5-10 % of the walls' on llvmpipe.
     float rdv = 2.0 * diffuse * ndv - dot(L, V);
     float spec = diffuse > 0.0 ? pow_highlight(rdv, 14.0 * gloss) * 0.18 * gloss : 0.0;
     float rim = (1.0 - ndv) * (1.0 - ndv) * (1.0 - ndv) * 0.12;
