@@ -197,6 +197,30 @@ def test_a_mesh_met_again_by_another_batch_brings_what_it_brought_the_first(mesh
     assert_same_section(rows_of(third, 0), cross_section(tinted, None, pose((0.0, 0.0, 0.0, 0.05))), tinted)
 
 
+@pytest.mark.parametrize("with_states", [True, False])
+def test_a_level_start_readies_the_meshes_of_things_spawned_later(monkeypatch, with_states):
+    """The gun's first bullet (a 120-cell) and an enemy's first shot each cost a frame 20-30 ms
+    when their meshes were first cut mid-level. Made ready at the level's start with the
+    entities' (the systems' states hold them), play makes none; from the entities alone, it
+    makes them on the frames they first appear."""
+    from across_dimensions.core import section_batch
+    from across_dimensions.game.replay import Replay
+    from across_dimensions.world.resources import levels_dir, resolve_level
+
+    rep = Replay.load(levels_dir() / "replays" / "09_hive.json")
+    game = Game(load_level(resolve_level("09_hive"), arsenal=rep.arsenal), seed=rep.seed)
+    game.entity_sections.prepare(game.entities, game.states if with_states else ())
+    made, real = [], section_batch._chunks
+    monkeypatch.setattr(section_batch, "_chunks", lambda layout: made.append(game.tick) or real(layout))
+    kinds = set()
+    for a, _ in zip(rep.actions, range(240)):
+        game.step(a)
+        game.frame()
+        kinds |= {e.kind for e in game.entities}
+    assert {"bullet", "enemy_shot"} <= kinds  # both spawned within these ticks
+    assert (made == []) == with_states, made
+
+
 def test_culling_never_drops_an_object_with_a_triangle_in_view(meshes):
     """Random poses around a camera: every culled object's full section lies outside the view."""
     rng = np.random.default_rng(6)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pytest
 
@@ -185,3 +187,31 @@ def test_an_empty_bar_has_no_fill_and_spending_shows_as_a_segment_that_sinks_in(
     left = [trail.update(EnergyGauge(value, 10.0), 0.1).spent for _ in range(int(GRACE_SECONDS / 0.1) + 12)]
     assert left[0] == pytest.approx(2.0) and left[int(GRACE_SECONDS / 0.1) - 1] == pytest.approx(2.0)
     assert left[-1] == 0.0 and left == sorted(left, reverse=True)
+
+
+def test_the_first_large_message_of_a_level_rasterizes_no_glyphs(gl_ctx, monkeypatch):
+    """A text size's first use rasterizes the font's common characters, 20-40 ms: the HUD's
+    first frame at a view size makes both its sizes, so a large message showing mid-level
+    (once an enemy is down, say) adds nothing to the atlas on its frame."""
+    from across_dimensions.render import font, hud_layout
+    from across_dimensions.render import hud as hud_module
+    from across_dimensions.render.context import Offscreen
+
+    fresh = functools.lru_cache(maxsize=1)(lambda: font.FontAtlas())  # no size made yet
+    monkeypatch.setattr(font, "default_font", fresh)
+    monkeypatch.setattr(hud_module, "default_font", fresh)
+    hud = hud_module.HudRenderer(gl_ctx)
+    try:
+        with Offscreen(gl_ctx, 640, 360) as t:
+            t.use()
+            hud.draw(Hud(), t.viewport)
+            atlas = fresh()
+            before = atlas.revision
+            hud.draw(Hud(message="TARGET DOWN"), t.viewport)  # one line: the large size
+            m = HudMetrics(640, 360)
+            assert font.font_px(hud_layout.message_scale(m)) > font.font_px(m.text_scale)
+            assert atlas.revision == before
+            hud.draw(Hud(message="TARGET DOWN"), (0, 0, 1920, 1080))  # a new view size makes its own once
+            assert atlas.revision > before
+    finally:
+        hud.release()

@@ -27,8 +27,11 @@ the frame's Python goes first.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
+from ..core.mesh import TetMesh4
 from ..core.section_batch import SectionBatch, pool_part
 from ..core.transform import translation
 from .frame import WIDEST_VIEW, Drawable, Frame, TriangleBatch
@@ -52,6 +55,19 @@ def w_offset(mesh, model: np.ndarray, camera: np.ndarray) -> float:
     lo, hi = float(ws.min()), float(ws.max())
     half = 0.5 * (hi - lo)
     return 0.5 * (lo + hi) / half if half > 0.0 else 0.0
+
+
+def kept_meshes(state) -> list[TetMesh4]:
+    """The meshes a system's state (a dataclass, or None) holds in its fields, directly or as a
+    dict's values: those its entities spawned later are drawn with."""
+    if state is None or not dataclasses.is_dataclass(state):
+        return []
+    out = []
+    for f in dataclasses.fields(state):
+        value = getattr(state, f.name)
+        values = value.values() if isinstance(value, dict) else (value,)
+        out += [v for v in values if isinstance(v, TetMesh4)]
+    return out
 
 
 def view_planes(camera, aspect: float = WIDEST_VIEW) -> np.ndarray:
@@ -79,10 +95,23 @@ class EntitySections:
         self._pending: list = []
 
     @staticmethod
-    def prepare(entities) -> None:
-        """Make what the batches need of each entity's mesh now (at a level's start) rather
-        than on the frame that first cuts it: 20-30 ms for an enemy's body, a dropped frame."""
-        for mesh in {id(e.mesh): e.mesh for e in entities if e.mesh is not None}.values():
+    def prepare(entities, states=()) -> None:
+        """Make what the batches need of every mesh an entity may be drawn with now (at a
+        level's start) rather than on the frame that first cuts it: 20-30 ms for an enemy's
+        body or the gun's first bullet (a 120-cell), a dropped frame.
+
+        Parameters
+        ----------
+        entities : iterable of Entity
+            Those of the level now.
+        states : iterable of (str, object), optional
+            The systems' states (``game.states``): the meshes they keep to spawn later (the
+            arsenal's bullet, the hive's shots; see :func:`kept_meshes`) are made ready too.
+        """
+        meshes = {id(e.mesh): e.mesh for e in entities if e.mesh is not None}
+        for _, state in states:
+            meshes.update((id(m), m) for m in kept_meshes(state))
+        for mesh in meshes.values():
             pool_part(mesh)
 
     def draw(self, frame: Frame, entities, models, camera: np.ndarray, sections) -> None:

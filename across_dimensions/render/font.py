@@ -121,6 +121,10 @@ class FontAtlas:
                 self.glyph(ch, px)
         return f
 
+    def prepare(self, px: int) -> None:
+        """Rasterize :data:`PRELOAD` at em size ``px`` now, as the size's first use would."""
+        self._font(px)
+
     # ----------------------------------------------------------------- glyphs
     def glyph(self, ch: str, px: int) -> Glyph:
         """The glyph of ``ch`` at em size ``px``, rasterized on first use (:data:`REPLACEMENT` if missing)."""

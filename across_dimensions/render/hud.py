@@ -55,7 +55,7 @@ import numpy as np
 from ..game.frame import Hud, Radar
 from .captions import draw_captions
 from .cards import draw_card
-from .font import GLYPH_H, default_font
+from .font import GLYPH_H, default_font, font_px
 from .font import text_width as text_width
 from .hud_gauges import (
     BLOCKED_ANA_COLOR as BLOCKED_ANA_COLOR,
@@ -315,6 +315,7 @@ class HudRenderer:
         self._instances = ctx.buffer(reserve=256 * QUAD_FLOATS * 4, dynamic=True)
         self._vao = self._make_vao()
         self.last_quads = np.zeros((0, QUAD_FLOATS), np.float32)
+        self._sizes_ready = (0, 0)  # the view size the font's text sizes were made for
 
     def _make_vao(self) -> moderngl.VertexArray:
         return self.ctx.vertex_array(
@@ -337,6 +338,14 @@ class HudRenderer:
         ``radar`` adds the radar's labels, ``interest`` makes gauges give way (see :func:`hud_quads`).
         """
         _, _, w, h = (int(v) for v in viewport)
+        if (w, h) != self._sizes_ready:
+            # A text size's first use rasterizes the font's common characters (font.PRELOAD):
+            # 20-40 ms, a dropped frame when the first large message shows mid-level. Both the
+            # HUD's sizes are made on its first frame at a view size instead.
+            m = HudMetrics(w, h)
+            for scale in {m.text_scale, message_scale(m)}:
+                default_font().prepare(font_px(scale))
+            self._sizes_ready = (w, h)
         quads = hud_quads(hud, w, h, radar, interest)
         self.last_quads = quads
         self.draw_quads(quads, viewport)

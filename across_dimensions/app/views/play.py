@@ -98,7 +98,7 @@ class PlayView(View):
         self.game.show_ghosts = st.ghosts  # a view option: not part of the simulation's state
         self.game.ghost_view = s.options.ghosts  # drawing only: never part of a replay
         s.onboarding.level_started(self.game.level.hints)
-        self.game.entity_sections.prepare(self.game.entities)  # no first-sight stalls either
+        self.game.entity_sections.prepare(self.game.entities, self.game.states)  # no first-sight stalls either
         heap.settle()  # no collector stalls mid-level (see core/heap.py)
         s.sound_director.reset()
         s.captions.clear()
@@ -119,6 +119,7 @@ class PlayView(View):
         self._path = Path(path) if path is not None else self._path
         self.from_editor = True
         self.game = game
+        game.entity_sections.prepare(game.entities, game.states)
         self.run_log = self.race = None  # the editor's game: neither a run to keep nor a race
         self.hints = False
         self.accumulator = 0.0
