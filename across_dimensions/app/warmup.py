@@ -106,13 +106,21 @@ def _physics_world():
 
 
 def _contacts() -> None:
-    _physics_world().tick()
+    world = _physics_world()
+    world.tick()
+    _ = world.events  # built on first read, which in a level is a first knock mid-play (its sound)
 
 
 def _queries() -> None:
     world = _physics_world()
     world.push_box_out((0.0, 0.875, 0.0, 0.0), (0.3, 0.875, 0.3, 0.05))
     world.raycast((0.0, 3.0, 0.0, 0.0), (0.0, -1.0, 0.0, 0.0))
+    # A solid 4D mesh's collider (a level's gate or arch) is worked out when it first turns.
+    import numpy as np
+
+    from ..physics.tet_mesh import tet_geometry
+
+    tet_geometry(np.eye(4)[None])
 
 
 def _sightlines() -> None:
