@@ -481,6 +481,23 @@ def test_bench_levels_reports_the_worst_frame_of_a_level():
     assert "full size" in r.stderr and "Peak memory" not in r.stderr
 
 
+def test_bench_play_draws_every_frame_of_a_replay_and_lists_the_longest():
+    r = _run("bench", "play", "--level", "00_arrival", "--json")
+    assert r.returncode == 0, r.stderr
+    (row,) = json.loads(r.stdout)
+    replay = json.loads((REPO / "levels" / "replays" / "00_arrival.json").read_text())
+    assert row["level"] == "00_arrival" and row["outcome"] == "complete"
+    assert row["frames"] == replay["final"]["ticks"]  # one frame a tick, as the game at 60 Hz
+    assert row["first_ms"] > row["median_ms"] > 0  # the first frame builds the shaders
+    longest = [f["ms"] for f in row["longest"]]
+    assert longest == sorted(longest, reverse=True) and longest[0] >= row["p99_ms"] >= row["median_ms"]
+    assert "stutters" in r.stderr and "median is each row's baseline" in r.stderr
+    r = _run("bench", "play", "--level", "no_such_level")
+    assert r.returncode == 2 and "--level" in r.stderr and "Traceback" not in r.stderr
+    r = _run("bench", "play", "--level", "prologue")  # a level without a 4D replay to draw
+    assert r.returncode == 2 and "not a shipped 4D level with a replay" in r.stderr and "Traceback" not in r.stderr
+
+
 @pytest.mark.slow
 def test_bench_levels_measures_the_peak_memory_of_play():
     """The memory target: ``play`` in a child process on its own display, its peak resident set."""

@@ -52,14 +52,14 @@ def add_arguments(p) -> None:
         help="draw at S (0.5 to 1.0) of 1280x720, upscaled (default: what the game picks for this GL renderer)",
     )
     g.add_argument("--per-object", action="store_true", help="scene: also measure the per-object path it replaces")
-    g.add_argument("--level", action="append", metavar="LEVEL", help="levels: only these levels (repeatable)")
+    g.add_argument("--level", action="append", metavar="LEVEL", help="levels, play: only these levels (repeatable)")
     g.add_argument("--grid", type=positive_int, metavar="K", help="levels: standing points per axis (6)")
     g.add_argument("--no-memory", action="store_true", help="levels: skip the peak memory of play on the largest level")
     g.add_argument("--busy", type=int, default=4, metavar="N", help="start: also with N busy processes (4; 0 skips it)")
 
 
 def run(args) -> int:
-    return {"scene": _scene, "levels": _levels, "start": _start}[args.what](args)
+    return {"scene": _scene, "levels": _levels, "play": _play, "start": _start}[args.what](args)
 
 
 def _say(args):
@@ -134,6 +134,25 @@ def _levels(args) -> int:
         for r in rows:
             r["play_peak_mb"] = memory[0] if r["level"] == big else None
     bench_levels.print_targets(rows, memory, out=out)
+    if args.json:
+        print(json.dumps(rows), flush=True)
+    return 0
+
+
+def _play(args) -> int:
+    from ..bench import play as bench_play
+    from ..world.resources import resolve_level
+
+    for name in args.level or []:
+        try:
+            resolve_level(name)
+        except FileNotFoundError as e:
+            raise UserError(f"--level: {e}") from None
+    out = _say(args)
+    try:
+        rows = bench_play.run(levels=args.level, render_scale=args.render_scale, out=out)
+    except ValueError as e:
+        raise UserError(f"--level: {e}") from None
     if args.json:
         print(json.dumps(rows), flush=True)
     return 0

@@ -142,10 +142,11 @@ def _add_bench_command(sub) -> None:
     bn.add_argument(
         "what",
         nargs="?",
-        choices=("scene", "levels", "start"),
+        choices=("scene", "levels", "play", "start"),
         help=(
             "scene: FPS against rotating 120-cells (the paper's figure); levels: worst frame of each shipped "
-            "level; start: seconds to the title and the first level frame from a fresh install"
+            "level; play: every frame of each shipped replay, and the stutters; start: seconds to the title "
+            "and the first level frame from a fresh install"
         ),
     )
     bn.add_argument("--quick", action="store_true", help="smaller meshes, fewer repeats")

@@ -164,6 +164,11 @@ class StylePrograms:
                 for name in ("sky_zenith", "sky_horizon", "sky_ground"):
                     set_uniform(prog, f"u_{name}", u.sky)
 
+    @property
+    def built(self) -> int:
+        """Programs built so far, in every set (a benchmark notes the frames that build one)."""
+        return sum(len(progs) for progs in self._sets.values())
+
     def release(self) -> None:
         for progs in self._sets.values():
             for p in progs.values():
