@@ -141,18 +141,15 @@ def _levels(args) -> int:
 
 def _play(args) -> int:
     from ..bench import play as bench_play
-    from ..world.resources import resolve_level
+    from .warmup import warm_up
 
-    for name in args.level or []:
-        try:
-            resolve_level(name)
-        except FileNotFoundError as e:
-            raise UserError(f"--level: {e}") from None
-    out = _say(args)
     try:
-        rows = bench_play.run(levels=args.level, render_scale=args.render_scale, out=out)
-    except ValueError as e:
+        pairs = bench_play.replays(args.level)
+    except (FileNotFoundError, ValueError) as e:
         raise UserError(f"--level: {e}") from None
+    out = _say(args)
+    warm_up()  # as the title screen does before any level
+    rows = bench_play.run(pairs, render_scale=args.render_scale, out=out)
     if args.json:
         print(json.dumps(rows), flush=True)
     return 0

@@ -5,12 +5,12 @@ played tick by tick and every tick's frame is built and drawn with its HUD at th
 in a 1280x720 offscreen view, after what the game does before a level's first frame (the
 kernels' warm-up, the meshes made ready, the collector settled). Each frame is timed in wall
 time (step, frame and draw, finished), and the longest ones are listed with what was new on
-them: a kernel loaded, a mesh's slicing arrays made, glyphs rasterized, a shader built. A frame
-far above the level's median is one a player sees as a stutter.
+them: a kernel loaded, glyphs rasterized, a program built. A frame far above the level's median
+is one a player sees as a stutter.
 
 The first frame of a level is reported on its own: it builds the programs and compiles
-llvmpipe's shader variants for what the spawn shows (a few hundred ms), and the level appears
-after it. The median frame of the same run is every row's baseline.
+llvmpipe's shader variants for what the spawn shows (tens of ms, over a hundred for the first
+level of a process), and the level appears after it. The median frame of the same run is every row's baseline.
 """
 
 from __future__ import annotations
@@ -37,19 +37,34 @@ LONG_MS = 33.3
 LISTED = 5
 
 
-def replays() -> list:
-    """``(level path, replay path)`` of every shipped level with a shipped replay (4D levels)."""
-    out = []
+def replays(levels=None) -> list:
+    """``(level path, replay path)`` of each shipped 4D level with a shipped replay, of
+    ``levels`` (names or files) or of every one.
+
+    Raises
+    ------
+    FileNotFoundError
+        A level of ``levels`` is no file and no shipped level.
+    ValueError
+        One is not a shipped 4D level with a replay (the Flatland prologue, a level of one's own).
+    """
+    pairs = []
     for path in level_files():
         replay = levels_dir() / "replays" / f"{path.stem}.json"
         if replay.is_file():
-            out.append((path, replay))
-    return out
+            pairs.append((path, replay))
+    if not levels:
+        return pairs
+    wanted = {resolve_level(x).stem for x in levels}
+    missing = sorted(wanted - {lv.stem for lv, _ in pairs})
+    if missing:
+        raise ValueError(f"not a shipped 4D level with a replay: {', '.join(missing)}")
+    return [(lv, rp) for lv, rp in pairs if lv.stem in wanted]
 
 
 class _News:
     """What was made for the first time since the last :meth:`take`: kernels loaded or compiled
-    (numba's dispatchers' signatures), mesh slicing arrays, glyph sizes, programs."""
+    (numba's dispatchers' signatures), glyphs rasterized, programs built."""
 
     def __init__(self, renderer: Renderer):
         from ..render.font import default_font
@@ -143,18 +158,11 @@ def _described(frame: dict) -> str:
     return f"{frame['tick']}: {frame['ms']:.1f}{new}"
 
 
-def run(levels=None, render_scale=None, out=print) -> list[dict]:
-    """Play each level's shipped replay (``levels``: names or files; default every one), one row
-    per level: ``frames``, ``median_ms``, ``p99_ms``, ``first_ms``, ``stutters`` (frames over
-    :data:`STUTTER_RATIO` times the median and over :data:`LONG_MS`) and the ``longest``."""
-    from ..app.warmup import warm_up
-
-    wanted = None if not levels else {resolve_level(x).stem for x in levels}
-    pairs = [(lv, rp) for lv, rp in replays() if wanted is None or lv.stem in wanted]
-    if wanted is not None and len(pairs) < len(wanted):
-        missing = sorted(wanted - {lv.stem for lv, _ in pairs})
-        raise ValueError(f"not a shipped 4D level with a replay: {', '.join(missing)}")
-    warm_up()  # as the title screen does before any level
+def run(pairs, render_scale=None, out=print) -> list[dict]:
+    """Play each of ``pairs`` (:func:`replays`), one row per level: ``frames``, ``median_ms``,
+    ``p99_ms``, ``first_ms``, ``stutters`` (frames over :data:`STUTTER_RATIO` times the median and
+    over :data:`LONG_MS`) and the ``longest``. The caller warms the kernels up first, as the title
+    screen does before any level (``across_dimensions.app.warmup``)."""
     ctx = create_offscreen_context()
     rows = []
     try:
