@@ -126,3 +126,33 @@ def test_the_inset_is_drawn_in_its_corner_only(tmp_path, gl_ctx):
     inside = inside & (rows >= y - 2) & (rows < y + h + 2)
     assert changed[inside].mean() > 0.05  # the inset (its frame at least) is there
     assert not changed[~inside].any()  # and nothing outside it changed
+
+
+def test_a_levels_first_frame_drawn_over_the_switchs_view_leaves_no_trace_and_builds_its_programs(tmp_path, gl_ctx):
+    """The play view draws a frustum level's first frame over the switch's view (solid, then
+    fading as on the glide back), so llvmpipe compiles those programs then rather than on the
+    switch's first frame: afterwards the frustum view's programs (meshes without normals) exist,
+    and the frame drawn over it is the frame drawn alone, pixel for pixel."""
+    from across_dimensions.render.context import Offscreen
+    from across_dimensions.render.pip import warm_views
+    from across_dimensions.render.programs import FLAT
+    from across_dimensions.render.renderer import Renderer
+
+    game = _game(tmp_path, 0.6, 1.0)
+    game.step(Actions())
+    alone, warmed = Renderer(gl_ctx), Renderer(gl_ctx)
+    with Offscreen(gl_ctx, 320, 180) as target:
+        target.use()
+        frame = game.frame()
+        frame.time = 0.0
+        alone.draw(frame, target.viewport, hud=False)
+        plain = target.read_rgb()
+        assert not warm_views(warmed, frame, target.viewport)  # no inset asked for: nothing drawn
+        assert warm_views(warmed, game.frame(pip=True), target.viewport)
+        built = set(warmed.programs.current)
+        warmed.draw(frame, target.viewport, hud=False)
+        over = target.read_rgb()
+    alone.release()
+    warmed.release()
+    assert {"hyper" + FLAT, "ghost" + FLAT} <= built
+    assert np.array_equal(over, plain)

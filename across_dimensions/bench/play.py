@@ -3,14 +3,15 @@
 ``bench levels`` times the worst place to stand; this times play itself. Each shipped replay is
 played tick by tick and every tick's frame is built and drawn with its HUD at the render scale
 in a 1280x720 offscreen view, after what the game does before a level's first frame (the
-kernels' warm-up, the meshes made ready, the collector settled). Each frame is timed in wall
-time (step, frame and draw, finished), and the longest ones are listed with what was new on
-them: a kernel loaded, glyphs rasterized, a program built. A frame far above the level's median
-is one a player sees as a stutter.
+kernels' warm-up, the meshes made ready, the collector settled, the frustum switch's view drawn
+under the first frame). Each frame is timed in wall time (step, frame and draw, finished), and
+the longest ones are listed with what was new on them: a kernel loaded, glyphs rasterized, a
+program built. A frame far above the level's median is one a player sees as a stutter.
 
 The first frame of a level is reported on its own: it builds the programs and compiles
 llvmpipe's shader variants for what the spawn shows (tens of ms, over a hundred for the first
-level of a process), and the level appears after it. The median frame of the same run is every row's baseline.
+level of a process), and the level appears after it. The median frame of the same run is every
+row's baseline.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from ..game.replay import Replay
 from ..game.sim import Game
 from ..game.systems.ghosts import GhostView
 from ..render.context import Offscreen, create_offscreen_context
+from ..render.pip import warm_views
 from ..render.renderer import Renderer
 from ..render.scale import ScaledTarget, resolve_render_scale
 from ..world.level import load_level
@@ -116,18 +118,24 @@ def play_level(level_path, replay_path, ctx, scale: float, size=(1280, 720)) -> 
     heap.settle()
     news = _News(renderer)
     frames = []  # (ms, tick, what was new)
+    warm = game.level.camera.frustum  # as the play view does on a level's first frame
     try:
         for actions in replay.actions:
             t0 = time.perf_counter()
             game.step(actions)
             frame = game.frame()
+            views, warm = (game.frame(pip=True) if warm else None), False
             if target.begin(size):
+                if views is not None:
+                    warm_views(renderer, views, target.viewport)
                 renderer.draw(frame, target.viewport, hud=False)
                 renderer.draw_radar(frame, screen.viewport, scale)
                 target.present(screen.fbo, screen.viewport)
                 renderer.draw_overlay(frame, screen.viewport, radar=False)
             else:
                 screen.use()
+                if views is not None:
+                    warm_views(renderer, views, screen.viewport)
                 renderer.draw(frame, screen.viewport)
             ctx.finish()
             frames.append((1e3 * (time.perf_counter() - t0), game.tick, news.take()))

@@ -13,6 +13,8 @@ as its own renderer view (``view="pip"``: its meshes stay cached while it is on)
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from ..game.frame import Frame, Hud
 from .renderer import Renderer
 
@@ -53,4 +55,24 @@ def draw_pip(renderer: Renderer, frame: Frame, viewport: tuple[int, int, int, in
     x, y, w, h = inset_rect(viewport, size)
     renderer.ctx.clear(*FRAME_COLOR, 1.0, viewport=(x - 2, y - 2, w + 4, h + 4))
     renderer.draw(inset, (x, y, w, h), hud=False, view="pip")
+    return True
+
+
+def warm_views(renderer: Renderer, frame: Frame, viewport: tuple[int, int, int, int]) -> bool:
+    """Draw ``frame``'s inset over the whole of ``viewport``, to be drawn over by the frame.
+
+    llvmpipe compiles a program the first time it draws with it in a given GL state (18-36 ms),
+    so the first frames of a level's first frustum switch, and of its first glide back (the
+    frustum view fading out as ghosts), each dropped one compiling the frustum view's programs
+    (its meshes have no normals: programs of their own). Drawn under a level's first frame, at the
+    same render scale into the same target, the inset (the scenery and what the switch would
+    show), solid and then faded, compiles them then. False when ``frame`` has no inset
+    (``Game.frame(pip=True)`` fills it)."""
+    inset = inset_frame(frame)
+    if inset is None:
+        return False
+    renderer.draw(inset, viewport, hud=False, view="pip")
+    solid = {id(d) for d in frame.pip}
+    fading = [replace(d, style="ghost", opacity=0.5) if id(d) in solid else d for d in inset.drawables]
+    renderer.draw(replace(inset, drawables=fading), viewport, hud=False, view="pip")
     return True

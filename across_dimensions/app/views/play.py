@@ -22,7 +22,7 @@ from ...core import heap
 from ...game.sim import DT, Game, RadarView
 from ...game.stranded import RESTART_ACTION, stranded
 from ...render.debug_draw import DebugOverlay
-from ...render.pip import draw_pip
+from ...render.pip import draw_pip, warm_views
 from ...world.level import load_level
 from ..energy_trail import EnergyTrail
 from ..input import PlayInput, with_keys
@@ -99,6 +99,7 @@ class PlayView(View):
         self.game.ghost_view = s.options.ghosts  # drawing only: never part of a replay
         s.onboarding.level_started(self.game.level.hints)
         self.game.entity_sections.prepare(self.game.entities, self.game.states)  # no first-sight stalls either
+        self._warm_views = self.game.level.camera.frustum
         heap.settle()  # no collector stalls mid-level (see core/heap.py)
         s.sound_director.reset()
         s.captions.clear()
@@ -120,6 +121,7 @@ class PlayView(View):
         self.from_editor = True
         self.game = game
         game.entity_sections.prepare(game.entities, game.states)
+        self._warm_views = game.level.camera.frustum
         self.run_log = self.race = None  # the editor's game: neither a run to keep nor a race
         self.hints = False
         self.accumulator = 0.0
@@ -231,7 +233,13 @@ class PlayView(View):
         ``playing``: a menu over a paused level shows the scene alone) at full size."""
         s = self.session
         frame = self.current_frame()
+        # A level with the frustum switch: its first frame is drawn over the switch's view, so
+        # the switch finds its programs compiled (see render.pip.warm_views).
+        views = self.game.frame(pip=True) if playing and self._warm_views else None
+        self._warm_views = self._warm_views and not playing
         if s.scaled.begin(tuple(viewport[2:])):
+            if views is not None:
+                warm_views(s.renderer, views, s.scaled.viewport)
             s.renderer.draw(frame, s.scaled.viewport, hud=False)
             if playing:
                 self._debug_draw(frame, s.scaled.viewport)
@@ -241,6 +249,8 @@ class PlayView(View):
                 s.renderer.draw_overlay(frame, viewport, radar=False)
         else:
             target.use()
+            if views is not None:
+                warm_views(s.renderer, views, viewport)
             s.renderer.draw(frame, viewport, hud=playing)
             if playing:
                 self._debug_draw(frame, viewport)
