@@ -177,3 +177,17 @@ def active() -> bool:
 def serve_all() -> bool:
     """True when the shipped kernels serve every group here: a warm-up only loads, nothing compiles."""
     return active() and len(current_groups(read_manifest(Path(os.environ[ACTIVE_ENV])))) == len(GROUPS)
+
+
+def loaded_kernels() -> list:
+    """The numba dispatchers of the package's modules imported so far, each once (numba is
+    imported here only when asked: by then the game has chosen its kernels)."""
+    from numba.core.dispatcher import Dispatcher
+
+    seen = {}
+    for name, module in list(sys.modules.items()):
+        if module is not None and name.startswith("across_dimensions"):
+            for v in list(vars(module).values()):
+                if isinstance(v, Dispatcher):
+                    seen[id(v)] = v
+    return list(seen.values())

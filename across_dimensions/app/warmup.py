@@ -36,7 +36,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-from .._shipped_kernels import serve_all
+from .._shipped_kernels import loaded_kernels, serve_all
 
 NOTICE_AFTER = 1.5  # seconds: a cache hit finishes well before this
 #: Seconds between the child's kernel counts (``kernels DONE TOTAL COMPILED`` lines).
@@ -54,17 +54,10 @@ def kernel_counts() -> tuple[int, int, int]:
     on another thread. A kernel called only from other kernels is compiled into them and may stay
     without code of its own, so ``ready`` ends below ``total``.
     """
-    from numba.core.dispatcher import Dispatcher
-
-    seen: dict[int, Dispatcher] = {}
-    for name, module in list(sys.modules.items()):
-        if module is not None and name.startswith("across_dimensions"):
-            for v in list(vars(module).values()):
-                if isinstance(v, Dispatcher):
-                    seen[id(v)] = v
-    ready = sum(bool(d.overloads) for d in seen.values())
-    compiled = sum(sum(d.stats.cache_misses.values()) > 0 for d in seen.values())
-    return ready, len(seen), compiled
+    kernels = loaded_kernels()
+    ready = sum(bool(d.overloads) for d in kernels)
+    compiled = sum(sum(d.stats.cache_misses.values()) > 0 for d in kernels)
+    return ready, len(kernels), compiled
 
 
 def _notice(done: threading.Event) -> None:

@@ -21,6 +21,7 @@ import time
 
 import numpy as np
 
+from .._shipped_kernels import loaded_kernels
 from ..core import heap
 from ..game.replay import Replay
 from ..game.sim import Game
@@ -79,17 +80,7 @@ class _News:
 
     @staticmethod
     def _kernel_count() -> int:
-        import sys
-
-        from numba.core.dispatcher import Dispatcher
-
-        seen = {}
-        for name, module in list(sys.modules.items()):
-            if module is not None and name.startswith("across_dimensions"):
-                for v in list(vars(module).values()):
-                    if isinstance(v, Dispatcher):
-                        seen[id(v)] = len(v.signatures)
-        return sum(seen.values())
+        return sum(len(d.signatures) for d in loaded_kernels())
 
     def _program_count(self) -> int:
         return self._renderer.programs.built
