@@ -168,6 +168,9 @@ class _Compiling:
     def fraction(self) -> float:
         return self.done / self.total
 
+    def start_once(self) -> None:
+        pass
+
 
 def _startup() -> None:
     """In the child: ``edit LEVEL`` while the kernels compile shows the start-up view at once, then the editor."""

@@ -7,6 +7,8 @@ import os
 import subprocess
 import sys
 
+import pytest
+
 from across_dimensions.app import warmup
 from across_dimensions.app.warmup import BackgroundWarmUp, kernel_counts, warm_progress
 
@@ -76,3 +78,36 @@ def test_timing_counts_seconds_from_the_commands_start():
     line = next(ln for ln in out.stdout.splitlines() if ln.startswith("timing: now at "))
     seconds = float(line.split(" at ")[1].split()[0])
     assert 1.2 <= seconds < 60.0  # the sleep and the imports, from the process's start
+
+
+_AFTER_FIRST_FRAME = """
+import sys, time
+import pyglet
+pyglet.options["headless"] = True
+try:
+    from across_dimensions.app.settings import Settings
+    from across_dimensions.app.window import GameWindow
+    w = GameWindow(Settings())
+except Exception as e:
+    print(f"no headless pyglet window: {e}")
+    sys.exit(77)
+s = w.session
+before = [s.warm.ident is not None, s.sound._opened]
+w.switch_to(); w.dispatch_events(); w.update(0.0); w.on_draw(); w.flip()
+drawn = [s.warm.ident is not None, s.sound._opened]
+time.sleep(0.01)
+pyglet.clock.tick()  # the loop's next pass
+after = [s.warm.ident is not None, s.sound._opened]
+print(before, drawn, after)
+s.warm.join()
+"""
+
+
+def test_the_warm_up_and_the_audio_device_wait_for_the_first_frame():
+    # Both would delay the title: the warm-up's thread takes the interpreter from the window's
+    # set-up, and opening the audio device looks for libraries with ldconfig.
+    out = subprocess.run([sys.executable, "-c", _AFTER_FIRST_FRAME], capture_output=True, text=True, timeout=300)
+    if out.returncode == 77:
+        pytest.skip(out.stdout.strip())
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip().splitlines()[-1] == "[False, False] [False, False] [True, True]"

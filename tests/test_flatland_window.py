@@ -63,6 +63,7 @@ for _ in range(int(6 / DT)):
 print("results:", view(), s.menu.screen, [i.label for i in s.menu.items()])
 w.on_key_press(key.RETURN, 0)                                     # Continue
 while view() == "StartupView":
+    s.after_first_frame()  # as the window does once its first frame is up
     s.warm.join()
     w.update(DT)
 print("next:", view(), w.current_view.level_path.stem, "|", s.notice_text)

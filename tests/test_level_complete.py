@@ -151,6 +151,7 @@ from across_dimensions.render.menu import menu_layout
 from across_dimensions.world.resources import levels_dir
 s = w.session
 view = lambda: type(w.current_view).__name__
+s.after_first_frame()  # as the window does once its first frame is up
 s.warm.join()
 w.update(DT)
 

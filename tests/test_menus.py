@@ -392,6 +392,7 @@ except Exception as e:
 from across_dimensions.game.sim import DT
 s = w.session
 view = lambda: type(w.current_view).__name__
+s.after_first_frame()  # as the window does once its first frame is up
 s.warm.join()
 w.update(DT)
 assert s.menu.screen == "title" and view() == "TitleView", (s.menu.screen, view())

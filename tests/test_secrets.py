@@ -158,6 +158,7 @@ from across_dimensions.game.replay import Replay
 from across_dimensions.game.sim import DT
 from across_dimensions.world.resources import levels_dir
 s = w.session
+s.after_first_frame()  # as the window does once its first frame is up
 s.warm.join()
 w.update(DT)
 frames = iter(Replay.load(levels_dir() / "replays" / "10_cloister.json").actions)
@@ -187,6 +188,7 @@ except Exception as e:
     sys.exit(77)
 from across_dimensions.game.sim import DT
 s = w.session
+s.after_first_frame()  # as the window does once its first frame is up
 s.warm.join()
 w.update(DT)
 w.on_key_press(key.DOWN, 0); w.on_key_press(key.RETURN, 0)      # Level select

@@ -61,8 +61,8 @@ class Start:
     settings_file : path or None
         Where menu changes are saved (``--settings``); the default settings file otherwise.
     warm : BackgroundWarmUp or None
-        A warm-up already running (started before the window, so the two overlap); one is
-        started when needed and not given.
+        The warm-up to use (tests give a stand-in); one is made when needed and not given.
+        Either starts once the window's first frame is up (:meth:`Session.after_first_frame`).
     edit : bool
         Open ``level_path`` in the level editor.
     """
@@ -97,7 +97,7 @@ class Session:
         # The scene at a fraction of the window (settings.render_scale), upscaled; HUD at full size.
         self.scaled = ScaledTarget(window.ctx, resolve_render_scale(settings.render_scale, window.ctx))
         self.menu_renderer = MenuRenderer(self.renderer.hud)
-        self.sound = SoundOut(settings.volume, settings.mute)
+        self.sound = SoundOut(settings.volume, settings.mute, defer=True)  # opened after the first frame
         self.sound_director = SoundDirector()
         self.options = play_options(settings)
         self.debug_overlay = None  # the physics overlay's GL objects (render/debug_draw.py), made on first use
@@ -121,12 +121,24 @@ class Session:
         self.warm = start.warm
         if (start.level_path is None or start.warm_first) and self.warm is None:
             self.warm = BackgroundWarmUp()
-            self.warm.start()
         self.editor = None  # the level editor's view (app/editor), made on first use
         if settings.colour_blind or settings.high_contrast:
             self.apply_palette()
         set_text_size(settings.text_size)
         self.captions = CaptionBoard()  # sounds made visible, shown when the setting is on
+
+    def after_first_frame(self) -> None:
+        """Start what the first frame does not need, once it is on screen: the kernel warm-up and
+        the audio device.
+
+        Both would delay it: the warm-up's thread takes the interpreter's lock from the window's
+        imports and set-up (about 0.3 s of a 2 s start on two cores), and opening the audio device
+        (pyglet's media drivers and codecs, which look for libraries with ``ldconfig``) about
+        0.25 s. The title or the loading view then shows the warm-up's progress.
+        """
+        if self.warm is not None:
+            self.warm.start_once()
+        self.sound.open()
 
     # ---------------------------------------------------------------- moves
     def first_view(self, start: Start) -> None:

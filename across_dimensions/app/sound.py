@@ -264,16 +264,29 @@ class SoundOut:
     allow_silent : bool
         Play through pyglet's silent driver too (it consumes sources without a device): tests use
         it to run the playing path where there is no sound card.
+    defer : bool
+        Open the device later, with :meth:`open` (the window does once its first frame is up):
+        cues played before then are not heard.
     """
 
-    def __init__(self, volume: float = 0.8, muted: bool = False, allow_silent: bool = False):
+    def __init__(self, volume: float = 0.8, muted: bool = False, allow_silent: bool = False, defer: bool = False):
         self.volume = float(volume)
         self.muted = bool(muted)
         self.available = False
         self.problem = ""
+        self._opened = False
+        self._allow_silent = allow_silent
         self._voices: list = []
         self._cache: dict = {}
         self._sources: dict = {}
+        if not defer:
+            self.open()
+
+    def open(self) -> None:
+        """Open the audio device (once; what went wrong, if anything, goes to :attr:`problem`)."""
+        if self._opened:
+            return
+        self._opened = True
         if sys.platform.startswith("linux") and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
             # pyglet's media module opens a (hidden) window when imported: without a display there
             # is no game window either, so stay silent instead of failing inside pyglet.
@@ -284,7 +297,7 @@ class SoundOut:
             from pyglet.media.codecs.base import AudioFormat, StaticSource
 
             driver = media.get_audio_driver()
-            if driver is None or (type(driver).__name__ == "SilentDriver" and not allow_silent):
+            if driver is None or (type(driver).__name__ == "SilentDriver" and not self._allow_silent):
                 self.problem = "no audio device"
                 return
             self._media = media

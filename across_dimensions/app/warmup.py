@@ -236,6 +236,15 @@ class BackgroundWarmUp(threading.Thread):
         self.compiling = False  # a child is compiling (not only loading from the cache)
         self.started = time.perf_counter()
 
+    def start(self) -> None:
+        self.started = time.perf_counter()  # the title's clock counts from here
+        super().start()
+
+    def start_once(self) -> None:
+        """Start, unless it has started already."""
+        if self.ident is None:
+            self.start()
+
     def status(self, now: float | None = None) -> str:
         """What the title says of the warm-up: the step, the kernels ready of all, the time so far
         and, once it can be told from this run's own pace, about how long is left."""

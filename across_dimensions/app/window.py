@@ -1,7 +1,7 @@
 """The game window: the OS window, the clock, and a stack of views.
 
 Flow: the window opens at once on the title screen (or, with a level named on the command line,
-straight into it) while the kernels compile behind it (:class:`~.warmup.BackgroundWarmUp`);
+straight into it) while the kernels load behind its first frame (:class:`~.warmup.BackgroundWarmUp`);
 levels start only once that is done. Every screen is a view (:mod:`.views`, as arcade's
 ``View``): the title, the level select, the settings, the start-up progress, a level being played,
 the pause menu over it, the level-complete view and the level editor. The window hands each event
@@ -33,7 +33,6 @@ from .session import Session, Start, timing
 from .settings import Settings, load_settings, save_settings, settings_path, window_options
 from .settings_log import report_warnings, warning_screen_line
 from .views.base import View
-from .warmup import BackgroundWarmUp
 
 #: Seconds between updates of a still view (a menu): its clock, notices and the warm-up's
 #: progress need no more, and the loop's 120 wakes a second then cost next to nothing while the
@@ -144,6 +143,8 @@ class GameWindow(pyglet.window.Window):
         self.current_view.on_draw(self.ctx.screen, (0, 0, fw, fh))
         if self.last_frame_view is None:  # the title (or the start-up view) is up and takes input
             timing("first frame")
+            # After this frame is on screen, not before it is: the next pass of the loop.
+            pyglet.clock.schedule_once(lambda _dt: self.session.after_first_frame(), 0.0)
         self.last_frame_view = type(self.current_view).__name__
         if self.current_view.shows_level and not self.level_drawn:
             self.level_drawn = True
@@ -253,8 +254,6 @@ def run_window(args) -> int:
         path = resolve_level(args.level) if args.level else level_files()[0]
         # A broken level is reported before a window opens.
         (load_flat_level if is_prologue_file(path) else load_level)(path)
-    warm = BackgroundWarmUp()  # started first, so loading the kernels overlaps with opening the window
-    warm.start()
     start = Start(
         level_path=path,
         seed=args.seed,
@@ -264,7 +263,6 @@ def run_window(args) -> int:
         quit_after=args.quit_after,
         warm_first=path is not None,
         settings_file=args.settings,
-        warm=warm,
         edit=editing,
     )
     try:
