@@ -186,6 +186,29 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
         tr.write_line(f"    {items[0][1][:300]}")
 
 
+_HEADLESS_WINDOW = r"""
+import sys
+import pyglet
+pyglet.options["headless"] = True
+try:
+    from across_dimensions.app.settings import Settings
+    from across_dimensions.app.window import GameWindow
+    w = GameWindow(Settings())
+except Exception as e:
+    print(f"no headless pyglet window: {e}")
+    sys.exit(77)
+s = w.session
+"""
+
+
+def headless_window(script: str) -> str:
+    """A child process's script that drives the game's window, headless: ``script`` after a
+    start that exits with 77 (the test then skips) where pyglet cannot open a window, and leaves
+    the window in ``w`` and its session in ``s``. The window is driven in a fresh process because
+    pyglet's headless mode must be chosen before its window module loads."""
+    return _HEADLESS_WINDOW + script
+
+
 def shots_in(folder: Path) -> list[Path]:
     """The game's screenshots in ``folder``, oldest first (their names are the time they were taken)."""
     return sorted(folder.glob("across-dimensions_*.png"), key=lambda p: p.stat().st_mtime_ns)

@@ -8,6 +8,7 @@ import subprocess
 import sys
 
 import pytest
+from conftest import headless_window
 
 from across_dimensions.app import warmup
 from across_dimensions.app.warmup import BackgroundWarmUp, kernel_counts, warm_progress
@@ -80,18 +81,8 @@ def test_timing_counts_seconds_from_the_commands_start():
     assert 1.2 <= seconds < 60.0  # the sleep and the imports, from the process's start
 
 
-_AFTER_FIRST_FRAME = """
-import sys, time
-import pyglet
-pyglet.options["headless"] = True
-try:
-    from across_dimensions.app.settings import Settings
-    from across_dimensions.app.window import GameWindow
-    w = GameWindow(Settings())
-except Exception as e:
-    print(f"no headless pyglet window: {e}")
-    sys.exit(77)
-s = w.session
+_AFTER_FIRST_FRAME = headless_window("""
+import time
 before = [s.warm.ident is not None, s.sound._opened]
 w.switch_to(); w.dispatch_events(); w.update(0.0); w.on_draw(); w.flip()
 drawn = [s.warm.ident is not None, s.sound._opened]
@@ -100,7 +91,7 @@ pyglet.clock.tick()  # the loop's next pass
 after = [s.warm.ident is not None, s.sound._opened]
 print(before, drawn, after)
 s.warm.join()
-"""
+""")
 
 
 def test_the_warm_up_and_the_audio_device_wait_for_the_first_frame():

@@ -9,28 +9,18 @@ import subprocess
 import sys
 
 import pytest
+from conftest import headless_window
 
 from across_dimensions.game.replay import Replay
 from across_dimensions.world.resources import levels_dir
 
-_FLOW = r"""
-import sys
-import pyglet
-pyglet.options["headless"] = True
-try:
-    from across_dimensions.app.settings import Settings
-    from across_dimensions.app.window import GameWindow
-    from pyglet.window import key
-    w = GameWindow(Settings())
-except Exception as e:
-    print(f"no headless pyglet window: {e}")
-    sys.exit(77)
+_FLOW = headless_window(r"""
+from pyglet.window import key
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.flatland.view import CLOSING_LINE
 from across_dimensions.game.replay import Replay
 from across_dimensions.game.sim import DT
 from across_dimensions.world.resources import levels_dir
-s = w.session
 view = lambda: type(w.current_view).__name__
 w.update(DT)
 assert view() == "TitleView"
@@ -68,7 +58,7 @@ while view() == "StartupView":
     w.update(DT)
 print("next:", view(), w.current_view.level_path.stem, "|", s.notice_text)
 print("finished:", sorted(s.progress.finished), "current:", s.progress.current)
-"""
+""")
 
 
 @pytest.mark.slow

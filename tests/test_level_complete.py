@@ -20,7 +20,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from conftest import shots_in, xvfb_display
+from conftest import headless_window, shots_in, xvfb_display
 from levels_builder import LevelBuilder
 
 from across_dimensions.app.menu import Menu
@@ -131,25 +131,14 @@ def test_the_results_say_time_best_crystals_secrets_and_deaths():
 
 
 # ---- the window's flow, headless (a fresh process) -------------------------------------------------
-_FLOW = r"""
-import sys
-import pyglet
-pyglet.options["headless"] = True
-try:
-    from across_dimensions.app.settings import Settings
-    from across_dimensions.app.window import GameWindow
-    from pyglet.window import key, mouse
-    w = GameWindow(Settings())
-except Exception as e:
-    print(f"no headless pyglet window: {e}")
-    sys.exit(77)
+_FLOW = headless_window(r"""
+from pyglet.window import key, mouse
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.replay import Replay
 from across_dimensions.game.sim import DT
 from across_dimensions.render.ghost_figure import KEY
 from across_dimensions.render.menu import menu_layout
 from across_dimensions.world.resources import levels_dir
-s = w.session
 view = lambda: type(w.current_view).__name__
 s.after_first_frame()  # as the window does once its first frame is up
 s.warm.join()
@@ -218,7 +207,7 @@ ghost_path("01_first_steps").write_text("{ not a ghost")           # a corrupt g
 s.start_level(levels_dir() / "01_first_steps.toml", trial=True)
 w.update(DT)
 print("corrupt:", view(), w.current_view.race.ghost, "|", s.notice_text)
-"""
+""")
 
 
 def test_window_flow_results_time_trial_and_continue(tmp_path):

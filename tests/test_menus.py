@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import headless_window
 
 from across_dimensions.app.menu import VISIBLE_ROWS, Menu, menu_verb
 from across_dimensions.app.saves import Progress, load_progress, save_progress
@@ -377,20 +378,10 @@ def test_menu_verbs_follow_the_players_keys():
 
 
 # ---- the window's flow, headless (a fresh process: see test_input.py) ---------------------
-_FLOW = r"""
-import os, sys
-import pyglet
-pyglet.options["headless"] = True
-try:
-    from across_dimensions.app.settings import Settings
-    from across_dimensions.app.window import GameWindow
-    from pyglet.window import key
-    w = GameWindow(Settings())
-except Exception as e:
-    print(f"no headless pyglet window: {e}")
-    sys.exit(77)
+_FLOW = headless_window(r"""
+import os
+from pyglet.window import key
 from across_dimensions.game.sim import DT
-s = w.session
 view = lambda: type(w.current_view).__name__
 s.after_first_frame()  # as the window does once its first frame is up
 s.warm.join()
@@ -463,7 +454,7 @@ for _ in range(int(4 / DT)):                                      # the results 
 assert view() == "LevelCompleteView" and s.menu.screen == "complete"
 w.on_key_press(key.RETURN, 0)                                     # Continue: the next level of the campaign
 print("next", w.current_view.level_path.stem)
-"""
+""")
 
 
 def test_window_flow_title_level_pause_settings(tmp_path):

@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import headless_window
 
 from across_dimensions.app.saves import Progress, load_progress, save_progress
 from across_dimensions.game.actions import Actions
@@ -142,22 +143,11 @@ def test_progress_keeps_every_secret_found_across_runs_and_games(tmp_path):
 
 
 # ---- the window, headless (fresh processes, as tests/test_menus.py does) ----------------
-_PLAY = r"""
-import sys
-import pyglet
-pyglet.options["headless"] = True
-try:
-    from across_dimensions.app.settings import Settings
-    from across_dimensions.app.window import GameWindow
-    w = GameWindow(Settings())
-except Exception as e:
-    print(f"no headless pyglet window: {e}")
-    sys.exit(77)
+_PLAY = headless_window(r"""
 from across_dimensions.game.actions import Actions
 from across_dimensions.game.replay import Replay
 from across_dimensions.game.sim import DT
 from across_dimensions.world.resources import levels_dir
-s = w.session
 s.after_first_frame()  # as the window does once its first frame is up
 s.warm.join()
 w.update(DT)
@@ -172,22 +162,11 @@ for _ in range(100000):
     w.update(DT)
 print("found", play.game.event_counts["secret_found"], "saved", s.progress.secrets)
 w.on_close()  # the player leaves mid-level: the secret is kept
-"""
+""")
 
-_SELECT = r"""
-import sys
-import pyglet
-pyglet.options["headless"] = True
-try:
-    from across_dimensions.app.settings import Settings
-    from across_dimensions.app.window import GameWindow
-    from pyglet.window import key
-    w = GameWindow(Settings())
-except Exception as e:
-    print(f"no headless pyglet window: {e}")
-    sys.exit(77)
+_SELECT = headless_window(r"""
+from pyglet.window import key
 from across_dimensions.game.sim import DT
-s = w.session
 s.after_first_frame()  # as the window does once its first frame is up
 s.warm.join()
 w.update(DT)
@@ -196,7 +175,7 @@ assert type(w.current_view).__name__ == "LevelSelectView"
 shown = {i.key: i.value for i in s.menu.view().items}
 print("cloister", repr(shown["level:10_cloister"]))
 print("hive", repr(shown["level:09_hive"]))
-"""
+""")
 
 
 def _window(code, env) -> subprocess.CompletedProcess:
