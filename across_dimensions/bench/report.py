@@ -9,12 +9,32 @@ one PASS or FAIL line each.
 
 from __future__ import annotations
 
+from .. import _shipped_kernels as shipped
 from ..core import bench as core_bench
 from . import systems
 
 
+def kernels_in_use() -> str:
+    """Which compiled code the kernels' figures time: the shipped kernels, built for a baseline
+    processor every x86-64 machine of the last decade runs, or kernels compiled here for this one
+    (faster where its wider vectors pay, and so not the figure a player's first start gets)."""
+    if shipped.active():
+        return f"the shipped kernels, compiled for {shipped.CPU}"
+    import numba  # noqa: F401  (numba's config is set up by then)
+    from numba.core import config
+
+    return f"kernels compiled for {config.CPU_NAME or _host_cpu()}"
+
+
+def _host_cpu() -> str:
+    import llvmlite.binding as ll
+
+    return f"this processor ({ll.get_host_cpu_name()})"
+
+
 def run(out=print, quick: bool = False, physics: bool = True) -> list[tuple[bool, str]]:
     """Print the whole report through ``out``; returns the CPU targets as ``(met, line)``."""
+    out(f"Kernels: {kernels_in_use()}.")
     out("Cross-section and frustum projection, one thread (median of runs):")
     sizes = (100_000, 300_000) if quick else (100_000, 1_000_000, 4_000_000)
     core_bench.run(sizes=sizes, repeat=3 if quick else 7, out=out)
