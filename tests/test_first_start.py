@@ -102,3 +102,13 @@ def test_the_warm_up_and_the_audio_device_wait_for_the_first_frame():
         pytest.skip(out.stdout.strip())
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip().splitlines()[-1] == "[False, False] [False, False] [True, True]"
+
+
+def test_loading_the_shipped_kernels_names_the_step_and_moves_the_bar():
+    w = BackgroundWarmUp()
+    w._loading(2, len(warmup.STEPS), warmup.STEPS[2][0])
+    assert w.status(w.started) == f"{warmup.STEPS[2][0]}, loading the kernels, 0:00 so far"
+    assert w.fraction() == 2 / len(warmup.STEPS)
+    w.done = len(warmup.STEPS)  # a child compiled every step: the bar stays full while loading
+    w._loading(1, len(warmup.STEPS), warmup.STEPS[1][0])
+    assert w.fraction() == 1.0

@@ -270,8 +270,9 @@ class BackgroundWarmUp(threading.Thread):
         self.done, self.total, self.label = done, total, label
 
     def _loading(self, done: int, total: int, label: str) -> None:
-        # Loading from the cache the child filled: quick; the bar stays full until it is done.
-        self.label = "loading" if done < total else label
+        # Loading the shipped kernels, or the cache a child filled: quick. The steps count on
+        # (after a child's compile they are all done already: the bar stays full to the end).
+        self.done, self.total, self.label = max(self.done, done), total, label
 
     def _compile_in_child(self) -> None:
         """Fill the kernel cache from a child process, following its progress; on any failure
