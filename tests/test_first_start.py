@@ -112,3 +112,27 @@ def test_loading_the_shipped_kernels_names_the_step_and_moves_the_bar():
     w.done = len(warmup.STEPS)  # a child compiled every step: the bar stays full while loading
     w._loading(1, len(warmup.STEPS), warmup.STEPS[1][0])
     assert w.fraction() == 1.0
+
+
+class _Waiting(BackgroundWarmUp):
+    """A warm-up that runs until told it is done (its thread does no work)."""
+
+    def run(self) -> None:
+        self.finished.wait()
+
+
+def test_the_title_shows_the_warm_up_only_once_it_has_run_a_second():
+    # Loading the shipped kernels takes half a second: a panel for that long would move the menu
+    # under the pointer. A start-up view (a level waiting) shows it at once.
+    w = _Waiting()
+    assert warm_progress(w, after=warmup.TITLE_PANEL_AFTER) is None  # not started: the first frame
+    w.start()
+    try:
+        early, late = w.started + 0.5 * warmup.TITLE_PANEL_AFTER, w.started + 1.5 * warmup.TITLE_PANEL_AFTER
+        assert warm_progress(w, after=warmup.TITLE_PANEL_AFTER, now=early) is None
+        assert warm_progress(w, now=early) is not None
+        assert warm_progress(w, after=warmup.TITLE_PANEL_AFTER, now=late)[2].endswith("0:01 so far")
+    finally:
+        w.finished.set()
+        w.join()
+    assert warm_progress(w, after=warmup.TITLE_PANEL_AFTER, now=late) is None  # ready

@@ -330,13 +330,21 @@ def _clock(seconds: float) -> str:
     return f"{m}:{s:02d}"
 
 
-def warm_progress(warm) -> tuple | None:
+#: Seconds the warm-up runs before the title shows its panel. Loading the shipped kernels takes
+#: about half a second: a panel shown for that long would come and go, moving the menu under the
+#: player's pointer. A compile (minutes) shows it after this second.
+TITLE_PANEL_AFTER = 1.0
+
+
+def warm_progress(warm, after: float = 0.0, now: float | None = None) -> tuple | None:
     """The warm-up's line for a panel: ``(steps done, steps, what is happening, fraction)``, or
-    None when there is none or it is over. The time in it moves once a second, so a still screen
-    showing it is redrawn once a second, not every frame."""
+    None when there is none, it is over, or it has not run ``after`` seconds yet. The time in it
+    moves once a second, so a still screen showing it is redrawn once a second, not every frame."""
     if warm is None or warm.ready:
         return None
-    return warm.done, warm.total, warm.status(), round(warm.fraction(), 3)
+    if after > 0.0 and (warm.ident is None or (time.perf_counter() if now is None else now) - warm.started < after):
+        return None
+    return warm.done, warm.total, warm.status(now), round(warm.fraction(), 3)
 
 
 def main() -> int:

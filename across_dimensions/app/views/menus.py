@@ -16,7 +16,7 @@ import pyglet
 from ...render.menu import hit, rows_that_fit
 from ..input import key_name
 from ..menu import menu_verb
-from ..warmup import warm_progress
+from ..warmup import TITLE_PANEL_AFTER, warm_progress
 from .base import View
 
 #: The clear colour behind the menus when no level is under them.
@@ -138,7 +138,7 @@ class TitleView(MenuScreen):
 
     def _show_progress(self) -> None:
         if self.session.warm is not None:
-            self.menu.progress_bar = warm_progress(self.session.warm)
+            self.menu.progress_bar = warm_progress(self.session.warm, after=TITLE_PANEL_AFTER)
 
     def run(self, command: str) -> None:
         s = self.session
