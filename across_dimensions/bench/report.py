@@ -20,16 +20,13 @@ def kernels_in_use() -> str:
     (faster where its wider vectors pay, and so not the figure a player's first start gets)."""
     if shipped.active():
         return f"the shipped kernels, compiled for {shipped.CPU}"
-    import numba  # noqa: F401  (numba's config is set up by then)
     from numba.core import config
 
-    return f"kernels compiled for {config.CPU_NAME or _host_cpu()}"
-
-
-def _host_cpu() -> str:
+    if config.CPU_NAME:  # NUMBA_CPU_NAME
+        return f"kernels compiled for {config.CPU_NAME}"
     import llvmlite.binding as ll
 
-    return f"this processor ({ll.get_host_cpu_name()})"
+    return f"kernels compiled for this processor ({ll.get_host_cpu_name()})"
 
 
 def run(out=print, quick: bool = False, physics: bool = True) -> list[tuple[bool, str]]:
