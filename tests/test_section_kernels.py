@@ -204,3 +204,30 @@ def test_the_normal_transform_turns_object_normals_like_the_camera_space_cross_p
     np.testing.assert_allclose(g.reshape(3, 4) @ cross4(u, v, t), flip * cross4(a @ u, a @ v, a @ t)[:3], atol=1e-9)
     if seed < 3:  # the inverse transpose, up to the positive factor |det|
         np.testing.assert_allclose(g.reshape(3, 4), abs(det) * np.linalg.inv(a).T[:3], atol=1e-9)
+
+
+def test_edge_scan_and_numbering_by_tets_give_the_same_bits(dense, monkeypatch):
+    # One workspace for both: the scan must leave every edge unnumbered for the next section.
+    cam = T.translation((0, 0, 0, 0.013))
+    modes = []
+    emit = S._emit
+    monkeypatch.setattr(S, "_emit", lambda *args: modes.append(args[5]) or emit(*args))
+    monkeypatch.setattr(S, "EDGE_SCAN_FRACTION", 10**9)  # every edge-path section scans
+    scanned = S.cross_section(dense, cam)
+    monkeypatch.setattr(S, "EDGE_SCAN_FRACTION", 0)  # never
+    numbered = S.cross_section(dense, cam)
+    assert modes == [S.POINTS_BY_EDGE_SCAN, S.POINTS_BY_EDGE]
+    assert len(scanned) > 1000 and same_bits(scanned, numbered)
+
+
+@pytest.mark.parametrize("scale", [1e-6, 1e-3, 1e3, 1e6])
+def test_normals_are_unit_at_any_scale_a_model_may_have(scale):
+    # Normals are made unit in float32: their squared length (which goes as the scale's
+    # sixth power) must neither underflow nor overflow. The section of the scaled mesh
+    # is the unscaled one's, scaled: the same tets in the same order, the same normals.
+    mesh = shapes.cell600()
+    unit = S.cross_section(mesh, T.translation((0, 0, 0, 0.013)))
+    tri = S.cross_section(mesh, T.translation((0, 0, 0, 0.013 * scale)), model=T.scaling((scale,) * 4))
+    assert len(tri) == len(unit) > 100
+    np.testing.assert_allclose(np.linalg.norm(tri.normals, axis=1), 1.0, atol=3e-7)
+    np.testing.assert_allclose(tri.normals, unit.normals, atol=3e-7)

@@ -31,7 +31,16 @@ from .cases import (  # noqa: F401  (the case table, read here by tests and tool
 )
 from .layout import Layout, layout_colors, layout_edges, layout_normals, mesh_clusters
 from .mesh import TetMesh4, TriMesh3, cross4
-from .section_kernels import Slicer, _emit, _find_cut, normal_transform, orientation  # noqa: F401
+from .section_kernels import (  # noqa: F401
+    POINTS_BY_EDGE,
+    POINTS_BY_EDGE_SCAN,
+    POINTS_BY_TET,
+    Slicer,
+    _emit,
+    _find_cut,
+    normal_transform,
+    orientation,
+)
 from .transform import inverse
 
 _IDENTITY = np.eye(5)
@@ -91,8 +100,11 @@ def cross_section(mesh: TetMesh4, camera_pose=None, model=None, cull: bool = Tru
         if ws.tn.shape[1] < ncut:
             ws.grow_tets(ncut)
             slicer = ws.slicer(mesh)
+        points = POINTS_BY_TET
+        if by_edge:
+            points = POINTS_BY_EDGE_SCAN if EDGE_SCAN_FRACTION * ncut > len(ws.edges[1]) else POINTS_BY_EDGE
         every_vertex = EVERY_VERTEX_FRACTION * ncut > len(layout.vertices)
-        _emit(slicer, mv, flip, ncut, ntri, by_edge, every_vertex, out)
+        _emit(slicer, mv, flip, ncut, ntri, points, every_vertex, out)
     ov, on, oc = out[: 9 * ntri], out[9 * ntri : 18 * ntri], out[18 * ntri : 30 * ntri]
     return TriMesh3(ov.reshape(-1, 3), _faces(ntri), on.reshape(-1, 3), oc.reshape(-1, 4))
 
@@ -103,6 +115,9 @@ EVERY_VERTEX_FRACTION = 4
 #: Use a mesh's edge table (built on first need) once a section cuts more than one
 #: tet in this many: it has about as many edges as the mesh has tets.
 EDGE_TABLE_FRACTION = 16
+#: On the edge path, find the cut edges by one pass over the edge table once the cut tets are
+#: more than the edges over this: the pass costs about a fifth of numbering a tet's points.
+EDGE_SCAN_FRACTION = 4
 _NO_EDGES = (np.zeros((0, 6), np.uint32), np.zeros(0, np.uint32), np.zeros(0, np.uint32))
 
 
@@ -178,7 +193,7 @@ class _Workspace:
         self.n64 = np.empty((3, count))
         self.tn = np.empty((3, count), np.float32)
         self.tj = np.empty(5 * count, np.int32)
-        self.elist = np.empty(4 * count, np.uint32)
+        self.elist = np.empty(4 * count + 1, np.uint32)  # + 1: the edge scan writes one past its last point
         self.vlist = np.empty(4 * count, np.uint32)
         self.rec = np.empty(32 * count, np.float32)
         self._slicer = None

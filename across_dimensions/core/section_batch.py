@@ -133,7 +133,7 @@ class _Pool:
         self.arrays = Pool(
             vertices=np.zeros((0, 4), np.float32),
             tets=np.zeros((0, 4), np.uint32),
-            tet_normals=np.zeros((0, 4)),
+            tet_normals=np.zeros((0, 4), np.float32),
             colors=np.zeros((0, 4), np.float32),
             mesh_v=np.zeros((0, 2), np.int64),
             mesh_c=np.zeros((0, 2), np.int64),

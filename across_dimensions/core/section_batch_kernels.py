@@ -27,7 +27,7 @@ class Pool(NamedTuple):
     ----------
     vertices : (n, 4) float32
     tets : (m, 4) uint32
-    tet_normals : (m, 4) float64
+    tet_normals : (m, 4) float32
         Per tet: its outward normal in object space.
     colors : (n, 4) float32
     mesh_v, mesh_c : (meshes, 2) int64

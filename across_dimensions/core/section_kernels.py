@@ -26,6 +26,10 @@ import numpy as np
 from ._jit import njit
 from .cases import CASE_COUNT, CASE_EDGES_PADDED, CASE_LOCAL_FLAT, CASE_REVERSED, CASE_TRIANGLES
 
+#: How :func:`_emit` makes the section points: per cut tet, or once per cut edge, numbered
+#: as the cut tets meet them or by a pass over the edge table (see :func:`_points_by_edge`).
+POINTS_BY_TET, POINTS_BY_EDGE, POINTS_BY_EDGE_SCAN = 0, 1, 2
+
 #: Unsigned index type of the kernels' inner loops: numba then skips the
 #: negative-index fix-up, a sizeable part of short loops.
 U = np.uint64
@@ -46,7 +50,7 @@ class Slicer(NamedTuple):
     tets : (m, 4) uint32
         In clusters, indexing ``vertices``.
     colors : (n, 4) float32
-    normals : (4 m,) float64
+    normals : (4 m,) float32
         Each tet's outward normal in object space (:func:`~.layout.layout_normals`), flat.
     lo, hi : (c,) int64
         Each cluster's tets.
@@ -75,7 +79,7 @@ class Slicer(NamedTuple):
         The vertices of the cut tets.
     point : (e,) int32
         Per edge: its point number, -1 between calls.
-    elist : (4 k,) uint32
+    elist : (4 k + 1,) uint32
         Per point: its edge (the edge path).
     rec : (32 k,) float32
         Per point: xyz, rgba and one unused.
@@ -281,16 +285,18 @@ def _compact(s, nkeep):
 
 
 @njit(cache=True)
-def _emit(slicer, mv, flip, ncut, ntri, by_edge, every_vertex, out):
+def _emit(slicer, mv, flip, ncut, ntri, points, every_vertex, out):
     """The ``ntri`` triangles of the ``ncut`` cut tets (:func:`_find_cut`) into ``out``.
 
     Each vertex the cut tets use is moved into camera space once
-    (:func:`_camera_space`; all of them with ``every_vertex``). With ``by_edge`` (the
-    edge table is in ``s``) each cut edge's point is computed once, though ~5 cut tets share
-    it. Every camera-space coordinate and every section point is the same
-    float64 expression whichever path computes it, so the output depends
-    neither on the path nor on culling, and equals the batched slicer's
-    (:mod:`.section_batch`).
+    (:func:`_camera_space`; all of them with ``every_vertex``). ``points`` says how the
+    section points are made: :data:`POINTS_BY_TET`, or once per cut edge though ~5 cut tets
+    share it (the edge table is then in ``s``), numbered as the tets meet them
+    (:data:`POINTS_BY_EDGE`) or by a pass over the whole edge table
+    (:data:`POINTS_BY_EDGE_SCAN`; see :func:`_points_by_edge`). Every camera-space
+    coordinate and every section point is the same float64 expression whichever path
+    computes it, so the output depends neither on the path nor on culling, and equals the
+    batched slicer's (:mod:`.section_batch`).
 
     Loops without unpredictable branches (a mispredicted branch costs more
     than the arithmetic it skips): the vertices, the tets' normals and points,
@@ -309,10 +315,10 @@ def _emit(slicer, mv, flip, ncut, ntri, by_edge, every_vertex, out):
     s = Slicer(*slicer)
     _camera_space(s, mv, ncut, every_vertex)
     normal_transform(mv, flip, s.g)
-    if by_edge:
-        _points_by_edge(s, ncut)
-    else:
+    if points == POINTS_BY_TET:
         _points_by_tet(s, ncut)
+    else:
+        _points_by_edge(s, ncut, points == POINTS_BY_EDGE_SCAN)
     _unit_normals(ncut, s.n64, s.tn)
     _rows(s, ncut, 1 if flip < 0.0 else 0, out[: 9 * ntri], out[9 * ntri : 18 * ntri], out[18 * ntri : 30 * ntri])
 
@@ -362,19 +368,23 @@ def _camera_space(s, mv, ncut, every_vertex):
 def _unit_normals(ncut, n64, tn):
     """Per cut tet ``i``: its section's normal ``n64[:, i]`` made unit, float32, into ``tn[:, i]``.
 
-    A loop of its own, over one component per row: it is vectorized (a square
-    root and a division per tet, one at a time, cost more than all the rest of
-    a tet's normal). The batched slicer uses the same expressions, bit for bit.
+    A loop of its own, over one component per row, in float32: vectorized four
+    tets at a time even for the baseline CPU, where float64's square root and
+    division stay scalar and cost more than all the rest of a tet's normal.
+    The result is a float32 normal either way (to within 2 ulp of the float64
+    one); float32 holds the squared length of any normal of a model scaled by
+    1e-6 to 1e6. The batched slicer calls this loop too: the same bits.
     """
     nx, ny, nz = n64[0], n64[1], n64[2]
     tx, ty, tz = tn[0], tn[1], tn[2]
+    zero = np.float32(0.0)
     for idx in range(ncut):
-        x, y, z = nx[idx], ny[idx], nz[idx]
+        x, y, z = np.float32(nx[idx]), np.float32(ny[idx]), np.float32(nz[idx])
         ln = np.sqrt(x * x + y * y + z * z)
-        inv = 1.0 / ln if ln > 0.0 else 0.0  # a degenerate tet: zero stays zero
-        tx[idx] = np.float32(x * inv)
-        ty[idx] = np.float32(y * inv)
-        tz[idx] = np.float32(z * inv)
+        inv = np.float32(1.0) / ln if ln > zero else zero  # a degenerate tet: zero stays zero
+        tx[idx] = x * inv
+        ty[idx] = y * inv
+        tz[idx] = z * inv
 
 
 @njit(inline="always")
@@ -420,20 +430,33 @@ def _points_by_tet(s, ncut):
 
 
 @njit(inline="always")
-def _points_by_edge(s, ncut):
+def _points_by_edge(s, ncut, scan_edges):
     """:func:`_points_by_tet` computing each cut edge's point once.
 
     ``s.point``: per edge, its point number (-1 on entry and on return);
     ``s.elist``: per point, its edge. Unsigned indices (``U``).
+
+    The cut tets number their edges' points as they meet them, each point
+    waiting on the count of the ones before. With ``scan_edges`` (a section
+    cutting much of the mesh) one pass over the edge table numbers every cut
+    edge first, in edge order, without that chain and without a branch; the
+    tets then only look their points up. The points' values, and so the
+    output, are the same either way.
     """
     cf = s.colors.reshape(-1)
     ef = s.tet_edges.reshape(-1)
-    nobj, edge_lo, edge_hi = s.normals, s.edge_lo, s.edge_hi
+    nobj, edge_lo, edge_hi, above = s.normals, s.edge_lo, s.edge_hi, s.above
     cut, cmask, cam, point, elist, rec, tj, g = s.cut, s.cmask, s.cam, s.point, s.elist, s.rec, s.tj, s.g
     g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
     g6, g7, g8, g9, g10, g11 = g[6], g[7], g[8], g[9], g[10], g[11]
     nx, ny, nz = s.n64[0], s.n64[1], s.n64[2]
     npt = 0
+    if scan_edges:
+        for k in range(edge_lo.shape[0]):
+            crossed = above[edge_lo[k]] != above[edge_hi[k]]
+            point[k] = npt if crossed else -1
+            elist[npt] = k
+            npt += crossed
     for idx in range(ncut):
         i = U(idx)
         t = U(cut[i])
@@ -445,14 +468,15 @@ def _points_by_edge(s, ncut):
         nz[i] = g8 * n0 + g9 * n1 + g10 * n2 + g11 * n3
         tj[U(5) * i + U(4)] = mask
         for e in range(4):
-            # Number the edge's point if it has none yet, without a branch.
             eid = U(ef[U(6) * t + CASE_LOCAL_FLAT[U(4) * mask + U(e)]])
             j = point[eid]
-            new = j < 0
-            j = npt if new else j
-            point[eid] = j
-            elist[npt] = eid
-            npt += new
+            if not scan_edges:
+                # Number the edge's point if it has none yet, without a branch.
+                new = j < 0
+                j = npt if new else j
+                point[eid] = j
+                elist[npt] = eid
+                npt += new
             tj[U(5) * i + U(e)] = j
     for k in range(npt):
         j = U(k)
